@@ -1,0 +1,101 @@
+"""Engine speed: steps/s and pair-force evaluations/s versus the number of skyrmions.
+
+Skyrmions fill a disk at the density of a half-full 1024 nm chamber (45 skyrmions in the
+chamber, half the paper's saturation of ~90), at 300 K with material S2 and the suggested time
+step. For each N the script prints the median over several repeats of:
+- the time per Heun step (µs) and steps per second,
+- pair-force evaluations per second inside the cutoff during force evaluation alone,
+and finally the exponent of cost versus N from a log–log fit.
+
+Run: ``make bench`` or ``.venv/bin/python benchmarks/bench_engine.py [--quick]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+from skygas import _kernels as K
+from skygas.engine import Simulation
+from skygas.geometry import disk, random_positions
+
+HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
+
+
+def make_sim(n: int, seed: int = 1) -> Simulation:
+    radius_nm = np.sqrt(n / (np.pi * HALF_FULL_DENSITY))
+    outline = disk(radius_nm * 1e-9)
+    sim = Simulation(outline, "S2", temperature=300.0, seed=seed, grid_spacing=4e-9,
+                     capacity=n)
+    rng = np.random.default_rng(seed)
+    d_sk = sim.thiele.skyrmion_diameter_internal
+    pts = random_positions(outline, n, 1.2 * d_sk, 0.6 * d_sk, rng)
+    sim._insert_nm(pts)
+    sim.run(200 * sim.time_step)  # compile and relax the random start a little
+    return sim
+
+
+def time_steps(sim: Simulation, n_steps: int, repeats: int) -> list[float]:
+    out = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        sim.run(n_steps * sim.time_step, chunk_steps=n_steps)
+        out.append((time.perf_counter() - t0) / n_steps)
+    return out
+
+
+def time_forces(sim: Simulation, repeats: int, calls: int) -> tuple[float, float]:
+    """Median seconds of the pair part of one force pass, and pairs inside the cutoff.
+
+    Runs ``calls`` force passes over one neighbour list inside compiled code, with and without
+    the pair forces (cutoff set to zero); the difference is the time of the pair work alone.
+    """
+    cap = len(sim._x)
+    vx, vy = np.empty(cap), np.empty(cap)
+    stats = np.zeros(K.ST_SIZE, dtype=np.int64)
+
+    def per_pass(fp) -> float:
+        args = (sim._x, sim._y, sim._alive, fp, sim._ip, sim.forces.pair.values,
+                sim.forces.wall.values, sim._fields)
+        K.repeated_force_pass(*args, 1, vx, vy, stats)
+        times = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            K.repeated_force_pass(*args, calls, vx, vy, stats)
+            times.append((time.perf_counter() - t0) / calls)
+        return statistics.median(times)
+
+    stats[:] = 0
+    with_pairs = per_pass(sim._fp)
+    pairs = stats[K.ST_PAIRS] / (calls * repeats + 1)
+    no_pairs_fp = sim._fp.copy()
+    no_pairs_fp[K.FP_PAIR_CUT] = 0.0
+    without = per_pass(no_pairs_fp)
+    return max(with_pairs - without, 1e-12), pairs
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="fewer repeats")
+    parser.add_argument("--sizes", type=int, nargs="*", default=[50, 200, 1000, 10000])
+    args = parser.parse_args()
+    repeats = 3 if args.quick else 7
+    print(f"{'N':>6} {'µs/step':>10} {'steps/s':>10} {'pairs/eval':>11} {'pair evals/s':>13}")
+    costs = []
+    for n in args.sizes:
+        sim = make_sim(n)
+        n_steps = max(50, int(2e5 / n))
+        per_step = statistics.median(time_steps(sim, n_steps, repeats))
+        t_force, pairs = time_forces(sim, repeats, calls=max(20, int(1e5 / n)))
+        costs.append(per_step)
+        print(f"{n:>6} {per_step * 1e6:>10.2f} {1 / per_step:>10.0f} {pairs:>11.0f} "
+              f"{pairs / t_force:>13.3g}", flush=True)
+    slope = np.polyfit(np.log(args.sizes), np.log(costs), 1)[0]
+    print(f"cost exponent (time per step ∝ N^b): b = {slope:.3f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,427 @@
+"""Compiled kernels of the engine (private; internal units nm, ns, pN).
+
+The layers above (:mod:`skygas.engine`) prepare every array and scalar; these functions only do
+arithmetic. The equation of motion and the integrator are documented in :mod:`skygas.engine`.
+
+Velocity of a skyrmion under a total force F (pN), with a = α𝒟k, g = G (pN·ns/nm):
+    (g ε + a I)·v = F   ⇒   v = (a F − g εF)/(a² + g²),   εF = (F_y, −F_x)
+
+Pairs come from a Verlet neighbour list: all pairs closer than cutoff + skin, found with a cell
+list (cells no smaller than cutoff + skin, so the build is linear in the number of skyrmions).
+The list stays valid until some skyrmion has moved more than skin/2 from where it was when the
+list was built; the displacement is checked before every force evaluation (including Heun's
+predictor), so no interacting pair is ever missed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from skygas._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
+
+# Let LLVM fuse multiply-adds, reassociate and use reciprocals, but keep NaN/Inf semantics
+# (NaN marks absent skyrmions in recorded frames). Results stay bit-reproducible for a given
+# build of the package on a given machine.
+_FASTMATH = {"contract", "arcp", "nsz", "reassoc", "afn"}
+
+# Indices into the float parameter vector ``fp``.
+FP_DT = 0            # time step [ns]
+FP_MOB_A = 1         # a / (a² + g²)   [nm/(pN·ns)]
+FP_MOB_G = 2         # g / (a² + g²)
+FP_NOISE = 3         # √(2 D dt) per axis [nm]
+FP_DRIVE_G = 4       # μ g  (drive matrix μ(g ε + b I))
+FP_DRIVE_B = 5       # μ b
+FP_VS_X = 6          # uniform v_s [nm/ns]
+FP_VS_Y = 7
+FP_PAIR_H2 = 8       # pair table spacing in r² [nm²]
+FP_PAIR_CUT = 9      # pair cutoff [nm]
+FP_WALL_H = 10       # wall table spacing [nm]
+FP_WALL_CUT = 11     # wall cutoff [nm]
+FP_GRID_X0 = 12      # field grid origin and spacing [nm]
+FP_GRID_Y0 = 13
+FP_GRID_H = 14
+FP_SKIN = 15         # neighbour-list skin [nm]
+FP_CELL_X0 = 16      # cell-list origin and cell size [nm]
+FP_CELL_Y0 = 17
+FP_CELL_SIZE = 18
+FP_SIZE = 19
+
+# Indices into the integer parameter vector ``ip``.
+IP_SEED = 0          # RNG key
+IP_SUBSTEPS = 1      # Brownian sub-steps per step (1 = plain)
+IP_SCHEME = 2        # 0 = Heun, 1 = Euler–Maruyama
+IP_DRIFT_GRID = 3    # 0 = uniform v_s, 1 = v_s from the grid
+IP_RECORD_EVERY = 4  # steps between recorded frames (0 = never)
+IP_THERMAL = 5       # 1 if T > 0
+IP_NCX = 6           # cell-list shape
+IP_NCY = 7
+IP_SIZE = 8
+
+# Counters returned in ``stats``.
+ST_PAIRS = 0         # pair-force evaluations inside the cutoff
+ST_WALL_ESCAPES = 1  # steps that crossed a wall (undone)
+ST_EXITS = 2         # skyrmions that left through a port
+ST_FRAMES = 3        # frames recorded
+ST_REBUILDS = 4      # neighbour-list builds
+ST_SIZE = 5
+
+# Channels of the packed grid array ``fields[j, i, c]`` (float32, nm and nm/ns). All per-node
+# fields sit side by side so that one bilinear lookup reads four neighbouring memory spots.
+CH_WALL_DIST = 0     # signed distance to the nearest wall
+CH_NORMAL_X = 1      # inward wall normal
+CH_NORMAL_Y = 2
+CH_DOMAIN = 3        # signed distance to the boundary (walls and ports), > 0 inside
+CH_DRIFT_X = 4       # spin-drift velocity v_s
+CH_DRIFT_Y = 5
+N_CHANNELS = 6
+
+
+@numba.njit(inline="always")
+def _corner(fields, fx, fy):
+    """Cell index and bilinear weights at fractional grid indices (clamped to the grid)."""
+    ny, nx = fields.shape[0], fields.shape[1]
+    fx = min(max(fx, 0.0), nx - 1.000001)
+    fy = min(max(fy, 0.0), ny - 1.000001)
+    i = int(fx)
+    j = int(fy)
+    tx = fx - i
+    ty = fy - j
+    return i, j, (1.0 - tx) * (1.0 - ty), tx * (1.0 - ty), (1.0 - tx) * ty, tx * ty
+
+
+@numba.njit(inline="always")
+def _sample(fields, i, j, w00, w10, w01, w11, c):
+    """Bilinear value of channel ``c`` with weights from :func:`_corner`."""
+    return (w00 * fields[j, i, c] + w10 * fields[j, i + 1, c]
+            + w01 * fields[j + 1, i, c] + w11 * fields[j + 1, i + 1, c])
+
+
+@numba.njit(inline="always")
+def _lerp(values, coordinate):
+    """Linear interpolation of ``values`` at fractional index ``coordinate`` ≥ 0."""
+    i = int(coordinate)
+    t = coordinate - i
+    return (1.0 - t) * values[i] + t * values[i + 1]
+
+
+@numba.njit(cache=True, fastmath=_FASTMATH)
+def build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start, pair_j):
+    """Half neighbour list of all alive pairs closer than cutoff + skin, grouped by owner:
+    the partners of ``owner[e]`` are ``pair_j[start[e]:start[e + 1]]``. Returns the number of
+    owners, or −1 if ``pair_j`` is too small (the caller grows it and calls again)."""
+    n = x.shape[0]
+    ncx = ip[IP_NCX]
+    ncy = ip[IP_NCY]
+    x0 = fp[FP_CELL_X0]
+    y0 = fp[FP_CELL_Y0]
+    size = fp[FP_CELL_SIZE]
+    reach = fp[FP_PAIR_CUT] + fp[FP_SKIN]
+    reach2 = reach * reach
+    cell_head[:] = -1
+    for i in range(n):
+        if alive[i]:
+            cx = min(max(int((x[i] - x0) / size), 0), ncx - 1)
+            cy = min(max(int((y[i] - y0) / size), 0), ncy - 1)
+            c = cy * ncx + cx
+            cell_next[i] = cell_head[c]
+            cell_head[c] = i
+    count = 0
+    owners = 0
+    capacity = pair_j.shape[0]
+    for cy in range(ncy):
+        for cx in range(ncx):
+            i = cell_head[cy * ncx + cx]
+            while i >= 0:
+                xi = x[i]
+                yi = y[i]
+                owner[owners] = i
+                start[owners] = count
+                # half shell: own cell (later entries only) and 4 forward neighbours
+                for k in range(5):
+                    ox = (0, 1, -1, 0, 1)[k]
+                    oy = (0, 0, 1, 1, 1)[k]
+                    nbx = cx + ox
+                    nby = cy + oy
+                    if nbx < 0 or nbx >= ncx or nby >= ncy:
+                        continue
+                    j = cell_next[i] if k == 0 else cell_head[nby * ncx + nbx]
+                    while j >= 0:
+                        dx = xi - x[j]
+                        dy = yi - y[j]
+                        if dx * dx + dy * dy < reach2:
+                            if count >= capacity:
+                                return -1
+                            pair_j[count] = j
+                            count += 1
+                        j = cell_next[j]
+                owners += 1
+                i = cell_next[i]
+    start[owners] = count
+    return owners
+
+
+@numba.njit(inline="always")
+def _list_is_stale(x, y, alive, ref_x, ref_y, half_skin2):
+    for i in range(x.shape[0]):
+        if alive[i]:
+            dx = x[i] - ref_x[i]
+            dy = y[i] - ref_y[i]
+            if dx * dx + dy * dy > half_skin2:
+                return True
+    return False
+
+
+@numba.njit(inline="always")
+def _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start, pair_j,
+                n_owners, vx, vy, stats):
+    """Deterministic velocity (nm/ns) of every alive skyrmion: pair + wall + drive forces.
+    Forces are accumulated in ``vx, vy`` and converted to velocities in place."""
+    n = x.shape[0]
+    for i in range(n):
+        vx[i] = 0.0
+        vy[i] = 0.0
+    # pair forces: table of |F|/r in r², so F = (|F|/r)(dx, dy) needs no sqrt or division
+    cut2 = fp[FP_PAIR_CUT] * fp[FP_PAIR_CUT]
+    inv_h2 = 1.0 / fp[FP_PAIR_H2]
+    evaluated = 0
+    for e in range(n_owners):
+        i = owner[e]
+        xi = x[i]
+        yi = y[i]
+        fxi = 0.0  # accumulate in registers: one store per owner, not one per pair
+        fyi = 0.0
+        for p in range(start[e], start[e + 1]):
+            j = pair_j[p]
+            dx = xi - x[j]
+            dy = yi - y[j]
+            r2 = dx * dx + dy * dy
+            if r2 < cut2:
+                f = _lerp(pair_table, r2 * inv_h2)
+                fxi += f * dx
+                fyi += f * dy
+                vx[j] -= f * dx
+                vy[j] -= f * dy
+                evaluated += 1
+        vx[i] += fxi
+        vy[i] += fyi
+    stats[ST_PAIRS] += evaluated
+    # wall force, drive, and conversion to velocity
+    gx0 = fp[FP_GRID_X0]
+    gy0 = fp[FP_GRID_Y0]
+    inv_gh = 1.0 / fp[FP_GRID_H]
+    inv_wall_h = 1.0 / fp[FP_WALL_H]
+    wall_cut = fp[FP_WALL_CUT]
+    mob_a = fp[FP_MOB_A]
+    mob_g = fp[FP_MOB_G]
+    drive_g = fp[FP_DRIVE_G]
+    drive_b = fp[FP_DRIVE_B]
+    drift_grid = ip[IP_DRIFT_GRID] == 1
+    vsx = fp[FP_VS_X]
+    vsy = fp[FP_VS_Y]
+    for i in range(n):
+        if not alive[i]:
+            continue
+        fx = vx[i]
+        fy = vy[i]
+        ci, cj, w00, w10, w01, w11 = _corner(fields, (x[i] - gx0) * inv_gh,
+                                             (y[i] - gy0) * inv_gh)
+        d = _sample(fields, ci, cj, w00, w10, w01, w11, CH_WALL_DIST)
+        if d < wall_cut:
+            fw = _lerp(wall_table, max(d, 0.0) * inv_wall_h)
+            fx += fw * _sample(fields, ci, cj, w00, w10, w01, w11, CH_NORMAL_X)
+            fy += fw * _sample(fields, ci, cj, w00, w10, w01, w11, CH_NORMAL_Y)
+        if drift_grid:
+            vsx = _sample(fields, ci, cj, w00, w10, w01, w11, CH_DRIFT_X)
+            vsy = _sample(fields, ci, cj, w00, w10, w01, w11, CH_DRIFT_Y)
+        # drive force μ(g ε + b I)·v_s
+        fx += drive_g * vsy + drive_b * vsx
+        fy += -drive_g * vsx + drive_b * vsy
+        # v = (a F − g εF)/(a² + g²)
+        vx[i] = mob_a * fx - mob_g * fy
+        vy[i] = mob_a * fy + mob_g * fx
+
+
+@numba.njit(inline="always")
+def _segments_cross(px, py, qx, qy, ax, ay, bx, by):
+    """True if segment p→q crosses segment a→b (proper or touching)."""
+    d1 = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+    d2 = (bx - ax) * (qy - ay) - (by - ay) * (qx - ax)
+    d3 = (qx - px) * (ay - py) - (qy - py) * (ax - px)
+    d4 = (qx - px) * (by - py) - (qy - py) * (bx - px)
+    return d1 * d2 <= 0.0 and d3 * d4 <= 0.0
+
+
+@numba.njit(cache=True, fastmath=_FASTMATH)
+def compute_velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, vx, vy, stats):
+    """One force evaluation for the current positions (builds its own neighbour list)."""
+    n = x.shape[0]
+    cell_head = np.empty(ip[IP_NCX] * ip[IP_NCY], dtype=np.int64)
+    cell_next = np.empty(n, dtype=np.int64)
+    owner = np.empty(n, dtype=np.int64)
+    start = np.empty(n + 1, dtype=np.int64)
+    capacity = 16 * n + 16
+    while True:
+        pair_j = np.empty(capacity, dtype=np.int64)
+        n_owners = build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start,
+                                       pair_j)
+        if n_owners >= 0:
+            break
+        capacity *= 2
+    _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start, pair_j,
+                n_owners, vx, vy, stats)
+
+
+@numba.njit(cache=True, fastmath=_FASTMATH)
+def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fields, ports,
+            frames_x, frames_y, exit_slot, exit_step, exit_port, exit_x, exit_y, stats):
+    """Advance the state by ``n_steps`` steps of the stochastic Heun (or Euler–Maruyama) scheme.
+
+    Additive noise ξ = √(2D dt)·z is drawn once per skyrmion and step (keyed on its id and the
+    global step number) and used in both Heun stages:
+        x̃ = x + v(x) dt + ξ,   x' = x + ½[v(x) + v(x̃)] dt + ξ.
+    After each step a skyrmion outside the device either crossed a port (it is removed and the
+    exit recorded) or crossed a wall (the step is undone for it and counted).
+    A frame is recorded into ``frames_x/y`` (NaN = absent) whenever the global step count
+    reaches a multiple of ``ip[IP_RECORD_EVERY]``. Returns the number of exits.
+    """
+    n = x.shape[0]
+    dt = fp[FP_DT]
+    noise = fp[FP_NOISE]
+    seed = ip[IP_SEED]
+    substeps = ip[IP_SUBSTEPS]
+    heun = ip[IP_SCHEME] == 0
+    thermal = ip[IP_THERMAL] == 1
+    record_every = ip[IP_RECORD_EVERY]
+    gx0 = fp[FP_GRID_X0]
+    gy0 = fp[FP_GRID_Y0]
+    inv_gh = 1.0 / fp[FP_GRID_H]
+    half_skin2 = 0.25 * fp[FP_SKIN] * fp[FP_SKIN]
+    inv_sqrt_sub = 1.0 / math.sqrt(substeps)
+    vx0 = np.empty(n)
+    vy0 = np.empty(n)
+    vx1 = np.empty(n)
+    vy1 = np.empty(n)
+    xp = np.empty(n)
+    yp = np.empty(n)
+    nx_ = np.zeros(n)
+    ny_ = np.zeros(n)
+    cand = np.empty((n, 4))
+    ref_x = np.empty(n)
+    ref_y = np.empty(n)
+    cell_head = np.empty(ip[IP_NCX] * ip[IP_NCY], dtype=np.int64)
+    cell_next = np.empty(n, dtype=np.int64)
+    owner = np.empty(n, dtype=np.int64)
+    start = np.empty(n + 1, dtype=np.int64)
+    capacity = 16 * n + 16
+    pair_j = np.empty(capacity, dtype=np.int64)
+    n_owners = -1  # no list yet
+    n_exits = 0
+    for s in range(n_steps):
+        step = step0 + s
+        if thermal and substeps == 1:
+            fill_gaussian_pairs(seed, ids, alive, step, STREAM_THERMAL, cand, nx_, ny_)
+            for i in range(n):
+                nx_[i] *= noise
+                ny_[i] *= noise
+        elif thermal:
+            for i in range(n):
+                if alive[i]:
+                    sx = 0.0
+                    sy = 0.0
+                    for b in range(substeps):
+                        zx, zy = gaussian_pair(seed, ids[i], step * substeps + b, STREAM_THERMAL)
+                        sx += zx
+                        sy += zy
+                    nx_[i] = noise * sx * inv_sqrt_sub
+                    ny_[i] = noise * sy * inv_sqrt_sub
+        for stage in range(2 if heun else 1):
+            px = x if stage == 0 else xp
+            py = y if stage == 0 else yp
+            if n_owners < 0 or _list_is_stale(px, py, alive, ref_x, ref_y, half_skin2):
+                while True:
+                    n_owners = build_neighbor_list(px, py, alive, fp, ip, cell_head, cell_next,
+                                                   owner, start, pair_j)
+                    if n_owners >= 0:
+                        break
+                    capacity *= 2
+                    pair_j = np.empty(capacity, dtype=np.int64)
+                ref_x[:] = px
+                ref_y[:] = py
+                stats[ST_REBUILDS] += 1
+            if stage == 0:
+                _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start,
+                            pair_j, n_owners, vx0, vy0, stats)
+                for i in range(n):
+                    xp[i] = x[i] + vx0[i] * dt + nx_[i]
+                    yp[i] = y[i] + vy0[i] * dt + ny_[i]
+            else:
+                _velocities(xp, yp, alive, fp, ip, pair_table, wall_table, fields, owner, start,
+                            pair_j, n_owners, vx1, vy1, stats)
+                for i in range(n):
+                    xp[i] = x[i] + 0.5 * (vx0[i] + vx1[i]) * dt + nx_[i]
+                    yp[i] = y[i] + 0.5 * (vy0[i] + vy1[i]) * dt + ny_[i]
+        # -- accept the step; handle skyrmions that left the device -------------------------
+        for i in range(n):
+            if not alive[i]:
+                continue
+            ci, cj, w00, w10, w01, w11 = _corner(fields, (xp[i] - gx0) * inv_gh,
+                                                 (yp[i] - gy0) * inv_gh)
+            if _sample(fields, ci, cj, w00, w10, w01, w11, CH_DOMAIN) >= 0.0:
+                x[i] = xp[i]
+                y[i] = yp[i]
+                continue
+            crossed = -1
+            for p in range(ports.shape[0]):
+                if _segments_cross(x[i], y[i], xp[i], yp[i], ports[p, 0], ports[p, 1],
+                                   ports[p, 2], ports[p, 3]):
+                    crossed = p
+                    break
+            if crossed >= 0:
+                alive[i] = False
+                n_owners = -1  # the pair list still holds the removed skyrmion: rebuild it
+                exit_slot[n_exits] = i
+                exit_step[n_exits] = step + 1
+                exit_port[n_exits] = crossed
+                exit_x[n_exits] = xp[i]
+                exit_y[n_exits] = yp[i]
+                n_exits += 1
+            else:
+                stats[ST_WALL_ESCAPES] += 1  # position kept: the step is undone
+        if record_every > 0 and (step + 1) % record_every == 0:
+            f = stats[ST_FRAMES]
+            for i in range(n):
+                if alive[i]:
+                    frames_x[f, i] = x[i]
+                    frames_y[f, i] = y[i]
+                else:
+                    frames_x[f, i] = np.nan
+                    frames_y[f, i] = np.nan
+            stats[ST_FRAMES] = f + 1
+    stats[ST_EXITS] += n_exits
+    return n_exits
+
+
+@numba.njit(cache=True, fastmath=_FASTMATH)
+def repeated_force_pass(x, y, alive, fp, ip, pair_table, wall_table, fields, repeats, vx, vy,
+                        stats):
+    """Build the neighbour list once and evaluate all forces ``repeats`` times (benchmarks:
+    it measures the force pass a run repeats every step, without Python call overhead)."""
+    n = x.shape[0]
+    cell_head = np.empty(ip[IP_NCX] * ip[IP_NCY], dtype=np.int64)
+    cell_next = np.empty(n, dtype=np.int64)
+    owner = np.empty(n, dtype=np.int64)
+    start = np.empty(n + 1, dtype=np.int64)
+    capacity = 16 * n + 16
+    while True:
+        pair_j = np.empty(capacity, dtype=np.int64)
+        n_owners = build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start,
+                                       pair_j)
+        if n_owners >= 0:
+            break
+        capacity *= 2
+    for _ in range(repeats):
+        _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start, pair_j,
+                    n_owners, vx, vy, stats)

@@ -1,0 +1,210 @@
+"""TOML configuration of a simulation, validated with pydantic before anything runs.
+
+A configuration file looks like ``examples/closed-chamber.toml``. All values are SI (metres,
+seconds, kelvin, m/s). Every field is checked when the file is loaded; an invalid value raises
+:class:`~skygas.errors.InputError` naming the field, the value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from skygas import geometry as geo
+from skygas.errors import InputError
+from skygas.forces import DEFAULT_CUTOFF_FRACTION
+from skygas.materials import Material, derive_thiele, load_material, preset_names
+
+PositiveFloat = Annotated[float, Field(gt=0)]
+Point2 = tuple[float, float]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class PortSpec(_Strict):
+    """An open boundary segment, from ``start`` to ``end`` [m]."""
+
+    name: str
+    start: Point2
+    end: Point2
+
+
+class DiskSpec(_Strict):
+    kind: Literal["disk"]
+    radius: PositiveFloat
+    center: Point2 = (0.0, 0.0)
+
+
+class RectangleSpec(_Strict):
+    kind: Literal["rectangle"]
+    width: PositiveFloat
+    height: PositiveFloat
+    center: Point2 = (0.0, 0.0)
+
+
+class PolygonSpec(_Strict):
+    kind: Literal["polygon"]
+    vertices: list[Point2] = Field(min_length=3)
+
+
+ShapeSpec = Annotated[Union[DiskSpec, RectangleSpec, PolygonSpec], Field(discriminator="kind")]
+
+
+class ChamberGeometry(_Strict):
+    """The paper's chamber with input and output conduits (ports ``input``, ``output``)."""
+
+    kind: Literal["chamber"] = "chamber"
+    chamber_diameter: PositiveFloat = 1024e-9
+    conduit_width: PositiveFloat = 100e-9
+    conduit_length: PositiveFloat = 50e-9
+    closed: bool = Field(False, description="close both conduit ends (no ports)")
+
+    def build(self) -> geo.Outline:
+        outline = geo.chamber_with_conduits(self.chamber_diameter, self.conduit_width,
+                                            self.conduit_length)
+        return geo.Outline(outline.region) if self.closed else outline
+
+
+class ShapesGeometry(_Strict):
+    """A union of shapes with optional ports."""
+
+    kind: Literal["shapes"]
+    shapes: list[ShapeSpec] = Field(min_length=1)
+    ports: list[PortSpec] = []
+
+    def build(self) -> geo.Outline:
+        parts = []
+        for s in self.shapes:
+            if s.kind == "disk":
+                parts.append(geo.disk(s.radius, s.center))
+            elif s.kind == "rectangle":
+                parts.append(geo.rectangle(s.width, s.height, s.center))
+            else:
+                parts.append(geo.polygon(s.vertices))
+        outline = geo.union(*parts) if len(parts) > 1 else parts[0]
+        for p in self.ports:
+            outline = outline.with_port(p.name, p.start, p.end)
+        return outline
+
+
+GeometrySpec = Annotated[Union[ChamberGeometry, ShapesGeometry], Field(discriminator="kind")]
+
+
+class ThieleOverrides(_Strict):
+    """Optional overrides of the derived Thiele parameters (PHYSICS.md §4)."""
+
+    dissipation: PositiveFloat | None = None
+    force_scale: PositiveFloat | None = None        # F0 [N]
+    skyrmion_diameter: PositiveFloat | None = None  # d_sk [m]
+    eta: float | None = None
+    mu: float = 1.0
+
+
+class ForcesSpec(_Strict):
+    pair_law: Literal["paper", "lin-reichhardt"] = "paper"
+    pair_law_params: dict[str, float] = {}
+    cutoff_fraction: float = Field(DEFAULT_CUTOFF_FRACTION, gt=0, lt=1)
+
+
+class DriftSpec(_Strict):
+    velocity: Point2 = (0.0, 0.0)  # uniform v_s [m/s]
+
+
+class SkyrmionsSpec(_Strict):
+    """Initial skyrmions: explicit ``positions`` [m] and/or ``random_count`` placed at random
+    at least ``min_separation`` diameters apart and from walls."""
+
+    positions: list[Point2] = []
+    random_count: int = Field(0, ge=0)
+    min_separation: PositiveFloat = 1.0
+
+
+class SimulationConfig(_Strict):
+    """Everything that defines a simulation run (SI units)."""
+
+    seed: int = Field(0, ge=0, lt=2**63)
+    temperature: float = Field(300.0, ge=0)
+    time_step: PositiveFloat | None = None  # default: the engine's suggested step
+    duration: float = Field(ge=0)
+    record_interval: PositiveFloat = 1e-9
+    film_thickness: PositiveFloat = 2e-9
+    integrator: Literal["heun", "euler-maruyama"] = "heun"
+    material: Union[str, dict[str, Any]] = "S2"
+    thiele: ThieleOverrides = ThieleOverrides()
+    forces: ForcesSpec = ForcesSpec()
+    drift: DriftSpec = DriftSpec()
+    geometry: GeometrySpec = ChamberGeometry(closed=True)
+    skyrmions: SkyrmionsSpec
+
+    def resolved_material(self) -> Material:
+        if isinstance(self.material, str) and not self.material.endswith(".toml") \
+                and self.material not in preset_names():
+            raise InputError("material", self.material,
+                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
+        return load_material(self.material)
+
+    def build(self):
+        """A ready :class:`~skygas.engine.Simulation` with the initial skyrmions placed."""
+        from skygas.engine import Simulation
+
+        material = self.resolved_material()
+        o = self.thiele
+        thiele = derive_thiele(material, self.film_thickness, dissipation=o.dissipation,
+                               force_scale=o.force_scale, skyrmion_diameter=o.skyrmion_diameter,
+                               eta=o.eta, mu=o.mu)
+        sim = Simulation(self.geometry.build(), material, time_step=self.time_step,
+                         temperature=self.temperature, seed=self.seed,
+                         film_thickness=self.film_thickness, thiele=thiele,
+                         drift_velocity=self.drift.velocity, pair_law=self.forces.pair_law,
+                         pair_law_params=self.forces.pair_law_params,
+                         cutoff_fraction=self.forces.cutoff_fraction,
+                         integrator=self.integrator)
+        s = self.skyrmions
+        if s.positions:
+            sim.add_skyrmions(np.asarray(s.positions), validate=True)
+        if s.random_count:
+            d_sk = sim.thiele.skyrmion_diameter_internal
+            rng = np.random.default_rng(np.random.SeedSequence([self.seed, 0x5EED]))
+            pts = geo.random_positions(sim.outline, s.random_count, s.min_separation * d_sk,
+                                       s.min_separation * d_sk, rng)
+            sim.validate_positions(pts, "skyrmions.random_count")
+            sim._insert_nm(pts)
+        return sim
+
+
+def _to_input_error(err: ValidationError, source: str) -> InputError:
+    first = err.errors()[0]
+    loc = ".".join(str(p) for p in first["loc"])
+    value = first.get("input") if first["type"] != "missing" else "(missing)"
+    msg = first["msg"]
+    if first["type"] == "missing":
+        msg = "this required field to be given"
+    elif first["type"] == "extra_forbidden":
+        msg = "no such field (check the spelling)"
+    return InputError(f"{source}{loc}", value, msg)
+
+
+def parse_config(data: dict, source: str = "") -> SimulationConfig:
+    """Validate a mapping (e.g. parsed TOML) into a :class:`SimulationConfig`."""
+    try:
+        return SimulationConfig(**data)
+    except ValidationError as err:
+        raise _to_input_error(err, source) from None
+
+
+def load_config(path: str | Path) -> SimulationConfig:
+    """Read and validate a TOML configuration file."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("config", str(path), "an existing TOML file")
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as err:
+        raise InputError("config", str(path), f"valid TOML ({err})") from None
+    return parse_config(data, source=f"{path.name}: ")

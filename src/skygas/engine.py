@@ -1,0 +1,501 @@
+"""The N-body stochastic Thiele engine.
+
+Equation of motion (PHYSICS.md §1; SI, sign convention in ``docs/conventions.md``), for each
+skyrmion i:
+
+    (G ε + α𝒟k I)·ẋᵢ = μ (G ε + η𝒟k I)·v_s(xᵢ) + F_th,i + Σⱼ F_ss(xᵢ − xⱼ) + F_wall(xᵢ)
+
+with ⟨F_th,a(t) F_th,b(t')⟩ = 2α𝒟k k_B T δ_ab δ(t − t'). Solving the 2×2 system gives
+ẋ = M·F with M = (α𝒟k I − G ε)/((α𝒟k)² + G²); the noise enters as the isotropic velocity noise
+M·F_th of diffusion constant D = k_B T α𝒟k/((α𝒟k)² + G²).
+
+Integrator: **stochastic Heun** (predictor–corrector trapezoidal rule, the noise increment drawn
+once per step and used in both stages). The noise is additive, so the Itô and Stratonovich
+solutions coincide and Heun converges to both. Orders: 2 for deterministic dynamics (T = 0);
+strong order 1 and weak order 2 with noise. Euler–Maruyama (strong 1 with additive noise, weak 1,
+deterministic 1) is offered for comparison only. Heun is inaccurate, like any explicit scheme,
+when the time step approaches the fastest force-relaxation time τ_min (see
+:meth:`Simulation.max_time_step`); steps above τ_min are refused.
+
+State: fixed-capacity structure of arrays (x, y in nm, an alive mask, a persistent integer id
+per skyrmion) that grows on demand, so skyrmions can be inserted and removed during a run.
+Noise is drawn from Philox4x32-10 keyed on (seed, id, step) (:mod:`skygas._rng`), so results do
+not depend on storage order, insertions or removals.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Protocol
+
+import numpy as np
+import xarray as xr
+
+from skygas import _kernels as K
+from skygas import units
+from skygas._version import __version__
+from skygas.errors import InputError, require
+from skygas.forces import DEFAULT_CUTOFF_FRACTION, ForceTable, pair_law, wall_law
+from skygas.geometry import Outline
+from skygas.materials import Material, ThieleParameters, derive_thiele, load_material
+from skygas.wall_field import WallField
+
+#: Time steps longer than this fraction of τ_min are refused (see Simulation.max_time_step).
+MAX_STEP_FRACTION = 1.0
+#: Suggested time step as a fraction of τ_min.
+SUGGESTED_STEP_FRACTION = 0.1
+#: Skyrmions closer than this many diameters are "on top of each other" and refused.
+MIN_PLACEMENT_SEPARATION = 0.5
+#: Neighbour-list skin in skyrmion diameters (the list is rebuilt after a skyrmion moves
+#: half of it; larger skins rebuild less often but carry more pairs beyond the cutoff).
+NEIGHBOR_SKIN = 0.25
+
+INTEGRATORS = {"heun": 0, "euler-maruyama": 1}
+
+
+@dataclass(frozen=True)
+class ForceModel:
+    """The tabulated pair and wall laws (internal units) and how they were made."""
+
+    pair: ForceTable
+    wall: ForceTable
+    pair_law: str
+    pair_law_params: dict
+    cutoff_fraction: float
+
+    @classmethod
+    def build(cls, material: Material, thiele: ThieleParameters, pair_law_name: str = "paper",
+              pair_law_params: dict | None = None,
+              cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION) -> "ForceModel":
+        params = dict(pair_law_params or {})
+        f0 = thiele.force_scale_internal
+        d_sk = thiele.skyrmion_diameter_internal
+        pair = ForceTable.from_law(pair_law(pair_law_name, material.pair_law, **params), f0,
+                                   d_sk, cutoff_fraction, squared=True)
+        wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)
+        return cls(pair, wall, pair_law_name, params, cutoff_fraction)
+
+    def max_stiffness(self) -> float:
+        """Largest |dF/dr| of either tabulated law [pN/nm]."""
+        slopes = []
+        for table in (self.pair, self.wall):
+            r = np.linspace(0.0, table.cutoff, 20_001)
+            slopes.append(float(np.max(np.abs(np.diff(table(r)))) / (r[1] - r[0])))
+        return max(slopes)
+
+
+class Operation(Protocol):
+    """Something that acts on a simulation every ``period_steps`` steps (injectors, detectors,
+    gates, writers). ``act`` is called after the state has reached a multiple of the period."""
+
+    period_steps: int
+
+    def act(self, sim: "Simulation") -> None: ...
+
+
+@dataclass
+class _Frames:
+    times: list = field(default_factory=list)
+    blocks: list = field(default_factory=list)  # (frame times, x (f, cap), y, slot→id copy)
+
+
+class Simulation:
+    """A skyrmion gas in a device outline.
+
+    Parameters
+    ----------
+    outline: the device (:mod:`skygas.geometry`).
+    material: a :class:`~skygas.materials.Material`, preset name or TOML path.
+    temperature: T [K] (0 for deterministic dynamics).
+    time_step: dt [s]; refused above :meth:`max_time_step`; ``None`` takes
+        :meth:`suggested_time_step`.
+    seed: non-negative integer; with the same seed a run is bit-identical.
+    film_thickness: t_F [m] (default 2 nm, as in the paper).
+    thiele: explicit Thiele parameters (otherwise derived from the material and film).
+    drift_velocity: uniform spin-drift velocity v_s [m/s] (x, y).
+    pair_law, pair_law_params, cutoff_fraction: see :mod:`skygas.forces`.
+    grid_spacing: wall-field grid spacing [m] (default d_sk/16).
+    integrator: ``"heun"`` (default) or ``"euler-maruyama"`` (for comparison only).
+    brownian_substeps: draw each step's noise as the sum of this many sub-increments, so that
+        runs with steps dt and dt/m share one Brownian path (strong-convergence studies).
+    """
+
+    def __init__(self, outline: Outline, material: Material | str = "S2", *,
+                 temperature: float = 300.0, time_step: float | None = None, seed: int = 0,
+                 film_thickness: float = 2e-9, thiele: ThieleParameters | None = None,
+                 drift_velocity=(0.0, 0.0), pair_law: str = "paper",
+                 pair_law_params: dict | None = None,
+                 cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
+                 grid_spacing: float | None = None, integrator: str = "heun",
+                 brownian_substeps: int = 1, capacity: int = 64):
+        require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
+        require(np.isfinite(temperature) and temperature >= 0, "temperature", temperature,
+                "a temperature >= 0 in kelvin")
+        require(isinstance(seed, (int, np.integer)) and 0 <= seed < 2**63, "seed", seed,
+                "an integer in [0, 2^63)")
+        require(integrator in INTEGRATORS, "integrator", integrator, f"one of {list(INTEGRATORS)}")
+        require(isinstance(brownian_substeps, (int, np.integer)) and brownian_substeps >= 1,
+                "brownian_substeps", brownian_substeps, "an integer >= 1")
+        self.outline = outline
+        self.material = load_material(material)
+        self.thiele = thiele or derive_thiele(self.material, film_thickness)
+        self.temperature = float(temperature)
+        self.seed = int(seed)
+        self.integrator = integrator
+        self.forces = ForceModel.build(self.material, self.thiele, pair_law, pair_law_params,
+                                       cutoff_fraction)
+        d_sk = self.thiele.skyrmion_diameter_internal
+        spacing = d_sk / 16 if grid_spacing is None else grid_spacing * units.M_TO_NM
+        require(spacing > 0 and spacing <= d_sk, "grid_spacing", grid_spacing,
+                f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)")
+        self.wall_field = WallField.build(outline, spacing, band=self.forces.wall.cutoff
+                                          + 2 * spacing)
+        limit = self.max_time_step()
+        if time_step is None:
+            time_step = self.suggested_time_step()
+        require(np.isfinite(time_step) and 0 < time_step <= limit, "time_step", time_step,
+                f"a step in (0, {limit:.3g}] s: longer steps do not resolve the fastest force "
+                f"relaxation τ_min = {limit:.3g} s (suggested ≤ {self.suggested_time_step():.3g} s)")
+        self.time_step = float(time_step)
+
+        # -- state (structure of arrays, internal units) -----------------------------------
+        self._x = np.zeros(capacity)
+        self._y = np.zeros(capacity)
+        self._alive = np.zeros(capacity, dtype=np.bool_)
+        self._ids = np.full(capacity, -1, dtype=np.int64)
+        self._next_id = 0
+        self.step = 0
+        self.exits: list[tuple[int, float, str, float, float]] = []
+        self.wall_escapes = 0
+        self.pair_evaluations = 0
+        self.operations: list[Operation] = []
+        self._frames = _Frames()
+
+        # -- parameters for the kernels ------------------------------------------------------
+        t = self.thiele
+        a, g = t.friction_internal, t.gyrocoupling_internal
+        kt = units.thermal_energy_internal(self.temperature)
+        self._fp = np.zeros(K.FP_SIZE)
+        self._fp[K.FP_DT] = self.time_step * units.S_TO_NS
+        self._fp[K.FP_MOB_A] = a / (a * a + g * g)
+        self._fp[K.FP_MOB_G] = g / (a * a + g * g)
+        # √(2 D dt) per axis; the kernel sums `brownian_substeps` normals and rescales.
+        self._fp[K.FP_NOISE] = math.sqrt(2.0 * kt * a / (a * a + g * g) * self._fp[K.FP_DT])
+        self._fp[K.FP_DRIVE_G] = t.mu * g
+        self._fp[K.FP_DRIVE_B] = t.mu * t.drive_friction_internal
+        self._fp[K.FP_PAIR_H2] = self.forces.pair.spacing
+        self._fp[K.FP_PAIR_CUT] = self.forces.pair.cutoff
+        self._fp[K.FP_WALL_H] = self.forces.wall.spacing
+        self._fp[K.FP_WALL_CUT] = self.forces.wall.cutoff
+        grid = self.wall_field.grid
+        self._fp[K.FP_GRID_X0], self._fp[K.FP_GRID_Y0] = grid.x0, grid.y0
+        self._fp[K.FP_GRID_H] = grid.spacing
+        self._ip = np.zeros(K.IP_SIZE, dtype=np.int64)
+        self._ip[K.IP_SEED] = self.seed
+        self._ip[K.IP_SUBSTEPS] = brownian_substeps
+        self._ip[K.IP_SCHEME] = INTEGRATORS[integrator]
+        self._ip[K.IP_THERMAL] = 1 if self.temperature > 0 else 0
+        # Every per-node field in one interleaved float32 array: a bilinear lookup then reads
+        # four neighbouring memory spots instead of twenty scattered ones (cache misses
+        # dominate the step time otherwise).
+        wf = self.wall_field
+        self._fields = np.zeros((grid.ny, grid.nx, K.N_CHANNELS), dtype=np.float32)
+        self._fields[..., K.CH_WALL_DIST] = wf.wall_distance
+        self._fields[..., K.CH_NORMAL_X] = wf.normal_x
+        self._fields[..., K.CH_NORMAL_Y] = wf.normal_y
+        self._fields[..., K.CH_DOMAIN] = wf.domain_distance
+        self.set_uniform_drift(drift_velocity)
+        ports = list(outline.ports.values())
+        self._port_names = list(outline.ports)
+        self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
+        # Cell list for building the neighbour list: cells no smaller than cutoff + skin,
+        # covering the field grid (skyrmions outside it are clamped into edge cells).
+        skin = NEIGHBOR_SKIN * d_sk
+        reach = self.forces.pair.cutoff + skin
+        width = grid.spacing * (grid.nx - 1)
+        height = grid.spacing * (grid.ny - 1)
+        ncx = max(1, int(width // reach))
+        ncy = max(1, int(height // reach))
+        self._fp[K.FP_SKIN] = skin
+        self._fp[K.FP_CELL_X0], self._fp[K.FP_CELL_Y0] = grid.x0, grid.y0
+        self._fp[K.FP_CELL_SIZE] = max(width / ncx, height / ncy)
+        self._ip[K.IP_NCX], self._ip[K.IP_NCY] = ncx, ncy
+        self.neighbor_rebuilds = 0
+
+    # -- time step -----------------------------------------------------------------------------
+    def relaxation_time(self) -> float:
+        """τ_min [s]: the fastest force relaxation, 1/(κ_max |M|).
+
+        κ_max is the steepest slope |dF/dr| of either force law and |M| = 1/√(G² + (α𝒟k)²) the
+        mobility: a skyrmion displaced on the steepest part of a law relaxes back (spiralling,
+        when G ≠ 0) at the rate κ_max|M|.
+        """
+        a, g = self.thiele.friction_internal, self.thiele.gyrocoupling_internal
+        rate = self.forces.max_stiffness() / math.hypot(a, g)  # 1/ns
+        return 1.0 / rate / units.S_TO_NS
+
+    def max_time_step(self) -> float:
+        """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""
+        return MAX_STEP_FRACTION * self.relaxation_time()
+
+    def suggested_time_step(self) -> float:
+        """A safe default [s]: SUGGESTED_STEP_FRACTION · τ_min. Check it with
+        :func:`skygas.timestep.check_time_step`."""
+        return SUGGESTED_STEP_FRACTION * self.relaxation_time()
+
+    # -- drift ---------------------------------------------------------------------------------
+    def set_uniform_drift(self, velocity) -> None:
+        """Uniform spin-drift velocity v_s = (vx, vy) [m/s] (1 m/s = 1 nm/ns)."""
+        v = np.asarray(velocity, dtype=float)
+        require(v.shape == (2,) and np.all(np.isfinite(v)), "drift_velocity", velocity,
+                "two finite numbers (vx, vy) in m/s")
+        self._fp[K.FP_VS_X], self._fp[K.FP_VS_Y] = v
+        self._ip[K.IP_DRIFT_GRID] = 0
+
+    def set_drift_field(self, vx: np.ndarray, vy: np.ndarray) -> None:
+        """Spatial v_s [m/s] sampled on ``self.wall_field.grid`` (arrays of shape (ny, nx))."""
+        shape = (self.wall_field.grid.ny, self.wall_field.grid.nx)
+        for name, arr in (("vx", vx), ("vy", vy)):
+            require(np.shape(arr) == shape and np.all(np.isfinite(arr)), f"drift_field.{name}",
+                    np.shape(arr), f"a finite array of shape {shape} (the wall-field grid)")
+        self._fields[..., K.CH_DRIFT_X] = vx
+        self._fields[..., K.CH_DRIFT_Y] = vy
+        self._ip[K.IP_DRIFT_GRID] = 1
+
+    # -- skyrmions -----------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.step * self.time_step
+
+    @property
+    def count(self) -> int:
+        """Number of skyrmions present."""
+        return int(self._alive.sum())
+
+    def positions(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
+        slots = np.nonzero(self._alive)[0]
+        order = np.argsort(self._ids[slots])
+        slots = slots[order]
+        pos = np.column_stack([self._x[slots], self._y[slots]]) / units.M_TO_NM
+        return self._ids[slots].copy(), pos
+
+    def _grow(self, needed: int) -> None:
+        cap = len(self._x)
+        if needed <= cap:
+            return
+        new = max(needed, 2 * cap)
+        for name, fill in (("_x", 0.0), ("_y", 0.0), ("_alive", False), ("_ids", -1)):
+            old = getattr(self, name)
+            arr = np.full(new, fill, dtype=old.dtype)
+            arr[:cap] = old
+            setattr(self, name, arr)
+
+    def validate_positions(self, positions_nm: np.ndarray, field_name: str = "skyrmions",
+                           check_existing: bool = True) -> None:
+        """Refuse positions outside the device or on top of another skyrmion."""
+        p = np.asarray(positions_nm, dtype=float).reshape(-1, 2)
+        inside = self.outline.contains_nm(p[:, 0], p[:, 1])
+        for n in np.nonzero(~inside | ~np.all(np.isfinite(p), axis=1))[0]:
+            raise InputError(f"{field_name}[{n}]", (p[n] / units.M_TO_NM).tolist(),
+                             "a position (m) inside the device outline")
+        min_sep = MIN_PLACEMENT_SEPARATION * self.thiele.skyrmion_diameter_internal
+        others = np.column_stack([self._x[self._alive], self._y[self._alive]]) \
+            if check_existing else np.empty((0, 2))
+        for n in range(len(p)):
+            ref = np.vstack([p[:n], others])
+            if len(ref) and np.min(np.hypot(*(ref - p[n]).T)) < min_sep:
+                raise InputError(f"{field_name}[{n}]", (p[n] / units.M_TO_NM).tolist(),
+                                 f"a position at least {min_sep * 1e-9:.3g} m "
+                                 f"({MIN_PLACEMENT_SEPARATION} diameters) from other skyrmions")
+
+    def add_skyrmions(self, positions, *, validate: bool = True) -> np.ndarray:
+        """Insert skyrmions at ``positions`` [m] (shape (n, 2)); returns their new ids."""
+        p = np.asarray(positions, dtype=float).reshape(-1, 2) * units.M_TO_NM
+        if validate:
+            self.validate_positions(p)
+        return self._insert_nm(p)
+
+    def _insert_nm(self, p: np.ndarray) -> np.ndarray:
+        free = np.nonzero(~self._alive)[0]
+        if len(free) < len(p):
+            self._grow(len(self._x) + len(p) - len(free))
+            free = np.nonzero(~self._alive)[0]
+        slots = free[: len(p)]
+        new_ids = np.arange(self._next_id, self._next_id + len(p), dtype=np.int64)
+        self._next_id += len(p)
+        self._x[slots], self._y[slots] = p[:, 0], p[:, 1]
+        self._alive[slots] = True
+        self._ids[slots] = new_ids
+        return new_ids
+
+    def remove_skyrmions(self, ids) -> None:
+        """Remove the skyrmions with the given ids (unknown ids raise)."""
+        for ident in np.atleast_1d(ids):
+            slot = np.nonzero(self._alive & (self._ids == ident))[0]
+            require(len(slot) == 1, "skyrmion id", int(ident), "the id of a present skyrmion")
+            self._alive[slot] = False
+
+    # -- running -------------------------------------------------------------------------------
+    def run(self, duration: float, record_interval: float | None = None,
+            progress: Callable[[float], None] | None = None, chunk_steps: int = 20_000) -> None:
+        """Advance by ``duration`` [s], recording positions every ``record_interval`` [s].
+
+        Operations in :attr:`operations` fire whenever the step count reaches a multiple of
+        their period. ``progress(t)`` is called with the simulated time after each chunk.
+        """
+        require(np.isfinite(duration) and duration >= 0, "duration", duration,
+                "a duration >= 0 in seconds")
+        n_total = int(round(duration / self.time_step))
+        record_every = 0
+        if record_interval is not None:
+            require(record_interval >= self.time_step, "record_interval", record_interval,
+                    f"an interval >= the time step ({self.time_step:.3g} s)")
+            record_every = max(1, int(round(record_interval / self.time_step)))
+        end = self.step + n_total
+        while self.step < end:
+            n = min(end - self.step, chunk_steps)
+            for op in self.operations:
+                n = min(n, op.period_steps - self.step % op.period_steps)
+            self._advance(n, record_every)
+            for op in self.operations:
+                if self.step % op.period_steps == 0:
+                    op.act(self)
+            if progress is not None:
+                progress(self.time)
+
+    def _advance(self, n_steps: int, record_every: int) -> None:
+        cap = len(self._x)
+        # frames fall on the global steps that are multiples of record_every
+        n_frames = ((self.step + n_steps) // record_every - self.step // record_every
+                    if record_every else 0)
+        frames_x = np.empty((max(n_frames, 1), cap))
+        frames_y = np.empty((max(n_frames, 1), cap))
+        stats = np.zeros(K.ST_SIZE, dtype=np.int64)
+        exit_slot = np.empty(cap, dtype=np.int64)
+        exit_step = np.empty(cap, dtype=np.int64)
+        exit_port = np.empty(cap, dtype=np.int64)
+        exit_x = np.empty(cap)
+        exit_y = np.empty(cap)
+        ids_before = self._ids.copy()
+        self._ip[K.IP_RECORD_EVERY] = record_every
+        n_exit = K.advance(
+            self._x, self._y, self._alive, self._ids, self.step, n_steps, self._fp, self._ip,
+            self.forces.pair.values, self.forces.wall.values, self._fields, self._ports,
+            frames_x, frames_y, exit_slot, exit_step, exit_port, exit_x, exit_y, stats)
+        for e in range(n_exit):
+            self.exits.append((int(ids_before[exit_slot[e]]),
+                               float(exit_step[e] * self.time_step),
+                               self._port_names[exit_port[e]],
+                               float(exit_x[e] / units.M_TO_NM),
+                               float(exit_y[e] / units.M_TO_NM)))
+        if n_frames:
+            first = (self.step // record_every + 1) * record_every
+            steps = first + record_every * np.arange(n_frames)
+            self._frames.blocks.append((steps * self.time_step, frames_x[:n_frames].copy(),
+                                        frames_y[:n_frames].copy(), ids_before))
+        self.step += n_steps
+        self.wall_escapes += int(stats[K.ST_WALL_ESCAPES])
+        self.pair_evaluations += int(stats[K.ST_PAIRS])
+        self.neighbor_rebuilds += int(stats[K.ST_REBUILDS])
+
+    # -- checkpoints ---------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The mutable state as plain arrays (positions in nm). With the same construction
+        arguments, :meth:`load_state_dict` continues the run bit-identically, because the noise
+        depends only on (seed, id, step)."""
+        ds = self.trajectories()
+        return {
+            "x": self._x.copy(), "y": self._y.copy(), "alive": self._alive.copy(),
+            "ids": self._ids.copy(),
+            "counters": np.array([self._next_id, self.step, self.wall_escapes,
+                                  self.pair_evaluations], dtype=np.int64),
+            "frame_time": ds.time.values, "frame_x": ds.x.values, "frame_y": ds.y.values,
+            "exit_skyrmion": ds.exit_skyrmion.values, "exit_time": ds.exit_time.values,
+            "exit_port": ds.exit_port.values.astype(str),
+            "exit_x": np.array([e[3] for e in self.exits]),
+            "exit_y": np.array([e[4] for e in self.exits]),
+        }
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore a state saved by :meth:`state_dict`."""
+        self._x, self._y = state["x"].copy(), state["y"].copy()
+        self._alive, self._ids = state["alive"].copy(), state["ids"].copy()
+        self._next_id, self.step, self.wall_escapes, self.pair_evaluations = \
+            (int(v) for v in state["counters"])
+        n_ids = state["frame_x"].shape[1]
+        self._frames = _Frames()
+        if len(state["frame_time"]):
+            self._frames.blocks.append((state["frame_time"], state["frame_x"] * units.M_TO_NM,
+                                        state["frame_y"] * units.M_TO_NM,
+                                        np.arange(n_ids, dtype=np.int64)))
+        self.exits = [(int(i), float(t), str(p), float(x), float(y)) for i, t, p, x, y in
+                      zip(state["exit_skyrmion"], state["exit_time"], state["exit_port"],
+                          state["exit_x"], state["exit_y"])]
+
+    # -- results -------------------------------------------------------------------------------
+    def parameters(self) -> dict:
+        """Every parameter needed to reproduce the run (JSON-able, SI units)."""
+        return {
+            "skygas_version": __version__,
+            "seed": self.seed,
+            "temperature_K": self.temperature,
+            "time_step_s": self.time_step,
+            "integrator": self.integrator,
+            "brownian_substeps": int(self._ip[K.IP_SUBSTEPS]),
+            "material": self.material.model_dump(mode="json"),
+            "thiele": self.thiele.as_record(),
+            "pair_law": self.forces.pair_law,
+            "pair_law_params": self.forces.pair_law_params,
+            "cutoff_fraction": self.forces.cutoff_fraction,
+            "pair_cutoff_m": self.forces.pair.cutoff / units.M_TO_NM,
+            "wall_cutoff_m": self.forces.wall.cutoff / units.M_TO_NM,
+            "grid_spacing_m": self.wall_field.grid.spacing / units.M_TO_NM,
+            "drift": ("field" if self._ip[K.IP_DRIFT_GRID] else
+                      [self._fp[K.FP_VS_X], self._fp[K.FP_VS_Y]]),
+            "geometry": self.outline.describe(),
+        }
+
+    def trajectories(self) -> xr.Dataset:
+        """Recorded positions as a Dataset: ``x``, ``y`` [m] with dims (time, skyrmion), NaN
+        where a skyrmion does not exist, ``time`` [s]; exits as variables on dim ``exit``;
+        attributes hold every parameter (``parameters_json``), the seed and the version."""
+        blocks = self._frames.blocks
+        times = np.concatenate([b[0] for b in blocks]) if blocks else np.empty(0)
+        n_ids = self._next_id
+        x = np.full((len(times), n_ids), np.nan)
+        y = np.full((len(times), n_ids), np.nan)
+        row = 0
+        for t, fx, fy, ids in blocks:
+            slots = np.nonzero(ids >= 0)[0]
+            rows = slice(row, row + len(t))
+            x[rows, ids[slots]] = fx[:, slots] / units.M_TO_NM
+            y[rows, ids[slots]] = fy[:, slots] / units.M_TO_NM
+            row += len(t)
+        ex = self.exits
+        ds = xr.Dataset(
+            {
+                "x": (("time", "skyrmion"), x, {"units": "m", "long_name": "x position"}),
+                "y": (("time", "skyrmion"), y, {"units": "m", "long_name": "y position"}),
+                "exit_skyrmion": ("exit", np.array([e[0] for e in ex], dtype=np.int64)),
+                "exit_time": ("exit", np.array([e[1] for e in ex], dtype=float), {"units": "s"}),
+                "exit_port": ("exit", np.array([e[2] for e in ex], dtype=str)),
+            },
+            coords={"time": ("time", times, {"units": "s"}),
+                    "skyrmion": np.arange(n_ids, dtype=np.int64)},
+        )
+        params = self.parameters()
+        ds.attrs.update({
+            "title": "skygas skyrmion trajectories",
+            "skygas_version": __version__,
+            "seed": self.seed,
+            "temperature_K": self.temperature,
+            "time_step_s": self.time_step,
+            "simulated_time_s": self.time,
+            "wall_escapes": self.wall_escapes,
+            "parameters_json": json.dumps(params),
+        })
+        return ds

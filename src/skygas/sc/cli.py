@@ -1,0 +1,28 @@
+"""``skygas sc ...`` commands: a thin layer over :mod:`skygas.sc`."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def _demo(args: argparse.Namespace) -> int:
+    from skygas.sc.demo import run_demo
+
+    run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
+    print(f"stochastic-computing demo written to {args.out}")
+    return 0
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``sc`` command group."""
+    parser = subparsers.add_parser(
+        "sc", help="stochastic computing: bitstreams, gates, decorrelators"
+    )
+    commands = parser.add_subparsers(dest="sc_command", metavar="SC_COMMAND", required=True)
+    demo = commands.add_parser(
+        "demo", help="AND-gate squaring, error vs length, decorrelators compared (figures + JSON)"
+    )
+    demo.add_argument("--out", required=True, help="output directory")
+    demo.add_argument("--seed", type=int, default=2024, help="master seed (default 2024)")
+    demo.add_argument("--n-bits", type=int, default=4096, help="stream length N (default 4096)")
+    demo.set_defaults(func=_demo)
