@@ -18,6 +18,7 @@ from skygas.errors import InputError
 _COMMAND_MODULES = [
     "skygas.commands.simulate",
     "skygas.sc.cli",
+    "skygas.micromag.cli",
 ]
 
 

@@ -1,0 +1,78 @@
+"""Writing a fitted material as a skygas preset (TOML) that :func:`skygas.materials.load_material`
+loads, and the plot of fitted laws against their data."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from skygas._version import __version__
+from skygas.errors import InputError
+from skygas.materials import Material, material_from_mapping
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        if isinstance(value, float) and not math.isfinite(value):
+            raise InputError("preset value", value, "a finite number")
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)  # a JSON string is a valid TOML basic string
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    raise InputError("preset value", value, "a number, string, bool or list")
+
+
+def material_preset(base: Material, **updates) -> Material:
+    """``base`` with ``updates`` (e.g. pair_law, wall_law, skyrmion_radius, dissipation),
+    validated as a :class:`~skygas.materials.Material`."""
+    data = {**base.model_dump(), **{k: v for k, v in updates.items() if v is not None}}
+    return material_from_mapping(data, field="fitted material")
+
+
+def write_material_toml(path: str | Path, material: Material, notes: list[str] = ()) -> Path:
+    """Write ``material`` as a ``[material]`` table; ``notes`` become header comments."""
+    path = Path(path)
+    lines = [f"# skygas {__version__} material preset fitted from micromagnetic snapshots."]
+    lines += [f"# {note}" for note in notes]
+    lines.append("[material]")
+    for key, value in material.model_dump().items():
+        if value is not None:
+            value = list(value) if isinstance(value, tuple) else value
+            lines.append(f"{key} = {_toml_value(value)}")
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def plot_fits(path: str | Path, samples: dict, fits: dict) -> Path:
+    """One panel per fitted law: |F| [pN] against d [diameters], data and fitted curve."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    laws = [law for law in ("pair", "wall") if law in samples]
+    fig, axes = plt.subplots(1, max(len(laws), 1), figsize=(5 * max(len(laws), 1), 4),
+                             squeeze=False)
+    for ax, law in zip(axes[0], laws):
+        d, force = samples[law]
+        positive = force > 0
+        ax.semilogy(d[positive], force[positive] * 1e12, ".", ms=3, label="Ĝ·ẋ (data)")
+        fit = fits.get(law)
+        if fit is not None:
+            grid = np.linspace(d.min(), d.max(), 200)
+            coeffs = ", ".join(f"{c:.4g}" for c in fit.coefficients)
+            ax.semilogy(grid, fit.magnitude(grid) * 1e12, "r-", label=f"fit [{coeffs}]")
+        ax.set_xlabel("distance d (skyrmion diameters)")
+        ax.set_ylabel("|F| (pN)")
+        ax.set_title("skyrmion–skyrmion" if law == "pair" else "skyrmion–wall")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)

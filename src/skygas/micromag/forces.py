@@ -1,0 +1,214 @@
+"""Forces from trajectories and fits of the paper's pair and wall laws.
+
+Force extraction (paper, "Skyrmion Interactions"): with no current and no noise the Thiele
+equation reads F = Ĝ^α·ẋ with Ĝ^α = G ε + α𝒟k I, ε = [[0, 1], [−1, 0]], k = M_s t_F/γ and
+G = −4πQk, the conventions of :func:`skygas.materials.derive_thiele`. Componentwise
+
+    F_x = α𝒟k ẋ + G ẏ,    F_y = −G ẋ + α𝒟k ẏ.
+
+Velocities come from a local least-squares polynomial (Savitzky–Golay) derivative, which
+averages out the sub-cell jitter of detected centres; its window sets the smoothing.
+
+Laws (PHYSICS.md §2), d in units of the skyrmion diameter d_sk, F₀ the force scale:
+
+- pair:  |F| = F₀ exp[−(a₂d² + a₁d + a₀)/(d + 1)], repulsive along the line of centres;
+- wall:  |F| = F₀ exp[−p(d)], p = polyval(b, d) (highest power first), along the inward normal.
+
+Fits: ln(|F|/F₀) is linear in the coefficients (for the pair law after multiplying by d + 1), so
+a linear least-squares solution starts a nonlinear least-squares refinement on ln|F| (equal
+weight to every sample in relative terms), whose covariance gives the quoted 1σ uncertainties.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize, signal
+
+from skygas.errors import InputError
+
+
+def pair_law_magnitude(d, pair_law) -> np.ndarray:
+    """exp[−(a₂d² + a₁d + a₀)/(d + 1)] for ``pair_law`` = [a₂, a₁, a₀] (dimensionless)."""
+    a2, a1, a0 = pair_law
+    d = np.asarray(d, dtype=np.float64)
+    return np.exp(-(a2 * d * d + a1 * d + a0) / (d + 1.0))
+
+
+def wall_law_magnitude(d, wall_law) -> np.ndarray:
+    """exp[−polyval(b, d)] for ``wall_law`` b, highest power first (dimensionless)."""
+    return np.exp(-np.polyval(np.asarray(wall_law, dtype=np.float64), np.asarray(d, float)))
+
+
+@dataclass(frozen=True)
+class LineBoundary:
+    """A straight wall through ``point`` [m]; the film lies on the side of ``inward_normal``."""
+
+    point: tuple[float, float]
+    inward_normal: tuple[float, float]
+
+    def distance_and_normal(self, positions) -> tuple[np.ndarray, np.ndarray]:
+        """Distance to the wall [m] and the unit inward normal, for positions (n, 2) [m]."""
+        normal = np.asarray(self.inward_normal, float) / np.hypot(*self.inward_normal)
+        positions = np.atleast_2d(positions)
+        dist = (positions - np.asarray(self.point)) @ normal
+        return dist, np.broadcast_to(normal, positions.shape)
+
+
+@dataclass(frozen=True)
+class DiskBoundary:
+    """A disk-shaped film of ``radius`` [m] around ``centre`` [m]."""
+
+    centre: tuple[float, float]
+    radius: float
+
+    def distance_and_normal(self, positions) -> tuple[np.ndarray, np.ndarray]:
+        """Distance to the rim [m] and the unit inward normal (towards the centre)."""
+        offset = np.atleast_2d(positions) - np.asarray(self.centre)
+        r = np.linalg.norm(offset, axis=-1)
+        normal = -offset / np.where(r > 0, r, 1.0)[:, None]
+        return self.radius - r, normal
+
+
+def disk_from_mask(magnetic: np.ndarray, x: np.ndarray, y: np.ndarray) -> DiskBoundary:
+    """The disk of a film mask (ny, nx) on cell centres ``x``, ``y`` [m]: its centroid and the
+    radius of equal area, √(A/π), which is exact up to the staircase of the cells."""
+    magnetic = np.asarray(magnetic, bool)
+    if magnetic.all():
+        raise InputError("boundary", "no empty cells", "a disk geometry (cells outside the "
+                         "disk written as m = 0) for a wall fit")
+    yy, xx = np.meshgrid(y, x, indexing="ij")
+    area = magnetic.sum() * abs(x[1] - x[0]) * abs(y[1] - y[0])
+    return DiskBoundary((float(xx[magnetic].mean()), float(yy[magnetic].mean())),
+                        math.sqrt(area / math.pi))
+
+
+def velocities(times, positions, window: int = 9, order: int = 3) -> np.ndarray:
+    """dx/dt [m/s] of positions (n, 2) [m] at ``times`` [s] by a Savitzky–Golay derivative.
+
+    ``window`` (odd, samples) sets the smoothing; the sampling must be uniform (as snapshots
+    written at a fixed interval are). Fewer samples than the window fall back to a polynomial of
+    the whole track.
+    """
+    times = np.asarray(times, dtype=np.float64)
+    positions = np.asarray(positions, dtype=np.float64)
+    if times.size < 3:
+        raise InputError("trajectory length", times.size, "at least 3 samples for a velocity")
+    steps = np.diff(times)
+    if np.any(steps <= 0) or np.ptp(steps) > 1e-6 * steps.mean():
+        raise InputError("times", "non-uniform", "uniformly spaced, increasing snapshot times")
+    if window % 2 == 0 or window <= order:
+        raise InputError("window", window, f"an odd number of samples > order = {order}")
+    window = min(window, times.size if times.size % 2 else times.size - 1)
+    order = min(order, window - 1)
+    return signal.savgol_filter(positions, window, order, deriv=1, delta=steps.mean(), axis=0,
+                                mode="interp")
+
+
+def thiele_forces(velocity, gyrocoupling: float, friction: float) -> np.ndarray:
+    """F = (G ε + α𝒟k I)·ẋ [N] for velocities (n, 2) [m/s]; G, α𝒟k in kg/s."""
+    v = np.asarray(velocity, dtype=np.float64)
+    return np.stack([friction * v[..., 0] + gyrocoupling * v[..., 1],
+                     -gyrocoupling * v[..., 0] + friction * v[..., 1]], axis=-1)
+
+
+def pair_samples(pos_a, force_a, pos_b, force_b, diameter: float):
+    """Distances d (units of ``diameter``) and repulsive pair-force magnitudes [N].
+
+    Each skyrmion's force is projected on the unit vector pointing away from the other one; the
+    two estimates (equal by Newton's third law for an isolated pair) are averaged.
+    """
+    sep = np.asarray(pos_a) - np.asarray(pos_b)
+    dist = np.linalg.norm(sep, axis=-1)
+    unit = sep / dist[:, None]
+    along = 0.5 * (np.einsum("ij,ij->i", force_a, unit) - np.einsum("ij,ij->i", force_b, unit))
+    return dist / diameter, along
+
+
+def wall_samples(positions, forces, boundary, diameter: float):
+    """Distances to the wall d (units of ``diameter``) and inward force components [N]."""
+    dist, normal = boundary.distance_and_normal(positions)
+    return dist / diameter, np.einsum("ij,ij->i", np.asarray(forces), normal)
+
+
+@dataclass(frozen=True)
+class LawFit:
+    """A fitted force law.
+
+    Attributes: ``law`` ("pair" or "wall"); ``coefficients`` ([a₂, a₁, a₀] or b, highest power
+    first) and their 1σ ``uncertainties``; ``force_scale`` F₀ [N]; ``n_points`` used;
+    ``distance_range`` (d_min, d_max) in diameters; ``rms_log_residual`` of ln|F|;
+    ``n_rejected`` samples left out because their force was not repulsive (F ≤ 0).
+    """
+
+    law: str
+    coefficients: tuple[float, ...]
+    uncertainties: tuple[float, ...]
+    force_scale: float
+    n_points: int
+    distance_range: tuple[float, float]
+    rms_log_residual: float
+    n_rejected: int = 0
+    covariance: list = field(default_factory=list, repr=False)
+
+    def magnitude(self, d) -> np.ndarray:
+        """The fitted |F| [N] at distances d (diameters)."""
+        shape = pair_law_magnitude if self.law == "pair" else wall_law_magnitude
+        return self.force_scale * shape(d, self.coefficients)
+
+    def as_record(self) -> dict:
+        return {"law": self.law, "coefficients": list(self.coefficients),
+                "uncertainties": list(self.uncertainties), "force_scale_N": self.force_scale,
+                "n_points": self.n_points, "distance_range": list(self.distance_range),
+                "rms_log_residual": self.rms_log_residual, "n_rejected": self.n_rejected,
+                "covariance": self.covariance}
+
+
+def _clean(d, force, force_scale: float, need: int):
+    if not force_scale > 0:
+        raise InputError("force_scale", force_scale, "a force > 0 in newtons")
+    d = np.asarray(d, dtype=np.float64).ravel()
+    force = np.asarray(force, dtype=np.float64).ravel()
+    keep = np.isfinite(d) & np.isfinite(force) & (force > 0)
+    if keep.sum() < need:
+        raise InputError("force samples", int(keep.sum()), f"at least {need} repulsive samples")
+    return d[keep], np.log(force[keep] / force_scale), int((~keep).sum())
+
+
+def _finish(law, model, d, y, start, force_scale, rejected) -> LawFit:
+    try:
+        params, cov = optimize.curve_fit(model, d, y, p0=start, method="lm")
+    except (RuntimeError, optimize.OptimizeWarning):  # keep the linear solution
+        params, cov = start, np.full((len(start), len(start)), np.nan)
+    residual = y - model(d, *params)
+    return LawFit(law, tuple(map(float, params)), tuple(map(float, np.sqrt(np.diag(cov)))),
+                  float(force_scale), int(d.size), (float(d.min()), float(d.max())),
+                  float(np.sqrt(np.mean(residual**2))), rejected, np.asarray(cov).tolist())
+
+
+def fit_pair_law(d, force, force_scale: float) -> LawFit:
+    """Fit [a₂, a₁, a₀] of |F| = F₀ exp[−(a₂d² + a₁d + a₀)/(d+1)] to samples (d, |F| [N])."""
+    d, y, rejected = _clean(d, force, force_scale, need=4)
+    # (d + 1) ln(F/F₀) = −a₂d² − a₁d − a₀ is linear in the coefficients.
+    design = -np.stack([d * d, d, np.ones_like(d)], axis=-1)
+    start = np.linalg.lstsq(design, (d + 1.0) * y, rcond=None)[0]
+
+    def model(x, a2, a1, a0):
+        return -(a2 * x * x + a1 * x + a0) / (x + 1.0)
+
+    return _finish("pair", model, d, y, start, force_scale, rejected)
+
+
+def fit_wall_law(d, force, force_scale: float, degree: int = 5) -> LawFit:
+    """Fit b (degree ``degree``, highest power first) of |F| = F₀ exp[−polyval(b, d)]."""
+    if not (isinstance(degree, int) and degree >= 1):
+        raise InputError("degree", degree, "an integer >= 1")
+    d, y, rejected = _clean(d, force, force_scale, need=degree + 3)
+    start = np.polyfit(d, -y, degree)
+
+    def model(x, *b):
+        return -np.polyval(b, x)
+
+    return _finish("wall", model, d, y, start, force_scale, rejected)

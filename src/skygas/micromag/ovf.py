@@ -1,0 +1,305 @@
+"""Reading and writing OVF magnetisation files (OOMMF and mumax3), and NumPy arrays.
+
+Supported: OVF 1.0 (``# OOMMF: rectangular mesh v1.0``) and OVF 2.0 (``# OOMMF OVF 2.0``),
+single-segment, rectangular meshes, data as ``Text``, ``Binary 4`` or ``Binary 8``. Binary data
+are big-endian in OVF 1.0 and little-endian in OVF 2.0, and begin with the check value the format
+prescribes (1234567.0 for 4 bytes, 123456789012345.0 for 8 bytes). Values run with x fastest,
+then y, then z.
+
+A field is returned as an :class:`xarray.DataArray` with dimensions ``(z, y, x, component)``;
+``x``, ``y``, ``z`` are cell-centre coordinates in metres, ``component`` is ``["x", "y", "z"]``.
+Its attributes hold the cell size ``dx``, ``dy``, ``dz`` [m], the simulation ``time`` [s] (NaN
+when the file does not give one) and the header's ``title``.
+
+Every problem with a file (truncated, unknown header line, mesh and header disagreeing, NaN
+values, too few values) raises :class:`~skygas.errors.InputError` naming the file.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from skygas.errors import InputError
+
+_MAGIC = {"# OOMMF: rectangular mesh v1.0": 1, "# OOMMF OVF 2.0": 2}
+_IRREGULAR_MAGIC = "# OOMMF: irregular mesh v1.0"
+_CHECK_VALUE = {4: 1234567.0, 8: 123456789012345.0}
+_MESH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "nm": 1e-9}
+# Header keys of both OVF versions (lower case). Anything else is an error: a key we do not
+# know might change how the data must be read.
+_KNOWN_KEYS = {
+    "title", "desc", "meshunit", "meshtype", "xbase", "ybase", "zbase",
+    "xstepsize", "ystepsize", "zstepsize", "xnodes", "ynodes", "znodes",
+    "xmin", "ymin", "zmin", "xmax", "ymax", "zmax", "valuedim", "valuelabels",
+    "valueunits", "valueunit", "valuemultiplier", "valuerangeminmag", "valuerangemaxmag",
+    "boundary", "segment count",
+}
+_TIME_PATTERN = re.compile(r"total simulation time\s*:\s*([-+0-9.eE]+)\s*(\w*)", re.I)
+_TIME_UNITS = {"": 1.0, "s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
+
+
+def _bad(path: Path, what: str, value, allowed: str) -> InputError:
+    return InputError(f"{path.name}:{what}", value, allowed)
+
+
+def _parse_header(path: Path, raw: bytes) -> tuple[dict, str, int]:
+    """Header dict, data format ("text", 4, 8) and the byte offset where the data begin."""
+    first_end = raw.find(b"\n")
+    magic = raw[: first_end if first_end >= 0 else len(raw)].decode("latin-1").strip()
+    if magic == _IRREGULAR_MAGIC:
+        raise _bad(path, "meshtype", "irregular", "a rectangular mesh (irregular meshes are "
+                   "not supported; resample onto a rectangular mesh)")
+    if magic not in _MAGIC:
+        raise _bad(path, "header", magic[:60], "a first line '# OOMMF OVF 2.0' or "
+                   "'# OOMMF: rectangular mesh v1.0'")
+    header: dict = {"version": _MAGIC[magic], "desc": []}
+    pos = first_end + 1
+    while True:
+        end = raw.find(b"\n", pos)
+        if end < 0:
+            raise _bad(path, "data", "missing", "a '# Begin: Data ...' line (file truncated?)")
+        line = raw[pos:end].decode("latin-1").strip()
+        pos = end + 1
+        if not line or line == "#" or line.startswith("##"):
+            continue  # blank lines and OVF 2.0 comments
+        if not line.startswith("#"):
+            raise _bad(path, "header", line[:60], "header lines that start with '#'")
+        body = line[1:].strip()
+        lower = body.lower()
+        if lower.startswith("begin: data"):
+            kind = lower.removeprefix("begin: data").strip()
+            fmt = {"text": "text", "binary 4": 4, "binary 8": 8}.get(kind)
+            if fmt is None:
+                raise _bad(path, "data format", kind, "Text, Binary 4 or Binary 8")
+            return header, fmt, pos
+        if lower.startswith(("begin:", "end:")):
+            continue  # segment and header brackets
+        key, sep, value = body.partition(":")
+        key = key.strip().lower()
+        if not sep or key not in _KNOWN_KEYS:
+            raise _bad(path, "header", body[:60], "a known OVF 1.0/2.0 header key")
+        if key == "desc":
+            header["desc"].append(value.strip())
+        else:
+            header[key] = value.strip()
+
+
+def _number(path: Path, header: dict, key: str, cast=float):
+    if key not in header:
+        raise _bad(path, key, None, "this header key (required for a rectangular mesh)")
+    try:
+        return cast(header[key])
+    except ValueError:
+        raise _bad(path, key, header[key], "a number") from None
+
+
+def _time_from_header(header: dict) -> float:
+    for text in [header.get("title", ""), *header["desc"]]:
+        match = _TIME_PATTERN.search(text)
+        if match:
+            return float(match.group(1)) * _TIME_UNITS.get(match.group(2).lower(), 1.0)
+    return math.nan
+
+
+def read_ovf(path: str | Path) -> xr.DataArray:
+    """Read one OVF 1.0/2.0 file (text, binary 4 or binary 8) into a DataArray (see module)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("path", str(path), "an existing OVF file")
+    raw = path.read_bytes()
+    header, fmt, start = _parse_header(path, raw)
+    if header.get("segment count", "1").strip() != "1":
+        raise _bad(path, "segment count", header["segment count"], "1 (one field per file)")
+    if header.get("meshtype", "rectangular").lower() != "rectangular":
+        raise _bad(path, "meshtype", header["meshtype"], "rectangular")
+    unit = header.get("meshunit", "m").lower()
+    if unit not in _MESH_UNITS:
+        raise _bad(path, "meshunit", unit, f"one of {', '.join(_MESH_UNITS)}")
+    scale = _MESH_UNITS[unit]
+    nodes = [_number(path, header, f"{a}nodes", int) for a in "xyz"]
+    steps = [_number(path, header, f"{a}stepsize") for a in "xyz"]
+    bases = [_number(path, header, f"{a}base") for a in "xyz"]
+    if min(nodes) < 1 or min(steps) <= 0:
+        raise _bad(path, "nodes/stepsize", (nodes, steps), "positive node counts and steps")
+    # The mesh must agree with its own bounding box: xmax − xmin = xnodes·xstepsize and the
+    # first cell centre xbase = xmin + xstepsize/2.
+    for axis, n, step, base in zip("xyz", nodes, steps, bases):
+        if f"{axis}min" in header and f"{axis}max" in header:
+            lo, hi = _number(path, header, f"{axis}min"), _number(path, header, f"{axis}max")
+            if not math.isclose(hi - lo, n * step, rel_tol=1e-4, abs_tol=1e-6 * step):
+                raise _bad(path, f"{axis}max", hi, f"{axis}min + {axis}nodes·{axis}stepsize "
+                           f"= {lo + n * step:g} (header inconsistent)")
+            if not math.isclose(base, lo + step / 2, rel_tol=1e-4, abs_tol=1e-3 * step):
+                raise _bad(path, f"{axis}base", base, f"{axis}min + {axis}stepsize/2 = "
+                           f"{lo + step / 2:g} (header inconsistent)")
+    dim = _number(path, header, "valuedim", int) if header["version"] == 2 else 3
+    if dim != 3:
+        raise _bad(path, "valuedim", dim, "3 (a vector field)")
+    count = nodes[0] * nodes[1] * nodes[2] * dim
+    values = _read_values(path, raw, start, fmt, count, header["version"])
+    values = values * float(header.get("valuemultiplier", 1.0))
+    if not np.all(np.isfinite(values)):
+        bad = int(np.flatnonzero(~np.isfinite(values))[0]) // dim
+        raise _bad(path, "data", "NaN/inf", f"finite values (first bad cell: index {bad})")
+    array = values.reshape(nodes[2], nodes[1], nodes[0], dim)
+    coords = {
+        a: (a, (base + step * np.arange(n)) * scale)
+        for a, n, step, base in zip("xyz", nodes, steps, bases)
+    }
+    return xr.DataArray(
+        array,
+        dims=("z", "y", "x", "component"),
+        coords={**coords, "component": ["x", "y", "z"]},
+        attrs={
+            "dx": steps[0] * scale, "dy": steps[1] * scale, "dz": steps[2] * scale,
+            "time": _time_from_header(header), "title": header.get("title", ""),
+            "source": str(path), "ovf_version": header["version"],
+        },
+        name="m",
+    )
+
+
+def _read_values(path: Path, raw: bytes, start: int, fmt, count: int, version: int):
+    if fmt == "text":
+        end = raw.find(b"# End: Data", start)
+        if end < 0:
+            raise _bad(path, "data", "no '# End: Data Text'", "a complete file (truncated?)")
+        try:
+            values = np.array(raw[start:end].split(), dtype=np.float64)
+        except ValueError:
+            raise _bad(path, "data", "non-numeric text", "numbers only") from None
+        if values.size != count:
+            raise _bad(path, "data", f"{values.size} values", f"{count} values "
+                       "(xnodes·ynodes·znodes·valuedim)")
+        return values
+    width = fmt
+    dtype = np.dtype(f"{'>' if version == 1 else '<'}f{width}")
+    need = width * (count + 1)
+    # The closing line must follow the values; where it comes earlier, the block is short.
+    # (Searching binary data for the marker could in principle hit by chance, so it is only
+    # used to explain an error, never to delimit the values.)
+    closing = raw.find(b"# End: Data", start)
+    if len(raw) - start < need or (0 <= closing < start + need):
+        available = (closing if 0 <= closing < start + need else len(raw)) - start
+        have = max(0, available // width - 1)
+        raise _bad(path, "data", f"{have} values", f"{count} values of binary {width} "
+                   "(xnodes·ynodes·znodes·valuedim; file truncated or data block short)")
+    check = np.frombuffer(raw, dtype=dtype, count=1, offset=start)[0]
+    if check != _CHECK_VALUE[width]:
+        raise _bad(path, "check value", float(check), f"{_CHECK_VALUE[width]} "
+                   f"({'big' if version == 1 else 'little'}-endian OVF {version}.0)")
+    values = np.frombuffer(raw, dtype=dtype, count=count, offset=start + width)
+    if not raw[start + need:].lstrip().startswith(b"# End: Data"):
+        raise _bad(path, "data", "more values than the mesh, or no '# End: Data'",
+                   f"exactly {count} values (xnodes·ynodes·znodes·valuedim) then '# End: Data'")
+    return values.astype(np.float64)
+
+
+def field_from_array(
+    values,
+    cell_size: tuple[float, float, float] | float,
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    time: float = math.nan,
+    title: str = "m",
+) -> xr.DataArray:
+    """Wrap a NumPy array of shape (nz, ny, nx, 3) or (ny, nx, 3) as a field DataArray.
+
+    ``cell_size`` [m] is (dx, dy, dz) or one number for cubic cells; ``origin`` [m] is the
+    corner of the mesh (the first cell centre is origin + cell/2).
+    """
+    array = np.asarray(values, dtype=np.float64)
+    if array.ndim == 3:
+        array = array[np.newaxis]
+    if array.ndim != 4 or array.shape[-1] != 3:
+        raise InputError("values.shape", array.shape, "(nz, ny, nx, 3) or (ny, nx, 3)")
+    if not np.all(np.isfinite(array)):
+        raise InputError("values", "NaN/inf", "finite magnetisation values")
+    cells = (float(cell_size),) * 3 if np.isscalar(cell_size) else tuple(map(float, cell_size))
+    if len(cells) != 3 or min(cells) <= 0:
+        raise InputError("cell_size", cell_size, "three positive lengths in metres")
+    nz, ny, nx, _ = array.shape
+    coords = {
+        a: (a, origin[i] + cells[i] * (np.arange(n) + 0.5))
+        for i, (a, n) in enumerate(zip("xyz", (nx, ny, nz)))
+    }
+    return xr.DataArray(
+        array, dims=("z", "y", "x", "component"),
+        coords={**coords, "component": ["x", "y", "z"]},
+        attrs={"dx": cells[0], "dy": cells[1], "dz": cells[2], "time": float(time),
+               "title": title, "source": "array", "ovf_version": 0},
+        name="m",
+    )
+
+
+def load_field(source, cell_size=None) -> xr.DataArray:
+    """A field from an OVF path, a ``.npy`` path, a NumPy array or a field DataArray.
+
+    NumPy input needs ``cell_size`` [m] since the array carries no mesh.
+    """
+    if isinstance(source, xr.DataArray):
+        return source
+    if isinstance(source, (str, Path)) and Path(source).suffix.lower() != ".npy":
+        return read_ovf(source)
+    if cell_size is None:
+        raise InputError("cell_size", None, "the cell size in metres for NumPy input")
+    values = np.load(source) if isinstance(source, (str, Path)) else source
+    return field_from_array(values, cell_size)
+
+
+def write_ovf(
+    path: str | Path,
+    field: xr.DataArray,
+    fmt: str = "bin4",
+    version: int = 2,
+    time: float | None = None,
+) -> Path:
+    """Write a field DataArray as OVF ``version`` 1 or 2, ``fmt`` "text", "bin4" or "bin8".
+
+    The header follows what mumax3 writes (metre mesh unit, ``Desc: Total simulation time``).
+    """
+    if fmt not in ("text", "bin4", "bin8"):
+        raise InputError("fmt", fmt, "text, bin4 or bin8")
+    if version not in (1, 2):
+        raise InputError("version", version, "1 or 2")
+    path = Path(path)
+    array = np.asarray(field.transpose("z", "y", "x", "component").values, dtype=np.float64)
+    nz, ny, nx, _ = array.shape
+    cells = [float(field.attrs["dx"]), float(field.attrs["dy"]), float(field.attrs["dz"])]
+    firsts = [float(field[a].values[0]) for a in "xyz"]
+    when = field.attrs.get("time", math.nan) if time is None else time
+    lines = ["# OOMMF OVF 2.0" if version == 2 else "# OOMMF: rectangular mesh v1.0",
+             "# Segment count: 1", "# Begin: Segment", "# Begin: Header",
+             f"# Title: {field.attrs.get('title', 'm')}", "# meshtype: rectangular",
+             "# meshunit: m"]
+    for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz)):
+        lines += [f"# {a}min: {first - step / 2!r}", f"# {a}max: {first - step / 2 + n * step!r}"]
+    if version == 2:
+        lines += ["# valuedim: 3", "# valuelabels: m_x m_y m_z", "# valueunits: 1 1 1"]
+    else:
+        lines += ["# valueunit: 1", "# valuemultiplier: 1",
+                  "# ValueRangeMinMag: 1e-08", "# ValueRangeMaxMag: 1"]
+    if when is not None and math.isfinite(when):
+        lines.append(f"# Desc: Total simulation time:  {when!r}  s")
+    for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz)):
+        lines += [f"# {a}base: {first!r}", f"# {a}stepsize: {step!r}", f"# {a}nodes: {n}"]
+    lines.append("# End: Header")
+    label = {"text": "Text", "bin4": "Binary 4", "bin8": "Binary 8"}[fmt]
+    lines.append(f"# Begin: Data {label}")
+    flat = array.reshape(-1, 3)
+    with path.open("wb") as out:
+        out.write(("\n".join(lines) + "\n").encode("ascii"))
+        if fmt == "text":
+            np.savetxt(out, flat, fmt="%.17g")
+        else:
+            width = 4 if fmt == "bin4" else 8
+            dtype = np.dtype(f"{'>' if version == 1 else '<'}f{width}")
+            out.write(np.array([_CHECK_VALUE[width]], dtype=dtype).tobytes())
+            out.write(flat.astype(dtype).tobytes())
+            out.write(b"\n")
+        out.write(f"# End: Data {label}\n# End: Segment\n".encode("ascii"))
+    return path

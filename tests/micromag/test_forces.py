@@ -1,0 +1,127 @@
+"""Forces from trajectories and law fits, against trajectories made from known laws."""
+
+import numpy as np
+import pytest
+
+from skygas.errors import InputError
+from skygas.materials import load_material, preset
+from skygas.micromag import (
+    DiskBoundary,
+    Skyrmion,
+    Trajectory,
+    fit_pair_law,
+    fit_trajectories,
+    fit_wall_law,
+    pair_law_magnitude,
+    synthetic,
+    thiele_forces,
+    velocities,
+    wall_law_magnitude,
+)
+from skygas.micromag.workflow import thiele_coefficients
+
+FILM = 2e-9  # m
+DISSIPATION = 20.0
+PAPER_PAIR = (2.709, -5.643, 0.964)
+
+
+@pytest.fixture(scope="module")
+def system():
+    material = preset("S2")
+    coeffs = thiele_coefficients(-1.0, DISSIPATION, material, FILM)
+    diameter = material.skyrmion_diameter
+    return synthetic.ThieleSystem(coeffs["gyrocoupling"], coeffs["friction"],
+                                  material.exchange_stiffness * FILM / diameter, diameter)
+
+
+def _trajectories(times, positions, radius):
+    tracks = []
+    for k in range(positions.shape[1]):
+        track = Trajectory(k)
+        for f, (t, (x, y)) in enumerate(zip(times, positions[:, k])):
+            track.add(f, t, Skyrmion(x, y, radius, -1.0, DISSIPATION, 0.0, 1.0, k + 1))
+        tracks.append(track)
+    return tracks
+
+
+def test_thiele_forces_invert_the_equation_of_motion(system, rng):
+    force = rng.normal(size=(10, 2)) * 1e-12
+    back = thiele_forces(system.velocity(force), system.gyrocoupling, system.friction)
+    np.testing.assert_allclose(back, force, rtol=1e-12, atol=1e-27)
+
+
+def test_savitzky_golay_derivative_is_exact_for_a_cubic():
+    t = np.linspace(0.0, 1e-8, 41)
+    x = np.stack([3 + 2e8 * t - 1e16 * t**2 + 5e23 * t**3, -4e8 * t], axis=-1)
+    expected = np.stack([2e8 - 2e16 * t + 15e23 * t**2, np.full_like(t, -4e8)], axis=-1)
+    np.testing.assert_allclose(velocities(t, x, window=9, order=3), expected, rtol=1e-9)
+
+
+def test_exact_samples_give_the_coefficients_back():
+    d = np.linspace(1.0, 3.0, 30)
+    fit = fit_pair_law(d, 2e-12 * pair_law_magnitude(d, PAPER_PAIR), 2e-12)
+    np.testing.assert_allclose(fit.coefficients, PAPER_PAIR, rtol=1e-8)
+    b = (0.3, -0.2, 1.1, -0.5)
+    fit = fit_wall_law(d, 2e-12 * wall_law_magnitude(d, b), 2e-12, degree=3)
+    np.testing.assert_allclose(fit.coefficients, b, rtol=1e-8)
+
+
+def test_pair_law_fitted_back_from_a_two_skyrmion_trajectory(system, tmp_path):
+    times = np.linspace(0.0, 60e-9, 601)
+    start = [(-0.55 * system.skyrmion_diameter, 0.0), (0.55 * system.skyrmion_diameter, 0.0)]
+    positions = synthetic.integrate_thiele(system, start, times,
+                                           synthetic.pair_forces(system, PAPER_PAIR))
+    result = fit_trajectories(_trajectories(times, positions, system.skyrmion_diameter / 2),
+                              "S2", film_thickness=FILM)
+    assert result.wall is None
+    low, high = result.pair.distance_range
+    assert low < 1.2 and high > 2.5  # the spiral covers the range the law is fitted over
+    np.testing.assert_allclose(result.pair.coefficients, PAPER_PAIR, rtol=0.02)
+    # The preset loads back through the engine's loader with the fitted coefficients.
+    path = result.write(tmp_path)["material"]
+    material = load_material(path)
+    np.testing.assert_allclose(material.pair_law, result.pair.coefficients, rtol=1e-15)
+    assert material.skyrmion_diameter == pytest.approx(system.skyrmion_diameter, rel=1e-15)
+    assert material.dissipation == pytest.approx(DISSIPATION)
+    assert material.topological_charge == -1
+    assert (tmp_path / "fit.png").stat().st_size > 0
+
+
+def test_wall_law_fitted_back_near_a_straight_wall(system):
+    b = (0.5, 0.8, -0.3)
+    wall = synthetic.straight_wall(0.0)
+    times = np.linspace(0.0, 200e-9, 401)
+    positions = synthetic.integrate_thiele(system, [(0.6 * system.skyrmion_diameter, 0.0)],
+                                           times, synthetic.wall_forces(system, b, wall))
+    result = fit_trajectories(_trajectories(times, positions, system.skyrmion_diameter / 2),
+                              "S2", film_thickness=FILM, boundary=wall, wall_degree=2)
+    assert result.pair is None
+    np.testing.assert_allclose(result.wall.coefficients, b, rtol=0.02)
+
+
+def test_paper_wall_law_reproduced_in_a_disk(system):
+    # The paper's degree-5 law in a 1024 nm disk: the coefficients of a degree-5 polynomial are
+    # ill-conditioned, so the check is on the force curve over the sampled range.
+    disk = DiskBoundary((0.0, 0.0), 512e-9)
+    b = preset("S2").wall_law
+    times = np.linspace(0.0, 400e-9, 801)
+    start = [(512e-9 - 0.6 * system.skyrmion_diameter, 0.0)]
+    positions = synthetic.integrate_thiele(system, start, times,
+                                           synthetic.wall_forces(system, b, disk))
+    result = fit_trajectories(_trajectories(times, positions, system.skyrmion_diameter / 2),
+                              "S2", film_thickness=FILM, boundary=disk, wall_degree=5)
+    d = np.linspace(*result.wall.distance_range, 50)
+    expected = system.force_scale * wall_law_magnitude(d, b)
+    np.testing.assert_allclose(result.wall.magnitude(d), expected, rtol=0.01)
+    assert result.wall.distance_range[1] > 2.5
+
+
+def test_fit_input_errors():
+    with pytest.raises(InputError, match="repulsive samples"):
+        fit_pair_law([1.0, 2.0], [1e-12, 1e-13], 1e-12)
+    with pytest.raises(InputError, match="force_scale"):
+        fit_wall_law(np.arange(10.0), np.ones(10), 0.0)
+    with pytest.raises(InputError, match="window"):
+        velocities(np.arange(10.0), np.zeros((10, 2)), window=4)
+    with pytest.raises(InputError, match="law"):
+        fit_trajectories([], "S2", law="magic")
