@@ -79,8 +79,10 @@ class ForceModel:
 
     def max_stiffness(self) -> float:
         """Largest |dF/dr| of either tabulated law [pN/nm]."""
-        slopes = []
+        slopes = [0.0]
         for table in (self.pair, self.wall):
+            if table.cutoff <= 0:  # a law that is zero everywhere has no slope
+                continue
             r = np.linspace(0.0, table.cutoff, 20_001)
             slopes.append(float(np.max(np.abs(np.diff(table(r)))) / (r[1] - r[0])))
         return max(slopes)
