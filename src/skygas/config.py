@@ -7,6 +7,7 @@ seconds, kelvin, m/s). Every field is checked when the file is loaded; an invali
 
 from __future__ import annotations
 
+import math
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
@@ -130,7 +131,8 @@ class SimulationConfig(_Strict):
 
     seed: int = Field(0, ge=0, lt=2**63)
     temperature: float = Field(300.0, ge=0)
-    time_step: PositiveFloat | None = None  # default: the engine's suggested step
+    # default: the engine's suggested step, shortened to divide record_interval exactly
+    time_step: PositiveFloat | None = None
     duration: float = Field(ge=0)
     record_interval: PositiveFloat = 1e-9
     film_thickness: PositiveFloat = 2e-9
@@ -149,16 +151,28 @@ class SimulationConfig(_Strict):
                              f"a preset ({', '.join(preset_names())}), a .toml file or a table")
         return load_material(self.material)
 
-    def build(self):
-        """A ready :class:`~skygas.engine.Simulation` with the initial skyrmions placed."""
-        from skygas.engine import Simulation
+    def build(self, *, time_step: float | None = None, brownian_substeps: int = 1):
+        """A ready :class:`~skygas.engine.Simulation` with the initial skyrmions placed.
+
+        ``time_step`` and ``brownian_substeps`` override the configuration (time-step checks).
+        """
+        from skygas.engine import SUGGESTED_STEP_FRACTION, ForceModel, Simulation, relaxation_time
 
         material = self.resolved_material()
         o = self.thiele
         thiele = derive_thiele(material, self.film_thickness, dissipation=o.dissipation,
                                force_scale=o.force_scale, skyrmion_diameter=o.skyrmion_diameter,
                                eta=o.eta, mu=o.mu)
-        sim = Simulation(self.geometry.build(), material, time_step=self.time_step,
+        outline = self.geometry.build()
+        if time_step is None:
+            time_step = self.time_step
+        if time_step is None:
+            forces = ForceModel.build(material, thiele, self.forces.pair_law,
+                                      self.forces.pair_law_params, self.forces.cutoff_fraction)
+            suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, forces)
+            time_step = self.record_interval / math.ceil(self.record_interval / suggested - 1e-9)
+        sim = Simulation(outline, material, time_step=time_step,
+                         brownian_substeps=brownian_substeps,
                          temperature=self.temperature, seed=self.seed,
                          film_thickness=self.film_thickness, thiele=thiele,
                          drift_velocity=self.drift.velocity, pair_law=self.forces.pair_law,
@@ -207,4 +221,9 @@ def load_config(path: str | Path) -> SimulationConfig:
         data = tomllib.loads(path.read_text())
     except tomllib.TOMLDecodeError as err:
         raise InputError("config", str(path), f"valid TOML ({err})") from None
+    # a material file named in the config is found relative to the config's folder
+    material = data.get("material")
+    if isinstance(material, str) and material.endswith(".toml") \
+            and not Path(material).is_absolute():
+        data["material"] = str(path.parent / material)
     return parse_config(data, source=f"{path.name}: ")

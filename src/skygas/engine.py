@@ -72,8 +72,9 @@ class ForceModel:
         params = dict(pair_law_params or {})
         f0 = thiele.force_scale_internal
         d_sk = thiele.skyrmion_diameter_internal
+        # 8192 nodes in r²: relative error < 5e-5 from r = d_sk/4 on (64 kB, in L2 cache)
         pair = ForceTable.from_law(pair_law(pair_law_name, material.pair_law, **params), f0,
-                                   d_sk, cutoff_fraction, squared=True)
+                                   d_sk, cutoff_fraction, n_points=8192, squared=True)
         wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)
         return cls(pair, wall, pair_law_name, params, cutoff_fraction)
 
@@ -86,6 +87,18 @@ class ForceModel:
             r = np.linspace(0.0, table.cutoff, 20_001)
             slopes.append(float(np.max(np.abs(np.diff(table(r)))) / (r[1] - r[0])))
         return max(slopes)
+
+
+def relaxation_time(thiele: ThieleParameters, forces: ForceModel) -> float:
+    """τ_min [s]: the fastest force relaxation, 1/(κ_max |M|).
+
+    κ_max is the steepest slope |dF/dr| of either force law and |M| = 1/√(G² + (α𝒟k)²) the
+    mobility: a skyrmion displaced on the steepest part of a law relaxes back (spiralling,
+    when G ≠ 0) at the rate κ_max|M|.
+    """
+    a, g = thiele.friction_internal, thiele.gyrocoupling_internal
+    rate = forces.max_stiffness() / math.hypot(a, g)  # 1/ns
+    return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 
 class Operation(Protocol):
@@ -228,15 +241,8 @@ class Simulation:
 
     # -- time step -----------------------------------------------------------------------------
     def relaxation_time(self) -> float:
-        """τ_min [s]: the fastest force relaxation, 1/(κ_max |M|).
-
-        κ_max is the steepest slope |dF/dr| of either force law and |M| = 1/√(G² + (α𝒟k)²) the
-        mobility: a skyrmion displaced on the steepest part of a law relaxes back (spiralling,
-        when G ≠ 0) at the rate κ_max|M|.
-        """
-        a, g = self.thiele.friction_internal, self.thiele.gyrocoupling_internal
-        rate = self.forces.max_stiffness() / math.hypot(a, g)  # 1/ns
-        return 1.0 / rate / units.S_TO_NS
+        """τ_min [s] of this simulation (see :func:`relaxation_time`)."""
+        return relaxation_time(self.thiele, self.forces)
 
     def max_time_step(self) -> float:
         """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""

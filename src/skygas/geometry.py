@@ -19,6 +19,7 @@ from functools import cached_property
 
 import numpy as np
 import shapely
+import shapely.validation
 from shapely.geometry import LineString, MultiLineString, Point, Polygon, box
 from shapely.ops import unary_union
 

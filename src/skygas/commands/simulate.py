@@ -17,6 +17,16 @@ def _simulate(args) -> int:
     return 0
 
 
+def _check_timestep(args) -> int:
+    from skygas.timestep import check_config_time_step
+
+    report = check_config_time_step(load_config(args.config), duration=args.duration,
+                                    time_step=args.time_step,
+                                    tolerance_diameters=args.tolerance)
+    print(json.dumps(report.as_dict(), indent=2) if args.json else report.summary())
+    return 0 if report.passed else 1
+
+
 def default_demo_config():
     """The closed-chamber demonstration configuration shipped with the package."""
     import tomllib
@@ -44,6 +54,16 @@ def register(subparsers) -> None:
     p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.npz")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_simulate)
+
+    c = subparsers.add_parser("check-timestep",
+                              help="compare a configuration's time step with its half")
+    c.add_argument("config", help="TOML configuration")
+    c.add_argument("--time-step", type=float, default=None, help="step to check [s]")
+    c.add_argument("--duration", type=float, default=2e-9, help="compared duration [s]")
+    c.add_argument("--tolerance", type=float, default=0.01,
+                   help="largest accepted difference [skyrmion diameters]")
+    c.add_argument("--json", action="store_true", help="print the report as JSON")
+    c.set_defaults(func=_check_timestep)
 
     d = subparsers.add_parser("demo", help="run the default demonstration")
     d.add_argument("--out", default="demo-output", help="output directory")
