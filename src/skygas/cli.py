@@ -17,6 +17,7 @@ from skygas.errors import InputError
 # Modules that add sub-commands; each defines ``register(subparsers)``.
 _COMMAND_MODULES = [
     "skygas.commands.simulate",
+    "skygas.commands.reshuffle",
     "skygas.sc.cli",
     "skygas.micromag.cli",
 ]

@@ -46,7 +46,10 @@ from skygas.wall_field import WallField
 MAX_STEP_FRACTION = 1.0
 #: Suggested time step as a fraction of τ_min.
 SUGGESTED_STEP_FRACTION = 0.1
-#: Skyrmions closer than this many diameters are "on top of each other" and refused.
+#: Skyrmions closer than this many diameters are "on top of each other" and refused. The same
+#: distance bounds the range where the force laws' stiffness sets the time-step limit: the
+#: laws are not valid below about one diameter (paper, "Boundary Effects"), and skyrmions
+#: pushed that close annihilate rather than bounce (the annihilation model handles them).
 MIN_PLACEMENT_SEPARATION = 0.5
 #: Neighbour-list skin in skyrmion diameters (the list is rebuilt after a skyrmion moves
 #: half of it; larger skins rebuild less often but carry more pairs beyond the cutoff).
@@ -78,13 +81,13 @@ class ForceModel:
         wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)
         return cls(pair, wall, pair_law_name, params, cutoff_fraction)
 
-    def max_stiffness(self) -> float:
-        """Largest |dF/dr| of either tabulated law [pN/nm]."""
+    def max_stiffness(self, closest: float = 0.0) -> float:
+        """Largest |dF/dr| [pN/nm] of either tabulated law at distances r ≥ ``closest`` [nm]."""
         slopes = [0.0]
         for table in (self.pair, self.wall):
-            if table.cutoff <= 0:  # a law that is zero everywhere has no slope
+            if table.cutoff <= closest:  # a law that is zero there has no slope
                 continue
-            r = np.linspace(0.0, table.cutoff, 20_001)
+            r = np.linspace(closest, table.cutoff, 20_001)
             slopes.append(float(np.max(np.abs(np.diff(table(r)))) / (r[1] - r[0])))
         return max(slopes)
 
@@ -92,22 +95,44 @@ class ForceModel:
 def relaxation_time(thiele: ThieleParameters, forces: ForceModel) -> float:
     """τ_min [s]: the fastest force relaxation, 1/(κ_max |M|).
 
-    κ_max is the steepest slope |dF/dr| of either force law and |M| = 1/√(G² + (α𝒟k)²) the
-    mobility: a skyrmion displaced on the steepest part of a law relaxes back (spiralling,
-    when G ≠ 0) at the rate κ_max|M|.
+    κ_max is the steepest slope |dF/dr| of either force law at distances of at least
+    MIN_PLACEMENT_SEPARATION skyrmion diameters (from another skyrmion or from a wall), and
+    |M| = 1/√(G² + (α𝒟k)²) the mobility: a skyrmion displaced on the steepest part of a law
+    relaxes back (spiralling, when G ≠ 0) at the rate κ_max|M|. Closer than that the laws are
+    not valid (paper, "Boundary Effects"), so their slope there does not limit the step; a
+    step that carries a skyrmion across a wall is undone and counted (``wall_escapes``).
     """
     a, g = thiele.friction_internal, thiele.gyrocoupling_internal
-    rate = forces.max_stiffness() / math.hypot(a, g)  # 1/ns
+    closest = MIN_PLACEMENT_SEPARATION * thiele.skyrmion_diameter_internal
+    rate = forces.max_stiffness(closest) / math.hypot(a, g)  # 1/ns
     return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 
 class Operation(Protocol):
-    """Something that acts on a simulation every ``period_steps`` steps (injectors, detectors,
-    gates, writers). ``act`` is called after the state has reached a multiple of the period."""
+    """Something that acts on a simulation on a schedule (injectors, gates, writers).
 
-    period_steps: int
+    ``next_step(step)`` returns the first step count > ``step`` at which the operation wants to
+    act; the engine stops there and calls ``act(sim)``. An operation can change its schedule
+    from one call to the next (an injector retrying an occupied site, a gate opening)."""
+
+    def next_step(self, step: int) -> int: ...
 
     def act(self, sim: "Simulation") -> None: ...
+
+
+class Periodic:
+    """Call ``action(sim)`` every ``period_steps`` steps (a convenience :class:`Operation`)."""
+
+    def __init__(self, period_steps: int, action: Callable[["Simulation"], None]):
+        require(period_steps >= 1, "period_steps", period_steps, "an integer >= 1")
+        self.period_steps = int(period_steps)
+        self.action = action
+
+    def next_step(self, step: int) -> int:
+        return (step // self.period_steps + 1) * self.period_steps
+
+    def act(self, sim: "Simulation") -> None:
+        self.action(sim)
 
 
 @dataclass
@@ -352,8 +377,8 @@ class Simulation:
             progress: Callable[[float], None] | None = None, chunk_steps: int = 20_000) -> None:
         """Advance by ``duration`` [s], recording positions every ``record_interval`` [s].
 
-        Operations in :attr:`operations` fire whenever the step count reaches a multiple of
-        their period. ``progress(t)`` is called with the simulated time after each chunk.
+        Operations in :attr:`operations` act at the steps they ask for (see
+        :class:`Operation`). ``progress(t)`` is called with the simulated time after each chunk.
         """
         require(np.isfinite(duration) and duration >= 0, "duration", duration,
                 "a duration >= 0 in seconds")
@@ -365,46 +390,65 @@ class Simulation:
             record_every = max(1, int(round(record_interval / self.time_step)))
         end = self.step + n_total
         while self.step < end:
-            n = min(end - self.step, chunk_steps)
-            for op in self.operations:
-                n = min(n, op.period_steps - self.step % op.period_steps)
-            self._advance(n, record_every)
-            for op in self.operations:
-                if self.step % op.period_steps == 0:
+            due = [op.next_step(self.step) for op in self.operations]
+            target = min([end, self.step + chunk_steps, *due])
+            self._advance(target - self.step, record_every)
+            for op, when in zip(self.operations, due):
+                if when == self.step:
                     op.act(self)
             if progress is not None:
                 progress(self.time)
 
+    def _buffers(self, cap: int) -> dict:
+        """Per-call work arrays, reused while the capacity is unchanged (the reshuffler makes
+        ~10⁵ short kernel calls; allocating them each time would dominate)."""
+        if getattr(self, "_buffer_cap", -1) != cap:
+            self._buffer_cap = cap
+            self._buf = {
+                "stats": np.zeros(K.ST_SIZE, dtype=np.int64),
+                "exit_slot": np.empty(cap, dtype=np.int64),
+                "exit_step": np.empty(cap, dtype=np.int64),
+                "exit_port": np.empty(cap, dtype=np.int64),
+                "exit_x": np.empty(cap),
+                "exit_y": np.empty(cap),
+                "no_frames": np.empty((1, cap)),
+            }
+        return self._buf
+
     def _advance(self, n_steps: int, record_every: int) -> None:
-        cap = len(self._x)
+        # The kernel sees the slots up to the last occupied one: new skyrmions fill the lowest
+        # free slot, so this range stays compact and loops skip the empty tail of the arrays.
+        occupied = np.flatnonzero(self._alive)
+        used = int(occupied[-1]) + 1 if len(occupied) else 0
+        buf = self._buffers(len(self._x))
         # frames fall on the global steps that are multiples of record_every
         n_frames = ((self.step + n_steps) // record_every - self.step // record_every
                     if record_every else 0)
-        frames_x = np.empty((max(n_frames, 1), cap))
-        frames_y = np.empty((max(n_frames, 1), cap))
-        stats = np.zeros(K.ST_SIZE, dtype=np.int64)
-        exit_slot = np.empty(cap, dtype=np.int64)
-        exit_step = np.empty(cap, dtype=np.int64)
-        exit_port = np.empty(cap, dtype=np.int64)
-        exit_x = np.empty(cap)
-        exit_y = np.empty(cap)
-        ids_before = self._ids.copy()
+        if n_frames:
+            frames_x = np.empty((n_frames, used))
+            frames_y = np.empty((n_frames, used))
+            ids_before = self._ids[:used].copy()
+        else:
+            frames_x = frames_y = buf["no_frames"]
+            ids_before = None
+        stats = buf["stats"]
+        stats[:] = 0
         self._ip[K.IP_RECORD_EVERY] = record_every
         n_exit = K.advance(
-            self._x, self._y, self._alive, self._ids, self.step, n_steps, self._fp, self._ip,
-            self.forces.pair.values, self.forces.wall.values, self._fields, self._ports,
-            frames_x, frames_y, exit_slot, exit_step, exit_port, exit_x, exit_y, stats)
+            self._x[:used], self._y[:used], self._alive[:used], self._ids[:used], self.step,
+            n_steps, self._fp, self._ip, self.forces.pair.values, self.forces.wall.values,
+            self._fields, self._ports, frames_x, frames_y, buf["exit_slot"], buf["exit_step"],
+            buf["exit_port"], buf["exit_x"], buf["exit_y"], stats)
         for e in range(n_exit):
-            self.exits.append((int(ids_before[exit_slot[e]]),
-                               float(exit_step[e] * self.time_step),
-                               self._port_names[exit_port[e]],
-                               float(exit_x[e] / units.M_TO_NM),
-                               float(exit_y[e] / units.M_TO_NM)))
+            slot = buf["exit_slot"][e]
+            self.exits.append((int(self._ids[slot]), float(buf["exit_step"][e] * self.time_step),
+                               self._port_names[buf["exit_port"][e]],
+                               float(buf["exit_x"][e] / units.M_TO_NM),
+                               float(buf["exit_y"][e] / units.M_TO_NM)))
         if n_frames:
             first = (self.step // record_every + 1) * record_every
             steps = first + record_every * np.arange(n_frames)
-            self._frames.blocks.append((steps * self.time_step, frames_x[:n_frames].copy(),
-                                        frames_y[:n_frames].copy(), ids_before))
+            self._frames.blocks.append((steps * self.time_step, frames_x, frames_y, ids_before))
         self.step += n_steps
         self.wall_escapes += int(stats[K.ST_WALL_ESCAPES])
         self.pair_evaluations += int(stats[K.ST_PAIRS])

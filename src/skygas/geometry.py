@@ -20,7 +20,7 @@ from functools import cached_property
 import numpy as np
 import shapely
 import shapely.validation
-from shapely.geometry import LineString, MultiLineString, Point, Polygon, box
+from shapely.geometry import LineString, MultiLineString, MultiPolygon, Point, Polygon, box
 from shapely.ops import unary_union
 
 from skygas.errors import InputError, require
@@ -32,18 +32,20 @@ _PORT_TOLERANCE_NM = 1e-6
 
 @dataclass(frozen=True)
 class Outline:
-    """A device outline in nanometres: ``region`` (shapely Polygon) and open ``ports``.
+    """A device outline in nanometres: ``region`` and open ``ports``.
 
-    Build it with :func:`disk`, :func:`rectangle`, :func:`polygon`, :func:`union` and
-    :meth:`with_port`, or :func:`chamber_with_conduits` for the paper's chamber.
+    ``region`` is a shapely Polygon, or a MultiPolygon for devices made of separate chambers
+    (the reshuffler's UP and DOWN chambers). Build it with :func:`disk`, :func:`rectangle`,
+    :func:`polygon`, :func:`union` and :meth:`with_port`, or :func:`chamber_with_conduits` for
+    the paper's chamber.
     """
 
-    region: Polygon
+    region: Polygon | MultiPolygon
     ports: dict[str, LineString] = field(default_factory=dict)
 
     def __post_init__(self):
-        if not isinstance(self.region, Polygon) or self.region.is_empty:
-            raise InputError("geometry", self.region, "a single connected, non-empty region")
+        if not isinstance(self.region, (Polygon, MultiPolygon)) or self.region.is_empty:
+            raise InputError("geometry", self.region, "a non-empty region of one or more pieces")
         if not self.region.is_valid:
             raise InputError("geometry", shapely.validation.explain_validity(self.region),
                              "a valid (non self-intersecting) outline")
@@ -77,6 +79,20 @@ class Outline:
     @property
     def bounds_nm(self) -> tuple[float, float, float, float]:
         return tuple(self.region.bounds)
+
+    def translated(self, dx: float, dy: float) -> "Outline":
+        """The same outline moved by (dx, dy) metres (port names kept)."""
+        from shapely import affinity
+
+        dx, dy = dx * M_TO_NM, dy * M_TO_NM
+        return Outline(affinity.translate(self.region, dx, dy),
+                       {k: affinity.translate(v, dx, dy) for k, v in self.ports.items()})
+
+    def without_ports(self, *names: str) -> "Outline":
+        """The same outline with the named ports closed into walls."""
+        for name in names:
+            require(name in self.ports, "port name", name, f"one of {list(self.ports)}")
+        return Outline(self.region, {k: v for k, v in self.ports.items() if k not in names})
 
     def contains_nm(self, x, y) -> np.ndarray:
         """True where (x, y) [nm] is strictly inside the region."""

@@ -1,0 +1,89 @@
+"""``skygas reshuffle [CONFIG.toml] --out DIR [--json] [overrides]``: run the Skyrmion
+Reshuffler and print a readable summary (or one JSON object)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from skygas.reshuffler.config import PRESETS, load_reshuffler_config
+from skygas.reshuffler.files import run_reshuffler
+
+# command-line option → configuration field it overrides
+OVERRIDES = {
+    "current_density": "current_density",
+    "chamber_diameter": "device.chamber_diameter",
+    "conduit_width": "device.conduit_width",
+    "conduit_length": "device.conduit_length",
+    "p": "signal.p",
+    "correlation_time": "signal.correlation_time",
+    "duration": "duration",
+    "temperature": "temperature",
+    "seed": "seed",
+    "time_step": "time_step",
+    "injection_interval": "injection.interval",
+    "material": "material",
+    "spin_drift_coefficient": "spin_drift_coefficient",
+}
+
+
+def _format(summary: dict, out: Path) -> str:
+    s = summary
+    lines = [
+        f"Skyrmion Reshuffler, J = {s['current_density_A_m2']:.3g} A/m², "
+        f"chamber {s['chamber_diameter_m'] * 1e9:.0f} nm, T = {s['temperature_K']:g} K",
+        f"  simulated {s['simulated_time_s'] * 1e6:.3g} µs in {s['wall_time_s']:.1f} s "
+        f"(time step {s['time_step_s'] * 1e12:.3g} ps)",
+        f"  correlation ρ = {s['correlation']:.4f} (largest |ρ| over lags: "
+        f"{s['correlation_max_lag']:.4f} at lag {s['correlation_best_lag']}), "
+        f"SCC = {s['scc']:.4f}",
+        f"  p_in = {s['p_in']:.4f}, p_out = {s['p_out']:.4f} "
+        f"(95 % interval {s['p_out_interval'][0]:.4f}–{s['p_out_interval'][1]:.4f})"
+        if s["p_out_interval"] else f"  p_in = {s['p_in']:.4f}, no output yet",
+        f"  skyrmions: {s['n_injected']} injected = {s['n_detected']} detected + "
+        f"{s['n_present']} present + {s['n_annihilated']} annihilated; "
+        f"{s['n_delayed']} delayed, {s['n_skipped']} skipped, {s['n_pending']} pending",
+        f"  largest occupancy {s['max_occupancy']} per chamber, mean transit "
+        f"{s['mean_transit_s'] * 1e9:.1f} ns",
+        f"  power {s['power_W'] * 1e6:.3g} µW, {s['energy_per_bit_J'] * 1e15:.3g} fJ per bit",
+        f"results in {out.resolve()}",
+    ]
+    return "\n".join(lines)
+
+
+def _reshuffle(args) -> int:
+    overrides = {field: getattr(args, opt) for opt, field in OVERRIDES.items()}
+    config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
+    result = run_reshuffler(config, args.out, progress=not (args.json or args.quiet),
+                            resume=args.resume)
+    if args.json:
+        print(json.dumps(result.summary))
+    else:
+        print(_format(result.summary, Path(args.out)))
+    return 0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("reshuffle", help="run the Skyrmion Reshuffler")
+    p.add_argument("config", nargs="?", default=None,
+                   help="TOML configuration (default: the chosen preset)")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--preset", choices=PRESETS, default=None,
+                   help="start from a preset (the config file's values override it)")
+    p.add_argument("--json", action="store_true", help="print one JSON object, no progress bar")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.npz")
+    p.add_argument("--current-density", type=float, help="J in the conduits [A/m²]")
+    p.add_argument("--chamber-diameter", type=float, help="chamber diameter [m]")
+    p.add_argument("--conduit-width", type=float, help="conduit width [m]")
+    p.add_argument("--conduit-length", type=float, help="conduit length [m]")
+    p.add_argument("--p", type=float, help="p-value of the input signal")
+    p.add_argument("--correlation-time", type=float, help="input correlation time [s]")
+    p.add_argument("--duration", type=float, help="simulated time [s]")
+    p.add_argument("--temperature", type=float, help="temperature [K]")
+    p.add_argument("--seed", type=int, help="random seed")
+    p.add_argument("--time-step", type=float, help="time step [s]")
+    p.add_argument("--injection-interval", type=float, help="time between nucleations [s]")
+    p.add_argument("--material", help="material preset name or TOML file")
+    p.add_argument("--spin-drift-coefficient", type=float, help="ξ in v_s = ξ j [m³/C]")
+    p.set_defaults(func=_reshuffle)

@@ -1,0 +1,582 @@
+"""Current flow through a device: the drift field v_s = ξ·j, resistance, Joule power.
+
+The paper drives skyrmions with the current density j(x) obtained from a separate current-flow
+simulation (COMSOL; paper, Methods) and quotes J as the density *in the conduits* (PHYSICS.md §3).
+:func:`solve_current` redoes that calculation for any :class:`~skygas.geometry.Outline`:
+
+    ∇·(σ∇φ) = 0          in the device (uniform conductivity σ = 1/ρ),
+    j·n̂ = 0              on the walls (insulating),
+    φ = V  on the source port(s),  φ = 0  on the sink port(s)   (electrodes),
+
+with V chosen so that the mean of j·n̂ across the source port(s) equals the user's J. Then
+j = −σ∇φ, the total current is I = J·w·t (w the source port width, t the conductor thickness),
+R = V/I, the Joule power P = I²R and the energy per reshuffled bit is P·Δt_inj (the reshuffler
+handles one bit per injection; paper, "Skyrmion Reshuffler", last paragraph of the discussion).
+
+Discretisation
+--------------
+Finite volumes on square cells of side h (``cell_size``). A cell whose centre lies inside the
+outline is an unknown; a face between two such cells carries the current σ t (φ_a − φ_b) (the
+two-point flux is exact for a linear φ). A face between an inside cell and an outside cell
+carries no current (insulating wall), unless the segment joining the two centres crosses a
+source or sink port: then it carries σ t h (φ_cell − φ_port)/d, with d the distance from the
+centre to the port (exact for a linear φ, whatever d). The matrix is the symmetric positive
+definite graph Laplacian; a sparse direct solve (SuperLU) gives φ to round-off, so the discrete
+current is conserved cell by cell to ~1e-12 relative.
+
+The grid is aligned with the first source port: when that port is axis-aligned, the cell size
+is rounded to w/round(w/h) and the port's ends fall on cell corners, so the discrete conduit is
+exactly w wide and the mean density across it is exactly J.
+
+Accuracy (``docs/current-flow.md`` has the measurements): straight axis-aligned strips are
+exact. Curved walls are a staircase, displaced by at most h/√2 from the true wall. The staircase
+perturbs j within a few cells of a curved wall: the wall-normal component there is a few % of J
+(it averages out along the wall), and the resistance of the paper's chamber moves irregularly by
+≲ 0.2 % between h = 2.5 and 1.25 nm. Away from staircase walls the scheme is second order (an
+annular sector with curved electrodes matches the exact R to 3e-4 at h = 10 nm).
+
+Fields are stored at cell centres and sampled bilinearly; cells outside the outline take the
+value of the nearest inside cell, so that bilinear interpolation (here and in the engine, which
+reads j on the wall-field grid) stays accurate up to about one cell from the wall. Within that
+cell the wall-normal component is not forced to zero (skyrmions are kept much farther from the
+walls by the wall force).
+
+Units at the interface are SI (metres, A/m², Ω·m, V, A, W, J); grids use nanometres like the
+rest of skygas (:class:`~skygas.wall_field.Grid`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy import ndimage, sparse
+from scipy.sparse import csgraph
+from scipy.sparse.linalg import spsolve
+from shapely.geometry import LineString
+
+from skygas.errors import InputError, require
+from skygas.geometry import Outline
+from skygas.units import M_TO_NM
+from skygas.wall_field import Grid
+
+#: Default cell size [m]: 40 cells across the paper's 100 nm conduit, ~1.3e5 unknowns for the
+#: 1024 nm chamber (about 1.4 s to solve).
+DEFAULT_CELL_SIZE = 2.5e-9
+#: Default conductor thickness [m]. ASSUMPTION (the paper never states it): a 5 nm heavy-metal
+#: (Pt) underlayer carries the current; the 2 nm magnetic film is neglected (or folded into an
+#: effective resistivity). Set it for your stack.
+DEFAULT_CONDUCTOR_THICKNESS = 5e-9
+#: Default resistivity [Ω·m]. ASSUMPTION: a typical thin-film value for a few-nm Pt layer
+#: (20 µΩ·cm, about twice bulk Pt). Set it for your stack.
+DEFAULT_RESISTIVITY = 2e-7
+
+# More cells than this is refused before anything is allocated (about 1 GB of work arrays).
+_MAX_CELLS = 8_000_000
+# A port counts as axis-aligned if its direction is within this fraction of an axis.
+_AXIS_TOLERANCE = 1e-9
+
+
+# -- input checks --------------------------------------------------------------------------------
+def _positive_number(name: str, value, unit: str) -> float:
+    ok = isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)
+    require(ok and math.isfinite(value) and value > 0, name, value, f"a number > 0 ({unit})")
+    return float(value)
+
+
+def _port_names(name: str, value, outline: Outline) -> tuple[str, ...]:
+    names = (value,) if isinstance(value, str) else tuple(value) if isinstance(
+        value, Sequence) else None
+    allowed = f"a port name or a list of port names of the outline: {outline.port_names()}"
+    require(names is not None and len(names) > 0, name, value, allowed)
+    for n in names:
+        require(isinstance(n, str) and n in outline.ports, name, value, allowed)
+    require(len(set(names)) == len(names), name, value, "port names without repetition")
+    return names
+
+
+def _segments(line: LineString) -> np.ndarray:
+    c = np.asarray(line.coords, float)
+    return np.hstack([c[:-1], c[1:]])  # (n, 4) x1, y1, x2, y2
+
+
+def _cross(ax, ay, bx, by):
+    return ax * by - ay * bx
+
+
+def _ray_hits(cx, cy, dx, dy, segs) -> np.ndarray:
+    """Fraction s ∈ [0, 1] along c → c + d where the rays first cross ``segs`` (nan: never)."""
+    best = np.full(cx.shape, np.nan)
+    for x1, y1, x2, y2 in segs:
+        ex, ey = x2 - x1, y2 - y1
+        denom = _cross(dx, dy, ex, ey)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = _cross(x1 - cx, y1 - cy, ex, ey) / denom
+            u = _cross(x1 - cx, y1 - cy, dx, dy) / denom
+        hit = (denom != 0) & (s >= 0) & (s <= 1) & (u >= 0) & (u <= 1)
+        best = np.where(hit & ~(best <= s), s, best)
+    return best
+
+
+# -- the cell grid -------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Cells:
+    """Square cells: cell (i, j) spans [x0 + i·h, x0 + (i+1)·h] × [y0 + j·h, …] nm."""
+
+    x0: float
+    y0: float
+    h: float
+    nx: int
+    ny: int
+
+    def centres(self):
+        x = self.x0 + self.h * (np.arange(self.nx) + 0.5)
+        y = self.y0 + self.h * (np.arange(self.ny) + 0.5)
+        return np.meshgrid(x, y)
+
+    def bilinear(self, field: np.ndarray, x, y) -> np.ndarray:
+        """Bilinear interpolation of a cell-centred ``field`` at (x, y) nm (clamped)."""
+        fx = np.clip((np.asarray(x, float) - self.x0) / self.h - 0.5, 0, self.nx - 1 - 1e-9)
+        fy = np.clip((np.asarray(y, float) - self.y0) / self.h - 0.5, 0, self.ny - 1 - 1e-9)
+        i = fx.astype(int)
+        j = fy.astype(int)
+        tx = fx - i
+        ty = fy - j
+        return ((1 - tx) * (1 - ty) * field[j, i] + tx * (1 - ty) * field[j, i + 1]
+                + (1 - tx) * ty * field[j + 1, i] + tx * ty * field[j + 1, i + 1])
+
+
+def _aligned_cells(outline: Outline, reference: LineString, cell_size_nm: float) -> _Cells:
+    """Cells covering the outline with a margin, aligned with the ``reference`` port."""
+    (ax, ay), (bx, by) = reference.coords[0], reference.coords[-1]
+    width = math.hypot(bx - ax, by - ay)
+    h = cell_size_nm
+    axis_aligned = len(reference.coords) == 2 and (
+        abs(bx - ax) <= _AXIS_TOLERANCE * width or abs(by - ay) <= _AXIS_TOLERANCE * width)
+    minx, miny, maxx, maxy = outline.bounds_nm
+    if axis_aligned:
+        h = width / max(1, round(width / h))
+    else:
+        ax, ay = minx, miny
+    x0 = ax - (math.floor((ax - minx) / h) + 2) * h
+    y0 = ay - (math.floor((ay - miny) / h) + 2) * h
+    nx = int(math.ceil((maxx - x0) / h)) + 2
+    ny = int(math.ceil((maxy - y0) / h)) + 2
+    return _Cells(x0, y0, h, nx, ny)
+
+
+# (neighbour offset di, dj) for the four faces of a cell: east, west, north, south
+_DIRECTIONS = ((1, 0), (-1, 0), (0, 1), (0, -1))
+
+
+@dataclass
+class _PortFaces:
+    """Boundary faces that are electrodes: the inside cell, direction, conductance, potential."""
+
+    cell_j: np.ndarray
+    cell_i: np.ndarray
+    direction: np.ndarray  # index into _DIRECTIONS
+    conductance: np.ndarray  # h/d (dimensionless; in units of σ t)
+    potential: np.ndarray  # 1 on source faces, 0 on sink faces (units of V)
+    is_source: np.ndarray
+    port: np.ndarray  # index into sources + sinks
+
+
+def _port_faces(cells: _Cells, inside: np.ndarray, outline: Outline,
+                sources: tuple[str, ...], sinks: tuple[str, ...]) -> _PortFaces:
+    cx, cy = cells.centres()
+    parts = {k: [] for k in ("cell_j", "cell_i", "direction", "conductance", "potential",
+                             "is_source", "port")}
+    electrodes = [(n, 1.0, True) for n in sources] + [(n, 0.0, False) for n in sinks]
+    for d, (di, dj) in enumerate(_DIRECTIONS):
+        neighbour_inside = np.roll(inside, (-dj, -di), axis=(0, 1))
+        jj, ii = np.nonzero(inside & ~neighbour_inside)  # the margin keeps rolls from wrapping
+        px, py = cx[jj, ii], cy[jj, ii]
+        best_s = np.full(px.shape, np.inf)
+        best_k = np.full(px.shape, -1)
+        for k, (name, _, _) in enumerate(electrodes):
+            s = _ray_hits(px, py, di * cells.h, dj * cells.h, _segments(outline.ports[name]))
+            closer = np.isfinite(s) & (s < best_s)
+            best_s[closer] = s[closer]
+            best_k[closer] = k
+        hit = best_k >= 0
+        kk = best_k[hit]
+        parts["cell_j"].append(jj[hit])
+        parts["cell_i"].append(ii[hit])
+        parts["direction"].append(np.full(hit.sum(), d))
+        # A centre (almost) on the port would give an infinite conductance; φ there is φ_port.
+        parts["conductance"].append(1.0 / np.maximum(best_s[hit], 1e-3))
+        parts["potential"].append(np.array([electrodes[k][1] for k in kk], float))
+        parts["is_source"].append(np.array([electrodes[k][2] for k in kk], bool))
+        parts["port"].append(kk)
+    return _PortFaces(**{k: np.concatenate(v) for k, v in parts.items()})
+
+
+def _solve_unit_potential(cells: _Cells, inside: np.ndarray, ports: _PortFaces,
+                          cell_size: float):
+    """φ for 1 V between source and sink, in cells that reach an electrode (nan elsewhere)."""
+    index = np.full(inside.shape, -1)
+    n = int(inside.sum())
+    index[inside] = np.arange(n)
+    rows, cols = [], []
+    for di, dj in ((1, 0), (0, 1)):  # each interior face once
+        both = inside & np.roll(inside, (-dj, -di), axis=(0, 1))
+        a = index[both]
+        b = np.roll(index, (-dj, -di), axis=(0, 1))[both]
+        rows.append(a)
+        cols.append(b)
+    a = np.concatenate(rows)
+    b = np.concatenate(cols)
+    adjacency = sparse.coo_matrix((np.ones(a.size), (a, b)), shape=(n, n)).tocsr()
+    adjacency = adjacency + adjacency.T
+
+    # Only cells connected to an electrode have a defined potential.
+    _, label = csgraph.connected_components(adjacency, directed=False)
+    port_cell = index[ports.cell_j, ports.cell_i]
+    live_labels = np.unique(label[port_cell])
+    live = np.isin(label, live_labels)
+    if np.intersect1d(label[port_cell[ports.is_source]],
+                      label[port_cell[~ports.is_source]]).size == 0:
+        raise InputError("cell_size", cell_size, "a cell size small enough that the "
+                         "discretised device connects source and sink")
+
+    diagonal = np.asarray(adjacency.sum(axis=1)).ravel()
+    np.add.at(diagonal, port_cell, ports.conductance)
+    rhs = np.zeros(n)
+    np.add.at(rhs, port_cell, ports.conductance * ports.potential)
+    matrix = (sparse.diags(diagonal) - adjacency).tocsr()
+    keep = np.nonzero(live)[0]
+    sub = matrix[keep][:, keep].tocsc()
+    phi_live = spsolve(sub, rhs[keep], permc_spec="MMD_AT_PLUS_A")
+
+    phi = np.full(inside.shape, np.nan)
+    flat = np.full(n, np.nan)
+    flat[keep] = phi_live
+    phi[inside] = flat
+    return phi
+
+
+# -- the solution --------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class CurrentSolution:
+    """The current flow through one device, scaled to the user's J (SI at the interface).
+
+    Attributes
+    ----------
+    current_density: J [A/m²], the mean of j·n̂ across the source port(s) (> 0: from source to
+        sink).
+    total_current: I = J·w·t [A]; ``resistance`` R [Ω]; ``voltage`` V = I·R [V];
+    power: Joule power I²R [W].
+    """
+
+    current_density: float
+    sources: tuple[str, ...]
+    sinks: tuple[str, ...]
+    cell_size: float
+    conductor_thickness: float
+    resistivity: float
+    source_width: float
+    total_current: float
+    resistance: float
+    voltage: float
+    power: float
+    cells: int
+    solve_seconds: float
+    conservation_error: float
+    _cells: _Cells = field(repr=False)
+    _jx: np.ndarray = field(repr=False)
+    _jy: np.ndarray = field(repr=False)
+    _phi: np.ndarray = field(repr=False)
+    _inside: np.ndarray = field(repr=False)
+    _outline: Outline = field(repr=False)
+    _port_flux: dict = field(repr=False)
+
+    # -- fields --------------------------------------------------------------------------------
+    def sample(self, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+        """(jx, jy) [A/m²] at the nodes of ``grid`` (nm), arrays of shape (ny, nx).
+
+        Nodes outside the device get the nearest inside value, so the engine's bilinear
+        interpolation is accurate up to the wall. Pass ``sim.wall_field.grid`` and hand
+        ξ·jx, ξ·jy to ``Simulation.set_drift_field``.
+        """
+        gx, gy = grid.nodes()
+        return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
+
+    def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
+        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (PHYSICS.md §1)."""
+        xi = float(spin_drift_coefficient)
+        require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
+                "a finite number (m³/C)")
+        jx, jy = self.sample(grid)
+        return xi * jx, xi * jy
+
+    def current_density_at(self, x, y) -> tuple[np.ndarray, np.ndarray]:
+        """(jx, jy) [A/m²] at points (x, y) [m] (outside points: the nearest inside value)."""
+        x_nm = np.asarray(x, float) * M_TO_NM
+        y_nm = np.asarray(y, float) * M_TO_NM
+        return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(self._jy, x_nm,
+                                                                                  y_nm)
+
+    def potential_at(self, x, y) -> np.ndarray:
+        """Electric potential φ [V] at (x, y) [m] (the sink is at 0 V; nearest cell)."""
+        i = np.clip(((np.asarray(x, float) * M_TO_NM - self._cells.x0) / self._cells.h)
+                    .astype(int), 0, self._cells.nx - 1)
+        j = np.clip(((np.asarray(y, float) * M_TO_NM - self._cells.y0) / self._cells.h)
+                    .astype(int), 0, self._cells.ny - 1)
+        return self._phi[j, i]
+
+    # -- integrals -----------------------------------------------------------------------------
+    def flux_through(self, segment_start, segment_end) -> float:
+        """Net current [A] through the straight cut from ``segment_start`` to ``segment_end`` [m].
+
+        Positive when current crosses from the cut's left to its right (walking from start to
+        end); a cut upwards (+y) counts current flowing in +x. Integrates t·j·n̂ exactly for the
+        bilinear interpolant over the part of the cut inside the outline.
+        """
+        start = np.asarray(segment_start, float) * M_TO_NM
+        end = np.asarray(segment_end, float) * M_TO_NM
+        require(start.shape == (2,) and end.shape == (2,) and np.all(np.isfinite(start))
+                and np.all(np.isfinite(end)) and np.any(start != end), "segment",
+                (segment_start, segment_end), "two distinct (x, y) points in metres")
+        length = float(np.hypot(*(end - start)))
+        normal = np.array([end[1] - start[1], start[0] - end[0]]) / length
+        inside = self._outline.region.intersection(LineString([start, end]))
+        total = 0.0
+        for piece in getattr(inside, "geoms", [inside]):
+            if piece.is_empty or piece.geom_type != "LineString":
+                continue
+            total += self._integrate_normal(np.asarray(piece.coords, float), normal)
+        return total * self.conductor_thickness / M_TO_NM  # (A/m²)·nm·m → A
+
+    def _integrate_normal(self, coords: np.ndarray, normal: np.ndarray) -> float:
+        """∫ j·n̂ dl [A/m² · nm] along a polyline: Gauss–Legendre (2 points) between the cell-
+        centre lines the path crosses, where the bilinear interpolant is a quadratic."""
+        c = self._cells
+        total = 0.0
+        gauss = 0.5 + np.array([-0.5, 0.5]) / math.sqrt(3.0)
+        for p, q in zip(coords[:-1], coords[1:]):
+            cuts = [0.0, 1.0]
+            for axis, origin in ((0, c.x0), (1, c.y0)):
+                a = (p[axis] - origin) / c.h - 0.5
+                b = (q[axis] - origin) / c.h - 0.5
+                if a != b:
+                    k = np.arange(math.ceil(min(a, b)), math.floor(max(a, b)) + 1)
+                    cuts.extend(((k - a) / (b - a)).tolist())
+            t = np.unique(np.clip(cuts, 0.0, 1.0))
+            t0, dt = t[:-1], np.diff(t)
+            s = (t0[:, None] + dt[:, None] * gauss[None, :]).ravel()
+            x = p[0] + s * (q[0] - p[0])
+            y = p[1] + s * (q[1] - p[1])
+            jn = c.bilinear(self._jx, x, y) * normal[0] + c.bilinear(self._jy, x, y) * normal[1]
+            weights = np.repeat(dt / 2, 2) * float(np.hypot(*(q - p)))
+            total += float(np.sum(weights * jn))
+        return total
+
+    def mean_current_density(self, port: str) -> float:
+        """Mean of j·n̂ [A/m²] across ``port`` (n̂ from source to sink: into the device at a
+        source, out of it at a sink), from the discrete port currents."""
+        require(port in self._port_flux, "port", port,
+                f"a source or sink port: {list(self._port_flux)}")
+        current, width = self._port_flux[port]
+        return current / (width * self.conductor_thickness)
+
+    def energy_per_bit(self, injection_interval: float) -> float:
+        """Energy per reshuffled bit [J] = P·Δt for one bit per injection every
+        ``injection_interval`` [s] (paper: 0.2 injections/ns → 5 ns)."""
+        dt = _positive_number("injection_interval", injection_interval, "seconds")
+        return self.power * dt
+
+    def record(self) -> dict:
+        """A JSON-able record of the parameters and results (SI)."""
+        return {
+            "current_density_A_per_m2": self.current_density,
+            "sources": list(self.sources),
+            "sinks": list(self.sinks),
+            "cell_size_m": self.cell_size,
+            "conductor_thickness_m": self.conductor_thickness,
+            "resistivity_ohm_m": self.resistivity,
+            "source_width_m": self.source_width,
+            "total_current_A": self.total_current,
+            "resistance_ohm": self.resistance,
+            "voltage_V": self.voltage,
+            "power_W": self.power,
+            "cells": self.cells,
+            "solve_seconds": self.solve_seconds,
+            "conservation_error": self.conservation_error,
+            "port_mean_current_density_A_per_m2": {
+                k: self.mean_current_density(k) for k in self._port_flux},
+            "method": "finite volumes on square cells, staircase insulating walls, "
+                      "Dirichlet electrodes on the ports, sparse direct solve",
+        }
+
+    @property
+    def cell_current_density(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple]:
+        """(jx, jy, inside, extent) at cell centres [A/m²]; extent (x0, x1, y0, y1) in nm."""
+        c = self._cells
+        extent = (c.x0, c.x0 + c.nx * c.h, c.y0, c.y0 + c.ny * c.h)
+        return self._jx, self._jy, self._inside, extent
+
+
+def solve_current(
+    outline: Outline,
+    current_density: float,
+    *,
+    source: str | Sequence[str] = "input",
+    sink: str | Sequence[str] = "output",
+    cell_size: float = DEFAULT_CELL_SIZE,
+    conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
+    resistivity: float = DEFAULT_RESISTIVITY,
+) -> CurrentSolution:
+    """Solve ∇·(σ∇φ) = 0 on ``outline`` and scale it so the mean current density across the
+    source port(s) is ``current_density``.
+
+    Parameters
+    ----------
+    outline: the device; its ports named in ``source`` and ``sink`` are the electrodes, all
+        other boundary (other ports included) is insulating.
+    current_density: J [A/m²], the mean of j·n̂ across the source port(s) (the paper's J "in the
+        conduits"); positive: current flows from source to sink. Any finite number.
+    source, sink: port name(s); several ports on one side share one potential.
+    cell_size: finite-volume cell side [m] (rounded so the first source port, if
+        axis-aligned, spans a whole number of cells). Default 2.5 nm.
+    conductor_thickness: thickness t [m] of the layer that carries the current. Default 5 nm —
+        an ASSUMED Pt underlayer; the paper does not state it.
+    resistivity: ρ [Ω·m] of that layer. Default 2e-7 Ω·m — an ASSUMED typical thin-film Pt
+        value; the paper does not state it.
+
+    The current field depends only on the shape; thickness and resistivity enter only R, V and P.
+    """
+    require(isinstance(outline, Outline), "outline", type(outline).__name__,
+            "a skygas.geometry.Outline")
+    ok = isinstance(current_density, (int, float, np.floating, np.integer)) and not isinstance(
+        current_density, bool)
+    require(ok and math.isfinite(current_density), "current_density", current_density,
+            "a finite number (A/m²)")
+    thickness = _positive_number("conductor_thickness", conductor_thickness, "metres")
+    rho = _positive_number("resistivity", resistivity, "Ω·m")
+    h_nm = _positive_number("cell_size", cell_size, "metres") * M_TO_NM
+    sources = _port_names("source", source, outline)
+    sinks = _port_names("sink", sink, outline)
+    require(not set(sources) & set(sinks), "sink", sink,
+            f"ports different from the source ports {list(sources)}")
+    minx, miny, maxx, maxy = outline.bounds_nm
+    estimate = ((maxx - minx) / h_nm + 5) * ((maxy - miny) / h_nm + 5)
+    require(estimate <= _MAX_CELLS, "cell_size", cell_size,
+            f"a cell size giving at most {_MAX_CELLS} cells (this one gives ~{estimate:.2g})")
+
+    started = time.perf_counter()
+    cells = _aligned_cells(outline, outline.ports[sources[0]], h_nm)
+    cx, cy = cells.centres()
+    inside = outline.contains_nm(cx, cy)
+    ports = _port_faces(cells, inside, outline, sources, sinks)
+    for side, names, mask in (("source", sources, ports.is_source),
+                              ("sink", sinks, ~ports.is_source)):
+        require(mask.any(), "cell_size", cell_size,
+                f"a cell size small enough that the {side} port(s) {list(names)} touch "
+                "at least one cell centre inside the outline")
+    phi = _solve_unit_potential(cells, inside, ports, cell_size)
+
+    # Unit-voltage flux densities across every face, in units of σ·(1 V)/h (φ is 0 … 1).
+    face = []
+    for di, dj in _DIRECTIONS:
+        other = np.roll(phi, (-dj, -di), axis=(0, 1))
+        flow = np.where(inside & np.isfinite(other), phi - other, 0.0)  # walls: 0
+        face.append(np.nan_to_num(flow))
+    k = ports.cell_j, ports.cell_i
+    for d in range(4):
+        on = ports.direction == d
+        face[d][k[0][on], k[1][on]] = (ports.conductance[on]
+                                       * (phi[k[0][on], k[1][on]] - ports.potential[on]))
+    jx_unit = 0.5 * (face[0] - face[1])
+    jy_unit = 0.5 * (face[2] - face[3])
+
+    # Port currents in units of σ t (1 V): sum of outward face fluxes (h cancels).
+    port_current_unit = {}
+    outward = ports.conductance * (phi[k] - ports.potential)
+    for p, name in enumerate(sources + sinks):
+        port_current_unit[name] = float(np.sum(outward[ports.port == p]))
+    source_unit = -sum(port_current_unit[n] for n in sources)  # into the device
+    sink_unit = sum(port_current_unit[n] for n in sinks)  # out of it
+
+    h_m = cells.h / M_TO_NM
+    source_width = sum(outline.ports[n].length for n in sources) / M_TO_NM
+    total_current = current_density * source_width * thickness
+    resistance = rho / (thickness * source_unit)
+    voltage = total_current * resistance
+    scale = voltage / (rho * h_m)  # σ·V/h: unit flux density → A/m²
+    jx = jx_unit * scale
+    jy = jy_unit * scale
+    # Outside cells (and cells cut off from the electrodes) take the nearest live value.
+    live = inside & np.isfinite(phi)
+    nearest = ndimage.distance_transform_edt(~live, return_distances=False, return_indices=True)
+    jx = jx[nearest[0], nearest[1]]
+    jy = jy[nearest[0], nearest[1]]
+    phi_volts = np.where(live, phi * voltage, np.nan)
+    phi_volts = phi_volts[nearest[0], nearest[1]]
+
+    # Port currents [A] (positive from source to sink) and the physical port widths [m].
+    port_flux = {}
+    for name in sources:
+        port_flux[name] = (-port_current_unit[name] * voltage * thickness / rho,
+                           outline.ports[name].length / M_TO_NM)
+    for name in sinks:
+        port_flux[name] = (port_current_unit[name] * voltage * thickness / rho,
+                           outline.ports[name].length / M_TO_NM)
+    elapsed = time.perf_counter() - started
+    return CurrentSolution(
+        current_density=float(current_density), sources=sources, sinks=sinks, cell_size=h_m,
+        conductor_thickness=thickness, resistivity=rho, source_width=source_width,
+        total_current=total_current, resistance=resistance, voltage=voltage,
+        power=total_current ** 2 * resistance, cells=int(live.sum()), solve_seconds=elapsed,
+        conservation_error=abs(sink_unit - source_unit) / source_unit, _cells=cells, _jx=jx,
+        _jy=jy, _phi=phi_volts, _inside=inside, _outline=outline, _port_flux=port_flux)
+
+
+# -- figures -------------------------------------------------------------------------------------
+def draw_current(ax, solution: CurrentSolution, outline: Outline, scale: float = 1e-3,
+                 streamlines: bool = True):
+    """|j| map (A/m², log colour scale) with stream lines and the outline, in µm (``scale`` µm
+    per nm). Returns the image for a colour bar."""
+    from matplotlib.colors import LogNorm
+
+    from skygas.plotting import draw_outline
+
+    jx, jy, inside, (x0, x1, y0, y1) = solution.cell_current_density
+    magnitude = np.where(inside, np.hypot(jx, jy), np.nan)
+    positive = magnitude[np.isfinite(magnitude) & (magnitude > 0)]
+    norm = None
+    if positive.size:
+        top = float(positive.max())
+        norm = LogNorm(vmin=max(float(positive.min()), top * 1e-3), vmax=top)
+    image = ax.imshow(magnitude, origin="lower", extent=(x0 * scale, x1 * scale, y0 * scale,
+                                                         y1 * scale),
+                      cmap="viridis", norm=norm, interpolation="nearest")
+    if streamlines and positive.size:
+        c = solution._cells
+        xs = (c.x0 + c.h * (np.arange(c.nx) + 0.5)) * scale
+        ys = (c.y0 + c.h * (np.arange(c.ny) + 0.5)) * scale
+        ax.streamplot(xs, ys, np.where(inside, jx, np.nan), np.where(inside, jy, np.nan),
+                      color="white", linewidth=0.5, density=1.2, arrowsize=0.6)
+    draw_outline(ax, outline, scale)
+    return image
+
+
+def plot_current(solution: CurrentSolution, outline: Outline, path: str | Path,
+                 title: str | None = None) -> Path:
+    """Save a PNG of the current density map (:func:`draw_current`); returns the path."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.5, 5.5), dpi=120)
+    ax = fig.add_subplot()
+    image = draw_current(ax, solution, outline)
+    fig.colorbar(image, ax=ax, label="|j| (A/m²)")
+    ax.set_title(title or (f"J = {solution.current_density:.3g} A/m², "
+                           f"R = {solution.resistance:.3g} Ω, P = {solution.power:.3g} W"),
+                 fontsize=9)
+    path = Path(path)
+    fig.savefig(path)
+    return path

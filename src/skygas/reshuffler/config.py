@@ -1,0 +1,179 @@
+"""Configuration of a reshuffler run (TOML, validated with pydantic; SI units).
+
+Defaults describe the paper's device (two 1024 nm chambers, 100 nm × 50 nm conduits, one
+nucleation every 5 ns, material S2, 2 nm film, 300 K). Quantities the paper leaves open have
+documented defaults (PHYSICS.md §4) and are recorded with every result:
+
+- ``spin_drift_coefficient`` ξ [m³/C] (v_s = ξ j): default the spin-transfer estimate
+  ξ = P g μ_B/(2 e M_s) with spin polarisation P = ``spin_polarization`` (0.5) and g = 2. The
+  ``paper`` preset calibrates it instead (see ``docs/paper-reproduction.md``).
+- the input's correlation time (``signal.correlation_time``, default one injection interval);
+- the occupied-site rule (:mod:`skygas.reshuffler.injection`);
+- the conductor's thickness and resistivity for the power (:mod:`skygas.current`).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from skygas import units
+from skygas.config import ThieleOverrides, _to_input_error
+from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
+from skygas.errors import InputError
+from skygas.materials import Material, derive_thiele, load_material, preset_names
+
+PositiveFloat = Annotated[float, Field(gt=0)]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class DeviceSpec(_Strict):
+    chamber_diameter: PositiveFloat = 1024e-9
+    conduit_width: PositiveFloat = 100e-9
+    conduit_length: PositiveFloat = 50e-9
+    chamber_gap: PositiveFloat = 400e-9
+
+
+class SignalConfig(_Strict):
+    """The input signal (see :mod:`skygas.signals`)."""
+
+    kind: Literal["telegraph", "bernoulli", "file"] = "telegraph"
+    p: float = Field(0.5, ge=0, le=1)
+    correlation_time: PositiveFloat = 5e-9
+    path: str | None = None
+
+
+class InjectionSpec(_Strict):
+    interval: PositiveFloat = 5e-9
+    occupied_rule: Literal["delay", "skip"] = "delay"
+    site_clearance: PositiveFloat = 1.0   # skyrmion diameters
+    retry_interval: PositiveFloat | None = None  # default: interval / 10
+    max_pending: int = Field(1000, ge=1)
+
+
+class CurrentSpec(_Strict):
+    cell_size: PositiveFloat = DEFAULT_CELL_SIZE
+    conductor_thickness: PositiveFloat = DEFAULT_CONDUCTOR_THICKNESS
+    resistivity: PositiveFloat = DEFAULT_RESISTIVITY
+
+
+class OutputSpec(_Strict):
+    snapshot_interval: PositiveFloat = 100e-9   # positions of all skyrmions, stored sparsely
+    trajectory_window: float = Field(300e-9, ge=0)  # dense 1 ns frames for the figure
+    running_points: int = Field(200, ge=2)
+
+
+class ReshufflerConfig(_Strict):
+    """Everything that defines a reshuffler run."""
+
+    seed: int = Field(0, ge=0, lt=2**63)
+    temperature: float = Field(300.0, ge=0)
+    current_density: PositiveFloat = 1.7e11        # J in the conduits [A/m²]
+    duration: PositiveFloat = 20e-6                # simulated time [s]
+    time_step: PositiveFloat | None = None         # default: 0.1 τ_min
+    film_thickness: PositiveFloat = 2e-9
+    material: Union[str, dict[str, Any]] = "S2"
+    thiele: ThieleOverrides = ThieleOverrides()
+    spin_drift_coefficient: PositiveFloat | None = None  # ξ [m³/C]
+    spin_polarization: float = Field(0.5, gt=0, le=1)
+    device: DeviceSpec = DeviceSpec()
+    signal: SignalConfig = SignalConfig()
+    injection: InjectionSpec = InjectionSpec()
+    current: CurrentSpec = CurrentSpec()
+    output: OutputSpec = OutputSpec()
+
+    def resolved_material(self) -> Material:
+        if isinstance(self.material, str) and not self.material.endswith(".toml") \
+                and self.material not in preset_names():
+            raise InputError("material", self.material,
+                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
+        return load_material(self.material)
+
+    def thiele_parameters(self):
+        o = self.thiele
+        return derive_thiele(self.resolved_material(), self.film_thickness,
+                             dissipation=o.dissipation, force_scale=o.force_scale,
+                             skyrmion_diameter=o.skyrmion_diameter, eta=o.eta, mu=o.mu)
+
+    def drift_coefficient(self) -> float:
+        """ξ [m³/C]: the configured value or the spin-transfer estimate P g μ_B/(2 e M_s)."""
+        if self.spin_drift_coefficient is not None:
+            return self.spin_drift_coefficient
+        m_s = self.resolved_material().saturation_magnetization
+        return (self.spin_polarization * 2.0 * units.BOHR_MAGNETON
+                / (2.0 * units.ELEMENTARY_CHARGE * m_s))
+
+
+def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
+    """Apply dotted-key overrides (``{"signal.p": 0.3}``) to a nested mapping."""
+    data = {k: (dict(v) if isinstance(v, dict) else v) for k, v in data.items()}
+    for key, value in overrides.items():
+        if value is None:
+            continue
+        node = data
+        parts = key.split(".")
+        for part in parts[:-1]:
+            node = node.setdefault(part, {})
+        node[parts[-1]] = value
+    return data
+
+
+def parse_reshuffler_config(data: dict, source: str = "",
+                            overrides: dict[str, Any] | None = None) -> ReshufflerConfig:
+    """Validate a mapping (with optional dotted-key overrides) into a config."""
+    data = _with_overrides(data, overrides or {})
+    preset = data.pop("preset", None)
+    if preset is not None:
+        data = _with_overrides(preset_data(preset), _flatten(data))
+    try:
+        return ReshufflerConfig(**data)
+    except ValidationError as err:
+        raise _to_input_error(err, source) from None
+
+
+def _flatten(data: dict, prefix: str = "") -> dict:
+    out = {}
+    for key, value in data.items():
+        if isinstance(value, dict) and key not in ("material",):
+            out.update(_flatten(value, f"{prefix}{key}."))
+        else:
+            out[f"{prefix}{key}"] = value
+    return out
+
+
+PRESETS = ("default", "paper")
+
+
+def preset_data(name: str) -> dict:
+    """The mapping of a named reshuffler preset (``default`` or ``paper``)."""
+    if name not in PRESETS:
+        raise InputError("preset", name, f"one of {', '.join(PRESETS)}")
+    text = resources.files("skygas").joinpath(f"data/reshuffler-{name}.toml").read_text()
+    return tomllib.loads(text)
+
+
+def load_reshuffler_config(path: str | Path | None = None, *, preset: str | None = None,
+                           overrides: dict[str, Any] | None = None) -> ReshufflerConfig:
+    """A config from a TOML file, or from a preset when no file is given, then overrides."""
+    if path is None:
+        data = {"preset": preset or "default"}
+        source = f"preset {preset or 'default'}: "
+    else:
+        path = Path(path)
+        if not path.is_file():
+            raise InputError("config", str(path), "an existing TOML file")
+        try:
+            data = tomllib.loads(path.read_text())
+        except tomllib.TOMLDecodeError as err:
+            raise InputError("config", str(path), f"valid TOML ({err})") from None
+        if preset is not None:
+            data["preset"] = preset
+        source = f"{path.name}: "
+    return parse_reshuffler_config(data, source, overrides)

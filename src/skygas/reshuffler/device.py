@@ -1,0 +1,100 @@
+"""The reshuffler's hardware: two identical chambers, their nucleation sites and read-outs,
+and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler"; PHYSICS.md §3).
+
+Layout: the UP chamber sits above the DOWN chamber, each the paper's disk with an input conduit
+on the left and an output conduit on the right (:func:`~skygas.geometry.chamber_with_conduits`).
+For the current, both conduit ends are electrodes. For skyrmions, only the output end is open:
+it is the read-out line, where a skyrmion is detected and removed. The input end is the end of
+the track: a wall. So every skyrmion is either detected, still present or annihilated.
+
+Each chamber carries its own copy of the current solved for one chamber (the chambers are
+identical and driven in parallel), so the Joule power of the device is twice one chamber's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from shapely.geometry import MultiPolygon
+
+from skygas.errors import require
+from skygas.geometry import Outline, chamber_with_conduits
+from skygas.units import M_TO_NM
+
+CHAMBERS = ("up", "down")
+
+
+@dataclass(frozen=True)
+class ReshufflerGeometry:
+    """Dimensions of one chamber [m] and the spacing between the two chambers [m]."""
+
+    chamber_diameter: float = 1024e-9
+    conduit_width: float = 100e-9
+    conduit_length: float = 50e-9
+    chamber_gap: float = 400e-9
+
+    def chamber(self) -> Outline:
+        """One chamber centred at the origin, ports ``input`` and ``output`` (electrodes)."""
+        return chamber_with_conduits(self.chamber_diameter, self.conduit_width,
+                                     self.conduit_length)
+
+    def centres(self) -> dict[str, tuple[float, float]]:
+        """Centre [m] of each chamber."""
+        offset = (self.chamber_diameter + self.chamber_gap) / 2
+        return {"up": (0.0, offset), "down": (0.0, -offset)}
+
+    def device_outline(self) -> Outline:
+        """Both chambers, with ports ``up.output`` and ``down.output`` (read-out lines)."""
+        pieces, ports = [], {}
+        for name, (cx, cy) in self.centres().items():
+            moved = self.chamber().translated(cx, cy)
+            pieces.append(moved.region)
+            ports[f"{name}.output"] = moved.ports["output"]
+        return Outline(MultiPolygon(pieces), ports)
+
+    def nucleation_sites(self) -> dict[str, np.ndarray]:
+        """Nucleation site [nm] of each chamber: the middle of its input conduit."""
+        half_w = self.conduit_width / 2
+        r = self.chamber_diameter / 2
+        x_meet = np.sqrt(r * r - half_w * half_w)
+        x_site = -(x_meet + self.conduit_length / 2)
+        return {name: np.array([x_site + cx, cy]) * M_TO_NM
+                for name, (cx, cy) in self.centres().items()}
+
+    def chamber_of(self, y_nm) -> np.ndarray:
+        """Index into :data:`CHAMBERS` of the chamber a point with ordinate y [nm] belongs to."""
+        return np.where(np.asarray(y_nm) >= 0.0, 0, 1)
+
+    def validate(self, skyrmion_diameter: float) -> None:
+        """Refuse chambers narrower than a skyrmion and conduits that do not fit."""
+        require(self.chamber_diameter > skyrmion_diameter, "chamber_diameter",
+                self.chamber_diameter,
+                f"a diameter larger than the skyrmion diameter ({skyrmion_diameter:.3g} m)")
+        require(self.conduit_width > skyrmion_diameter, "conduit_width", self.conduit_width,
+                f"a width larger than the skyrmion diameter ({skyrmion_diameter:.3g} m)")
+        require(self.conduit_width < self.chamber_diameter, "conduit_width",
+                self.conduit_width,
+                f"a width smaller than the chamber diameter ({self.chamber_diameter:.3g} m)")
+        require(self.conduit_length >= skyrmion_diameter / 2, "conduit_length",
+                self.conduit_length,
+                f"a length of at least half a skyrmion diameter ({skyrmion_diameter / 2:.3g} m)")
+        require(self.chamber_gap > 0, "chamber_gap", self.chamber_gap, "a gap > 0 in metres")
+
+
+def drift_field_on_grid(geometry: ReshufflerGeometry, solution, grid,
+                        spin_drift_coefficient: float) -> tuple[np.ndarray, np.ndarray]:
+    """v_s = ξ·j [m/s] on the simulation grid: the one-chamber current copied into both
+    chambers. ``solution`` is a :class:`~skygas.current.CurrentSolution` of one chamber
+    centred at the origin; ``grid`` the engine's :class:`~skygas.wall_field.Grid` (nm)."""
+    gx, gy = grid.nodes()
+    vx = np.zeros_like(gx)
+    vy = np.zeros_like(gy)
+    which = geometry.chamber_of(gy)
+    for index, name in enumerate(CHAMBERS):
+        cx, cy = geometry.centres()[name]
+        mask = which == index
+        jx, jy = solution.current_density_at(gx[mask] / M_TO_NM - cx, gy[mask] / M_TO_NM - cy)
+        vx[mask] = spin_drift_coefficient * jx
+        vy[mask] = spin_drift_coefficient * jy
+    return vx, vy

@@ -1,0 +1,89 @@
+"""Figures of a reshuffler run (matplotlib, Agg): the device with its current density and
+sample trajectories, the running correlation, and the occupancy of both chambers."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from skygas.plotting import draw_outline
+from skygas.reshuffler.device import drift_field_on_grid
+
+
+def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
+    """|j| in both chambers (colour), walls, read-out lines and the first trajectories."""
+    grid = run.sim.wall_field.grid
+    jx, jy = drift_field_on_grid(run.geometry, run.current, grid, 1.0)
+    magnitude = np.hypot(jx, jy)
+    gx, gy = grid.nodes()
+    inside = run.sim.outline.contains_nm(gx, gy)
+    magnitude = np.where(inside, magnitude, np.nan)
+    fig = Figure(figsize=(6.5, 9), dpi=110)
+    ax = fig.add_subplot()
+    extent = np.array([grid.x0, grid.x0 + grid.spacing * (grid.nx - 1),
+                       grid.y0, grid.y0 + grid.spacing * (grid.ny - 1)]) * 1e-3
+    image = ax.imshow(magnitude, origin="lower", extent=extent, cmap="viridis",
+                      norm=_log_norm(magnitude))
+    fig.colorbar(image, ax=ax, label="current density |j| (A/m²)", shrink=0.6)
+    draw_outline(ax, run.sim.outline)
+    ds = run.sim.trajectories()
+    if ds.sizes.get("skyrmion", 0):
+        x, y = ds.x.values * 1e6, ds.y.values * 1e6
+        for k in range(min(x.shape[1], max_tracks)):
+            ok = np.isfinite(x[:, k])
+            if ok.sum() > 1:
+                ax.plot(x[ok, k], y[ok, k], lw=0.8, color="white", alpha=0.8)
+    for name, site in run.geometry.nucleation_sites().items():
+        ax.plot(site[0] * 1e-3, site[1] * 1e-3, "r*", ms=8)
+        ax.annotate(name.upper(), (site[0] * 1e-3, site[1] * 1e-3 + 0.08), color="tab:red")
+    ax.set_title(f"J = {run.config.current_density:.2g} A/m² in the conduits, "
+                 f"first {run.config.output.trajectory_window * 1e9:.0f} ns of trajectories",
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def _log_norm(values):
+    from matplotlib.colors import LogNorm
+
+    finite = values[np.isfinite(values) & (values > 0)]
+    if finite.size == 0:
+        return None
+    return LogNorm(vmin=max(finite.min(), finite.max() * 1e-3), vmax=finite.max())
+
+
+def plot_running_correlation(ds, path: Path) -> Path:
+    """ρ of the events read so far against time (paper's reshuffler figure, right panel)."""
+    fig = Figure(figsize=(6, 4), dpi=110)
+    ax = fig.add_subplot()
+    if ds.sizes.get("running", 0):
+        ax.plot(ds.running_time.values * 1e6, ds.running_rho.values, color="tab:blue")
+    ax.axhline(0.0, color="grey", lw=0.5)
+    ax.set_xlabel("time (µs)")
+    ax.set_ylabel("running correlation ρ")
+    ax.set_title("input/output correlation as the output stream is generated", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def plot_occupancy(ds, path: Path) -> Path:
+    """Skyrmions present in each chamber against time, and the transit-time distribution."""
+    fig = Figure(figsize=(9, 3.8), dpi=110)
+    ax, hx = fig.subplots(1, 2)
+    t = ds.occupancy_time.values * 1e6
+    ax.step(t, ds.occupancy_up.values, where="post", label="UP")
+    ax.step(t, ds.occupancy_down.values, where="post", label="DOWN")
+    ax.set_xlabel("time (µs)")
+    ax.set_ylabel("skyrmions in chamber")
+    ax.legend()
+    if ds.sizes.get("detection", 0):
+        hx.hist(ds.transit_time.values * 1e9, bins=60, color="tab:gray")
+    hx.set_xlabel("transit time (ns)")
+    hx.set_ylabel("skyrmions")
+    fig.tight_layout()
+    fig.savefig(path)
+    return path

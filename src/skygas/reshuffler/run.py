@@ -1,0 +1,194 @@
+"""Running the Skyrmion Reshuffler: build, drive, detect, analyse (paper, "Skyrmion Reshuffler").
+
+:class:`ReshufflerRun` wires the pieces together:
+
+1. the device (:mod:`~skygas.reshuffler.device`) and its current (:mod:`skygas.current`),
+   giving the drift field v_s = ξ j in both chambers;
+2. the engine (:class:`~skygas.engine.Simulation`) with the input bits driving an
+   :class:`~skygas.reshuffler.injection.Injector`;
+3. read-out: a skyrmion crossing an output line is detected (time, chamber) and removed;
+4. the analyses of :mod:`skygas.correlation` on the input bits and the output bits rebuilt from
+   the read-out order.
+
+Counts are conserved by construction and checked at the end of every run:
+injected = detected + present + annihilated (annihilation is not modelled here yet: 0).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import xarray as xr
+
+from skygas import correlation as corr
+from skygas import units
+from skygas._version import __version__
+from skygas.current import solve_current
+from skygas.engine import (SUGGESTED_STEP_FRACTION, ForceModel, Periodic, Simulation,
+                           relaxation_time)
+from skygas.reshuffler.config import ReshufflerConfig
+from skygas.reshuffler.device import CHAMBERS, ReshufflerGeometry, drift_field_on_grid
+from skygas.reshuffler.injection import Injector
+from skygas.signals import SignalSpec, generate_bits
+
+CHECKPOINT = "checkpoint.npz"
+
+
+def _seeds(seed: int) -> dict[str, int]:
+    """Independent child seeds for the signal and the thermal noise (SeedSequence)."""
+    signal, noise = np.random.SeedSequence(seed).spawn(2)
+    return {"signal": int(signal.generate_state(1, np.uint64)[0]),
+            "noise": int(noise.generate_state(1, np.uint64)[0] >> np.uint64(1))}
+
+
+@dataclass
+class ReshufflerRun:
+    """A reshuffler simulation in progress. Build with :meth:`build`, then :meth:`advance`."""
+
+    config: ReshufflerConfig
+    geometry: ReshufflerGeometry
+    sim: Simulation
+    injector: Injector
+    current: object
+    electrical_outline: object
+    n_events: int
+    snapshots: list = field(default_factory=list)
+    wall_time: float = 0.0
+
+    @classmethod
+    def build(cls, config: ReshufflerConfig) -> "ReshufflerRun":
+        """Validate everything, solve the current and set up the engine (no stepping)."""
+        thiele = config.thiele_parameters()
+        d = config.device
+        geometry = ReshufflerGeometry(d.chamber_diameter, d.conduit_width, d.conduit_length,
+                                      d.chamber_gap)
+        geometry.validate(thiele.skyrmion_diameter)
+        spec = SignalSpec(kind=config.signal.kind, p=config.signal.p,
+                          correlation_time=config.signal.correlation_time,
+                          path=config.signal.path)
+        interval = config.injection.interval
+        n_events = int(math.floor(config.duration / interval + 1e-9))
+        seeds = _seeds(config.seed)
+        bits = generate_bits(spec, n_events if config.signal.kind != "file" else None,
+                             interval, seeds["signal"])
+        if config.signal.kind == "file":
+            bits = bits[:n_events]
+            n_events = len(bits)
+        chamber = geometry.chamber()
+        current = solve_current(chamber, config.current_density,
+                                cell_size=config.current.cell_size,
+                                conductor_thickness=config.current.conductor_thickness,
+                                resistivity=config.current.resistivity)
+        material = config.resolved_material()
+        time_step = config.time_step
+        if time_step is None:
+            # the suggested step, shortened so the injection interval is a whole number of steps
+            suggested = SUGGESTED_STEP_FRACTION * relaxation_time(
+                thiele, ForceModel.build(material, thiele))
+            time_step = interval / math.ceil(interval / suggested - 1e-9)
+        sim = Simulation(geometry.device_outline(), material, temperature=config.temperature,
+                         time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64)
+        vx, vy = drift_field_on_grid(geometry, current, sim.wall_field.grid,
+                                     config.drift_coefficient())
+        sim.set_drift_field(vx, vy)
+        interval_steps = max(1, int(round(interval / sim.time_step)))
+        retry = config.injection.retry_interval or interval / 10
+        injector = Injector(
+            bits=bits, interval_steps=interval_steps,
+            retry_steps=max(1, int(round(retry / sim.time_step))),
+            sites=geometry.nucleation_sites(),
+            clearance_nm=config.injection.site_clearance * thiele.skyrmion_diameter_internal,
+            rule=config.injection.occupied_rule, max_pending=config.injection.max_pending)
+        sim.operations.append(injector)
+        run = cls(config, geometry, sim, injector, current, chamber, n_events)
+        snap_steps = max(1, int(round(config.output.snapshot_interval / sim.time_step)))
+        sim.operations.append(Periodic(snap_steps, run._snapshot))
+        return run
+
+    # -- running ------------------------------------------------------------------------------
+    @property
+    def total_steps(self) -> int:
+        return int(round(self.config.duration / self.sim.time_step))
+
+    def advance(self, progress: Callable[[float], None] | None = None,
+                checkpoint: Callable[["ReshufflerRun"], None] | None = None,
+                checkpoint_seconds: float = 60.0, pieces: int = 200) -> None:
+        """Run to the configured duration in ``pieces`` (progress, periodic checkpoints)."""
+        end = self.total_steps
+        window = int(round(self.config.output.trajectory_window / self.sim.time_step))
+        record_every = max(1, int(round(1e-9 / self.sim.time_step)))
+        piece = max(1, end // pieces)
+        last_save = time.perf_counter()
+        while self.sim.step < end:
+            start = time.perf_counter()
+            n = min(piece, end - self.sim.step)
+            if self.sim.step < window:  # dense frames of the first skyrmions, for the figure
+                n = min(n, window - self.sim.step)
+                self.sim.run(n * self.sim.time_step, record_interval=record_every
+                             * self.sim.time_step)
+            else:
+                self.sim.run(n * self.sim.time_step)
+            self.wall_time += time.perf_counter() - start
+            if progress is not None:
+                progress(self.sim.time)
+            if checkpoint is not None and time.perf_counter() - last_save > checkpoint_seconds:
+                checkpoint(self)
+                last_save = time.perf_counter()
+
+    def _snapshot(self, sim: Simulation) -> None:
+        ids, pos = sim.positions()
+        self.snapshots.append((sim.time, ids, pos))
+
+    # -- checkpoints ------------------------------------------------------------------------
+    def state_dict(self) -> dict:
+        state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
+        state.update({f"inj_{k}": v for k, v in self.injector.state_dict().items()})
+        if self.snapshots:
+            state["snap_time"] = np.array([s[0] for s in self.snapshots])
+            state["snap_count"] = np.array([len(s[1]) for s in self.snapshots])
+            state["snap_ids"] = np.concatenate([s[1] for s in self.snapshots])
+            state["snap_pos"] = np.concatenate([s[2] for s in self.snapshots])
+        state["wall_time"] = np.array(self.wall_time)
+        return state
+
+    def load_state_dict(self, state: dict) -> None:
+        self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
+        self.injector.load_state_dict({k[4:]: v for k, v in state.items()
+                                       if k.startswith("inj_")})
+        self.snapshots = []
+        if "snap_time" in state:
+            edges = np.concatenate([[0], np.cumsum(state["snap_count"])])
+            for n, t in enumerate(state["snap_time"]):
+                sl = slice(edges[n], edges[n + 1])
+                self.snapshots.append((float(t), state["snap_ids"][sl], state["snap_pos"][sl]))
+        self.wall_time = float(state["wall_time"])
+
+    # -- results ------------------------------------------------------------------------------
+    def detections(self) -> dict[str, np.ndarray]:
+        """Read-out events in time order: skyrmion id, time [s], chamber (1 = UP, 0 = DOWN)."""
+        exits = [e for e in self.sim.exits if e[2].endswith(".output")]
+        ids = np.array([e[0] for e in exits], dtype=np.int64)
+        times = np.array([e[1] for e in exits], dtype=float)
+        up = np.array([e[2] == "up.output" for e in exits], dtype=bool)
+        order = np.argsort(times, kind="stable")
+        return {"skyrmion": ids[order], "time": times[order], "up": up[order]}
+
+    def counts(self) -> dict[str, int]:
+        """Injected, detected, present and annihilated skyrmions; raises if not conserved."""
+        injected = self.injector.n_injected
+        detected = len(self.detections()["skyrmion"])
+        present = self.sim.count
+        annihilated = 0
+        if injected != detected + present + annihilated:
+            raise RuntimeError(f"skyrmion count not conserved: injected {injected} != "
+                               f"detected {detected} + present {present} + "
+                               f"annihilated {annihilated}")
+        return {"injected": injected, "detected": detected, "present": present,
+                "annihilated": annihilated}
