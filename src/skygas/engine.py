@@ -111,9 +111,10 @@ def relaxation_time(thiele: ThieleParameters, forces: ForceModel) -> float:
 class Operation(Protocol):
     """Something that acts on a simulation on a schedule (injectors, gates, writers).
 
-    ``next_step(step)`` returns the first step count > ``step`` at which the operation wants to
-    act; the engine stops there and calls ``act(sim)``. An operation can change its schedule
-    from one call to the next (an injector retrying an occupied site, a gate opening)."""
+    ``next_step(step)`` returns the step count at which the operation next wants to act: the
+    engine stops there and calls ``act(sim)`` (a value ≤ ``step`` means "now", before any
+    further stepping). An operation can change its schedule from one call to the next (an
+    injector retrying an occupied site, a gate opening)."""
 
     def next_step(self, step: int) -> int: ...
 
@@ -391,10 +392,11 @@ class Simulation:
         end = self.step + n_total
         while self.step < end:
             due = [op.next_step(self.step) for op in self.operations]
-            target = min([end, self.step + chunk_steps, *due])
-            self._advance(target - self.step, record_every)
+            target = max(self.step, min([end, self.step + chunk_steps, *due]))
+            if target > self.step:
+                self._advance(target - self.step, record_every)
             for op, when in zip(self.operations, due):
-                if when == self.step:
+                if when <= self.step:
                     op.act(self)
             if progress is not None:
                 progress(self.time)

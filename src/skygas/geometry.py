@@ -20,7 +20,7 @@ from functools import cached_property
 import numpy as np
 import shapely
 import shapely.validation
-from shapely.geometry import LineString, MultiLineString, MultiPolygon, Point, Polygon, box
+from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
 from shapely.ops import unary_union
 
 from skygas.errors import InputError, require
@@ -183,12 +183,18 @@ def chamber_with_conduits(
     conduit_width: float = 100e-9,
     conduit_length: float = 50e-9,
     center=(0.0, 0.0),
+    corner_radius: float = 20e-9,
 ) -> Outline:
     """The paper's device chamber: a disk with an input conduit on the left and an output
     conduit on the right, along the x axis (paper, "Skyrmion Reshuffler" and Methods).
 
     ``conduit_length`` [m] is measured from where the conduit's edges meet the disk to its
     open end. The open ends are the ports ``"input"`` (left) and ``"output"`` (right).
+
+    The four re-entrant corners where the conduits meet the disk are rounded with
+    ``corner_radius`` [m] (0 keeps them sharp). A sharp re-entrant corner makes the current
+    density diverge there (as r^(−1/3)), and the drift then drives skyrmions into the wall
+    faster than the wall law can push them back; lithographed devices have rounded corners.
     """
     d = _positive("chamber_diameter", chamber_diameter)
     w = _positive("conduit_width", conduit_width)
@@ -205,7 +211,21 @@ def chamber_with_conduits(
     overlap = 0.5 * (r - x_meet) + 1.0
     left = box(cx - x_end, cy - half_w, cx - x_meet + overlap, cy + half_w)
     right = box(cx + x_meet - overlap, cy - half_w, cx + x_end, cy + half_w)
-    outline = Outline(unary_union([chamber, left, right]))
+    region = unary_union([chamber, left, right])
+    require(corner_radius >= 0 and math.isfinite(corner_radius), "corner_radius",
+            corner_radius, "a radius >= 0 in metres")
+    if corner_radius > 0:
+        # A closing (grow, then shrink) fills re-entrant corners with arcs. Only its material
+        # near the four junctions is added, so every other vertex (the conduit ends with
+        # their ports) stays exactly where it was.
+        rad = corner_radius * M_TO_NM
+        segs = _circle_segments(rad)
+        closed = region.buffer(rad, quad_segs=segs, join_style="mitre").buffer(
+            -rad, quad_segs=segs, join_style="round")
+        junctions = unary_union([Point(cx + sx * x_meet, cy + sy * half_w).buffer(3 * rad)
+                                 for sx in (-1, 1) for sy in (-1, 1)])
+        region = unary_union([region, closed.intersection(junctions)])
+    outline = Outline(region)
     outline = outline._with_port_nm(
         "input", LineString([(cx - x_end, cy - half_w), (cx - x_end, cy + half_w)]))
     return outline._with_port_nm(

@@ -21,7 +21,8 @@ COARSE = 8e-9  # cell size for the chamber tests (~1.3e4 cells)
 
 @pytest.fixture(scope="module")
 def chamber():
-    return chamber_with_conduits(CHAMBER_DIAMETER, CONDUIT_WIDTH, 50e-9)
+    # sharp junctions: the paper's geometry, on which the accuracy figures are stated
+    return chamber_with_conduits(CHAMBER_DIAMETER, CONDUIT_WIDTH, 50e-9, corner_radius=0.0)
 
 
 @pytest.fixture(scope="module")
@@ -263,3 +264,13 @@ def test_electrodes_cut_apart_by_coarse_cells_raise():
     fine = solve_current(device, J, source="a", sink="b", cell_size=1e-9)
     # the 10 nm free length of the 3 nm neck alone is a lower bound on the resistance
     assert fine.resistance > fine.resistivity * 10e-9 / (3e-9 * fine.conductor_thickness)
+
+
+def test_rounded_default_chamber_conserves_current():
+    """The reshuffler's default chamber has rounded junctions; the current still crosses every
+    section of it unchanged."""
+    rounded = chamber_with_conduits(CHAMBER_DIAMETER, CONDUIT_WIDTH, 50e-9)
+    s = solve_current(rounded, J, cell_size=COARSE)
+    for x in (-530e-9, 0.0, 300e-9, 530e-9):
+        flux = s.flux_through((x, -600e-9), (x, 600e-9))
+        assert abs(abs(flux) - s.total_current) < 0.01 * s.total_current

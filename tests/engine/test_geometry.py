@@ -7,6 +7,7 @@ the analytic ones of the ideal shapes (circle, rectangle).
 import math
 
 import numpy as np
+import shapely
 import pytest
 
 from skygas.errors import InputError
@@ -50,7 +51,7 @@ def test_chamber_ports_sit_at_the_conduit_ends(diameter, width, length, center):
 
 
 def test_chamber_area_is_disk_plus_conduits():
-    outline = chamber_with_conduits(1024e-9, 100e-9, 50e-9)
+    outline = chamber_with_conduits(1024e-9, 100e-9, 50e-9, corner_radius=0.0)
     r, h, length = 512.0, 50.0, 50.0
     x_meet = math.sqrt(r * r - h * h)
     # each conduit box of height 2h from x_meet to x_meet + L, minus the circular cap of the
@@ -61,6 +62,28 @@ def test_chamber_area_is_disk_plus_conduits():
     assert outline.area_nm2() == pytest.approx(exact, rel=2.5e-4)
     assert outline.area_nm2() < exact
     assert outline.area_nm2() == pytest.approx(math.pi * r * r + 2 * 2 * h * length, rel=1e-3)
+
+
+def test_rounded_junctions_are_arcs_tangent_to_both_walls():
+    """The fillet at a junction is an arc of radius ρ whose centre lies ρ beyond the conduit
+    wall (y = h + ρ) and ρ beyond the chamber's circle (|c| = R + ρ): tangent to both."""
+    sharp = chamber_with_conduits(1024e-9, 100e-9, 50e-9, corner_radius=0.0)
+    rounded = chamber_with_conduits(1024e-9, 100e-9, 50e-9, corner_radius=20e-9)
+    r, h, rho = 512.0, 50.0, 20.0
+    pts = np.asarray(rounded.region.exterior.coords)
+    new = pts[sharp.region.boundary.distance(shapely.points(pts)) > 1e-3]
+    arc = new[(new[:, 0] > 0) & (new[:, 1] > 0)]  # the junction at (+x_meet, +h)
+    assert len(arc) >= 5
+    # algebraic circle fit: x² + y² + D x + E y + F = 0
+    a_mat = np.column_stack([arc[:, 0], arc[:, 1], np.ones(len(arc))])
+    d, e, f = np.linalg.lstsq(a_mat, -(arc[:, 0] ** 2 + arc[:, 1] ** 2), rcond=None)[0]
+    centre = np.array([-d / 2, -e / 2])
+    radius = math.sqrt(centre @ centre - f)
+    assert radius == pytest.approx(rho, rel=0.01)
+    assert centre[1] == pytest.approx(h + rho, abs=0.2)
+    assert math.hypot(*centre) == pytest.approx(r + rho, abs=0.2)
+    for name in rounded.ports:  # the ports do not move
+        assert rounded.ports[name].equals(sharp.ports[name])
 
 
 @pytest.mark.parametrize("kwargs, field", [

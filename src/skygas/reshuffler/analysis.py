@@ -22,9 +22,6 @@ import xarray as xr
 from skygas import correlation as corr
 from skygas._version import __version__
 
-MAX_LAG = 20
-
-
 @dataclass
 class ReshufflerResult:
     """The summary (JSON-able dict, SI units) and the full :class:`xarray.Dataset`."""
@@ -51,7 +48,8 @@ def summarize(run) -> ReshufflerResult:
     n_pairs = min(len(b), len(c))
     rho = corr.pearson_by_index(b, c) if n_pairs >= 2 else float("nan")
     scc = corr.scc_by_index(b, c) if n_pairs >= 2 else float("nan")
-    lag = corr.pearson_vs_lag(b, c, min(MAX_LAG, max(n_pairs - 2, 0))) if n_pairs >= 4 else None
+    max_lag = min(cfg.output.max_lag, max(n_pairs - 2, 0))
+    lag = corr.pearson_vs_lag(b, c, max_lag) if n_pairs >= 4 else None
     all_bits = run.injector.log.bit
     p_cmp = corr.p_out_vs_p_in(all_bits, c) if len(c) else None
     running = corr.running_correlation(b, c, det["time"][:n_pairs], cfg.output.running_points) \

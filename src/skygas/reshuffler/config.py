@@ -68,6 +68,7 @@ class OutputSpec(_Strict):
     snapshot_interval: PositiveFloat = 100e-9   # positions of all skyrmions, stored sparsely
     trajectory_window: float = Field(300e-9, ge=0)  # dense 1 ns frames for the figure
     running_points: int = Field(200, ge=2)
+    max_lag: int = Field(50, ge=1)  # events; the lag scan of ρ covers −max_lag … max_lag
 
 
 class ReshufflerConfig(_Strict):

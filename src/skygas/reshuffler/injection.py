@@ -69,12 +69,13 @@ class Injector:
 
     # -- schedule -----------------------------------------------------------------------------
     def next_step(self, step: int) -> int:
+        """The next clock tick (possibly now), or sooner the next retry of a waiting event."""
         tick = self.next_event * self.interval_steps
         if self.next_event >= len(self.bits):
             tick = np.iinfo(np.int64).max
         if any(self.pending.values()):
             return min(tick, (step // self.retry_steps + 1) * self.retry_steps)
-        return max(tick, step + 1)
+        return tick
 
     def act(self, sim) -> None:
         while self.next_event < len(self.bits) and \

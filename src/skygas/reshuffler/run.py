@@ -16,25 +16,24 @@ injected = detected + present + annihilated (annihilation is not modelled here y
 
 from __future__ import annotations
 
-import json
 import math
-import os
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Callable
 
 import numpy as np
-import xarray as xr
 
-from skygas import correlation as corr
-from skygas import units
-from skygas._version import __version__
 from skygas.current import solve_current
-from skygas.engine import (SUGGESTED_STEP_FRACTION, ForceModel, Periodic, Simulation,
-                           relaxation_time)
+from skygas.engine import (
+    SUGGESTED_STEP_FRACTION,
+    ForceModel,
+    Periodic,
+    Simulation,
+    relaxation_time,
+)
+from skygas.errors import require
 from skygas.reshuffler.config import ReshufflerConfig
-from skygas.reshuffler.device import CHAMBERS, ReshufflerGeometry, drift_field_on_grid
+from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
 from skygas.signals import SignalSpec, generate_bits
 
@@ -88,6 +87,11 @@ class ReshufflerRun:
                                 resistivity=config.current.resistivity)
         material = config.resolved_material()
         time_step = config.time_step
+        if time_step is not None:
+            per_interval = interval / time_step
+            require(abs(per_interval - round(per_interval)) < 1e-6 * per_interval, "time_step",
+                    time_step, f"a step that divides the injection interval ({interval:g} s) a "
+                    f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s")
         if time_step is None:
             # the suggested step, shortened so the injection interval is a whole number of steps
             suggested = SUGGESTED_STEP_FRACTION * relaxation_time(
@@ -119,12 +123,15 @@ class ReshufflerRun:
 
     def advance(self, progress: Callable[[float], None] | None = None,
                 checkpoint: Callable[["ReshufflerRun"], None] | None = None,
-                checkpoint_seconds: float = 60.0, pieces: int = 200) -> None:
-        """Run to the configured duration in ``pieces`` (progress, periodic checkpoints)."""
-        end = self.total_steps
+                checkpoint_seconds: float = 60.0, pieces: int = 200,
+                stop_after_step: int | None = None) -> None:
+        """Run to the configured duration (or to ``stop_after_step``) in ``pieces``, reporting
+        progress and saving periodic checkpoints."""
+        end = self.total_steps if stop_after_step is None else min(stop_after_step,
+                                                                      self.total_steps)
         window = int(round(self.config.output.trajectory_window / self.sim.time_step))
         record_every = max(1, int(round(1e-9 / self.sim.time_step)))
-        piece = max(1, end // pieces)
+        piece = max(1, self.total_steps // pieces)
         last_save = time.perf_counter()
         while self.sim.step < end:
             start = time.perf_counter()

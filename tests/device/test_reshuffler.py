@@ -1,0 +1,174 @@
+"""The Skyrmion Reshuffler end to end: ordering, decorrelation, p-values, conservation, the
+occupied-site rule, bad input, resume and the CLI."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from skygas import correlation as corr
+from skygas.cli import main
+from skygas.errors import InputError
+from skygas.reshuffler import ReshufflerRun, parse_reshuffler_config, summarize
+
+FAST = {"spin_drift_coefficient": 1.83e-10, "current_density": 3.8e11,
+        "output": {"trajectory_window": 0.0, "snapshot_interval": 200e-9}}
+
+
+def run_config(**fields) -> tuple[ReshufflerRun, dict]:
+    config = parse_reshuffler_config({**FAST, **fields})
+    run = ReshufflerRun.build(config)
+    run.advance()
+    return run, summarize(run).summary
+
+
+def test_zero_temperature_output_repeats_the_input():
+    """Without noise every skyrmion follows the same current line from the same site, so the
+    read-out order is the injection order: ρ = 1 and the output bits equal the input bits."""
+    run, s = run_config(temperature=0.0, duration=1e-6, spin_drift_coefficient=1e-9,
+                        signal={"kind": "bernoulli", "p": 0.5})
+    det = run.detections()
+    bits = run.injector.log.bit
+    assert s["n_detected"] > 150
+    assert np.array_equal(det["up"], bits[: len(det["up"])])
+    assert s["correlation"] == pytest.approx(1.0, abs=1e-12)
+    assert s["correlation_best_lag"] == 0
+
+
+def test_room_temperature_at_lower_current_decorrelates():
+    """At 300 K and 1.7e11 A/m² (with the paper preset's ξ) skyrmions spend ~300 ns diffusing
+    and overtake each other: ρ falls well below 0.1 (2000 events: standard error ≈ 0.022)."""
+    run, s = run_config(current_density=1.7e11, duration=10e-6, seed=3)
+    assert s["n_detected"] > 1500
+    assert abs(s["correlation"]) < 0.1
+    # the same device at high current stays strongly correlated (paper: 0.64 at 3.8e11)
+    _, fast = run_config(current_density=3.8e11, duration=5e-6, seed=3)
+    assert fast["correlation"] > 0.4
+
+
+@pytest.mark.parametrize("p", [0.1, 0.5, 0.9])
+def test_output_p_value_matches_the_input(p):
+    run, s = run_config(duration=4e-6, seed=11, signal={"kind": "bernoulli", "p": p})
+    det = run.detections()
+    compare = corr.p_out_vs_p_in(run.injector.log.bit, det["up"], confidence=0.99)
+    assert compare.p_in_within_output_interval, (s["p_in"], s["p_out"], s["p_out_interval"])
+    assert abs(s["p_out"] - p) < 4 * np.sqrt(p * (1 - p) / s["n_detected"])
+
+
+def test_counts_are_conserved_and_the_occupied_site_rule_is_followed():
+    """A weak current leaves each new skyrmion near the site for longer than an injection
+    interval, so later nucleations find the site occupied."""
+    slow = {"current_density": 2e10, "duration": 0.5e-6,
+            "signal": {"kind": "bernoulli", "p": 0.5}}
+    run, s = run_config(**slow, injection={"occupied_rule": "delay", "max_pending": 5})
+    log = run.injector.log
+    assert s["n_injected"] == s["n_detected"] + s["n_present"] + s["n_annihilated"]
+    assert s["n_delayed"] > 0 and s["n_skipped"] > 0  # the queue of 5 overflowed
+    # every event is injected, waiting or dropped; none twice
+    assert s["n_injected"] + s["n_pending"] + s["n_skipped"] == s["n_events"]
+    injected = log.skyrmion >= 0
+    ticks = np.arange(len(log.bit)) * run.injector.interval_steps
+    assert np.all(log.injection_step[injected] >= ticks[injected])
+    on_time = injected & ~log.delayed
+    assert np.all(log.injection_step[on_time] == ticks[on_time])
+    assert np.all(log.injection_step[log.delayed & injected] > ticks[log.delayed & injected])
+
+    run, s = run_config(**slow, injection={"occupied_rule": "skip"})
+    assert s["n_skipped"] > 0 and s["n_delayed"] == 0 and s["n_pending"] == 0
+    assert s["n_injected"] + s["n_skipped"] == s["n_events"]
+    assert s["n_injected"] == s["n_detected"] + s["n_present"]
+
+
+def test_nucleation_never_lands_on_another_skyrmion():
+    config = parse_reshuffler_config({**FAST, "current_density": 2e10, "duration": 0.3e-6})
+    run = ReshufflerRun.build(config)
+    clearance = run.injector.clearance_nm
+    seen = []
+    original = run.injector._nucleate
+
+    def checked(sim, chamber, k):
+        site = run.injector.sites[chamber]
+        alive = sim._alive
+        d = np.hypot(sim._x[alive] - site[0], sim._y[alive] - site[1])
+        seen.append(d.min() if len(d) else np.inf)
+        original(sim, chamber, k)
+
+    run.injector._nucleate = checked
+    run.advance()
+    assert len(seen) > 20 and min(seen) >= clearance
+
+
+@pytest.mark.parametrize("fields, field", [
+    ({"device": {"chamber_diameter": 30e-9}}, "chamber_diameter"),
+    ({"device": {"conduit_width": 2e-6}}, "conduit_width"),
+    ({"time_step": 3e-11}, "time_step"),
+    ({"signal": {"p": 1.5}}, "signal.p"),
+    ({"temperature": -1.0}, "temperature"),
+])
+def test_bad_input_is_refused_before_running(fields, field):
+    with pytest.raises(InputError) as err:
+        ReshufflerRun.build(parse_reshuffler_config({**FAST, "duration": 1e-7, **fields}))
+    assert field in err.value.field
+
+
+def test_bad_signal_files_are_refused(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("0,1,2,1\n")
+    empty = tmp_path / "empty.csv"
+    empty.write_text("")
+    for path in (bad, empty):
+        config = parse_reshuffler_config({**FAST, "duration": 1e-7,
+                                          "signal": {"kind": "file", "path": str(path)}})
+        with pytest.raises(InputError):
+            ReshufflerRun.build(config)
+
+
+def test_a_file_signal_drives_the_injections(tmp_path):
+    bits = np.array([1, 1, 0, 1, 0, 0, 0, 1] * 10, dtype=np.int8)
+    path = tmp_path / "bits.npy"
+    np.save(path, bits)
+    run, s = run_config(duration=0.4e-6, signal={"kind": "file", "path": str(path)})
+    assert np.array_equal(run.injector.log.bit, bits.astype(bool))
+    assert s["n_events"] == 80
+
+
+def test_resume_from_a_checkpoint_is_bit_identical():
+    config = parse_reshuffler_config({**FAST, "duration": 0.6e-6, "seed": 5})
+    straight = ReshufflerRun.build(config)
+    straight.advance()
+    first = ReshufflerRun.build(config)
+    first.advance(stop_after_step=first.total_steps // 2)
+    state = first.state_dict()
+    second = ReshufflerRun.build(config)
+    second.load_state_dict(state)
+    second.advance()
+    a, b = straight.detections(), second.detections()
+    assert len(a["time"]) > 50
+    for key in a:
+        assert np.array_equal(a[key], b[key])
+    assert np.array_equal(straight.sim.positions()[1], second.sim.positions()[1])
+
+
+def test_cli_json_summary_has_the_documented_fields(tmp_path, capsys):
+    code = main(["reshuffle", "--out", str(tmp_path), "--json", "--duration", "3e-7",
+                 "--current-density", "3.8e11", "--spin-drift-coefficient", "1.83e-10",
+                 "--p", "0.3", "--seed", "2", "--temperature", "300"])
+    assert code == 0
+    summary = json.loads(capsys.readouterr().out)
+    for key in ["correlation", "correlation_max_lag", "scc", "p_in", "p_out", "n_injected",
+                "n_detected", "n_skipped", "n_present", "max_occupancy", "mean_transit_s",
+                "current_density_A_m2", "chamber_diameter_m", "temperature_K", "power_W",
+                "energy_per_bit_J", "simulated_time_s", "time_step_s", "wall_time_s"]:
+        assert key in summary
+    assert summary["current_density_A_m2"] == 3.8e11
+    for name in ["reshuffler.nc", "summary.json", "device.png", "running_correlation.png",
+                 "occupancy.png"]:
+        assert (tmp_path / name).exists()
+    import xarray as xr
+
+    ds = xr.open_dataset(tmp_path / "reshuffler.nc")
+    assert json.loads(ds.attrs["config_json"])["signal"]["p"] == 0.3
+    assert ds.attrs["seed"] == 2 and "skygas_version" in ds.attrs
+    assert int(ds.detection_up.size) == summary["n_detected"]
