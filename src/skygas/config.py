@@ -212,15 +212,22 @@ def parse_config(data: dict, source: str = "") -> SimulationConfig:
         raise _to_input_error(err, source) from None
 
 
+def read_toml(path: str | Path, field: str = "config") -> dict:
+    """Parse a TOML file, or raise :class:`InputError` naming ``field`` if it is missing or
+    malformed."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(field, str(path), "an existing TOML file")
+    try:
+        return tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(field, str(path), f"valid TOML ({err})") from None
+
+
 def load_config(path: str | Path) -> SimulationConfig:
     """Read and validate a TOML configuration file."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError("config", str(path), "an existing TOML file")
-    try:
-        data = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as err:
-        raise InputError("config", str(path), f"valid TOML ({err})") from None
+    data = read_toml(path)
     # a material file named in the config is found relative to the config's folder
     material = data.get("material")
     if isinstance(material, str) and material.endswith(".toml") \

@@ -62,7 +62,7 @@ from shapely.geometry import LineString
 from skygas.errors import InputError, require
 from skygas.geometry import Outline
 from skygas.units import M_TO_NM
-from skygas.wall_field import Grid
+from skygas.wall_field import Grid, bilinear_at_indices
 
 #: Default cell size [m]: 40 cells across the paper's 100 nm conduit, ~1.3e5 unknowns for the
 #: 1024 nm chamber (about 1.4 s to solve).
@@ -140,14 +140,8 @@ class _Cells:
 
     def bilinear(self, field: np.ndarray, x, y) -> np.ndarray:
         """Bilinear interpolation of a cell-centred ``field`` at (x, y) nm (clamped)."""
-        fx = np.clip((np.asarray(x, float) - self.x0) / self.h - 0.5, 0, self.nx - 1 - 1e-9)
-        fy = np.clip((np.asarray(y, float) - self.y0) / self.h - 0.5, 0, self.ny - 1 - 1e-9)
-        i = fx.astype(int)
-        j = fy.astype(int)
-        tx = fx - i
-        ty = fy - j
-        return ((1 - tx) * (1 - ty) * field[j, i] + tx * (1 - ty) * field[j, i + 1]
-                + (1 - tx) * ty * field[j + 1, i] + tx * ty * field[j + 1, i + 1])
+        return bilinear_at_indices(field, (np.asarray(x, float) - self.x0) / self.h - 0.5,
+                                   (np.asarray(y, float) - self.y0) / self.h - 0.5)
 
 
 def _aligned_cells(outline: Outline, reference: LineString, cell_size_nm: float) -> _Cells:

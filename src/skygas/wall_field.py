@@ -43,6 +43,20 @@ from scipy import ndimage
 from skygas.geometry import Outline
 
 
+def bilinear_at_indices(field: np.ndarray, fx, fy) -> np.ndarray:
+    """Bilinear interpolation of ``field`` (ny, nx) at fractional indices (fx, fy), clamped to
+    the grid (the same arithmetic as the kernels)."""
+    ny, nx = field.shape
+    fx = np.clip(np.asarray(fx, float), 0, nx - 1 - 1e-9)
+    fy = np.clip(np.asarray(fy, float), 0, ny - 1 - 1e-9)
+    i = fx.astype(int)
+    j = fy.astype(int)
+    tx = fx - i
+    ty = fy - j
+    return ((1 - tx) * (1 - ty) * field[j, i] + tx * (1 - ty) * field[j, i + 1]
+            + (1 - tx) * ty * field[j + 1, i] + tx * ty * field[j + 1, i + 1])
+
+
 @dataclass(frozen=True)
 class Grid:
     """A uniform grid: node (i, j) sits at (x0 + i·spacing, y0 + j·spacing) nm."""
@@ -60,14 +74,8 @@ class Grid:
 
     def bilinear(self, field: np.ndarray, x, y) -> np.ndarray:
         """Bilinear interpolation of ``field`` (ny, nx) at (x, y) nm, as the kernels do."""
-        fx = np.clip((np.asarray(x) - self.x0) / self.spacing, 0, self.nx - 1 - 1e-9)
-        fy = np.clip((np.asarray(y) - self.y0) / self.spacing, 0, self.ny - 1 - 1e-9)
-        i = fx.astype(int)
-        j = fy.astype(int)
-        tx = fx - i
-        ty = fy - j
-        return ((1 - tx) * (1 - ty) * field[j, i] + tx * (1 - ty) * field[j, i + 1]
-                + (1 - tx) * ty * field[j + 1, i] + tx * ty * field[j + 1, i + 1])
+        return bilinear_at_indices(field, (np.asarray(x, float) - self.x0) / self.spacing,
+                                   (np.asarray(y, float) - self.y0) / self.spacing)
 
 
 def _segments(lines) -> np.ndarray:

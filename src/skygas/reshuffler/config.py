@@ -22,7 +22,7 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from skygas import units
-from skygas.config import ThieleOverrides, _to_input_error
+from skygas.config import ThieleOverrides, _to_input_error, read_toml
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
 from skygas.errors import InputError
 from skygas.materials import Material, derive_thiele, load_material, preset_names
@@ -168,12 +168,7 @@ def load_reshuffler_config(path: str | Path | None = None, *, preset: str | None
         source = f"preset {preset or 'default'}: "
     else:
         path = Path(path)
-        if not path.is_file():
-            raise InputError("config", str(path), "an existing TOML file")
-        try:
-            data = tomllib.loads(path.read_text())
-        except tomllib.TOMLDecodeError as err:
-            raise InputError("config", str(path), f"valid TOML ({err})") from None
+        data = read_toml(path)
         if preset is not None:
             data["preset"] = preset
         source = f"{path.name}: "
