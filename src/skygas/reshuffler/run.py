@@ -35,7 +35,7 @@ from skygas.errors import require
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
-from skygas.signals import SignalSpec, generate_bits
+from skygas.signals import SignalSpec, as_bits, generate_bits
 
 CHECKPOINT = "checkpoint.npz"
 
@@ -62,8 +62,11 @@ class ReshufflerRun:
     wall_time: float = 0.0
 
     @classmethod
-    def build(cls, config: ReshufflerConfig) -> "ReshufflerRun":
-        """Validate everything, solve the current and set up the engine (no stepping)."""
+    def build(cls, config: ReshufflerConfig, bits=None) -> "ReshufflerRun":
+        """Validate everything, solve the current and set up the engine (no stepping).
+
+        ``bits`` (0/1 values) replaces the configured input signal; the run then lasts at least
+        as long as it takes to inject them."""
         thiele = config.thiele_parameters()
         d = config.device
         geometry = ReshufflerGeometry(d.chamber_diameter, d.conduit_width, d.conduit_length,
@@ -75,11 +78,17 @@ class ReshufflerRun:
         interval = config.injection.interval
         n_events = int(math.floor(config.duration / interval + 1e-9))
         seeds = _seeds(config.seed)
-        bits = generate_bits(spec, n_events if config.signal.kind != "file" else None,
-                             interval, seeds["signal"])
-        if config.signal.kind == "file":
-            bits = bits[:n_events]
+        if bits is not None:
+            bits = as_bits(bits, "bits")
             n_events = len(bits)
+            config = config.model_copy(update={"duration": max(config.duration,
+                                                               n_events * interval)})
+        else:
+            bits = generate_bits(spec, n_events if config.signal.kind != "file" else None,
+                                 interval, seeds["signal"])
+            if config.signal.kind == "file":
+                bits = bits[:n_events]
+                n_events = len(bits)
         chamber = geometry.chamber()
         current = solve_current(chamber, config.current_density,
                                 cell_size=config.current.cell_size,
@@ -148,6 +157,17 @@ class ReshufflerRun:
             if checkpoint is not None and time.perf_counter() - last_save > checkpoint_seconds:
                 checkpoint(self)
                 last_save = time.perf_counter()
+
+    def drain(self, max_duration: float = 1e-4) -> bool:
+        """Keep running after the configured duration, without new input, until every event
+        has been nucleated and read out (or ``max_duration`` [s] has passed). Returns whether
+        the device emptied. Used when the whole output stream is needed (decorrelator use)."""
+        piece = 20 * self.config.injection.interval
+        waited = 0.0
+        while (self.sim.count or self.injector.n_pending) and waited < max_duration:
+            self.sim.run(piece)
+            waited += piece
+        return not (self.sim.count or self.injector.n_pending)
 
     def _snapshot(self, sim: Simulation) -> None:
         ids, pos = sim.positions()

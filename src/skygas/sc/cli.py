@@ -9,6 +9,10 @@ def _demo(args: argparse.Namespace) -> int:
     from skygas.sc.demo import run_demo
 
     run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
+    if args.reshuffler:
+        from skygas.reshuffler.decorrelator import reshuffler_demo
+
+        reshuffler_demo(args.out, seed=args.seed)
     print(f"stochastic-computing demo written to {args.out}")
     return 0
 
@@ -25,4 +29,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     demo.add_argument("--out", required=True, help="output directory")
     demo.add_argument("--seed", type=int, default=2024, help="master seed (default 2024)")
     demo.add_argument("--n-bits", type=int, default=4096, help="stream length N (default 4096)")
+    demo.add_argument("--reshuffler", action="store_true",
+                      help="also run the skyrmion reshuffler device (about two minutes)")
     demo.set_defaults(func=_demo)
