@@ -56,6 +56,8 @@ MIN_PLACEMENT_SEPARATION = 0.5
 NEIGHBOR_SKIN = 0.25
 
 INTEGRATORS = {"heun": 0, "euler-maruyama": 1}
+#: Systems with more skyrmions than this are sorted spatially before each kernel call.
+SORT_ABOVE = 256
 
 
 @dataclass(frozen=True)
@@ -417,7 +419,28 @@ class Simulation:
             }
         return self._buf
 
+    def _sort_spatially(self) -> None:
+        """Store skyrmions in row-major order of the neighbour cells they sit in, packed at the
+        front of the arrays. Neighbours then sit close in memory and consecutive skyrmions read
+        nearby rows of the field grid, which keeps large systems in cache. Slots carry no
+        meaning (noise is keyed on ids); only the order in which pair forces are summed
+        changes, which moves results by floating-point rounding. Runs stay bit-reproducible."""
+        slots = np.flatnonzero(self._alive)
+        size = self._fp[K.FP_CELL_SIZE]
+        cx = ((self._x[slots] - self._fp[K.FP_CELL_X0]) // size).astype(np.int64)
+        cy = ((self._y[slots] - self._fp[K.FP_CELL_Y0]) // size).astype(np.int64)
+        order = slots[np.lexsort((cx, cy))]
+        n = len(order)
+        for name in ("_x", "_y", "_ids"):
+            arr = getattr(self, name)
+            arr[:n] = arr[order]
+        self._alive[:] = False
+        self._alive[:n] = True
+        self._ids[n:] = -1
+
     def _advance(self, n_steps: int, record_every: int) -> None:
+        if self._alive.sum() > SORT_ABOVE:
+            self._sort_spatially()
         # The kernel sees the slots up to the last occupied one: new skyrmions fill the lowest
         # free slot, so this range stays compact and loops skip the empty tail of the arrays.
         occupied = np.flatnonzero(self._alive)

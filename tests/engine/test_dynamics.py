@@ -330,3 +330,25 @@ def test_exit_through_port_is_recorded_and_removes_the_skyrmion():
     assert ident == 0 and port == "right" and x >= 1e-6
     assert t == pytest.approx(0.5e-6 / 50.0, rel=0.02)  # 500 nm at 50 m/s
     assert sim.wall_escapes == 0
+
+
+def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypatch):
+    import skygas.engine as engine
+
+    def run(sort_above):
+        monkeypatch.setattr(engine, "SORT_ABOVE", sort_above)
+        sim = Simulation(disk(1.2e-6), S2, temperature=300.0, seed=17)
+        from skygas.geometry import random_positions
+
+        d_sk = sim.thiele.skyrmion_diameter_internal
+        pts = random_positions(sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk,
+                               np.random.default_rng(3))
+        sim._insert_nm(pts)
+        sim.run(2e-9)
+        return sim.positions()
+
+    ids_a, pos_a = run(10**9)  # never sorted
+    ids_b, pos_b = run(0)      # sorted before every kernel call
+    assert np.array_equal(ids_a, ids_b)
+    np.testing.assert_allclose(pos_a, pos_b, rtol=0, atol=1e-15)  # metres: 1e-6 nm
+    assert np.array_equal(pos_b, run(0)[1])  # and sorting is deterministic
