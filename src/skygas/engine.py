@@ -356,6 +356,15 @@ class Simulation:
         return self._insert_nm(p)
 
     def _insert_nm(self, p: np.ndarray) -> np.ndarray:
+        if len(p) == 1:  # the common case of an injector: one skyrmion into the first free slot
+            slot = int(np.argmin(self._alive))
+            if not self._alive[slot]:
+                ident = self._next_id
+                self._next_id += 1
+                self._x[slot], self._y[slot] = p[0]
+                self._alive[slot] = True
+                self._ids[slot] = ident
+                return np.array([ident], dtype=np.int64)
         free = np.nonzero(~self._alive)[0]
         if len(free) < len(p):
             self._grow(len(self._x) + len(p) - len(free))
@@ -439,11 +448,12 @@ class Simulation:
         self._ids[n:] = -1
 
     def _advance(self, n_steps: int, record_every: int) -> None:
-        if self._alive.sum() > SORT_ABOVE:
+        occupied = np.flatnonzero(self._alive)
+        if len(occupied) > SORT_ABOVE:
             self._sort_spatially()
+            occupied = np.arange(len(occupied))
         # The kernel sees the slots up to the last occupied one: new skyrmions fill the lowest
         # free slot, so this range stays compact and loops skip the empty tail of the arrays.
-        occupied = np.flatnonzero(self._alive)
         used = int(occupied[-1]) + 1 if len(occupied) else 0
         buf = self._buffers(len(self._x))
         # frames fall on the global steps that are multiples of record_every

@@ -23,9 +23,22 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from skygas.reshuffler.device import CHAMBERS
+
+
+@numba.njit(cache=True)
+def _nearest_distance2(x, y, alive, sx, sy):
+    """Squared distance [nm²] from (sx, sy) to the nearest alive skyrmion (inf if none)."""
+    best = np.inf
+    for i in range(x.shape[0]):
+        if alive[i]:
+            d2 = (x[i] - sx) ** 2 + (y[i] - sy) ** 2
+            if d2 < best:
+                best = d2
+    return best
 
 
 @dataclass
@@ -101,12 +114,8 @@ class Injector:
     # -- helpers ------------------------------------------------------------------------------
     def _site_clear(self, sim, chamber: str) -> bool:
         site = self.sites[chamber]
-        alive = sim._alive
-        if not alive.any():
-            return True
-        dx = sim._x[alive] - site[0]
-        dy = sim._y[alive] - site[1]
-        return bool(np.min(dx * dx + dy * dy) >= self.clearance_nm**2)
+        return _nearest_distance2(sim._x, sim._y, sim._alive, site[0], site[1]) \
+            >= self.clearance_nm**2
 
     def _nucleate(self, sim, chamber: str, k: int) -> None:
         ident = sim._insert_nm(self.sites[chamber][None, :])[0]
