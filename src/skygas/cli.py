@@ -18,6 +18,8 @@ from skygas.errors import InputError
 _COMMAND_MODULES = [
     "skygas.commands.simulate",
     "skygas.commands.reshuffle",
+    "skygas.commands.neuron",
+    "skygas.commands.sweep",
     "skygas.sc.cli",
     "skygas.micromag.cli",
 ]

@@ -1,0 +1,106 @@
+"""``skygas neuron [CONFIG.toml] --out DIR [--json]``: run the Skyrmion Neuron, its transfer
+curve and LIF fit; ``skygas saturation --diameters ... --out DIR [--json]``: the maximum
+density of skyrmions in circular chambers."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from skygas.errors import InputError
+
+
+def _neuron(args) -> int:
+    from skygas.neuron import analysis as A
+    from skygas.neuron.config import load_neuron_config
+    from skygas.neuron.device import NeuronDevice
+    from skygas.neuron.figures import plot_trace, plot_transfer
+
+    config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
+    device = NeuronDevice(config)          # validates everything before any run
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    run = device.build().run()
+    summary = run.summary()
+    lif = A.fit_lif(run)
+    summary["lif_fit"] = lif
+    tr = run.trace()
+    np.savez_compressed(out / "trace.npz", **tr, spikes=run.spike_times(),
+                        emissions=run.emission_times(), injections=run.injection_times())
+    plot_trace(run, out / "count_trace.png")
+    if not args.no_transfer:
+        rates = config.transfer.rates
+        if not rates:
+            tau = summary["leak_time_s"] if np.isfinite(summary["leak_time_s"]) else 1e-6
+            rates = list(np.array([0.25, 0.5, 1, 1.5, 2, 3]) * config.rule.threshold / tau)
+        curve = A.transfer_curve(device, rates, config.transfer.duration or config.duration,
+                                 seed=config.seed)
+        pred = A.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
+                          lif["reset"], lif["release_time_s"])
+        lif["predicted_Hz"] = pred.tolist()
+        lif["transfer_r_squared"] = A.r_squared(curve["firing_rate_Hz"], pred)
+        summary["transfer_curve"] = curve
+        plot_transfer(curve, out / "transfer_curve.png", lif)
+    (out / "summary.json").write_text(json.dumps(summary, indent=1, default=float))
+    if args.json:
+        print(json.dumps(summary, default=float))
+    else:
+        s = summary
+        print(f"Skyrmion Neuron: {s['n_output_spikes']} output spikes in "
+              f"{s['simulated_time_s'] * 1e6:.3g} µs (firing rate {s['firing_rate_Hz']:.3g} Hz, "
+              f"input rate {s['input_rate_Hz']:.3g} Hz)\n"
+              f"  {s['n_injected']} injected, {s['n_annihilated']} annihilated, "
+              f"{s['n_emitted']} emitted; largest count {s['max_count']}, threshold "
+              f"{s['threshold']:g}; leak time {s['leak_time_s']:.3g} s\n"
+              f"  LIF fit: τ = {lif['tau_s']:.3g} s, θ = {lif['threshold']:g}, "
+              f"V_r = {lif['reset']:g}\nresults in {out.resolve()}")
+    return 0
+
+
+def _saturation(args) -> int:
+    from skygas.neuron.figures import plot_saturation
+    from skygas.neuron.saturation import saturation_curve
+
+    diameters = [float(d) for d in args.diameters]
+    if args.repetitions < 1:
+        raise InputError("repetitions", args.repetitions, "an integer >= 1")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    result = saturation_curve(diameters, repetitions=args.repetitions, seed=args.seed,
+                              relax_time=args.relax_time, temperature=args.temperature)
+    summary = result.summary()
+    (out / "saturation.json").write_text(json.dumps(summary, indent=1))
+    plot_saturation(result, out / "max_density.png")
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        for d, n, e, cp in zip(result.diameters, result.max_count, result.max_count_error,
+                               result.close_packing):
+            print(f"{d * 1e9:7.0f} nm: {n:6.1f} ± {e:.1f} skyrmions "
+                  f"(close packing {cp:.0f})")
+        print(f"results in {out.resolve()}")
+    return 0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("neuron", help="run the Skyrmion Neuron")
+    p.add_argument("config", nargs="?", default=None, help="TOML configuration")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--seed", type=int, help="random seed")
+    p.add_argument("--duration", type=float, help="simulated time [s]")
+    p.add_argument("--no-transfer", action="store_true", help="skip the transfer curve")
+    p.set_defaults(func=_neuron)
+
+    s = subparsers.add_parser("saturation",
+                              help="maximum number of skyrmions in circular chambers")
+    s.add_argument("--diameters", nargs="+", required=True, help="chamber diameters [m]")
+    s.add_argument("--out", required=True, help="output directory")
+    s.add_argument("--json", action="store_true", help="print one JSON object")
+    s.add_argument("--repetitions", type=int, default=10)
+    s.add_argument("--relax-time", type=float, default=2e-9, help="relaxation [s]")
+    s.add_argument("--temperature", type=float, default=300.0, help="[K]")
+    s.add_argument("--seed", type=int, default=0)
+    s.set_defaults(func=_saturation)

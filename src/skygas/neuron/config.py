@@ -1,0 +1,154 @@
+"""Configuration of a neuron run (TOML, validated with pydantic; SI units).
+
+Defaults: the paper's chamber (1024 nm, 100 nm × 50 nm conduits), material S2 in a 2 nm film at
+300 K, the reshuffler's calibrated ξ = 1.84e-10 m³/C (data/reshuffler-paper.toml), conduit
+current J = 1e11 A/m² (not given by the paper for the neuron), the calibrated annihilation
+model (:mod:`skygas.neuron.calibration`), a 20 k_B T gate and a whole-chamber counting sensor.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from skygas.config import ThieleOverrides, _to_input_error, read_toml
+from skygas.errors import InputError
+from skygas.materials import Material, derive_thiele, load_material, preset_names
+from skygas.neuron.annihilation import AnnihilationModel
+from skygas.neuron.calibration import CALIBRATED
+from skygas.neuron.inputs import InputSpec
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class DeviceSpec(_Strict):
+    chamber_diameter: float = Field(1024e-9, gt=0)
+    conduit_width: float = Field(100e-9, gt=0)
+    conduit_length: float = Field(50e-9, gt=0)
+
+
+class GateSpec(_Strict):
+    barrier_height: float = Field(100.0, ge=0)  # k_B T
+    band_width: float | None = Field(None, gt=0)  # m; default half the conduit length
+    initially_open: bool = False
+
+
+class SensorSpec(_Strict):
+    center: tuple[float, float] = (0.0, 0.0)    # m
+    radius: float | None = Field(None, gt=0)    # m; default the chamber's radius
+    signal: Literal["count", "area"] = "count"
+    read_noise: float = Field(0.0, ge=0)        # signal units
+    read_interval: float = Field(1e-9, gt=0)    # s
+
+
+class RuleSpec(_Strict):
+    # Defaults chosen so the default device fires: with input every ~10 ns the chamber never
+    # empties to the reset level, so the gate also closes after a release time.
+    threshold: float = Field(20.0, gt=0)
+    reset_level: float = Field(3.0, ge=0)
+    release_time: float | None = Field(5e-8, gt=0)  # s
+    refractory_time: float = Field(2e-8, ge=0)      # s
+
+
+class AnnihilationSpec(_Strict):
+    base_rate: float = Field(CALIBRATED.base_rate, ge=0)
+    compression_sensitivity: float = Field(CALIBRATED.compression_sensitivity, ge=0)
+    crowding_distance: float | None = Field(CALIBRATED.crowding_distance, gt=0)
+    collapse_distance: float | None = Field(CALIBRATED.collapse_distance, gt=0)
+    check_interval: float = Field(CALIBRATED.check_interval, gt=0)
+    nucleation_rate: float = Field(0.0, ge=0)
+    enabled: bool = True
+
+
+class InputConfig(_Strict):
+    kind: Literal["poisson", "telegraph", "bernoulli", "regular", "bits"] = "poisson"
+    rate: float = Field(0.0, ge=0)
+    p: float = Field(0.5, ge=0, le=1)
+    interval: float = Field(5e-9, gt=0)
+    correlation_time: float = Field(5e-9, gt=0)
+    weight: float = Field(1.0, ge=0, le=1)
+    bits: list[int] = []
+
+
+class InjectionSpec(_Strict):
+    occupied_rule: Literal["delay", "skip"] = "delay"
+    site_clearance: float = Field(1.0, gt=0)    # skyrmion diameters
+    retry_interval: float = Field(0.5e-9, gt=0)
+
+
+class TransferSpec(_Strict):
+    rates: list[float] = []                     # Hz; empty: a default sweep
+    duration: float | None = Field(None, gt=0)  # s; default the run's duration
+
+
+class NeuronConfig(_Strict):
+    seed: int = Field(0, ge=0, lt=2**63)
+    temperature: float = Field(300.0, ge=0)
+    duration: float = Field(3e-6, gt=0)
+    time_step: float | None = Field(2.5e-10, gt=0)
+    film_thickness: float = Field(2e-9, gt=0)
+    material: Union[str, dict[str, Any]] = "S2"
+    thiele: ThieleOverrides = ThieleOverrides()
+    current_density: float = Field(1e11, ge=0)
+    spin_drift_coefficient: float = Field(1.84e-10, gt=0)
+    device: DeviceSpec = DeviceSpec()
+    gate: GateSpec = GateSpec()
+    sensor: SensorSpec = SensorSpec()
+    rule: RuleSpec = RuleSpec()
+    annihilation: AnnihilationSpec = AnnihilationSpec()
+    inputs: list[InputConfig] = [InputConfig(kind="poisson", rate=1e8)]
+    injection: InjectionSpec = InjectionSpec()
+    transfer: TransferSpec = TransferSpec()
+
+    def resolved_material(self) -> Material:
+        if isinstance(self.material, str) and not self.material.endswith(".toml") \
+                and self.material not in preset_names():
+            raise InputError("material", self.material,
+                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
+        return load_material(self.material)
+
+    def thiele_parameters(self):
+        o = self.thiele
+        return derive_thiele(self.resolved_material(), self.film_thickness,
+                             dissipation=o.dissipation, force_scale=o.force_scale,
+                             skyrmion_diameter=o.skyrmion_diameter, eta=o.eta, mu=o.mu)
+
+    def annihilation_model(self) -> AnnihilationModel:
+        return AnnihilationModel(**self.annihilation.model_dump())
+
+    def input_specs(self) -> list[InputSpec]:
+        return [InputSpec(**{**i.model_dump(), "bits": tuple(i.bits)}) for i in self.inputs]
+
+
+def _check_negative_rates(data: dict) -> None:
+    """Negative rates get a message naming the field (before pydantic's generic one)."""
+    for k, inp in enumerate(data.get("inputs", []) or []):
+        if isinstance(inp, dict):
+            for key in ("rate", "weight"):
+                v = inp.get(key)
+                if isinstance(v, (int, float)) and v < 0:
+                    raise InputError(f"inputs[{k}].{key}", v, "a value >= 0 (rates in Hz)")
+    ann = data.get("annihilation", {}) or {}
+    for key in ("base_rate", "nucleation_rate"):
+        v = ann.get(key)
+        if isinstance(v, (int, float)) and v < 0:
+            raise InputError(f"annihilation.{key}", v, "a rate >= 0")
+
+
+def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
+    """A validated :class:`NeuronConfig` from a mapping plus top-level overrides."""
+    data = {**(data or {}), **{k: v for k, v in overrides.items() if v is not None}}
+    _check_negative_rates(data)
+    try:
+        return NeuronConfig.model_validate(data)
+    except ValidationError as err:
+        raise _to_input_error(err, "neuron config") from None
+
+
+def load_neuron_config(path: str | Path | None = None, **overrides) -> NeuronConfig:
+    data = read_toml(path) if path is not None else {}
+    return neuron_config(data, **overrides)

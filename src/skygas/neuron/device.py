@@ -1,0 +1,261 @@
+"""The Skyrmion Neuron (paper, "Skyrmion Neuron"; PHYSICS.md §3): one chamber of the
+reshuffler whose output conduit is closed by a voltage gate, a read element inside the chamber,
+and a threshold rule that opens the gate (the neuron fires) and closes it again.
+
+Layout: :func:`~skygas.geometry.chamber_with_conduits`; the input conduit's end is a wall
+(nucleation site at its middle), the output conduit's end is the read-out line where emitted
+skyrmions are detected and removed. The current (conduit density J, v_s = ξ j) drives skyrmions
+from input to output; the gate (:class:`~skygas.neuron.gate.BarrierGate`) holds them back.
+
+Threshold rule, evaluated every ``read_interval``: a closed gate opens when the reading reaches
+``threshold`` (and no refractory time is running); an open gate closes when the reading has
+fallen to ``reset_level`` or, if set, ``release_time`` after it opened, whichever comes first;
+after closing, the gate stays closed at least ``refractory_time``.
+
+**Output spike** = one release event (gate opening); its time is the opening time. The
+skyrmions emitted during each release are also recorded (``exits``, and per release).
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from skygas import units
+from skygas.current import solve_current
+from skygas.engine import Simulation
+from skygas.errors import InputError, require
+from skygas.geometry import chamber_with_conduits
+from skygas.neuron.annihilation import Annihilator
+from skygas.neuron.config import NeuronConfig
+from skygas.neuron.gate import BarrierGate, ReadElement
+from skygas.neuron.inputs import SiteInjector, injection_schedule
+from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
+
+
+@dataclass
+class NeuronController:
+    """The read-and-threshold rule as an :class:`~skygas.engine.Operation`; it also records
+    the count trace (time, chamber count, sensor reading, gate open)."""
+
+    gate: BarrierGate
+    sensor: ReadElement
+    interval_steps: int
+    threshold: float
+    reset_level: float
+    release_steps: int | None
+    refractory_steps: int
+    trace: list = field(default_factory=list)
+    openings: list = field(default_factory=list)   # steps
+    closings: list = field(default_factory=list)   # steps
+    _next: int = 0
+    _refractory_until: int = -1
+
+    def next_step(self, step: int) -> int:
+        return self._next
+
+    def act(self, sim) -> None:
+        self._next = sim.step + self.interval_steps
+        reading = self.sensor.read(sim)
+        if self.gate.is_open:
+            timed_out = self.release_steps is not None and \
+                sim.step - self.openings[-1] >= self.release_steps
+            if reading <= self.reset_level or timed_out:
+                self.gate.set(False)
+                self.closings.append(sim.step)
+                self._refractory_until = sim.step + self.refractory_steps
+        elif reading >= self.threshold and sim.step >= self._refractory_until:
+            self.gate.set(True)
+            self.openings.append(sim.step)
+        self.trace.append((sim.time, sim.count, reading, bool(self.gate.is_open)))
+
+
+class NeuronDevice:
+    """A configured neuron, built and validated before anything runs."""
+
+    def __init__(self, config: NeuronConfig):
+        self.config = c = config
+        self.thiele = c.thiele_parameters()
+        d_sk = self.thiele.skyrmion_diameter
+        dev = c.device
+        require(dev.chamber_diameter > 2 * d_sk, "device.chamber_diameter", dev.chamber_diameter,
+                f"a diameter > two skyrmion diameters ({2 * d_sk:.3g} m)")
+        require(d_sk < dev.conduit_width < dev.chamber_diameter, "device.conduit_width",
+                dev.conduit_width, "a width between one skyrmion diameter and the chamber's")
+        full = chamber_with_conduits(dev.chamber_diameter, dev.conduit_width, dev.conduit_length)
+        self.outline = full.without_ports("input")
+        r_nm = dev.chamber_diameter / 2 * units.M_TO_NM
+        half_w = dev.conduit_width / 2 * units.M_TO_NM
+        self.x_meet = math.sqrt(r_nm**2 - half_w**2)
+        length = dev.conduit_length * units.M_TO_NM
+        self.site = np.array([-(self.x_meet + length / 2), 0.0])
+        band = (c.gate.band_width or dev.conduit_length / 2) * units.M_TO_NM
+        require(0 < band <= length, "gate.band_width", c.gate.band_width,
+                f"a width in (0, {dev.conduit_length:.3g}] m (inside the output conduit)")
+        mid = self.x_meet + length / 2
+        self.band_x = (mid - band / 2, mid + band / 2)
+        self._validate_sensor(r_nm)
+        self._validate_threshold(d_sk)
+        self.full_outline = full
+
+    # -- validation ------------------------------------------------------------------------------
+    def sensor_geometry_nm(self, r_nm: float) -> tuple[np.ndarray, float]:
+        s = self.config.sensor
+        center = np.asarray(s.center, float) * units.M_TO_NM
+        radius = (s.radius * units.M_TO_NM) if s.radius is not None else r_nm
+        return center, radius
+
+    def _validate_sensor(self, r_nm: float) -> None:
+        center, radius = self.sensor_geometry_nm(r_nm)
+        if np.hypot(*center) + radius > r_nm * (1 + 1e-9):
+            raise InputError("sensor", {"center_m": list(self.config.sensor.center),
+                                        "radius_m": radius / units.M_TO_NM},
+                             f"a disk lying inside the chamber (radius {r_nm * 1e-9:.3g} m "
+                             "about the origin)")
+
+    def saturation_reading(self, d_sk: float) -> float:
+        """Largest reading the sensor can see at the chamber's saturation (estimate)."""
+        c = self.config
+        r_nm = c.device.chamber_diameter / 2 * units.M_TO_NM
+        _, radius = self.sensor_geometry_nm(r_nm)
+        n_sat = saturation_estimate(c.device.chamber_diameter, d_sk, c.annihilation_model())
+        fraction = min(1.0, (radius / r_nm) ** 2)
+        if c.sensor.signal == "count":
+            return n_sat * fraction
+        cover = n_sat * (d_sk / c.device.chamber_diameter) ** 2
+        return min(HEX_PACKING, cover)
+
+    def _validate_threshold(self, d_sk: float) -> None:
+        rule = self.config.rule
+        limit = self.saturation_reading(d_sk)
+        if rule.threshold > limit:
+            raise InputError("rule.threshold", rule.threshold,
+                             f"a threshold at most the sensor's reading at saturation "
+                             f"(≈ {limit:.3g} for this chamber, sensor and annihilation model): "
+                             "above it the gate would never open")
+        require(rule.reset_level < rule.threshold, "rule.reset_level", rule.reset_level,
+                f"a level below the threshold ({rule.threshold})")
+
+    # -- building ------------------------------------------------------------------------------
+    def build(self, inputs=None, duration=None, seed=None, record_interval=None) -> "NeuronRun":
+        c = self.config
+        seed = c.seed if seed is None else seed
+        duration = c.duration if duration is None else duration
+        inputs = c.input_specs() if inputs is None else inputs
+        sim = Simulation(self.outline, c.resolved_material(), temperature=c.temperature,
+                         time_step=c.time_step, seed=seed, thiele=self.thiele)
+        grid = sim.wall_field.grid
+        if c.current_density > 0:
+            current = solve_current(self.full_outline, c.current_density)
+            vx, vy = current.drift_velocity(grid, c.spin_drift_coefficient)
+        else:
+            vx = vy = np.zeros((grid.ny, grid.nx))
+        diffusion = self.thiele.diffusion_constant(c.temperature) if c.temperature > 0 else 0.0
+        gate = BarrierGate(sim, vx, vy, self.band_x,
+                           c.device.conduit_width / 2 * units.M_TO_NM, c.gate.barrier_height,
+                           max(diffusion, 1e-12))
+        gate.set(c.gate.initially_open)
+        r_nm = c.device.chamber_diameter / 2 * units.M_TO_NM
+        center, radius = self.sensor_geometry_nm(r_nm)
+        sensor = ReadElement(center, radius, c.sensor.signal, c.sensor.read_noise, seed,
+                             self.thiele.skyrmion_diameter * units.M_TO_NM)
+        dt = sim.time_step
+        steps = lambda t: max(1, int(round(t / dt)))  # noqa: E731
+        controller = NeuronController(
+            gate, sensor, steps(c.sensor.read_interval), c.rule.threshold, c.rule.reset_level,
+            None if c.rule.release_time is None else steps(c.rule.release_time),
+            int(round(c.rule.refractory_time / dt)))
+        annihilator = Annihilator.for_simulation(c.annihilation_model(), sim)
+        d_nm = self.thiele.skyrmion_diameter * units.M_TO_NM
+        injector = SiteInjector(injection_schedule(inputs, duration, dt, seed), self.site,
+                                c.injection.site_clearance * d_nm,
+                                steps(c.injection.retry_interval), c.injection.occupied_rule)
+        sim.operations += [injector, annihilator, controller]
+        return NeuronRun(self, sim, gate, controller, annihilator, injector, inputs, duration)
+
+
+@dataclass
+class NeuronRun:
+    device: NeuronDevice
+    sim: Simulation
+    gate: BarrierGate
+    controller: NeuronController
+    annihilator: Annihilator
+    injector: SiteInjector
+    inputs: list
+    duration: float
+    wall_time: float = 0.0
+
+    def run(self) -> "NeuronRun":
+        t0 = _time.perf_counter()
+        self.sim.run(self.duration)
+        self.wall_time = _time.perf_counter() - t0
+        return self
+
+    # -- results -------------------------------------------------------------------------------
+    def trace(self) -> dict[str, np.ndarray]:
+        tr = self.controller.trace
+        return {"time": np.array([t[0] for t in tr]), "count": np.array([t[1] for t in tr]),
+                "reading": np.array([t[2] for t in tr]),
+                "gate_open": np.array([t[3] for t in tr], dtype=bool)}
+
+    def spike_times(self) -> np.ndarray:
+        """Output spikes: times [s] of the gate openings (release events)."""
+        return np.array(self.controller.openings, dtype=float) * self.sim.time_step
+
+    def emission_times(self) -> np.ndarray:
+        """Times [s] of every skyrmion emitted through the output read-out line."""
+        return np.array([e[1] for e in self.sim.exits], dtype=float)
+
+    def injection_times(self) -> np.ndarray:
+        return np.array([s for s, _ in self.injector.injected], dtype=float) * self.sim.time_step
+
+    def input_rate(self) -> float:
+        """Expected injection attempts per second (Σ weight·rate over the inputs)."""
+        return float(sum(s.weight * s.mean_rate() for s in self.inputs))
+
+    def summary(self) -> dict:
+        from skygas._version import __version__
+        from skygas.neuron.analysis import isi_statistics, leak_from_log
+
+        tr = self.trace()
+        spikes = self.spike_times()
+        leak, leak_err = leak_from_log(tr["time"], tr["count"],
+                                       [a[0] for a in self.annihilator.annihilations])
+        rule = self.device.config.rule
+        return {
+            "skygas_version": __version__,
+            "seed": self.sim.seed,
+            "simulated_time_s": self.sim.time,
+            "wall_time_s": self.wall_time,
+            "time_step_s": self.sim.time_step,
+            "output_spikes": spikes.tolist(),
+            "n_output_spikes": int(len(spikes)),
+            "firing_rate_Hz": len(spikes) / self.sim.time if self.sim.time > 0 else 0.0,
+            "input_rate_Hz": self.input_rate(),
+            "injection_rate_Hz": self.injector.n_injected / self.sim.time if self.sim.time else 0,
+            "leak_time_s": leak,
+            "leak_time_error_s": leak_err,
+            "threshold": rule.threshold,
+            "reset_level": rule.reset_level,
+            "max_count": int(tr["count"].max()) if len(tr["count"]) else self.sim.count,
+            "final_count": self.sim.count,
+            "n_injected": self.injector.n_injected,
+            "n_annihilated": self.annihilator.n_annihilated,
+            "n_nucleated": self.annihilator.n_nucleated,
+            "n_emitted": len(self.sim.exits),
+            "n_delayed": self.injector.delayed,
+            "n_skipped": self.injector.skipped,
+            "n_pending": len(self.injector.pending),
+            "isi": isi_statistics(spikes),
+            "gate_barrier_velocity_m_s": self.gate.barrier_velocity,
+            "config": self.device.config.model_dump(mode="json"),
+        }
+
+
+def run_neuron(config: NeuronConfig, **kwargs) -> NeuronRun:
+    """Build, validate and run one neuron (one call of the CLI)."""
+    return NeuronDevice(config).build(**kwargs).run()

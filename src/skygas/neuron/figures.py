@@ -1,0 +1,60 @@
+"""Figures of the neuron: count trace, transfer curve, maximum density (matplotlib, Agg)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+
+def plot_trace(run, path: Path) -> Path:
+    tr = run.trace()
+    fig = Figure(figsize=(7, 3.5), dpi=110)
+    ax = fig.add_subplot()
+    t = tr["time"] * 1e9
+    ax.plot(t, tr["count"], lw=0.8, label="skyrmions in the device")
+    if run.device.config.sensor.signal == "count":
+        ax.plot(t, tr["reading"], lw=0.6, alpha=0.7, label="sensor reading")
+    ax.axhline(run.controller.threshold, color="tab:red", ls="--", lw=0.8, label="threshold")
+    ax.fill_between(t, 0, 1, where=tr["gate_open"], transform=ax.get_xaxis_transform(),
+                    color="tab:orange", alpha=0.2, label="gate open")
+    for s in run.spike_times() * 1e9:
+        ax.axvline(s, color="k", lw=0.4, alpha=0.5)
+    ax.set_xlabel("time (ns)")
+    ax.set_ylabel("count (membrane potential)")
+    ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def plot_transfer(curve: dict, path: Path, lif: dict | None = None) -> Path:
+    fig = Figure(figsize=(4.5, 3.5), dpi=110)
+    ax = fig.add_subplot()
+    r = np.asarray(curve["input_rate_Hz"]) / 1e6
+    ax.plot(r, np.asarray(curve["firing_rate_Hz"]) / 1e6, "o-", label="device")
+    if lif is not None and "predicted_Hz" in lif:
+        ax.plot(r, np.asarray(lif["predicted_Hz"]) / 1e6, "--", label="LIF")
+    ax.set_xlabel("input rate (MHz)")
+    ax.set_ylabel("firing rate (MHz)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def plot_saturation(result, path: Path) -> Path:
+    fig = Figure(figsize=(4.5, 3.5), dpi=110)
+    ax = fig.add_subplot()
+    d = result.diameters * 1e9
+    ax.errorbar(d, result.max_count, yerr=result.max_count_error, fmt="o-",
+                label="simulated saturation (2 ns, 300 K)")
+    ax.plot(d, result.close_packing, "--", label="hexagonal close packing")
+    ax.set_yscale("log")
+    ax.set_xlabel("chamber diameter (nm)")
+    ax.set_ylabel("maximum number of skyrmions")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path

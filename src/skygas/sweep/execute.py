@@ -1,0 +1,127 @@
+"""Running a sweep: serially in this process, or on Dask (a local cluster or a scheduler).
+
+Workers only compute (:func:`run_one` takes a configuration as JSON and returns plain numbers);
+this process writes every result into the store as it arrives, so whatever finished is kept
+when the sweep is interrupted, and running the same sweep again only runs what is missing.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from skygas.errors import require
+from skygas.sweep.spec import Run, Sweep
+from skygas.sweep.store import QUANTITIES, SweepStore
+
+
+def run_one(config_json: str) -> dict:
+    """Run one reshuffler configuration and return the numbers a sweep stores (on a worker)."""
+    from skygas.reshuffler import ReshufflerConfig, ReshufflerRun, summarize
+
+    config = ReshufflerConfig.model_validate_json(config_json)
+    run = ReshufflerRun.build(config)
+    run.advance()
+    result = summarize(run)
+    out = {name: float(result.summary[name]) for name in QUANTITIES}
+    ds = result.dataset
+    out["running_rho"] = np.asarray(ds["running_rho"].values, dtype=np.float64)
+    out["running_time"] = np.asarray(ds["running_time"].values, dtype=np.float64)
+    return out
+
+
+@dataclass
+class SweepReport:
+    """What one invocation did: runs computed now, runs found done, the store's path."""
+
+    store: Path
+    session: int
+    computed: list[tuple[tuple[int, ...], int]] = field(default_factory=list)
+    skipped: int = 0
+    failed: list[tuple[tuple[int, ...], int, str]] = field(default_factory=list)
+    wall_time_s: float = 0.0
+
+
+def _progress_bar(enabled: bool, total: int, initial: int):
+    if not enabled:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=initial, unit="run", desc="sweep")
+
+
+def _serial(pending: list[Run], store: SweepStore, session: int, report: SweepReport, bar):
+    for run in pending:
+        store.write(run, run_one(run.config.model_dump_json()), session)
+        report.computed.append((run.index, run.replica))
+        if bar is not None:
+            bar.update(1)
+
+
+def _dask(pending: list[Run], store: SweepStore, session: int, report: SweepReport, bar,
+          scheduler: str | None, workers: int | None):
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    cluster = None
+    if scheduler is None:
+        cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
+                               processes=True, dashboard_address=":0")
+        client = Client(cluster)
+    else:
+        client = Client(scheduler)
+    try:
+        futures = {}
+        for run in pending:
+            future = client.submit(run_one, run.config.model_dump_json(), pure=False,
+                                   key=f"skygas-run-{'-'.join(map(str, run.index))}"
+                                       f"-r{run.replica}-{session}-{time.time_ns()}")
+            futures[future] = run
+        for future in as_completed(list(futures)):
+            run = futures.pop(future)
+            try:
+                result = future.result()
+            except Exception as err:  # noqa: BLE001 - one failed run must not stop the others
+                report.failed.append((run.index, run.replica, f"{type(err).__name__}: {err}"))
+                continue
+            store.write(run, result, session)
+            report.computed.append((run.index, run.replica))
+            future.release()
+            if bar is not None:
+                bar.update(1)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def run_sweep(sweep: Sweep, out: str | Path, *, scheduler: str | None = None,
+              workers: int | None = None, serial: bool = False,
+              progress: bool = True) -> SweepReport:
+    """Run every run of ``sweep`` not yet done in the store ``out`` and store the results.
+
+    ``serial=True`` runs them one after the other in this process; otherwise on Dask: a local
+    cluster of ``workers`` single-threaded processes (default: one per core), or the existing
+    scheduler at ``scheduler`` (e.g. ``tcp://10.0.0.5:8786``) when given.
+    """
+    require(workers is None or workers >= 1, "--workers", workers, "at least 1 worker")
+    start = time.perf_counter()
+    store = SweepStore(out, sweep)
+    pending = store.pending()
+    session = store.start_session()
+    report = SweepReport(Path(out), session, skipped=len(sweep.runs) - len(pending))
+    bar = _progress_bar(progress, len(sweep.runs), report.skipped)
+    try:
+        if pending:
+            if serial:
+                _serial(pending, store, session, report, bar)
+            else:
+                _dask(pending, store, session, report, bar, scheduler, workers)
+    finally:
+        if bar is not None:
+            bar.close()
+    report.wall_time_s = time.perf_counter() - start
+    return report

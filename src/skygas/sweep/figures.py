@@ -1,0 +1,137 @@
+"""The paper's reshuffler figures from a sweep store (matplotlib, Agg).
+
+- ``reshuffler.png`` (paper, reshuffler figure): left, ρ against J for each p-value with replica
+  error bars and the fit ρ = c_A/(c_B + J^(−3/2)); right, the running ρ against time for the
+  p-value nearest 0.62 at each J;
+- ``chamber_size.png`` (paper, chamber-size figure): ρ against the chamber diameter L with the
+  fit ρ = c_A + c_B/√L;
+- ``fits.json``: every fitted constant and exponent with its uncertainty.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+
+from skygas.errors import InputError
+from skygas.sweep.analysis import (
+    CHAMBER,
+    CURRENT,
+    CURRENT_UNIT,
+    LENGTH_UNIT,
+    P_VALUE,
+    fit_chamber_scaling,
+    fit_current_scaling,
+    replica_mean,
+    running_mean,
+)
+from skygas.sweep.store import open_sweep
+
+RUNNING_P = 0.62  # the paper's running-correlation panel
+
+
+def _fmt(fit: dict, key: str) -> str:
+    return f"{fit[key]:.2f} ± {fit[key + '_error']:.2f}" if np.isfinite(
+        fit.get(key + "_error", np.nan)) else f"{fit[key]:.2f}"
+
+
+def _grid_only(ds: xr.Dataset, keep: tuple[str, ...]) -> xr.Dataset:
+    """The first value of any other swept dimension (averaging over it would mix physics)."""
+    extra = [d for d in ds["done"].dims if d not in (*keep, "replica")]
+    return ds.isel({d: 0 for d in extra}) if extra else ds
+
+
+def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
+    ds = _grid_only(ds, (CURRENT, P_VALUE))
+    stats = replica_mean(ds)
+    fig = Figure(figsize=(11, 4.2), dpi=110)
+    left, right = fig.subplots(1, 2)
+    j = ds[CURRENT].values
+    p_values = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
+    for p in p_values:
+        sel = stats.sel({P_VALUE: p}) if p is not None else stats
+        left.errorbar(j, sel["mean"].values, yerr=np.nan_to_num(sel["sem"].values), fmt="o",
+                      ms=4, capsize=2, label=f"p = {p:g}" if p is not None else "ρ")
+    paper = fits["paper_fit"]
+    if np.isfinite(paper["c_A"]):
+        grid = np.geomspace(j.min(), j.max(), 200)
+        left.plot(grid, paper["c_A"] / (paper["c_B"] + (grid / CURRENT_UNIT) ** -1.5), "b-",
+                  label="c_A/(c_B + J^(−3/2))")
+    beta = fits["beta"]
+    left.set_title(f"ρ/(1−ρ) ∝ J^β: β = {_fmt(beta, 'exponent')} (paper 3/2)", fontsize=9)
+    left.set_xscale("log")
+    left.set_xlabel("current density J in the conduits (A/m²)")
+    left.set_ylabel("correlation ρ (output vs input)")
+    left.legend(fontsize=8)
+    if p_values[0] is not None:
+        p_run = p_values[int(np.argmin(np.abs(np.asarray(p_values, float) - RUNNING_P)))]
+    for value in j:
+        where = {CURRENT: value}
+        if p_values[0] is not None:
+            where[P_VALUE] = p_run
+        curve = running_mean(ds, where)
+        if curve.sizes["time"] == 0:
+            continue
+        t = curve["time"].values * 1e6
+        right.plot(t, curve["mean"].values, label=f"J = {value:.2g}")
+        if np.isfinite(curve["sem"].values).any():
+            right.fill_between(t, curve["mean"] - curve["sem"], curve["mean"] + curve["sem"],
+                               alpha=0.2)
+    right.set_xlabel("time (µs)")
+    right.set_ylabel("running correlation ρ")
+    right.set_title("running ρ" + (f", p = {p_run:g}" if p_values[0] is not None else ""),
+                    fontsize=9)
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
+    ds = _grid_only(ds, (CHAMBER,))
+    stats = replica_mean(ds)
+    length = ds[CHAMBER].values / LENGTH_UNIT
+    fig = Figure(figsize=(5.5, 4.2), dpi=110)
+    ax = fig.add_subplot()
+    ax.errorbar(length * 1e3, stats["mean"].values, yerr=np.nan_to_num(stats["sem"].values),
+                fmt="o", capsize=2, label="sweep (replica mean ± s.e.)")
+    paper = fits["paper_fit"]
+    if np.isfinite(paper["c_A"]):
+        grid = np.linspace(length.min(), length.max(), 200)
+        ax.plot(grid * 1e3, paper["c_A"] + paper["c_B"] / np.sqrt(grid), "b-",
+                label="c_A + c_B/√L")
+    ax.set_title(f"ρ/(1−ρ) ∝ L^γ: γ = {_fmt(fits['gamma'], 'exponent')} (paper −1/2)",
+                 fontsize=9)
+    ax.set_xlabel("chamber diameter L (nm)")
+    ax.set_ylabel("correlation ρ")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
+    """Write the figures that fit the store's swept fields, and ``fits.json``; return the fits
+    and the paths written."""
+    ds = store if isinstance(store, xr.Dataset) else open_sweep(store)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    dims = ds["done"].dims
+    result: dict = {"figures": []}
+    if CURRENT in dims:
+        result["current"] = fit_current_scaling(_grid_only(ds, (CURRENT, P_VALUE)))
+        result["figures"].append(str(plot_current_figure(ds, out / "reshuffler.png",
+                                                         result["current"])))
+    if CHAMBER in dims:
+        result["chamber"] = fit_chamber_scaling(_grid_only(ds, (CHAMBER,)))
+        result["figures"].append(str(plot_chamber_figure(ds, out / "chamber_size.png",
+                                                         result["chamber"])))
+    if not result["figures"]:
+        raise InputError("STORE", str(store), "a grid sweep over current_density (and "
+                         "signal.p) or device.chamber_diameter")
+    (out / "fits.json").write_text(json.dumps(result, indent=2))
+    return result

@@ -1,0 +1,279 @@
+"""Sweep files: which reshuffler configurations to run, how often, and with which seeds.
+
+A sweep file is TOML with three parts::
+
+    [sweep]
+    seed = 2024          # root seed; every run's seed is derived from it
+    replicas = 4         # independent runs (different seeds) per point
+
+    [base]               # a reshuffler configuration, as in ``skygas reshuffle CONFIG.toml``
+    preset = "paper"
+    duration = 4e-5
+
+    [grid]               # dotted config fields → values; the points are their Cartesian product
+    current_density = { start = 1e11, stop = 3.8e11, num = 8, spacing = "log" }
+    "signal.p" = [0.2, 0.35, 0.5, 0.62, 0.8]
+
+Instead of ``[grid]`` an explicit list of points may be given as ``[[points]]`` tables, each
+setting the same fields (``[[points]]`` with ``current_density = 1e11`` and ``"signal.p" = 0.3``,
+and so on). ``[sweep] config = "file.toml"`` may name the base configuration instead of
+``[base]`` (relative to the sweep file).
+
+Seeds (STYLE.md, "Randomness"): ``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]``
+gives run (point ``i`` in C order of the grid, replica ``r``); its 63-bit ``seed`` is the
+first word of that sequence's state. A run's result therefore depends only on the sweep file,
+never on which worker ran it or when.
+
+Everything is checked here, before anything runs: each field must exist in
+:class:`~skygas.reshuffler.config.ReshufflerConfig`, each list must be non-empty, and every
+point's configuration is built and validated.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import BaseModel
+
+from skygas.config import read_toml
+from skygas.errors import InputError, require
+from skygas.reshuffler.config import ReshufflerConfig, parse_reshuffler_config
+from skygas.reshuffler.device import ReshufflerGeometry
+
+_SWEEP_KEYS = {"seed", "replicas", "config", "name", "description"}
+_TOP_KEYS = {"sweep", "base", "grid", "points"}
+# fields whose value is a whole table or a name, never descended into
+_LEAF_FIELDS = {"material"}
+# derived per run; sweeping it would defeat the seed derivation
+_RESERVED = {"seed"}
+
+
+@dataclass(frozen=True)
+class Run:
+    """One run of a sweep: point ``index`` (a tuple over the sweep dimensions), ``replica``."""
+
+    index: tuple[int, ...]
+    replica: int
+    seed: int
+    config: ReshufflerConfig
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """A validated sweep.
+
+    ``fields`` are the swept dotted config fields, ``dims`` their dimension names in the store
+    (``"signal.p"`` → ``"signal_p"``); ``values[k]`` the values of ``fields[k]``. For a grid
+    the shape is ``(len(values[0]), …)``; for an explicit list there is one dimension
+    ``point`` and ``values[k]`` lists field ``k`` at each point.
+    """
+
+    fields: tuple[str, ...]
+    dims: tuple[str, ...]
+    values: tuple[tuple[Any, ...], ...]
+    layout: str          # "grid" or "list"
+    replicas: int
+    root_seed: int
+    base: dict
+    source_text: str
+    runs: tuple[Run, ...]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        if self.layout == "list":
+            return (len(self.values[0]),)
+        return tuple(len(v) for v in self.values)
+
+    @property
+    def point_dims(self) -> tuple[str, ...]:
+        return ("point",) if self.layout == "list" else self.dims
+
+    @property
+    def n_points(self) -> int:
+        return math.prod(self.shape)
+
+    def fingerprint(self) -> str:
+        """Hash of every run's resolved configuration and seed (not of the file's text), so a
+        store can tell whether it was written by the same sweep."""
+        digest = hashlib.sha256()
+        digest.update(json.dumps([self.fields, self.layout, self.replicas]).encode())
+        for run in self.runs:
+            digest.update(run.config.model_dump_json().encode())
+        return digest.hexdigest()[:20]
+
+
+def dim_name(field: str) -> str:
+    return field.replace(".", "_")
+
+
+def _field_exists(model: type[BaseModel], dotted: str) -> bool:
+    head, _, rest = dotted.partition(".")
+    info = model.model_fields.get(head)
+    if info is None:
+        return False
+    if not rest:
+        return True
+    if head in _LEAF_FIELDS:
+        return False
+    sub = info.annotation
+    return isinstance(sub, type) and issubclass(sub, BaseModel) and _field_exists(sub, rest)
+
+
+def _expand_range(key: str, spec: dict) -> list[float]:
+    allowed = "{start, stop, num >= 1, spacing = \"linear\" | \"log\"}"
+    unknown = set(spec) - {"start", "stop", "num", "spacing"}
+    require(not unknown, f"grid.{key}", spec, allowed)
+    num = spec.get("num")
+    require(isinstance(num, int) and not isinstance(num, bool), f"grid.{key}.num", num,
+            "a whole number of values")
+    require(num >= 1, f"grid.{key}.num", num, "at least 1 value (the range is empty)")
+    start, stop = spec.get("start"), spec.get("stop")
+    for name, v in (("start", start), ("stop", stop)):
+        require(isinstance(v, (int, float)) and not isinstance(v, bool),
+                f"grid.{key}.{name}", v, "a number")
+    spacing = spec.get("spacing", "linear")
+    require(spacing in ("linear", "log"), f"grid.{key}.spacing", spacing, "\"linear\" or \"log\"")
+    if spacing == "log":
+        require(start > 0 and stop > 0, f"grid.{key}", spec, "start, stop > 0 for log spacing")
+        return [float(v) for v in np.geomspace(start, stop, num)]
+    return [float(v) for v in np.linspace(start, stop, num)]
+
+
+def _check_field(key: str, where: str) -> None:
+    require(isinstance(key, str) and key not in _RESERVED, f"{where}.{key}", key,
+            "a configuration field other than seed (seeds are derived from [sweep] seed)")
+    require(_field_exists(ReshufflerConfig, key), f"{where}.{key}", key,
+            "a field of the reshuffler configuration (e.g. current_density, signal.p, "
+            "device.chamber_diameter, temperature, material, duration)")
+
+
+def _check_value(key: str, value: Any, where: str) -> None:
+    require(isinstance(value, (int, float, str, bool, dict)), f"{where}.{key}", value,
+            "a number, a string, a boolean or a table")
+
+
+def _grid(data: dict) -> tuple[list[str], list[list[Any]]]:
+    require(isinstance(data, dict) and data, "grid", data,
+            "a table of dotted config fields, each with a list or a {start, stop, num} range")
+    fields, values = [], []
+    for key, spec in data.items():
+        _check_field(key, "grid")
+        if isinstance(spec, dict) and key not in _LEAF_FIELDS:
+            vals = _expand_range(key, spec)
+        elif isinstance(spec, list):
+            require(len(spec) > 0, f"grid.{key}", spec, "a non-empty list of values")
+            vals = spec
+        else:
+            raise InputError(f"grid.{key}", spec, "a list of values or a {start, stop, num} range")
+        for v in vals:
+            _check_value(key, v, "grid")
+        require(len({json.dumps(v, sort_keys=True) for v in vals}) == len(vals),
+                f"grid.{key}", spec, "distinct values")
+        fields.append(key)
+        values.append(list(vals))
+    return fields, values
+
+
+def _points(data: list) -> tuple[list[str], list[list[Any]]]:
+    require(isinstance(data, list) and len(data) > 0 and all(isinstance(p, dict) for p in data),
+            "points", data, "a non-empty array of tables ([[points]])")
+    fields = list(data[0])
+    require(len(fields) > 0, "points[0]", data[0], "at least one field")
+    for key in fields:
+        _check_field(key, "points[0]")
+    values: list[list[Any]] = [[] for _ in fields]
+    for i, point in enumerate(data):
+        require(list(point) == fields and set(point) == set(fields), f"points[{i}]",
+                point, f"the same fields as points[0] ({', '.join(fields)})")
+        for k, key in enumerate(fields):
+            _check_value(key, point[key], f"points[{i}]")
+            values[k].append(point[key])
+    return fields, values
+
+
+def derive_seeds(root_seed: int, n_points: int, replicas: int) -> np.ndarray:
+    """``seeds[i, r]``: the 63-bit seed of replica ``r`` of point ``i`` (C order)."""
+    seeds = np.empty((n_points, replicas), dtype=np.int64)
+    for i, point in enumerate(np.random.SeedSequence(root_seed).spawn(n_points)):
+        for r, child in enumerate(point.spawn(replicas)):
+            seeds[i, r] = int(child.generate_state(1, dtype=np.uint64)[0] >> np.uint64(1))
+    return seeds
+
+
+def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None) -> Sweep:
+    """Validate a parsed sweep file and build (without running) every run's configuration."""
+    unknown = set(data) - _TOP_KEYS
+    require(not unknown, ", ".join(sorted(unknown)), sorted(data),
+            "only the tables [sweep], [base], [grid] or [[points]]")
+    head = data.get("sweep", {})
+    require(isinstance(head, dict), "sweep", head, "a table")
+    extra = set(head) - _SWEEP_KEYS
+    require(not extra, f"sweep.{next(iter(sorted(extra)))}" if extra else "sweep", head,
+            f"only the keys {', '.join(sorted(_SWEEP_KEYS))}")
+    replicas = head.get("replicas", 1)
+    require(isinstance(replicas, int) and not isinstance(replicas, bool), "sweep.replicas",
+            replicas, "a whole number of replicas")
+    require(replicas >= 1, "sweep.replicas", replicas, "at least 1 replica per point")
+    root_seed = head.get("seed", 0)
+    require(isinstance(root_seed, int) and not isinstance(root_seed, bool) and root_seed >= 0,
+            "sweep.seed", root_seed, "a whole number >= 0")
+
+    if "config" in head:
+        require("base" not in data, "sweep.config", head["config"],
+                "either [sweep] config or a [base] table, not both")
+        path = Path(head["config"])
+        if not path.is_absolute() and base_dir is not None:
+            path = base_dir / path
+        base = read_toml(path, "sweep.config")
+    else:
+        base = data.get("base", {"preset": "default"})
+        require(isinstance(base, dict), "base", base, "a reshuffler configuration table")
+    require("seed" not in base, "base.seed", base.get("seed"),
+            "no seed in [base]: runs get seeds derived from [sweep] seed")
+
+    has_grid, has_points = "grid" in data, "points" in data
+    require(has_grid != has_points, "grid", "both or neither given",
+            "exactly one of [grid] or [[points]]")
+    layout = "grid" if has_grid else "list"
+    fields, values = _grid(data["grid"]) if has_grid else _points(data["points"])
+
+    if layout == "grid":
+        combos = list(itertools.product(*[list(enumerate(v)) for v in values]))
+        indexed = [(tuple(i for i, _ in c), [v for _, v in c]) for c in combos]
+    else:
+        indexed = [((i,), [values[k][i] for k in range(len(fields))])
+                   for i in range(len(values[0]))]
+    seeds = derive_seeds(root_seed, len(indexed), replicas)
+    runs = []
+    for flat, (index, point_values) in enumerate(indexed):
+        overrides = dict(zip(fields, point_values))
+        label = ", ".join(f"{f} = {v!r}" for f, v in overrides.items())
+        config = parse_reshuffler_config(dict(base), f"sweep point ({label}): ", overrides)
+        try:  # the checks ReshufflerRun.build makes first, without solving anything
+            thiele = config.thiele_parameters()
+            d = config.device
+            ReshufflerGeometry(d.chamber_diameter, d.conduit_width, d.conduit_length,
+                               d.chamber_gap).validate(thiele.skyrmion_diameter)
+        except InputError as err:
+            raise InputError(f"sweep point ({label}): {err.field}", err.value,
+                             err.allowed) from None
+        for r in range(replicas):
+            runs.append(Run(index, r, int(seeds[flat, r]),
+                            config.model_copy(update={"seed": int(seeds[flat, r])})))
+    return Sweep(tuple(fields), tuple(dim_name(f) for f in fields),
+                 tuple(tuple(v) for v in values), layout, replicas, root_seed, base,
+                 source_text, tuple(runs))
+
+
+def load_sweep(path: str | Path) -> Sweep:
+    """Read and validate a sweep file (see the module docstring)."""
+    path = Path(path)
+    data = read_toml(path, "sweep file")
+    return parse_sweep(data, path.read_text(), path.parent)
