@@ -18,7 +18,13 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from skygas import geometry as geo
 from skygas.errors import InputError
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
-from skygas.materials import Material, derive_thiele, load_material, preset_names
+from skygas.materials import (
+    Material,
+    ThieleParameters,
+    derive_thiele,
+    load_material,
+    preset_names,
+)
 
 PositiveFloat = Annotated[float, Field(gt=0)]
 Point2 = tuple[float, float]
@@ -126,7 +132,30 @@ class SkyrmionsSpec(_Strict):
     min_separation: PositiveFloat = 1.0
 
 
-class SimulationConfig(_Strict):
+class MaterialFields(_Strict):
+    """Fields every run configuration shares: the material, its film, Thiele overrides."""
+
+    material: Union[str, dict[str, Any]] = "S2"
+    film_thickness: PositiveFloat = 2e-9
+    thiele: ThieleOverrides = ThieleOverrides()
+
+    def resolved_material(self) -> Material:
+        """The material: a preset name, a TOML file, or an inline table."""
+        if isinstance(self.material, str) and not self.material.endswith(".toml") \
+                and self.material not in preset_names():
+            raise InputError("material", self.material,
+                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
+        return load_material(self.material)
+
+    def thiele_parameters(self) -> ThieleParameters:
+        """Thiele coefficients of the material in the film, with the overrides applied."""
+        o = self.thiele
+        return derive_thiele(self.resolved_material(), self.film_thickness,
+                             dissipation=o.dissipation, force_scale=o.force_scale,
+                             skyrmion_diameter=o.skyrmion_diameter, eta=o.eta, mu=o.mu)
+
+
+class SimulationConfig(MaterialFields):
     """Everything that defines a simulation run (SI units)."""
 
     seed: int = Field(0, ge=0, lt=2**63)
@@ -135,21 +164,11 @@ class SimulationConfig(_Strict):
     time_step: PositiveFloat | None = None
     duration: float = Field(ge=0)
     record_interval: PositiveFloat = 1e-9
-    film_thickness: PositiveFloat = 2e-9
     integrator: Literal["heun", "euler-maruyama"] = "heun"
-    material: Union[str, dict[str, Any]] = "S2"
-    thiele: ThieleOverrides = ThieleOverrides()
     forces: ForcesSpec = ForcesSpec()
     drift: DriftSpec = DriftSpec()
     geometry: GeometrySpec = ChamberGeometry(closed=True)
     skyrmions: SkyrmionsSpec
-
-    def resolved_material(self) -> Material:
-        if isinstance(self.material, str) and not self.material.endswith(".toml") \
-                and self.material not in preset_names():
-            raise InputError("material", self.material,
-                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
-        return load_material(self.material)
 
     def build(self, *, time_step: float | None = None, brownian_substeps: int = 1):
         """A ready :class:`~skygas.engine.Simulation` with the initial skyrmions placed.
@@ -159,10 +178,7 @@ class SimulationConfig(_Strict):
         from skygas.engine import SUGGESTED_STEP_FRACTION, ForceModel, Simulation, relaxation_time
 
         material = self.resolved_material()
-        o = self.thiele
-        thiele = derive_thiele(material, self.film_thickness, dissipation=o.dissipation,
-                               force_scale=o.force_scale, skyrmion_diameter=o.skyrmion_diameter,
-                               eta=o.eta, mu=o.mu)
+        thiele = self.thiele_parameters()
         outline = self.geometry.build()
         if time_step is None:
             time_step = self.time_step

@@ -9,13 +9,12 @@ model (:mod:`skygas.neuron.calibration`), a 20 k_B T gate and a whole-chamber co
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Literal, Union
+from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from skygas.config import ThieleOverrides, _to_input_error, read_toml
+from skygas.config import MaterialFields, _to_input_error, read_toml
 from skygas.errors import InputError
-from skygas.materials import Material, derive_thiele, load_material, preset_names
 from skygas.neuron.annihilation import AnnihilationModel
 from skygas.neuron.calibration import CALIBRATED
 from skygas.neuron.inputs import InputSpec
@@ -85,14 +84,11 @@ class TransferSpec(_Strict):
     duration: float | None = Field(None, gt=0)  # s; default the run's duration
 
 
-class NeuronConfig(_Strict):
+class NeuronConfig(MaterialFields):
     seed: int = Field(0, ge=0, lt=2**63)
     temperature: float = Field(300.0, ge=0)
     duration: float = Field(3e-6, gt=0)
     time_step: float | None = Field(2.5e-10, gt=0)
-    film_thickness: float = Field(2e-9, gt=0)
-    material: Union[str, dict[str, Any]] = "S2"
-    thiele: ThieleOverrides = ThieleOverrides()
     current_density: float = Field(1e11, ge=0)
     spin_drift_coefficient: float = Field(1.84e-10, gt=0)
     device: DeviceSpec = DeviceSpec()
@@ -103,19 +99,6 @@ class NeuronConfig(_Strict):
     inputs: list[InputConfig] = [InputConfig(kind="poisson", rate=1e8)]
     injection: InjectionSpec = InjectionSpec()
     transfer: TransferSpec = TransferSpec()
-
-    def resolved_material(self) -> Material:
-        if isinstance(self.material, str) and not self.material.endswith(".toml") \
-                and self.material not in preset_names():
-            raise InputError("material", self.material,
-                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
-        return load_material(self.material)
-
-    def thiele_parameters(self):
-        o = self.thiele
-        return derive_thiele(self.resolved_material(), self.film_thickness,
-                             dissipation=o.dissipation, force_scale=o.force_scale,
-                             skyrmion_diameter=o.skyrmion_diameter, eta=o.eta, mu=o.mu)
 
     def annihilation_model(self) -> AnnihilationModel:
         return AnnihilationModel(**self.annihilation.model_dump())

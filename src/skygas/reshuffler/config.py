@@ -17,15 +17,14 @@ from __future__ import annotations
 import tomllib
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from skygas import units
-from skygas.config import ThieleOverrides, _to_input_error, read_toml
+from skygas.config import MaterialFields, _to_input_error, read_toml
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
 from skygas.errors import InputError
-from skygas.materials import Material, derive_thiele, load_material, preset_names
 
 PositiveFloat = Annotated[float, Field(gt=0)]
 
@@ -71,7 +70,7 @@ class OutputSpec(_Strict):
     max_lag: int = Field(50, ge=1)  # events; the lag scan of ρ covers −max_lag … max_lag
 
 
-class ReshufflerConfig(_Strict):
+class ReshufflerConfig(MaterialFields):
     """Everything that defines a reshuffler run."""
 
     seed: int = Field(0, ge=0, lt=2**63)
@@ -79,9 +78,6 @@ class ReshufflerConfig(_Strict):
     current_density: PositiveFloat = 1.7e11        # J in the conduits [A/m²]
     duration: PositiveFloat = 20e-6                # simulated time [s]
     time_step: PositiveFloat | None = None         # default: 0.1 τ_min
-    film_thickness: PositiveFloat = 2e-9
-    material: Union[str, dict[str, Any]] = "S2"
-    thiele: ThieleOverrides = ThieleOverrides()
     spin_drift_coefficient: PositiveFloat | None = None  # ξ [m³/C]
     spin_polarization: float = Field(0.5, gt=0, le=1)
     device: DeviceSpec = DeviceSpec()
@@ -89,19 +85,6 @@ class ReshufflerConfig(_Strict):
     injection: InjectionSpec = InjectionSpec()
     current: CurrentSpec = CurrentSpec()
     output: OutputSpec = OutputSpec()
-
-    def resolved_material(self) -> Material:
-        if isinstance(self.material, str) and not self.material.endswith(".toml") \
-                and self.material not in preset_names():
-            raise InputError("material", self.material,
-                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
-        return load_material(self.material)
-
-    def thiele_parameters(self):
-        o = self.thiele
-        return derive_thiele(self.resolved_material(), self.film_thickness,
-                             dissipation=o.dissipation, force_scale=o.force_scale,
-                             skyrmion_diameter=o.skyrmion_diameter, eta=o.eta, mu=o.mu)
 
     def drift_coefficient(self) -> float:
         """ξ [m³/C]: the configured value or the spin-transfer estimate P g μ_B/(2 e M_s)."""
