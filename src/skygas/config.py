@@ -7,7 +7,6 @@ seconds, kelvin, m/s). Every field is checked when the file is loaded; an invali
 
 from __future__ import annotations
 
-import math
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
@@ -175,7 +174,7 @@ class SimulationConfig(MaterialFields):
 
         ``time_step`` and ``brownian_substeps`` override the configuration (time-step checks).
         """
-        from skygas.engine import SUGGESTED_STEP_FRACTION, ForceModel, Simulation, relaxation_time
+        from skygas.engine import ForceModel, Simulation, default_time_step
 
         material = self.resolved_material()
         thiele = self.thiele_parameters()
@@ -185,8 +184,7 @@ class SimulationConfig(MaterialFields):
         if time_step is None:
             forces = ForceModel.build(material, thiele, self.forces.pair_law,
                                       self.forces.pair_law_params, self.forces.cutoff_fraction)
-            suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, forces)
-            time_step = self.record_interval / math.ceil(self.record_interval / suggested - 1e-9)
+            time_step = default_time_step(thiele, forces, self.record_interval)
         sim = Simulation(outline, material, time_step=time_step,
                          brownian_substeps=brownian_substeps,
                          temperature=self.temperature, seed=self.seed,

@@ -110,6 +110,13 @@ def relaxation_time(thiele: ThieleParameters, forces: ForceModel) -> float:
     return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 
+def default_time_step(thiele: ThieleParameters, forces: ForceModel, interval: float) -> float:
+    """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s], shortened so that ``interval``
+    [s] (a recording or injection interval) is a whole number of steps."""
+    suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, forces)
+    return interval / math.ceil(interval / suggested - 1e-9)
+
+
 class Operation(Protocol):
     """Something that acts on a simulation on a schedule (injectors, gates, writers).
 

@@ -29,23 +29,33 @@ from skygas.plotting import plot_trajectories
 CHECKPOINT = "checkpoint.npz"
 
 
-def config_fingerprint(config: SimulationConfig) -> str:
-    """A hash of the validated configuration (a checkpoint only resumes the same run)."""
+def config_fingerprint(config) -> str:
+    """A hash of a validated (pydantic) configuration: a checkpoint only resumes the same run."""
     return hashlib.sha256(config.model_dump_json().encode()).hexdigest()[:16]
 
 
-def _save_checkpoint(sim, path: Path, fingerprint: str) -> None:
+def save_checkpoint(state_owner, config, path: Path) -> None:
+    """Save ``state_owner.state_dict()`` with the fingerprint of ``config``, atomically: a crash
+    or an interruption while saving never leaves a half-written checkpoint."""
     tmp = path.with_suffix(".tmp.npz")
-    np.savez(tmp, fingerprint=np.array(fingerprint), **sim.state_dict())
-    os.replace(tmp, path)  # atomic: a crash never leaves a half-written checkpoint
+    np.savez(tmp, fingerprint=np.array(config_fingerprint(config)), **state_owner.state_dict())
+    os.replace(tmp, path)
 
 
-def _load_checkpoint(sim, path: Path, fingerprint: str) -> None:
+def load_checkpoint(state_owner, config, path: Path) -> None:
+    """Restore a checkpoint written by :func:`save_checkpoint` for the same configuration."""
     with np.load(path, allow_pickle=False) as data:
-        if str(data["fingerprint"]) != fingerprint:
+        if str(data["fingerprint"]) != config_fingerprint(config):
             raise InputError("--resume", str(path),
                              "a checkpoint written by the same configuration")
-        sim.load_state_dict({k: data[k] for k in data.files if k != "fingerprint"})
+        state_owner.load_state_dict({k: data[k] for k in data.files if k != "fingerprint"})
+
+
+def write_netcdf(ds, path: Path) -> None:
+    """Write ``ds`` to ``path`` through a temporary file, so a finished file is never partial."""
+    tmp = path.with_suffix(".tmp.nc")
+    ds.to_netcdf(tmp)
+    os.replace(tmp, path)
 
 
 def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: bool = True,
@@ -54,10 +64,9 @@ def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: b
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     sim = config.build()  # validates everything before any stepping
-    fingerprint = config_fingerprint(config)
     ckpt = out / CHECKPOINT
     if resume and ckpt.exists():
-        _load_checkpoint(sim, ckpt, fingerprint)
+        load_checkpoint(sim, config, ckpt)
     n_total = int(round(config.duration / sim.time_step))
     bar = None
     if progress:
@@ -76,10 +85,10 @@ def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: b
             if bar is not None:
                 bar.update(round(n * sim.time_step * 1e9, 3))
             if time.perf_counter() - last_save > checkpoint_seconds:
-                _save_checkpoint(sim, ckpt, fingerprint)
+                save_checkpoint(sim, config, ckpt)
                 last_save = time.perf_counter()
     except KeyboardInterrupt:
-        _save_checkpoint(sim, ckpt, fingerprint)
+        save_checkpoint(sim, config, ckpt)
         raise
     finally:
         if bar is not None:
@@ -87,9 +96,7 @@ def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: b
     wall = time.perf_counter() - start
     ds = sim.trajectories()
     ds.attrs["config_json"] = config.model_dump_json()
-    tmp = out / "trajectories.tmp.nc"
-    ds.to_netcdf(tmp)
-    os.replace(tmp, out / "trajectories.nc")
+    write_netcdf(ds, out / "trajectories.nc")
     plot_trajectories(ds, sim.outline, out / "trajectories.png")
     summary = {
         "skygas_version": __version__,

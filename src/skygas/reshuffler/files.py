@@ -10,36 +10,18 @@ same, and the file is removed once the results are written.
 
 from __future__ import annotations
 
-import hashlib
 import json
-import os
 from pathlib import Path
 
-import numpy as np
-
-from skygas.errors import InputError
 from skygas.reshuffler.analysis import ReshufflerResult, summarize
 from skygas.reshuffler.config import ReshufflerConfig
-from skygas.reshuffler.figures import plot_device, plot_occupancy, plot_running_correlation
+from skygas.reshuffler.figures import (
+    plot_device,
+    plot_occupancy,
+    plot_running_correlation,
+)
 from skygas.reshuffler.run import CHECKPOINT, ReshufflerRun
-
-
-def _fingerprint(config: ReshufflerConfig) -> str:
-    return hashlib.sha256(config.model_dump_json().encode()).hexdigest()[:16]
-
-
-def save_checkpoint(run: ReshufflerRun, path: Path) -> None:
-    tmp = path.with_suffix(".tmp.npz")
-    np.savez(tmp, fingerprint=np.array(_fingerprint(run.config)), **run.state_dict())
-    os.replace(tmp, path)  # atomic: an interrupted save never corrupts the last checkpoint
-
-
-def load_checkpoint(run: ReshufflerRun, path: Path) -> None:
-    with np.load(path, allow_pickle=False) as data:
-        if str(data["fingerprint"]) != _fingerprint(run.config):
-            raise InputError("--resume", str(path),
-                             "a checkpoint written by the same configuration")
-        run.load_state_dict({k: data[k] for k in data.files if k != "fingerprint"})
+from skygas.runner import load_checkpoint, save_checkpoint, write_netcdf
 
 
 def run_reshuffler(config: ReshufflerConfig, out_dir: str | Path | None = None, *,
@@ -53,7 +35,7 @@ def run_reshuffler(config: ReshufflerConfig, out_dir: str | Path | None = None, 
         out.mkdir(parents=True, exist_ok=True)
         ckpt = out / CHECKPOINT
         if resume and ckpt.exists():
-            load_checkpoint(run, ckpt)
+            load_checkpoint(run, config, ckpt)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -67,20 +49,18 @@ def run_reshuffler(config: ReshufflerConfig, out_dir: str | Path | None = None, 
 
     try:
         run.advance(progress=on_progress if bar else None,
-                    checkpoint=(lambda r: save_checkpoint(r, ckpt)) if ckpt else None,
+                    checkpoint=(lambda r: save_checkpoint(r, config, ckpt)) if ckpt else None,
                     checkpoint_seconds=checkpoint_seconds)
     except KeyboardInterrupt:
         if ckpt is not None:
-            save_checkpoint(run, ckpt)
+            save_checkpoint(run, config, ckpt)
         raise
     finally:
         if bar is not None:
             bar.close()
     result = summarize(run)
     if out is not None:
-        tmp = out / "reshuffler.tmp.nc"
-        result.dataset.to_netcdf(tmp)
-        os.replace(tmp, out / "reshuffler.nc")
+        write_netcdf(result.dataset, out / "reshuffler.nc")
         (out / "summary.json").write_text(json.dumps(result.summary, indent=2))
         if figures:
             plot_device(run, out / "device.png")

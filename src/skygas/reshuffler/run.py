@@ -24,13 +24,7 @@ from typing import Callable
 import numpy as np
 
 from skygas.current import solve_current
-from skygas.engine import (
-    SUGGESTED_STEP_FRACTION,
-    ForceModel,
-    Periodic,
-    Simulation,
-    relaxation_time,
-)
+from skygas.engine import ForceModel, Periodic, Simulation, default_time_step
 from skygas.errors import require
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
@@ -102,10 +96,7 @@ class ReshufflerRun:
                     time_step, f"a step that divides the injection interval ({interval:g} s) a "
                     f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s")
         if time_step is None:
-            # the suggested step, shortened so the injection interval is a whole number of steps
-            suggested = SUGGESTED_STEP_FRACTION * relaxation_time(
-                thiele, ForceModel.build(material, thiele))
-            time_step = interval / math.ceil(interval / suggested - 1e-9)
+            time_step = default_time_step(thiele, ForceModel.build(material, thiele), interval)
         sim = Simulation(geometry.device_outline(), material, temperature=config.temperature,
                          time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64)
         vx, vy = drift_field_on_grid(geometry, current, sim.wall_field.grid,
