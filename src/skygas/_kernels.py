@@ -6,11 +6,14 @@ arithmetic. The equation of motion and the integrator are documented in :mod:`sk
 Velocity of a skyrmion under a total force F (pN), with a = α𝒟k, g = G (pN·ns/nm):
     (g ε + a I)·v = F   ⇒   v = (a F − g εF)/(a² + g²),   εF = (F_y, −F_x)
 
-Pairs come from a Verlet neighbour list: all pairs closer than cutoff + skin, found with a cell
-list (cells no smaller than cutoff + skin, so the build is linear in the number of skyrmions).
-The list stays valid until some skyrmion has moved more than skin/2 from where it was when the
-list was built; the displacement is checked before every force evaluation (including Heun's
-predictor), so no interacting pair is ever missed.
+Pairs come from a Verlet neighbour list with a skin per skyrmion: at each build, skyrmion i gets
+a margin s_i (see :func:`_margins`) and the list holds every pair closer than
+cutoff + s_i + s_j, found with a cell list (cells no smaller than cutoff + 2·max s_i, so the
+build is linear in the number of skyrmions). The list stays valid while every skyrmion is
+within s_i of where it was at the build: then no pair outside the list can have come closer
+than the cutoff. The displacements are checked before every force evaluation (including Heun's
+predictor), so no interacting pair is ever missed. A skyrmion that a current carries fast along
+a conduit gets a wider margin, so that it does not force a rebuild at every step.
 """
 
 from __future__ import annotations
@@ -26,6 +29,9 @@ from skygas._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
 # (NaN marks absent skyrmions in recorded frames). Results stay bit-reproducible for a given
 # build of the package on a given machine.
 _FASTMATH = {"contract", "arcp", "nsz", "reassoc", "afn"}
+# NumPy's error model: a division by zero gives inf/NaN instead of raising, so a loop holds no
+# hidden exception branch and the compiler can turn it into SIMD instructions.
+_JIT = {"cache": True, "fastmath": _FASTMATH, "error_model": "numpy"}
 
 # Indices into the float parameter vector ``fp``.
 FP_DT = 0            # time step [ns]
@@ -43,11 +49,13 @@ FP_WALL_CUT = 11     # wall cutoff [nm]
 FP_GRID_X0 = 12      # field grid origin and spacing [nm]
 FP_GRID_Y0 = 13
 FP_GRID_H = 14
-FP_SKIN = 15         # neighbour-list skin [nm]
+FP_SKIN = 15         # neighbour-list skin [nm]: the smallest margin s_i is half of it
 FP_CELL_X0 = 16      # cell-list origin and cell size [nm]
 FP_CELL_Y0 = 17
 FP_CELL_SIZE = 18
-FP_SIZE = 19
+FP_MARGIN_MAX = 19   # largest margin s_i [nm] (cell size ≥ cutoff + 2·FP_MARGIN_MAX)
+FP_MARGIN_STEPS = 20  # steps of motion at the current velocity a margin should cover
+FP_SIZE = 21
 
 # Indices into the integer parameter vector ``ip``.
 IP_SEED = 0          # RNG key
@@ -79,14 +87,19 @@ CH_DRIFT_Y = 5
 N_CHANNELS = 6
 
 
+# Array indices in the hot loops are unsigned: NumPy-style negative-index wrap-around then
+# needs no extra instructions, which matters in loops of a few dozen instructions.
+_U = numba.uint64
+
+
 @numba.njit(inline="always")
 def _corner(fields, fx, fy):
     """Cell index and bilinear weights at fractional grid indices (clamped to the grid)."""
     ny, nx = fields.shape[0], fields.shape[1]
     fx = min(max(fx, 0.0), nx - 1.000001)
     fy = min(max(fy, 0.0), ny - 1.000001)
-    i = int(fx)
-    j = int(fy)
+    i = _U(fx)
+    j = _U(fy)
     tx = fx - i
     ty = fy - j
     return i, j, (1.0 - tx) * (1.0 - ty), tx * (1.0 - ty), (1.0 - tx) * ty, tx * ty
@@ -95,31 +108,48 @@ def _corner(fields, fx, fy):
 @numba.njit(inline="always")
 def _sample(fields, i, j, w00, w10, w01, w11, c):
     """Bilinear value of channel ``c`` with weights from :func:`_corner`."""
-    return (w00 * fields[j, i, c] + w10 * fields[j, i + 1, c]
-            + w01 * fields[j + 1, i, c] + w11 * fields[j + 1, i + 1, c])
+    i1 = i + _U(1)
+    j1 = j + _U(1)
+    return (w00 * fields[j, i, c] + w10 * fields[j, i1, c]
+            + w01 * fields[j1, i, c] + w11 * fields[j1, i1, c])
 
 
 @numba.njit(inline="always")
 def _lerp(values, coordinate):
     """Linear interpolation of ``values`` at fractional index ``coordinate`` ≥ 0."""
-    i = int(coordinate)
+    i = _U(coordinate)
     t = coordinate - i
-    return (1.0 - t) * values[i] + t * values[i + 1]
+    return (1.0 - t) * values[i] + t * values[i + _U(1)]
 
 
-@numba.njit(cache=True, fastmath=_FASTMATH)
-def build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start, pair_j):
-    """Half neighbour list of all alive pairs closer than cutoff + skin, grouped by owner:
-    the partners of ``owner[e]`` are ``pair_j[start[e]:start[e + 1]]``. Returns the number of
-    owners, or −1 if ``pair_j`` is too small (the caller grows it and calls again)."""
+@numba.njit(inline="always")
+def _margins(vx, vy, alive, fp, margin):
+    """Margin s_i [nm] of each skyrmion for a neighbour-list build, from its latest velocity:
+        s_i = min(skin/2 + K·dt·|v_i|, s_max),   K = FP_MARGIN_STEPS.
+    A slow skyrmion keeps the base half-skin; one drifting fast along a conduit gets room for
+    about K steps of its motion, so the list is not rebuilt at every step."""
+    base = 0.5 * fp[FP_SKIN]
+    ahead = fp[FP_MARGIN_STEPS] * fp[FP_DT]
+    top = fp[FP_MARGIN_MAX]
+    for i in range(vx.shape[0]):
+        speed = math.sqrt(vx[i] * vx[i] + vy[i] * vy[i]) if alive[i] else 0.0
+        margin[i] = min(base + ahead * speed, top)
+
+
+@numba.njit(**_JIT)
+def build_neighbor_list(x, y, alive, margin, fp, ip, cell_head, cell_next, owner, start,
+                        pair_j):
+    """Half neighbour list of all alive pairs closer than cutoff + s_i + s_j (``margin``),
+    grouped by owner: the partners of ``owner[e]`` are ``pair_j[start[e]:start[e + 1]]``.
+    Returns the number of owners, or −1 if ``pair_j`` is too small (the caller grows it and
+    calls again)."""
     n = x.shape[0]
     ncx = ip[IP_NCX]
     ncy = ip[IP_NCY]
     x0 = fp[FP_CELL_X0]
     y0 = fp[FP_CELL_Y0]
     size = fp[FP_CELL_SIZE]
-    reach = fp[FP_PAIR_CUT] + fp[FP_SKIN]
-    reach2 = reach * reach
+    cutoff = fp[FP_PAIR_CUT]
     cell_head[:] = -1
     for i in range(n):
         if alive[i]:
@@ -137,6 +167,7 @@ def build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start,
             while i >= 0:
                 xi = x[i]
                 yi = y[i]
+                reach_i = cutoff + margin[i]
                 owner[owners] = i
                 start[owners] = count
                 # half shell: own cell (later entries only) and 4 forward neighbours
@@ -151,7 +182,8 @@ def build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start,
                     while j >= 0:
                         dx = xi - x[j]
                         dy = yi - y[j]
-                        if dx * dx + dy * dy < reach2:
+                        reach = reach_i + margin[j]
+                        if dx * dx + dy * dy < reach * reach:
                             if count >= capacity:
                                 return -1
                             pair_j[count] = j
@@ -164,14 +196,14 @@ def build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start,
 
 
 @numba.njit(inline="always")
-def _list_is_stale(x, y, alive, ref_x, ref_y, half_skin2):
-    for i in range(x.shape[0]):
-        if alive[i]:
-            dx = x[i] - ref_x[i]
-            dy = y[i] - ref_y[i]
-            if dx * dx + dy * dy > half_skin2:
-                return True
-    return False
+def _list_is_stale(x, y, alive, ref_x, ref_y, margin):
+    """True if some skyrmion has moved farther than its margin since the list was built."""
+    stale = False
+    for i in range(x.shape[0]):  # no early exit: the loop then compiles to SIMD
+        dx = x[i] - ref_x[i]
+        dy = y[i] - ref_y[i]
+        stale |= alive[i] and dx * dx + dy * dy > margin[i] * margin[i]
+    return stale
 
 
 @numba.njit(inline="always")
@@ -190,13 +222,13 @@ def _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, star
     inv_h2 = 1.0 / fp[FP_PAIR_H2]
     evaluated = 0
     for e in range(n_owners):
-        i = owner[e]
+        i = _U(owner[e])
         xi = x[i]
         yi = y[i]
         fxi = 0.0  # accumulate in registers: one store per owner, not one per pair
         fyi = 0.0
         for p in range(start[e], start[e + 1]):
-            j = pair_j[p]
+            j = _U(pair_j[_U(p)])
             dx = xi - x[j]
             dy = yi - y[j]
             r2 = dx * dx + dy * dy
@@ -257,7 +289,7 @@ def _segments_cross(px, py, qx, qy, ax, ay, bx, by):
     return d1 * d2 <= 0.0 and d3 * d4 <= 0.0
 
 
-@numba.njit(cache=True, fastmath=_FASTMATH)
+@numba.njit(**_JIT)
 def compute_velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, vx, vy, stats):
     """One force evaluation for the current positions (builds its own neighbour list)."""
     n = x.shape[0]
@@ -266,10 +298,11 @@ def compute_velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, vx, 
     owner = np.empty(n, dtype=np.int64)
     start = np.empty(n + 1, dtype=np.int64)
     capacity = 16 * n + 16
+    margin = np.full(n, 0.5 * fp[FP_SKIN])
     while True:
         pair_j = np.empty(capacity, dtype=np.int64)
-        n_owners = build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start,
-                                       pair_j)
+        n_owners = build_neighbor_list(x, y, alive, margin, fp, ip, cell_head, cell_next, owner,
+                                       start, pair_j)
         if n_owners >= 0:
             break
         capacity *= 2
@@ -277,7 +310,7 @@ def compute_velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, vx, 
                 n_owners, vx, vy, stats, np.empty(n))
 
 
-@numba.njit(cache=True, fastmath=_FASTMATH)
+@numba.njit(**_JIT)
 def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fields, ports,
             frames_x, frames_y, exit_slot, exit_step, exit_port, exit_x, exit_y, stats):
     """Advance the state by ``n_steps`` steps of the stochastic Heun (or Euler–Maruyama) scheme.
@@ -301,17 +334,17 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
     gx0 = fp[FP_GRID_X0]
     gy0 = fp[FP_GRID_Y0]
     inv_gh = 1.0 / fp[FP_GRID_H]
-    half_skin2 = 0.25 * fp[FP_SKIN] * fp[FP_SKIN]
     inv_sqrt_sub = 1.0 / math.sqrt(substeps)
-    vx0 = np.empty(n)
-    vy0 = np.empty(n)
-    vx1 = np.empty(n)
-    vy1 = np.empty(n)
+    vx0 = np.zeros(n)
+    vy0 = np.zeros(n)
+    vx1 = np.zeros(n)  # Heun's corrector velocities; before the first step, "at rest"
+    vy1 = np.zeros(n)
+    margin = np.empty(n)
     xp = np.empty(n)
     yp = np.empty(n)
     nx_ = np.zeros(n)
     ny_ = np.zeros(n)
-    cand = np.empty((n, 4))
+    cand = np.empty((4, n))
     ref_x = np.empty(n)
     ref_y = np.empty(n)
     domain = np.empty(n)
@@ -344,10 +377,15 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
         for stage in range(2 if heun else 1):
             px = x if stage == 0 else xp
             py = y if stage == 0 else yp
-            if n_owners < 0 or _list_is_stale(px, py, alive, ref_x, ref_y, half_skin2):
+            if n_owners < 0 or _list_is_stale(px, py, alive, ref_x, ref_y, margin):
+                # margins from the latest velocities: the last corrector's, or the predictor's
+                if stage == 1 or not heun:
+                    _margins(vx0, vy0, alive, fp, margin)
+                else:
+                    _margins(vx1, vy1, alive, fp, margin)
                 while True:
-                    n_owners = build_neighbor_list(px, py, alive, fp, ip, cell_head, cell_next,
-                                                   owner, start, pair_j)
+                    n_owners = build_neighbor_list(px, py, alive, margin, fp, ip, cell_head,
+                                                   cell_next, owner, start, pair_j)
                     if n_owners >= 0:
                         break
                     capacity *= 2
@@ -421,7 +459,7 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
     return n_exits
 
 
-@numba.njit(cache=True, fastmath=_FASTMATH)
+@numba.njit(**_JIT)
 def repeated_force_pass(x, y, alive, fp, ip, pair_table, wall_table, fields, repeats, vx, vy,
                         stats):
     """Build the neighbour list once and evaluate all forces ``repeats`` times (benchmarks:
@@ -432,10 +470,11 @@ def repeated_force_pass(x, y, alive, fp, ip, pair_table, wall_table, fields, rep
     owner = np.empty(n, dtype=np.int64)
     start = np.empty(n + 1, dtype=np.int64)
     capacity = 16 * n + 16
+    margin = np.full(n, 0.5 * fp[FP_SKIN])
     while True:
         pair_j = np.empty(capacity, dtype=np.int64)
-        n_owners = build_neighbor_list(x, y, alive, fp, ip, cell_head, cell_next, owner, start,
-                                       pair_j)
+        n_owners = build_neighbor_list(x, y, alive, margin, fp, ip, cell_head, cell_next, owner,
+                                       start, pair_j)
         if n_owners >= 0:
             break
         capacity *= 2

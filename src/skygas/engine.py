@@ -52,8 +52,17 @@ SUGGESTED_STEP_FRACTION = 0.1
 #: pushed that close annihilate rather than bounce (the annihilation model handles them).
 MIN_PLACEMENT_SEPARATION = 0.5
 #: Neighbour-list skin in skyrmion diameters (the list is rebuilt after a skyrmion moves
-#: half of it; larger skins rebuild less often but carry more pairs beyond the cutoff).
-NEIGHBOR_SKIN = 0.25
+#: half of it; larger skins rebuild less often but carry more pairs beyond the cutoff). At
+#: 300 K a skyrmion of S2 diffuses ~1 nm per suggested step: with 0.25 the list of 100
+#: skyrmions was rebuilt every 3 steps, with 1.0 every 25, and the step was 15-20 % faster
+#: (benchmarks/bench_engine.py, 100 and 1000 skyrmions).
+NEIGHBOR_SKIN = 1.0
+#: A skyrmion that drifts fast gets a wider margin in the neighbour list, room for this many
+#: steps of its motion (a current pushes skyrmions along a conduit by several nm per step,
+#: which would otherwise force a rebuild at every step) ...
+NEIGHBOR_MARGIN_STEPS = 8.0
+#: ... up to this many skyrmion diameters (wider margins make larger cells and longer lists).
+NEIGHBOR_MARGIN_MAX = 1.25
 
 INTEGRATORS = {"heun": 0, "euler-maruyama": 1}
 #: Systems with more skyrmions than this are sorted spatially before each kernel call.
@@ -260,19 +269,41 @@ class Simulation:
         ports = list(outline.ports.values())
         self._port_names = list(outline.ports)
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
-        # Cell list for building the neighbour list: cells no smaller than cutoff + skin,
-        # covering the field grid (skyrmions outside it are clamped into edge cells).
-        skin = NEIGHBOR_SKIN * d_sk
-        reach = self.forces.pair.cutoff + skin
+        self._fp[K.FP_SKIN] = NEIGHBOR_SKIN * d_sk
+        self._fp[K.FP_MARGIN_STEPS] = NEIGHBOR_MARGIN_STEPS
+        self._configure_neighbor_cells()
+        self.neighbor_rebuilds = 0
+
+    def _configure_neighbor_cells(self) -> None:
+        """Largest neighbour-list margin and the cell list that goes with it.
+
+        The margin cap covers NEIGHBOR_MARGIN_STEPS steps of the fastest free drift the
+        current field can cause (at most NEIGHBOR_MARGIN_MAX diameters); without a drift it is
+        the base half-skin. Cells are no smaller than cutoff + 2·cap and cover the field grid
+        (skyrmions outside it are clamped into edge cells). Called whenever the drift changes.
+        """
+        fp = self._fp
+        if self._ip[K.IP_DRIFT_GRID]:
+            vs = float(np.sqrt(self._fields[..., K.CH_DRIFT_X].astype(float) ** 2
+                               + self._fields[..., K.CH_DRIFT_Y].astype(float) ** 2).max())
+        else:
+            vs = math.hypot(fp[K.FP_VS_X], fp[K.FP_VS_Y])
+        # |v| of a free skyrmion = |mobility|·|drive|·|v_s| (both matrices are scaled rotations)
+        speed = vs * math.hypot(fp[K.FP_DRIVE_G], fp[K.FP_DRIVE_B]) * math.hypot(
+            fp[K.FP_MOB_A], fp[K.FP_MOB_G])
+        base = 0.5 * fp[K.FP_SKIN]
+        cap = NEIGHBOR_MARGIN_MAX * self.thiele.skyrmion_diameter_internal
+        fp[K.FP_MARGIN_MAX] = max(base, min(base + NEIGHBOR_MARGIN_STEPS * fp[K.FP_DT] * speed,
+                                            cap))
+        reach = fp[K.FP_PAIR_CUT] + 2.0 * fp[K.FP_MARGIN_MAX]
+        grid = self.wall_field.grid
         width = grid.spacing * (grid.nx - 1)
         height = grid.spacing * (grid.ny - 1)
         ncx = max(1, int(width // reach))
         ncy = max(1, int(height // reach))
-        self._fp[K.FP_SKIN] = skin
-        self._fp[K.FP_CELL_X0], self._fp[K.FP_CELL_Y0] = grid.x0, grid.y0
-        self._fp[K.FP_CELL_SIZE] = max(width / ncx, height / ncy)
+        fp[K.FP_CELL_X0], fp[K.FP_CELL_Y0] = grid.x0, grid.y0
+        fp[K.FP_CELL_SIZE] = max(width / ncx, height / ncy)
         self._ip[K.IP_NCX], self._ip[K.IP_NCY] = ncx, ncy
-        self.neighbor_rebuilds = 0
 
     # -- time step -----------------------------------------------------------------------------
     def relaxation_time(self) -> float:
@@ -296,6 +327,8 @@ class Simulation:
                 "two finite numbers (vx, vy) in m/s")
         self._fp[K.FP_VS_X], self._fp[K.FP_VS_Y] = v
         self._ip[K.IP_DRIFT_GRID] = 0
+        if self._fp[K.FP_SKIN] > 0:  # constructed: the cells follow the drift
+            self._configure_neighbor_cells()
 
     def set_drift_field(self, vx: np.ndarray, vy: np.ndarray) -> None:
         """Spatial v_s [m/s] sampled on ``self.wall_field.grid`` (arrays of shape (ny, nx))."""
@@ -306,6 +339,7 @@ class Simulation:
         self._fields[..., K.CH_DRIFT_X] = vx
         self._fields[..., K.CH_DRIFT_Y] = vy
         self._ip[K.IP_DRIFT_GRID] = 1
+        self._configure_neighbor_cells()
 
     # -- skyrmions -----------------------------------------------------------------------------
     @property

@@ -40,7 +40,7 @@ def test_batched_generation_equals_the_scalar_definition():
     @numba.njit
     def batch(ids, alive, step):
         n = ids.shape[0]
-        out_x, out_y, cand = np.zeros(n), np.zeros(n), np.empty((n, 4))
+        out_x, out_y, cand = np.zeros(n), np.zeros(n), np.empty((4, n))
         fill_gaussian_pairs(99, ids, alive, step, 0, cand, out_x, out_y)
         return out_x, out_y
 
