@@ -14,6 +14,7 @@ from skygas.errors import InputError
 
 def _neuron(args) -> int:
     from skygas.neuron import analysis as A
+    from skygas.neuron import lif as L
     from skygas.neuron.config import load_neuron_config
     from skygas.neuron.device import NeuronDevice
     from skygas.neuron.figures import plot_trace, plot_transfer
@@ -24,7 +25,7 @@ def _neuron(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     run = device.build().run()
     summary = run.summary()
-    lif = A.fit_lif(run)
+    lif = L.fit_lif(run)
     summary["lif_fit"] = lif
     tr = run.trace()
     np.savez_compressed(out / "trace.npz", **tr, spikes=run.spike_times(),
@@ -33,12 +34,13 @@ def _neuron(args) -> int:
     if not args.no_transfer:
         rates = config.transfer.rates
         if not rates:
-            tau = summary["leak_time_s"] if np.isfinite(summary["leak_time_s"]) else 1e-6
+            # around the LIF's rheobase θ/τ (τ of the integrating, closed-gate phase)
+            tau = lif["tau_s"] if np.isfinite(lif["tau_s"]) else 1e-6
             rates = list(np.array([0.25, 0.5, 1, 1.5, 2, 3]) * config.rule.threshold / tau)
         curve = A.transfer_curve(device, rates, config.transfer.duration or config.duration,
                                  seed=config.seed)
-        pred = A.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
-                          lif["reset"], lif["release_time_s"])
+        pred = L.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
+                          lif["reset"], lif["release_time_s"], lif["refractory_time_s"])
         lif["predicted_Hz"] = pred.tolist()
         lif["transfer_r_squared"] = A.r_squared(curve["firing_rate_Hz"], pred)
         summary["transfer_curve"] = curve
@@ -55,15 +57,32 @@ def _neuron(args) -> int:
               f"{s['n_emitted']} emitted; largest count {s['max_count']}, threshold "
               f"{s['threshold']:g}; leak time {s['leak_time_s']:.3g} s\n"
               f"  LIF fit: τ = {lif['tau_s']:.3g} s, θ = {lif['threshold']:g}, "
-              f"V_r = {lif['reset']:g}\nresults in {out.resolve()}")
+              f"V_r = {lif['reset']:g}; {lif['lif_spikes']} LIF spikes, "
+              f"{_percent(lif['spike_match_fraction'])} of the device's matched, subthreshold "
+              f"NRMSE {_number(lif['subthreshold_nrmse'])}, transfer R² "
+              f"{_number(lif.get('transfer_r_squared'))}\nresults in {out.resolve()}")
     return 0
+
+
+def _percent(value) -> str:
+    return "n/a" if value is None else f"{100 * value:.0f} %"
+
+
+def _number(value) -> str:
+    return "n/a" if value is None else f"{value:.2f}"
 
 
 def _saturation(args) -> int:
     from skygas.neuron.figures import plot_saturation
     from skygas.neuron.saturation import saturation_curve
 
-    diameters = [float(d) for d in args.diameters]
+    diameters = []
+    for k, d in enumerate(args.diameters):
+        try:
+            diameters.append(float(d))
+        except ValueError:
+            raise InputError(f"diameters[{k}]", d, "a chamber diameter in metres (e.g. 1024e-9)") \
+                from None
     if args.repetitions < 1:
         raise InputError("repetitions", args.repetitions, "an integer >= 1")
     out = Path(args.out)

@@ -1,8 +1,8 @@
 """The Skyrmion Neuron (paper, "Skyrmion Neuron"): a gated chamber that integrates injected
 skyrmions, leaks them by annihilation, and fires by opening its gate. See docs/neuron.md."""
 
-from skygas.neuron.analysis import (fit_lif, isi_statistics, leak_from_log, lif_rate,
-                                    measure_leak, transfer_curve)
+from skygas.neuron.analysis import isi_statistics, leak_from_log, measure_leak, transfer_curve
+from skygas.neuron.lif import fit_lif, lif_rate
 from skygas.neuron.annihilation import AnnihilationModel, Annihilator
 from skygas.neuron.calibration import CALIBRATED
 from skygas.neuron.config import NeuronConfig, load_neuron_config, neuron_config

@@ -25,13 +25,24 @@ rate
 ``collapse_distance`` :math:`d_\min` to another skyrmion (or :math:`d_\min/2` to a wall) collapse is
 immediate: of each such pair a randomly chosen one disappears, until no pair is that close.
 
-The rule is applied every ``check_interval`` :math:`\Delta t`: a skyrmion is removed with
-probability :math:`1 - e^{-\Gamma_i \Delta t}` (exact for a rate constant over the interval).
+The rule is applied every ``check_interval`` :math:`\Delta t`, with the positions frozen over the
+interval: first the immediate collapses, then kinetic Monte Carlo (Gillespie) over
+:math:`\Delta t`. With total rate :math:`R = \sum_i \Gamma_i` over the living, the next event comes
+after a wait :math:`\sim \mathrm{Exp}(R)`; if it falls inside the interval, skyrmion *i* dies with
+probability :math:`\Gamma_i / R`, its neighbours' :math:`\chi` drop by its contribution, and the
+next wait is drawn with the new rates. Removing one at a time matters at high density:
+removing every skyrmion with probability :math:`1 - e^{-\Gamma_i \Delta t}` at once would kill
+neighbours that the first removal had already relieved. The victims leave at the start of the
+interval.
+The arithmetic is compiled (:mod:`skygas.neuron._compiled`, a cell list for the pairs).
 
-Accidental nucleation (optional): a Poisson process of ``nucleation_rate`` :math:`\nu`
-[1/(m² s)] per unit device area; a new skyrmion appears at a uniformly random point of the
-outline at least one diameter from the walls and from every skyrmion (attempts that land
-elsewhere are dropped and counted). The reshuffler's chambers can use the same operation.
+Accidental nucleation (optional): attempts form a Poisson process of ``nucleation_rate``
+:math:`\nu` [1/(m² s)] per unit device area (mean :math:`\nu A \Delta t` per interval, A the
+outline's area); each attempt falls at a uniformly random point of the outline and nucleates a
+skyrmion there if the point is at least one diameter from the walls and from every skyrmion
+(other attempts are dropped and counted as misses). In a sparse chamber the nucleation rate is
+therefore :math:`\nu` times the area that lies at least one diameter inside the walls. The
+reshuffler's chambers can use the same operation.
 
 Randomness comes from a NumPy generator seeded from ``SeedSequence((run seed, stream))``, never
 from the engine's per-skyrmion noise streams.
@@ -47,6 +58,7 @@ from scipy.spatial import cKDTree
 
 from skygas import units
 from skygas.errors import require
+from skygas.neuron._compiled import annihilation_check, total_rate
 
 #: SeedSequence stream tags (the second entry of the entropy tuple).
 ANNIHILATION_STREAM = 0x616E6E
@@ -121,7 +133,10 @@ CROWDING_DIAMETERS = 2.45
 
 def compression(x_nm: np.ndarray, y_nm: np.ndarray, wall_nm: np.ndarray,
                 crowding_nm: float) -> np.ndarray:
-    """χ_i of every skyrmion (see the module docstring); positions and distances in nm."""
+    """χ_i of every skyrmion (see the module docstring); positions and distances in nm.
+
+    A readable reference for inspection and tests; runs use the compiled
+    :func:`skygas.neuron._compiled.annihilation_check`, which computes the same χ."""
     n = len(x_nm)
     chi = np.clip(1.0 - 2.0 * wall_nm / crowding_nm, 0.0, None)
     if n > 1:
@@ -132,22 +147,6 @@ def compression(x_nm: np.ndarray, y_nm: np.ndarray, wall_nm: np.ndarray,
             w = 1.0 - r / crowding_nm
             chi += np.bincount(pairs[:, 0], w, n) + np.bincount(pairs[:, 1], w, n)
     return chi
-
-
-def collapse_victims(x_nm: np.ndarray, y_nm: np.ndarray, wall_nm: np.ndarray, d_min_nm: float,
-                     rng: np.random.Generator) -> np.ndarray:
-    """Indices of skyrmions that collapse at once: those within d_min/2 of a wall, then one
-    randomly chosen member of each remaining pair closer than d_min, until none is left."""
-    dead = wall_nm < d_min_nm / 2
-    pts = np.column_stack([x_nm, y_nm])
-    if len(pts) > 1:
-        pairs = cKDTree(pts).query_pairs(d_min_nm, output_type="ndarray")
-        for k in rng.permutation(len(pairs)):
-            i, j = pairs[k]
-            if dead[i] or dead[j]:
-                continue
-            dead[i if rng.random() < 0.5 else j] = True
-    return np.flatnonzero(dead)
 
 
 @dataclass
@@ -168,6 +167,8 @@ class Annihilator:
     _next: int = 0
 
     def __post_init__(self):
+        self._victims = np.empty(0, np.int64)
+        self._fixed = None
         self.rng = np.random.default_rng(np.random.SeedSequence((self.seed, ANNIHILATION_STREAM)))
         self.nuc_rng = np.random.default_rng(np.random.SeedSequence((self.seed, NUCLEATION_STREAM)))
 
@@ -196,45 +197,37 @@ class Annihilator:
         if self.model.nucleation_rate > 0:
             self._nucleate(sim, dt)
 
+    def _fixed_arguments(self, sim) -> tuple:
+        """The kernels' arguments that stay fixed during a run (looked up once per model and
+        simulation)."""
+        if self._fixed is None or self._fixed[0] is not self.model or self._fixed[1] is not sim:
+            wall, grid = sim.wall_field.wall_distance, sim.wall_field.grid
+            r_c, d_min = self.model.lengths_nm(sim.thiele.skyrmion_diameter)
+            self._fixed = (self.model, sim, (wall, grid.x0, grid.y0, grid.spacing, r_c, d_min,
+                                             self.model.base_rate,
+                                             self.model.compression_sensitivity))
+        return self._fixed[2]
+
     def _annihilate(self, sim, dt: float) -> None:
-        slots = np.flatnonzero(sim._alive)
-        if not len(slots):
-            return
-        x, y = sim._x[slots], sim._y[slots]
-        wall = sim.wall_field.interpolate(x, y)[0]
-        r_c, d_min = self.model.lengths_nm(sim.thiele.skyrmion_diameter)
-        dead = np.zeros(len(slots), bool)
-        dead[collapse_victims(x, y, wall, d_min, self.rng)] = True
-        live = np.flatnonzero(~dead)
-        dead[live[self._kinetic_monte_carlo(x[live], y[live], wall[live], r_c, dt)]] = True
-        victims = slots[dead]
+        # the state arrays are re-read every time: the engine replaces them when it grows
+        args = (sim._x, sim._y, sim._alive, *self._fixed_arguments(sim))
+        total, candidates = total_rate(*args)
+        first_wait = -1.0
+        if not candidates:
+            if total <= 0:
+                return
+            # the draw the Gillespie loop would make first; most checks end here
+            first_wait = self.rng.exponential(1.0 / total)
+            if first_wait > dt:
+                return
+        if len(self._victims) < len(sim._alive):
+            self._victims = np.empty(len(sim._alive), np.int64)
+        n = annihilation_check(*args, dt, self.rng, first_wait, self._victims)
+        victims = self._victims[:n]
         t = sim.time
         for s in victims:
             self.annihilations.append((t, sim._x[s] / units.M_TO_NM, sim._y[s] / units.M_TO_NM))
         sim._alive[victims] = False
-
-    def _kinetic_monte_carlo(self, x, y, wall, r_c: float, dt: float) -> np.ndarray:
-        """Indices annihilated within dt, one event at a time (Gillespie, positions frozen over
-        the interval): every removal relieves its neighbours' compression before the next."""
-        model = self.model
-        alive = np.ones(len(x), bool)
-        t_left = dt
-        while alive.any():
-            idx = np.flatnonzero(alive)
-            rate = np.full(len(idx), model.base_rate)
-            if model.compression_sensitivity > 0:
-                chi = compression(x[idx], y[idx], wall[idx], r_c)
-                rate = rate * np.exp(model.compression_sensitivity * chi)
-            total = float(rate.sum())
-            if total <= 0:
-                break
-            wait = self.rng.exponential(1.0 / total)
-            if wait > t_left:
-                break
-            t_left -= wait
-            alive[idx[np.searchsorted(np.cumsum(rate), self.rng.random() * total)
-                      .clip(max=len(idx) - 1)]] = False
-        return np.flatnonzero(~alive)
 
     def _nucleate(self, sim, dt: float) -> None:
         area_m2 = sim.outline.area_nm2() / units.M_TO_NM**2
@@ -242,12 +235,9 @@ class Annihilator:
         if not n:
             return
         d_nm = sim.thiele.skyrmion_diameter_internal
-        x0, y0, x1, y1 = sim.outline.bounds_nm
         for _ in range(n):
-            p = self.nuc_rng.uniform((x0, y0), (x1, y1))
-            ok = bool(sim.outline.contains_nm(p[0], p[1]))
-            if ok and self.region is not None:
-                ok = bool(self.region(p[0], p[1]))
+            p = self._uniform_point(sim.outline)
+            ok = self.region is None or bool(self.region(p[0], p[1]))
             ok = ok and float(sim.wall_field.interpolate(p[:1], p[1:])[0][0]) >= d_nm
             alive = sim._alive
             if ok and alive.any():
@@ -257,3 +247,13 @@ class Annihilator:
                 self.nucleations.append((sim.time, p[0] / units.M_TO_NM, p[1] / units.M_TO_NM))
             else:
                 self.nucleation_misses += 1
+
+    def _uniform_point(self, outline) -> np.ndarray:
+        """A point [nm] uniformly distributed over the outline (rejection from its bounding box:
+        the attempt rate ν·A already counts the outline's area, so a point outside it must be
+        drawn again, not dropped)."""
+        x0, y0, x1, y1 = outline.bounds_nm
+        while True:
+            p = self.nuc_rng.uniform((x0, y0), (x1, y1))
+            if outline.contains_nm(p[0], p[1]):
+                return p

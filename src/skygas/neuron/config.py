@@ -1,17 +1,31 @@
 """Configuration of a neuron run (TOML, validated with pydantic; SI units).
 
 Defaults: the paper's chamber (1024 nm, 100 nm × 50 nm conduits), material S2 in a 2 nm film at
-300 K, the reshuffler's calibrated ξ = 1.84e-10 m³/C (data/reshuffler-paper.toml), conduit
-current J = 1e11 A/m² (not given by the paper for the neuron), the calibrated annihilation
-model (:mod:`skygas.neuron.calibration`), a 20 k_B T gate and a whole-chamber counting sensor.
+300 K, the reshuffler's calibrated ξ = 1.84e-10 m³/C (data/reshuffler-paper.toml), the
+calibrated annihilation model (:mod:`skygas.neuron.calibration`), a 100 k_B T gate and a
+whole-chamber counting sensor. The paper gives no operating point for the neuron; the drive and
+the rule were chosen so that the default run integrates, fires and resets (docs/neuron.md,
+"Choosing the defaults"):
+
+- holding current J = 5e10 A/m² while the gate is closed: it carries injected skyrmions into
+  the chamber without pressing them against the gate (at 1e11 A/m² and above the current packs
+  the arrivals against the closed gate, where they annihilate as fast as they would leave
+  through an open one, and the gate stops mattering);
+- release current 3.8e11 A/m² (the paper's largest reshuffler current) while the gate is open,
+  which usually empties the chamber to the reset level within 150 ns;
+- a Poisson input of 5e7 Hz, threshold 12, reset level 3, release time at most 200 ns,
+  refractory time 20 ns.
+
+Every float must be finite: an infinite duration, interval or rate is refused here, before any
+run.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from skygas.config import MaterialFields, _to_input_error, read_toml
 from skygas.errors import InputError
@@ -21,7 +35,7 @@ from skygas.neuron.inputs import InputSpec
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class DeviceSpec(_Strict):
@@ -45,11 +59,11 @@ class SensorSpec(_Strict):
 
 
 class RuleSpec(_Strict):
-    # Defaults chosen so the default device fires: with input every ~10 ns the chamber never
-    # empties to the reset level, so the gate also closes after a release time.
-    threshold: float = Field(20.0, gt=0)
+    # The release usually ends at the reset level (the release current empties the chamber in
+    # ~150 ns); the release time only bounds an opening that cannot get there.
+    threshold: float = Field(12.0, gt=0)
     reset_level: float = Field(3.0, ge=0)
-    release_time: float | None = Field(5e-8, gt=0)  # s
+    release_time: float | None = Field(2e-7, gt=0)  # s
     refractory_time: float = Field(2e-8, ge=0)      # s
 
 
@@ -70,7 +84,15 @@ class InputConfig(_Strict):
     interval: float = Field(5e-9, gt=0)
     correlation_time: float = Field(5e-9, gt=0)
     weight: float = Field(1.0, ge=0, le=1)
-    bits: list[int] = []
+    bits: list[Literal[0, 1]] = []
+
+    @model_validator(mode="after")
+    def _kind_needs(self):
+        if self.kind == "bits" and not self.bits:
+            raise ValueError("a 'bits' input needs a non-empty bits list of 0 and 1")
+        if self.kind == "telegraph" and not 0 < self.p < 1:
+            raise ValueError(f"p = {self.p}: a telegraph input needs p strictly in (0, 1)")
+        return self
 
 
 class InjectionSpec(_Strict):
@@ -80,25 +102,34 @@ class InjectionSpec(_Strict):
 
 
 class TransferSpec(_Strict):
-    rates: list[float] = []                     # Hz; empty: a default sweep
+    rates: list[Annotated[float, Field(ge=0)]] = []  # Hz; empty: a default sweep
     duration: float | None = Field(None, gt=0)  # s; default the run's duration
 
 
 class NeuronConfig(MaterialFields):
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+
     seed: int = Field(0, ge=0, lt=2**63)
     temperature: float = Field(300.0, ge=0)
     duration: float = Field(3e-6, gt=0)
     time_step: float | None = Field(2.5e-10, gt=0)
-    current_density: float = Field(1e11, ge=0)
+    current_density: float = Field(5e10, ge=0)             # A/m², holding (gate closed)
+    release_current_density: float | None = Field(3.8e11, ge=0)  # A/m², gate open; None: same
     spin_drift_coefficient: float = Field(1.84e-10, gt=0)
     device: DeviceSpec = DeviceSpec()
     gate: GateSpec = GateSpec()
     sensor: SensorSpec = SensorSpec()
     rule: RuleSpec = RuleSpec()
     annihilation: AnnihilationSpec = AnnihilationSpec()
-    inputs: list[InputConfig] = [InputConfig(kind="poisson", rate=1e8)]
+    inputs: list[InputConfig] = [InputConfig(kind="poisson", rate=5e7)]
     injection: InjectionSpec = InjectionSpec()
     transfer: TransferSpec = TransferSpec()
+
+    def release_current(self) -> float:
+        """Conduit current density [A/m²] while the gate is open."""
+        if self.release_current_density is None:
+            return self.current_density
+        return self.release_current_density
 
     def annihilation_model(self) -> AnnihilationModel:
         return AnnihilationModel(**self.annihilation.model_dump())
@@ -129,7 +160,7 @@ def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
     try:
         return NeuronConfig.model_validate(data)
     except ValidationError as err:
-        raise _to_input_error(err, "neuron config") from None
+        raise _to_input_error(err, "neuron config: ") from None
 
 
 def load_neuron_config(path: str | Path | None = None, **overrides) -> NeuronConfig:

@@ -5,7 +5,10 @@ and a threshold rule that opens the gate (the neuron fires) and closes it again.
 Layout: :func:`~skygas.geometry.chamber_with_conduits`; the input conduit's end is a wall
 (nucleation site at its middle), the output conduit's end is the read-out line where emitted
 skyrmions are detected and removed. The current (conduit density J, v_s = ξ j) drives skyrmions
-from input to output; the gate (:class:`~skygas.neuron.gate.BarrierGate`) holds them back.
+from input to output; the gate (:class:`~skygas.neuron.gate.BarrierGate`) holds them back. The
+current switches with the gate: the holding density ``current_density`` while it is closed, the
+release density ``release_current_density`` while it is open (docs/neuron.md, "Choosing the
+defaults", says why).
 
 Threshold rule, evaluated every ``read_interval``: a closed gate opens when the reading reaches
 ``threshold`` (and no refractory time is running); an open gate closes when the reading has
@@ -61,8 +64,10 @@ class NeuronController:
         self._next = sim.step + self.interval_steps
         reading = self.sensor.read(sim)
         if self.gate.is_open:
+            # a gate that starts open has no recorded opening: its release time runs from 0
+            opened = self.openings[-1] if self.openings else 0
             timed_out = self.release_steps is not None and \
-                sim.step - self.openings[-1] >= self.release_steps
+                sim.step - opened >= self.release_steps
             if reading <= self.reset_level or timed_out:
                 self.gate.set(False)
                 self.closings.append(sim.step)
@@ -90,15 +95,24 @@ class NeuronDevice:
         r_nm = dev.chamber_diameter / 2 * units.M_TO_NM
         half_w = dev.conduit_width / 2 * units.M_TO_NM
         self.x_meet = math.sqrt(r_nm**2 - half_w**2)
+        # the nucleation site sits at the input conduit's middle: a conduit shorter than a
+        # skyrmion puts it within half a diameter of the end wall, where it collapses at once
+        require(dev.conduit_length >= d_sk, "device.conduit_length", dev.conduit_length,
+                f"a length >= one skyrmion diameter ({d_sk:.3g} m)")
         length = dev.conduit_length * units.M_TO_NM
         self.site = np.array([-(self.x_meet + length / 2), 0.0])
         band = (c.gate.band_width or dev.conduit_length / 2) * units.M_TO_NM
-        require(0 < band <= length, "gate.band_width", c.gate.band_width,
-                f"a width in (0, {dev.conduit_length:.3g}] m (inside the output conduit)")
+        # the barrier lives on the field grid (spacing d_sk/16): a band thinner than two cells
+        # may hold no grid node and would not act at all
+        thinnest = d_sk / 8 * units.M_TO_NM
+        require(thinnest <= band <= length, "gate.band_width", c.gate.band_width,
+                f"a width in [{thinnest * 1e-9:.3g}, {dev.conduit_length:.3g}] m (inside the "
+                "output conduit, at least two cells of the field grid)")
         mid = self.x_meet + length / 2
         self.band_x = (mid - band / 2, mid + band / 2)
         self._validate_sensor(r_nm)
         self._validate_threshold(d_sk)
+        self.inputs = c.input_specs()      # refuses bad inputs now, not at the first event
         self.full_outline = full
 
     # -- validation ------------------------------------------------------------------------------
@@ -144,19 +158,21 @@ class NeuronDevice:
         c = self.config
         seed = c.seed if seed is None else seed
         duration = c.duration if duration is None else duration
-        inputs = c.input_specs() if inputs is None else inputs
+        inputs = self.inputs if inputs is None else inputs
         sim = Simulation(self.outline, c.resolved_material(), temperature=c.temperature,
                          time_step=c.time_step, seed=seed, thiele=self.thiele)
         grid = sim.wall_field.grid
-        if c.current_density > 0:
-            current = solve_current(self.full_outline, c.current_density)
-            vx, vy = current.drift_velocity(grid, c.spin_drift_coefficient)
+        holding, release = c.current_density, c.release_current()
+        if max(holding, release) > 0:
+            # one solution at unit conduit density: v_s = ξ j is linear in J
+            current = solve_current(self.full_outline, 1.0)
+            unit_vx, unit_vy = current.drift_velocity(grid, c.spin_drift_coefficient)
         else:
-            vx = vy = np.zeros((grid.ny, grid.nx))
+            unit_vx = unit_vy = np.zeros((grid.ny, grid.nx))
         diffusion = self.thiele.diffusion_constant(c.temperature) if c.temperature > 0 else 0.0
-        gate = BarrierGate(sim, vx, vy, self.band_x,
+        gate = BarrierGate(sim, holding * unit_vx, holding * unit_vy, self.band_x,
                            c.device.conduit_width / 2 * units.M_TO_NM, c.gate.barrier_height,
-                           max(diffusion, 1e-12))
+                           max(diffusion, 1e-12), release * unit_vx, release * unit_vy)
         gate.set(c.gate.initially_open)
         r_nm = c.device.chamber_diameter / 2 * units.M_TO_NM
         center, radius = self.sensor_geometry_nm(r_nm)

@@ -17,6 +17,12 @@ equivalence is exact for η = α (paper: the drift is then μ v_s with no Hall d
 η ≠ α the drift acquires a Hall component across the conduit, which the conduit walls absorb.
 The open gate restores the current's field. Switching is instantaneous, between kernel calls.
 
+**Release drive.** The current that flows while the gate is open may differ from the holding
+current while it is closed (``release_current_density`` in the configuration): the same
+controller that switches the gate switches the current source, so a firing neuron flushes its
+chamber at a high current and integrates at a low one. Both fields come from one current
+solution, since v_s = ξ j is linear in the conduit current density J.
+
 **Read element.** A disk (centre, radius) inside the chamber. Its signal is either the number of
 skyrmion centres inside (``"count"``) or the fraction of its area covered by skyrmion disks of
 diameter d_sk (``"area"``, what a tunnel junction's magnetoresistance reads), plus optional
@@ -28,20 +34,25 @@ from __future__ import annotations
 import numpy as np
 
 from skygas import units
+from skygas.neuron._compiled import count_in_disk, covered_fraction
 
 
 class BarrierGate:
-    """Switches the drift field between ``base`` (open) and ``base + barrier`` (closed).
+    """Switches the drift field between the release field (open) and the holding field with
+    the barrier band (closed).
 
-    base_vx, base_vy: drift field [m/s] on the simulation grid (the current); band_x: (x0, x1) [nm]
-    of the barrier band across the output conduit; band_half_width: half the conduit width [nm];
-    barrier_height: h [k_B T]; diffusion: D [m²/s].
+    base_vx, base_vy: holding drift field [m/s] on the simulation grid (the current while
+    closed); band_x: (x0, x1) [nm] of the barrier band across the output conduit;
+    band_half_width: half the conduit width [nm]; barrier_height: h [k_B T]; diffusion: D [m²/s];
+    open_vx, open_vy: drift field [m/s] while open (default: the holding field).
     """
 
     def __init__(self, sim, base_vx, base_vy, band_x, band_half_width, barrier_height,
-                 diffusion):
+                 diffusion, open_vx=None, open_vy=None):
         self.sim = sim
         self.base = (np.asarray(base_vx, float), np.asarray(base_vy, float))
+        self.open_field = self.base if open_vx is None else (np.asarray(open_vx, float),
+                                                             np.asarray(open_vy, float))
         gx, gy = sim.wall_field.grid.nodes()
         x0, x1 = band_x
         band = (gx >= x0) & (gx <= x1) & (np.abs(gy) <= band_half_width + 1.0)
@@ -57,7 +68,7 @@ class BarrierGate:
         if is_open == self.is_open:
             return
         if is_open:
-            self.sim.set_drift_field(*self.base)
+            self.sim.set_drift_field(*self.open_field)
         else:
             self.sim.set_drift_field(self.closed_vx, self.closed_vy)
         self.is_open = bool(is_open)
@@ -82,21 +93,19 @@ class ReadElement:
             phi = k * np.pi * (3 - np.sqrt(5))
             self.samples = self.center + np.column_stack([r * np.cos(phi), r * np.sin(phi)])
 
-    def exact(self, x_nm: np.ndarray, y_nm: np.ndarray) -> float:
-        """The noiseless reading for skyrmion centres (x, y) [nm]."""
+    def exact(self, x_nm: np.ndarray, y_nm: np.ndarray, alive: np.ndarray | None = None) -> float:
+        """The noiseless reading for skyrmion centres (x, y) [nm] (only where ``alive``)."""
+        x_nm = np.ascontiguousarray(x_nm, dtype=float)
+        y_nm = np.ascontiguousarray(y_nm, dtype=float)
+        alive = np.ones(len(x_nm), np.bool_) if alive is None else alive
         if self.signal == "count":
-            return float(np.count_nonzero(np.hypot(x_nm - self.center[0], y_nm - self.center[1])
-                                          < self.radius))
-        near = np.hypot(x_nm - self.center[0], y_nm - self.center[1]) < self.radius + self.r_sk
-        if not near.any():
-            return 0.0
-        d2 = ((self.samples[:, None, 0] - x_nm[near]) ** 2
-              + (self.samples[:, None, 1] - y_nm[near]) ** 2)
-        return float(np.mean(np.any(d2 < self.r_sk**2, axis=1)))
+            return float(count_in_disk(x_nm, y_nm, alive, self.center[0], self.center[1],
+                                       self.radius))
+        return covered_fraction(x_nm, y_nm, alive, self.center[0], self.center[1], self.radius,
+                                self.r_sk, self.samples)
 
     def read(self, sim) -> float:
-        alive = sim._alive
-        value = self.exact(sim._x[alive], sim._y[alive])
+        value = self.exact(sim._x, sim._y, sim._alive)
         if self.read_noise > 0:
             value += self.rng.normal(0.0, self.read_noise)
         return value

@@ -101,6 +101,10 @@ def saturation_curve(diameters, *, trial_counts=None, repetitions: int = 10,
                 f"diameters > two skyrmion diameters ({2 * d_sk:.3g} m)")
     require(isinstance(repetitions, int) and repetitions >= 1, "repetitions", repetitions,
             "an integer >= 1")
+    require(math.isfinite(relax_time) and relax_time > 0, "relax_time", relax_time,
+            "a relaxation time > 0 in seconds")
+    require(math.isfinite(temperature) and temperature >= 0, "temperature", temperature,
+            "a temperature >= 0 in kelvin")
     seeds = np.random.SeedSequence(seed).spawn(len(diameters))
     counts, means, stds, best, best_err = [], [], [], [], []
     for d, ss in zip(diameters, seeds):
