@@ -1,20 +1,29 @@
 """Sweep speed on Dask: a 16-point sweep of short reshuffler runs on 1 and 2 local workers.
 
 Workload: the ``paper`` preset (1024 nm chambers), 4 current densities × 4 p-values, one
-replica, ``--duration`` of simulated time per run (default 2 µs: each run is then mostly its
-~1.5-3 s of set-up, the current and wall-field solve). Prints the median wall time over
-``--repeats`` sweeps for 1 and 2 workers and their ratio, in two modes:
+replica, ``--duration`` of simulated time per run (default 2 µs). Every point of this sweep
+shares one device, so each process solves the current and builds the wall field once (about
+2 s, :mod:`skygas.memo`); a point then costs its simulation, ~0.2 s at 2 µs. Prints the median
+wall time (and the range) over ``--repeats`` sweeps for 1 and 2 workers and their ratio, in
+three modes:
 
 - ``cold``: each sweep starts its own local cluster (``skygas sweep --workers N``), so the
-  cluster's start and each worker's first imports and compiled-kernel loads are included;
-- ``warm``: the cluster is started and its workers warmed up first, then the sweep runs on it
-  through its scheduler address (``skygas sweep --scheduler ADDRESS``, a cluster that stays up).
+  cluster's start, each worker's imports and compiled-kernel loads, and each worker's device
+  set-up are included;
+- ``warm``: the cluster is started and its workers warmed up first (imports and kernels, on
+  another, small device), then the sweep runs on it through its scheduler address
+  (``skygas sweep --scheduler ADDRESS``, a cluster that stays up); each worker's device set-up
+  is included;
+- ``hot``: as ``warm``, but every worker has already run this device once (a cluster that ran
+  an earlier sweep of the same device): only the runs themselves and the Dask path remain.
 
-It also runs the sweep serially in this process (warm) and prints the Dask path's overhead per
-point, (T(1 worker) − T(serial)) / 16, for each mode.
+It also runs the sweep serially in this process, from a fresh set-up (``cold``/``warm``) and
+with the set-up already done (``hot``), and prints the Dask path's overhead per point,
+(T(1 worker) − T(serial)) / 16, for each mode. In ``warm``/``hot`` it prints how many current
+solves each worker did (``skygas.memo`` counts), to show the set-up was not repeated per point.
 
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--repeats 3] [--duration 2e-6]
-[--mode both|cold|warm]``.
+[--mode all|cold|warm|hot]``.
 """
 
 from __future__ import annotations
@@ -25,7 +34,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from skygas.memo import clear_memos, memo_stats
 from skygas.sweep import parse_sweep, run_one, run_sweep
+
+MODES = ("cold", "warm", "hot")
 
 
 def workload(duration: float):
@@ -41,11 +53,12 @@ def workload(duration: float):
 def timed(sweep, tmp: Path, name: str, **kwargs) -> float:
     start = time.perf_counter()
     report = run_sweep(sweep, tmp / f"{name}.zarr", progress=False, **kwargs)
-    assert len(report.computed) == len(sweep.runs)
+    assert len(report.computed) == len(sweep.runs) and not report.failed, report.failed
     return time.perf_counter() - start
 
 
 def _warm_up() -> None:
+    """Imports and compiled kernels, on a small device (not the benchmark's)."""
     config = parse_sweep({"base": {"preset": "paper", "duration": 5e-8,
                                    "device": {"chamber_diameter": 3e-7},
                                    "output": {"trajectory_window": 0.0}},
@@ -53,43 +66,83 @@ def _warm_up() -> None:
     run_one(config.model_dump_json())
 
 
-def timed_warm(sweep, tmp: Path, name: str, workers: int) -> float:
+def _current_solves() -> int:
+    return memo_stats()["current"]["misses"]
+
+
+def timed_on_cluster(sweep, tmp: Path, name: str, workers: int, hot: bool) -> tuple[float, list]:
     from dask.distributed import Client, LocalCluster
 
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                       dashboard_address=":0") as cluster, Client(cluster) as client:
         client.run(_warm_up)
-        return timed(sweep, tmp, name, scheduler=cluster.scheduler_address)
+        if hot:  # every worker runs this device once: its set-up is then kept
+            client.run(run_one, sweep.runs[0].config.model_dump_json())
+        before = client.run(_current_solves)
+        t = timed(sweep, tmp, name, scheduler=cluster.scheduler_address)
+        after = client.run(_current_solves)
+        return t, [after[w] - before[w] for w in sorted(after)]
+
+
+def timed_serial(sweep, tmp: Path, name: str, hot: bool) -> float:
+    clear_memos()
+    if hot:
+        run_one(sweep.runs[0].config.model_dump_json())
+    return timed(sweep, tmp, name, serial=True)
+
+
+def spread(values: list[float]) -> str:
+    return f"{min(values):.1f}-{max(values):.1f}"
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--duration", type=float, default=2e-6, help="simulated time [s]")
-    parser.add_argument("--mode", choices=("both", "cold", "warm"), default="both")
+    parser.add_argument("--mode", choices=("all", *MODES), default="all")
     args = parser.parse_args()
     sweep = workload(args.duration)
     n = len(sweep.runs)
-    run_one(sweep.runs[0].config.model_dump_json())  # JIT and imports, outside the timings
-    modes = ("cold", "warm") if args.mode == "both" else (args.mode,)
+    _warm_up()  # imports and JIT, outside the timings
+    modes = MODES if args.mode == "all" else (args.mode,)
     times = {mode: {1: [], 2: []} for mode in modes}
+    serial = {"fresh": [], "hot": []}
+    solves = {mode: [] for mode in modes}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        serial = timed(sweep, tmp, "serial", serial=True)
         for k in range(args.repeats):
+            for kind in ("fresh", "hot") if "hot" in modes else ("fresh",):
+                if kind == "fresh" and modes == ("hot",):
+                    continue
+                t = timed_serial(sweep, tmp, f"serial-{kind}-{k}", hot=kind == "hot")
+                serial[kind].append(t)
+                print(f"repeat {k}, serial ({kind} set-up): {t:.1f} s", flush=True)
             for mode in modes:
                 for workers in (1, 2):
                     name = f"{mode}{workers}-{k}"
-                    t = (timed(sweep, tmp, name, workers=workers) if mode == "cold"
-                         else timed_warm(sweep, tmp, name, workers))
+                    if mode == "cold":
+                        t = timed(sweep, tmp, name, workers=workers)
+                    else:
+                        t, done = timed_on_cluster(sweep, tmp, name, workers, mode == "hot")
+                        solves[mode].append(done)
                     times[mode][workers].append(t)
                     print(f"repeat {k}, {mode}, {workers} worker(s): {t:.1f} s", flush=True)
-    print(f"{n} points, {args.duration * 1e6:g} µs each")
-    print(f"serial (in process, warm): {serial:.1f} s = {serial / n:.2f} s per point")
+    print(f"{n} points, {args.duration * 1e6:g} µs each, {args.repeats} repeats")
+    for kind, values in serial.items():
+        if values:
+            t = statistics.median(values)
+            print(f"serial ({kind} set-up, in process): median {t:.1f} s ({spread(values)}) "
+                  f"= {t / n:.2f} s per point")
     for mode in modes:
         t1, t2 = statistics.median(times[mode][1]), statistics.median(times[mode][2])
-        print(f"{mode}: 1 worker median {t1:.1f} s, 2 workers median {t2:.1f} s, "
-              f"speed-up {t1 / t2:.2f}x, Dask overhead per point {(t1 - serial) / n:.2f} s")
+        reference = statistics.median(serial["hot" if mode == "hot" else "fresh"])
+        print(f"{mode}: 1 worker median {t1:.1f} s ({spread(times[mode][1])}), 2 workers "
+              f"median {t2:.1f} s ({spread(times[mode][2])}), speed-up {t1 / t2:.2f}x "
+              f"(per repeat: {', '.join(f'{a / b:.2f}' for a, b in zip(times[mode][1], times[mode][2]))}), "
+              f"Dask overhead per point {(t1 - reference) / n:.2f} s")
+        if solves[mode]:
+            print(f"  current solves per worker in each sweep (1 worker, 2 workers, ...): "
+                  f"{solves[mode]}")
 
 
 if __name__ == "__main__":

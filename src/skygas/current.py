@@ -35,6 +35,10 @@ perturbs j within a few cells of a curved wall: the wall-normal component there 
 ≲ 0.2 % between h = 2.5 and 1.25 nm. Away from staircase walls the scheme is second order (an
 annular sector with curved electrodes matches the exact R to 3e-4 at h = 10 nm).
 
+The solve for 1 V does not depend on J, the thickness or the resistivity, so each process does
+it once per (outline, source, sink, cell size) and scales it for each call (:mod:`skygas.memo`;
+a sweep over J, p or temperature solves once). The results are bit-identical to a fresh solve.
+
 Fields are stored at cell centres and sampled bilinearly; cells outside the outline take the
 value of the nearest inside cell, so that bilinear interpolation (here and in the engine, which
 reads j on the wall-field grid) stays accurate up to about one cell from the wall. Within that
@@ -49,9 +53,10 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 from scipy import ndimage, sparse
@@ -61,8 +66,9 @@ from shapely.geometry import LineString
 
 from skygas.errors import InputError, require
 from skygas.geometry import Outline
+from skygas.memo import Memo, frozen, outline_key
 from skygas.units import M_TO_NM
-from skygas.wall_field import Grid, bilinear_at_indices
+from skygas.wall_field import BilinearWeights, Grid, bilinear_at_indices
 
 #: Default cell size [m]: 40 cells across the paper's 100 nm conduit, ~1.3e5 unknowns for the
 #: 1024 nm chamber (about 1.4 s to solve).
@@ -142,6 +148,12 @@ class _Cells:
         """Bilinear interpolation of a cell-centred ``field`` at (x, y) nm (clamped)."""
         return bilinear_at_indices(field, (np.asarray(x, float) - self.x0) / self.h - 0.5,
                                    (np.asarray(y, float) - self.y0) / self.h - 0.5)
+
+    def weights(self, x, y) -> BilinearWeights:
+        """The interpolation weights :meth:`bilinear` uses at (x, y) nm."""
+        return BilinearWeights.at_indices((self.ny, self.nx),
+                                          (np.asarray(x, float) - self.x0) / self.h - 0.5,
+                                          (np.asarray(y, float) - self.y0) / self.h - 0.5)
 
 
 def _aligned_cells(outline: Outline, reference: LineString, cell_size_nm: float) -> _Cells:
@@ -254,6 +266,84 @@ def _solve_unit_potential(cells: _Cells, inside: np.ndarray, ports: _PortFaces,
     return phi
 
 
+# -- the unit-voltage flow (memoised) -------------------------------------------------------------
+@dataclass(frozen=True)
+class _UnitFlow:
+    """The flow for 1 V between source and sink, before scaling to the user's J.
+
+    Everything here depends only on the outline, the electrodes and the cell size, never on J,
+    the thickness or the resistivity (the problem is linear), so it is computed once per process
+    for each combination (:data:`_MEMO`) and scaled on every call with the arithmetic an
+    unmemoised solve would use: results are bit-identical either way. Fields are already
+    extended to the outside cells (nearest live cell), which commutes with the scaling."""
+
+    cells: _Cells
+    inside: np.ndarray
+    jx_unit: np.ndarray  # in units of σ·(1 V)/h
+    jy_unit: np.ndarray
+    phi_unit: np.ndarray  # φ for 1 V (0 … 1)
+    port_current_unit: Mapping[str, float]  # port → outward current, units of σ t (1 V)
+    source_unit: float
+    cells_live: int
+    conservation_error: float
+    solve_seconds: float
+
+
+# Unit flows solved in this process (see skygas.memo): a sweep over J, p or temperature on one
+# device solves the current once.
+_MEMO = Memo("current", maxsize=4)
+
+
+def _unit_flow(outline: Outline, sources: tuple[str, ...], sinks: tuple[str, ...],
+               h_nm: float, cell_size: float) -> _UnitFlow:
+    started = time.perf_counter()
+    cells = _aligned_cells(outline, outline.ports[sources[0]], h_nm)
+    cx, cy = cells.centres()
+    inside = outline.contains_nm(cx, cy)
+    ports = _port_faces(cells, inside, outline, sources, sinks)
+    for side, names, mask in (("source", sources, ports.is_source),
+                              ("sink", sinks, ~ports.is_source)):
+        require(mask.any(), "cell_size", cell_size,
+                f"a cell size small enough that the {side} port(s) {list(names)} touch "
+                "at least one cell centre inside the outline")
+    phi = _solve_unit_potential(cells, inside, ports, cell_size)
+
+    # Unit-voltage flux densities across every face, in units of σ·(1 V)/h (φ is 0 … 1).
+    face = []
+    for di, dj in _DIRECTIONS:
+        other = np.roll(phi, (-dj, -di), axis=(0, 1))
+        flow = np.where(inside & np.isfinite(other), phi - other, 0.0)  # walls: 0
+        face.append(np.nan_to_num(flow))
+    k = ports.cell_j, ports.cell_i
+    for d in range(4):
+        on = ports.direction == d
+        face[d][k[0][on], k[1][on]] = (ports.conductance[on]
+                                       * (phi[k[0][on], k[1][on]] - ports.potential[on]))
+    jx_unit = 0.5 * (face[0] - face[1])
+    jy_unit = 0.5 * (face[2] - face[3])
+
+    # Port currents in units of σ t (1 V): sum of outward face fluxes (h cancels).
+    port_current_unit = {}
+    outward = ports.conductance * (phi[k] - ports.potential)
+    for p, name in enumerate(sources + sinks):
+        port_current_unit[name] = float(np.sum(outward[ports.port == p]))
+    source_unit = -sum(port_current_unit[n] for n in sources)  # into the device
+    sink_unit = sum(port_current_unit[n] for n in sinks)  # out of it
+
+    # Outside cells (and cells cut off from the electrodes) take the nearest live value.
+    live = inside & np.isfinite(phi)
+    nearest = ndimage.distance_transform_edt(~live, return_distances=False, return_indices=True)
+    jx_unit = jx_unit[nearest[0], nearest[1]]
+    jy_unit = jy_unit[nearest[0], nearest[1]]
+    phi_unit = phi[nearest[0], nearest[1]]  # every nearest cell is live: no nan left
+    frozen(inside, jx_unit, jy_unit, phi_unit)
+    return _UnitFlow(cells=cells, inside=inside, jx_unit=jx_unit, jy_unit=jy_unit,
+                     phi_unit=phi_unit, port_current_unit=MappingProxyType(port_current_unit),
+                     source_unit=source_unit, cells_live=int(live.sum()),
+                     conservation_error=abs(sink_unit - source_unit) / source_unit,
+                     solve_seconds=time.perf_counter() - started)
+
+
 # -- the solution --------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class CurrentSolution:
@@ -265,6 +355,8 @@ class CurrentSolution:
         sink).
     total_current: I = J·w·t [A]; ``resistance`` R [Ω]; ``voltage`` V = I·R [V];
     power: Joule power I²R [W].
+    solve_seconds: how long the unit-voltage solve took when it was computed (it is shared by
+        every later solve of the same outline, ports and cell size in this process).
     """
 
     current_density: float
@@ -314,6 +406,25 @@ class CurrentSolution:
         y_nm = np.asarray(y, float) * M_TO_NM
         return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(self._jy, x_nm,
                                                                                   y_nm)
+
+    @property
+    def cell_grid(self) -> _Cells:
+        """The cells the fields live on (hashable; equal for every solve of one outline, set of
+        ports and cell size)."""
+        return self._cells
+
+    def sampling_weights(self, x, y) -> BilinearWeights:
+        """Interpolation weights at points (x, y) [m] for :meth:`current_density_with`.
+
+        They depend only on the points and :attr:`cell_grid`, so a caller sampling many
+        solutions of one device at the same points computes them once."""
+        return self._cells.weights(np.asarray(x, float) * M_TO_NM,
+                                   np.asarray(y, float) * M_TO_NM)
+
+    def current_density_with(self, weights: BilinearWeights) -> tuple[np.ndarray, np.ndarray]:
+        """(jx, jy) [A/m²] at the points of ``weights`` (:meth:`sampling_weights`): the same
+        bits as :meth:`current_density_at` at those points."""
+        return weights.apply(self._jx), weights.apply(self._jy)
 
     def potential_at(self, x, y) -> np.ndarray:
         """Electric potential φ [V] at (x, y) [m] (the sink is at 0 V; nearest cell)."""
@@ -462,55 +573,18 @@ def solve_current(
     require(estimate <= _MAX_CELLS, "cell_size", cell_size,
             f"a cell size giving at most {_MAX_CELLS} cells (this one gives ~{estimate:.2g})")
 
-    started = time.perf_counter()
-    cells = _aligned_cells(outline, outline.ports[sources[0]], h_nm)
-    cx, cy = cells.centres()
-    inside = outline.contains_nm(cx, cy)
-    ports = _port_faces(cells, inside, outline, sources, sinks)
-    for side, names, mask in (("source", sources, ports.is_source),
-                              ("sink", sinks, ~ports.is_source)):
-        require(mask.any(), "cell_size", cell_size,
-                f"a cell size small enough that the {side} port(s) {list(names)} touch "
-                "at least one cell centre inside the outline")
-    phi = _solve_unit_potential(cells, inside, ports, cell_size)
-
-    # Unit-voltage flux densities across every face, in units of σ·(1 V)/h (φ is 0 … 1).
-    face = []
-    for di, dj in _DIRECTIONS:
-        other = np.roll(phi, (-dj, -di), axis=(0, 1))
-        flow = np.where(inside & np.isfinite(other), phi - other, 0.0)  # walls: 0
-        face.append(np.nan_to_num(flow))
-    k = ports.cell_j, ports.cell_i
-    for d in range(4):
-        on = ports.direction == d
-        face[d][k[0][on], k[1][on]] = (ports.conductance[on]
-                                       * (phi[k[0][on], k[1][on]] - ports.potential[on]))
-    jx_unit = 0.5 * (face[0] - face[1])
-    jy_unit = 0.5 * (face[2] - face[3])
-
-    # Port currents in units of σ t (1 V): sum of outward face fluxes (h cancels).
-    port_current_unit = {}
-    outward = ports.conductance * (phi[k] - ports.potential)
-    for p, name in enumerate(sources + sinks):
-        port_current_unit[name] = float(np.sum(outward[ports.port == p]))
-    source_unit = -sum(port_current_unit[n] for n in sources)  # into the device
-    sink_unit = sum(port_current_unit[n] for n in sinks)  # out of it
-
-    h_m = cells.h / M_TO_NM
+    flow = _MEMO.get((outline_key(outline), sources, sinks, h_nm),
+                     lambda: _unit_flow(outline, sources, sinks, h_nm, cell_size))
+    port_current_unit = flow.port_current_unit
+    h_m = flow.cells.h / M_TO_NM
     source_width = sum(outline.ports[n].length for n in sources) / M_TO_NM
     total_current = current_density * source_width * thickness
-    resistance = rho / (thickness * source_unit)
+    resistance = rho / (thickness * flow.source_unit)
     voltage = total_current * resistance
     scale = voltage / (rho * h_m)  # σ·V/h: unit flux density → A/m²
-    jx = jx_unit * scale
-    jy = jy_unit * scale
-    # Outside cells (and cells cut off from the electrodes) take the nearest live value.
-    live = inside & np.isfinite(phi)
-    nearest = ndimage.distance_transform_edt(~live, return_distances=False, return_indices=True)
-    jx = jx[nearest[0], nearest[1]]
-    jy = jy[nearest[0], nearest[1]]
-    phi_volts = np.where(live, phi * voltage, np.nan)
-    phi_volts = phi_volts[nearest[0], nearest[1]]
+    jx = flow.jx_unit * scale
+    jy = flow.jy_unit * scale
+    phi_volts = flow.phi_unit * voltage
 
     # Port currents [A] (positive from source to sink) and the physical port widths [m].
     port_flux = {}
@@ -520,14 +594,14 @@ def solve_current(
     for name in sinks:
         port_flux[name] = (port_current_unit[name] * voltage * thickness / rho,
                            outline.ports[name].length / M_TO_NM)
-    elapsed = time.perf_counter() - started
     return CurrentSolution(
         current_density=float(current_density), sources=sources, sinks=sinks, cell_size=h_m,
         conductor_thickness=thickness, resistivity=rho, source_width=source_width,
         total_current=total_current, resistance=resistance, voltage=voltage,
-        power=total_current ** 2 * resistance, cells=int(live.sum()), solve_seconds=elapsed,
-        conservation_error=abs(sink_unit - source_unit) / source_unit, _cells=cells, _jx=jx,
-        _jy=jy, _phi=phi_volts, _inside=inside, _outline=outline, _port_flux=port_flux)
+        power=total_current ** 2 * resistance, cells=flow.cells_live,
+        solve_seconds=flow.solve_seconds, conservation_error=flow.conservation_error,
+        _cells=flow.cells, _jx=jx, _jy=jy, _phi=phi_volts, _inside=flow.inside,
+        _outline=outline, _port_flux=port_flux)
 
 
 # -- figures -------------------------------------------------------------------------------------

@@ -17,6 +17,9 @@ Exact values are computed within ``band`` of the boundary (default: the wall-law
 cells); farther nodes take the Euclidean distance transform of the rasterised outline, and their
 normals are zero (the wall force vanishes there anyway).
 
+A field depends only on the outline, the spacing and the band, so each process builds it once per
+combination and re-uses it (:mod:`skygas.memo`; its arrays are read-only).
+
 Interpolation error
 -------------------
 Bilinear interpolation of a distance field is exact for straight walls. Against the outline
@@ -35,26 +38,58 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import shapely
 from scipy import ndimage
 
 from skygas.geometry import Outline
+from skygas.memo import Memo, frozen, outline_key
+from skygas.nearest_segment import nearest_segment
+
+# Wall fields built in this process, by outline, spacing and band (see skygas.memo): a sweep
+# over current, p-value or temperature re-uses its device's field instead of rebuilding it.
+_MEMO = Memo("wall_field", maxsize=4)
+
+
+@dataclass(frozen=True)
+class BilinearWeights:
+    """Where and with which weights to interpolate a (ny, nx) field at a set of points.
+
+    Computing the weights once and applying them to several fields (or to the same field
+    rescaled, as a sweep over current density does) gives exactly the bits of
+    :func:`bilinear_at_indices`, which is this class applied once."""
+
+    flat: np.ndarray  # index of the lower-left node in the raveled field
+    nx: int
+    w00: np.ndarray
+    w10: np.ndarray
+    w01: np.ndarray
+    w11: np.ndarray
+
+    @classmethod
+    def at_indices(cls, shape: tuple[int, int], fx, fy) -> BilinearWeights:
+        """Weights at fractional indices (fx, fy) of a field of ``shape`` (clamped to it)."""
+        ny, nx = shape
+        fx = np.clip(np.asarray(fx, float), 0, nx - 1 - 1e-9)
+        fy = np.clip(np.asarray(fy, float), 0, ny - 1 - 1e-9)
+        i = fx.astype(int)
+        j = fy.astype(int)
+        tx = fx - i
+        ty = fy - j
+        return cls(j * nx + i, nx, (1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty)
+
+    def apply(self, field: np.ndarray) -> np.ndarray:
+        """The interpolated values of ``field`` (same arithmetic as the kernels)."""
+        f = field.reshape(-1)
+        k = self.flat
+        return (self.w00 * f[k] + self.w10 * f[k + 1]
+                + self.w01 * f[k + self.nx] + self.w11 * f[k + self.nx + 1])
 
 
 def bilinear_at_indices(field: np.ndarray, fx, fy) -> np.ndarray:
     """Bilinear interpolation of ``field`` (ny, nx) at fractional indices (fx, fy), clamped to
     the grid (the same arithmetic as the kernels)."""
-    ny, nx = field.shape
-    fx = np.clip(np.asarray(fx, float), 0, nx - 1 - 1e-9)
-    fy = np.clip(np.asarray(fy, float), 0, ny - 1 - 1e-9)
-    i = fx.astype(int)
-    j = fy.astype(int)
-    tx = fx - i
-    ty = fy - j
-    return ((1 - tx) * (1 - ty) * field[j, i] + tx * (1 - ty) * field[j, i + 1]
-            + (1 - tx) * ty * field[j + 1, i] + tx * ty * field[j + 1, i + 1])
+    return BilinearWeights.at_indices(field.shape, fx, fy).apply(field)
 
 
 @dataclass(frozen=True)
@@ -89,38 +124,6 @@ def _segments(lines) -> np.ndarray:
     return np.vstack(segs) if segs else np.empty((0, 4))
 
 
-@numba.njit(cache=True)
-def _nearest_segment_kernel(px, py, segs, out_d, out_x, out_y, out_i):
-    for p in range(px.shape[0]):
-        best = np.inf
-        for n in range(segs.shape[0]):
-            ax, ay, bx, by = segs[n, 0], segs[n, 1], segs[n, 2], segs[n, 3]
-            dx, dy = bx - ax, by - ay
-            t = ((px[p] - ax) * dx + (py[p] - ay) * dy) / max(dx * dx + dy * dy, 1e-300)
-            t = min(max(t, 0.0), 1.0)
-            qx, qy = ax + t * dx, ay + t * dy
-            d2 = (px[p] - qx) ** 2 + (py[p] - qy) ** 2
-            if d2 < best:
-                best = d2
-                out_x[p], out_y[p], out_i[p] = qx, qy, n
-        out_d[p] = np.sqrt(best)
-
-
-def nearest_segment(px, py, segs):
-    """Exact nearest point on segments ``segs`` (n, 4) to each point (px, py).
-
-    Brute force over segments in compiled code: O(points × segments), about 0.2 s for a
-    1024 nm chamber. Returns (distance, nearest x, nearest y, segment index).
-    """
-    px = np.ascontiguousarray(px, dtype=np.float64)
-    py = np.ascontiguousarray(py, dtype=np.float64)
-    out_d, out_x, out_y = (np.empty_like(px) for _ in range(3))
-    out_i = np.empty(px.shape, dtype=np.int64)
-    _nearest_segment_kernel(px, py, np.ascontiguousarray(segs, dtype=np.float64),
-                            out_d, out_x, out_y, out_i)
-    return out_d, out_x, out_y, out_i
-
-
 @dataclass(frozen=True)
 class WallField:
     """Wall distance, inward normal and domain distance sampled on :attr:`grid` (nm)."""
@@ -134,7 +137,15 @@ class WallField:
 
     @classmethod
     def build(cls, outline: Outline, spacing: float, band: float) -> "WallField":
-        """Sample ``outline`` with grid ``spacing`` [nm]; exact within ``band`` [nm]."""
+        """Sample ``outline`` with grid ``spacing`` [nm]; exact within ``band`` [nm].
+
+        The field depends only on these three, so it is built once per process for each
+        (outline, spacing, band) and shared, read-only, by later calls (:mod:`skygas.memo`)."""
+        key = (outline_key(outline), float(spacing), float(band))
+        return _MEMO.get(key, lambda: cls._build(outline, float(spacing), float(band)))
+
+    @classmethod
+    def _build(cls, outline: Outline, spacing: float, band: float) -> WallField:
         x0, y0, x1, y1 = outline.bounds_nm
         margin = 3 * spacing
         nx = int(np.ceil((x1 - x0 + 2 * margin) / spacing)) + 1
@@ -151,7 +162,7 @@ class WallField:
         normal_x = np.zeros_like(approx)
         normal_y = np.zeros_like(approx)
 
-        # ... and exact values near the boundary, through an R-tree of wall segments.
+        # ... and exact values near the boundary (bucketed exact search: skygas.nearest_segment).
         near = np.abs(approx) < band + 2 * spacing
         px, py = gx[near], gy[near]
         wall_segs = _segments(outline.walls)
@@ -186,6 +197,7 @@ class WallField:
         domain_distance[near] = np.where(is_inside, 1.0, -1.0) * boundary_dist
         normal_x[near] = nxv
         normal_y[near] = nyv
+        frozen(wall_distance, normal_x, normal_y, domain_distance)
         return cls(grid, wall_distance, normal_x, normal_y, domain_distance, float(band))
 
     def interpolate(self, x, y) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

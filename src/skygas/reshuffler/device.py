@@ -20,6 +20,7 @@ from shapely.geometry import MultiPolygon
 
 from skygas.errors import require
 from skygas.geometry import Outline, chamber_with_conduits
+from skygas.memo import Memo, frozen
 from skygas.units import M_TO_NM
 
 CHAMBERS = ("up", "down")
@@ -86,15 +87,34 @@ def drift_field_on_grid(geometry: ReshufflerGeometry, solution, grid,
                         spin_drift_coefficient: float) -> tuple[np.ndarray, np.ndarray]:
     """v_s = ξ·j [m/s] on the simulation grid: the one-chamber current copied into both
     chambers. ``solution`` is a :class:`~skygas.current.CurrentSolution` of one chamber
-    centred at the origin; ``grid`` the engine's :class:`~skygas.wall_field.Grid` (nm)."""
-    gx, gy = grid.nodes()
-    vx = np.zeros_like(gx)
-    vy = np.zeros_like(gy)
-    which = geometry.chamber_of(gy)
-    for index, name in enumerate(CHAMBERS):
-        cx, cy = geometry.centres()[name]
-        mask = which == index
-        jx, jy = solution.current_density_at(gx[mask] / M_TO_NM - cx, gy[mask] / M_TO_NM - cy)
+    centred at the origin; ``grid`` the engine's :class:`~skygas.wall_field.Grid` (nm).
+
+    Which nodes fall in which chamber and their interpolation weights depend only on the
+    geometry, the grid and the solution's cells, not on J: they are kept per process
+    (:mod:`skygas.memo`), so runs that differ in J (or p, temperature, …) only re-weight."""
+    key = (geometry, grid, solution.cell_grid)
+    plan = _SAMPLING.get(key, lambda: _sampling_plan(geometry, solution, grid))
+    vx = np.zeros((grid.ny, grid.nx))
+    vy = np.zeros((grid.ny, grid.nx))
+    for mask, weights in plan:
+        jx, jy = solution.current_density_with(weights)
         vx[mask] = spin_drift_coefficient * jx
         vy[mask] = spin_drift_coefficient * jy
     return vx, vy
+
+
+# (geometry, grid, cells) → per chamber: its nodes and their interpolation weights
+_SAMPLING = Memo("drift_sampling", maxsize=2)
+
+
+def _sampling_plan(geometry: ReshufflerGeometry, solution, grid) -> tuple:
+    gx, gy = grid.nodes()
+    which = geometry.chamber_of(gy)
+    plan = []
+    for index, name in enumerate(CHAMBERS):
+        cx, cy = geometry.centres()[name]
+        mask = which == index
+        weights = solution.sampling_weights(gx[mask] / M_TO_NM - cx, gy[mask] / M_TO_NM - cy)
+        frozen(mask, weights.flat, weights.w00, weights.w10, weights.w01, weights.w11)
+        plan.append((mask, weights))
+    return tuple(plan)

@@ -80,7 +80,12 @@ def _dask(pending: list[Run], store: SweepStore, session: int, report: SweepRepo
                                    key=f"skygas-run-{'-'.join(map(str, run.index))}"
                                        f"-r{run.replica}-{session}-{time.time_ns()}")
             futures[future] = run
-        for future in as_completed(list(futures)):
+        # as_completed must wait on this client's event loop: by default it takes the default
+        # client's, which differs when the process holds another client (a test or benchmark
+        # that started the cluster), and a run whose result is lost with a killed worker after
+        # it completed is then awaited on two loops at once (RuntimeError: "bound to a
+        # different event loop") instead of being recomputed
+        for future in as_completed(list(futures), loop=client.loop):
             run = futures.pop(future)
             try:
                 result = future.result()
