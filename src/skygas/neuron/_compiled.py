@@ -262,9 +262,10 @@ def annihilation_check(x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacin
     return count
 
 
-@numba.njit(cache=True)
-def count_in_disk(x, y, alive, center_x, center_y, radius):
-    """Number of living centres (x, y) [nm] strictly inside the disk (centre, radius) [nm]."""
+@numba.njit(inline="always")
+def _slots_in_disk(x, y, alive, center_x, center_y, radius, out):
+    """Store in ``out`` the slots of living centres (x, y) [nm] strictly inside the disk
+    (centre, radius) [nm]; return how many."""
     r2 = radius * radius
     count = 0
     for k in range(x.shape[0]):
@@ -272,8 +273,16 @@ def count_in_disk(x, y, alive, center_x, center_y, radius):
             dx = x[k] - center_x
             dy = y[k] - center_y
             if dx * dx + dy * dy < r2:
+                out[count] = k
                 count += 1
     return count
+
+
+@numba.njit(cache=True)
+def count_in_disk(x, y, alive, center_x, center_y, radius):
+    """Number of living centres (x, y) [nm] strictly inside the disk (centre, radius) [nm]."""
+    return _slots_in_disk(x, y, alive, center_x, center_y, radius,
+                          np.empty(x.shape[0], np.int64))
 
 
 @numba.njit(cache=True)
@@ -281,16 +290,8 @@ def covered_fraction(x, y, alive, center_x, center_y, radius, skyrmion_radius, s
     """Fraction of the sample points (shape (m, 2), nm) inside at least one skyrmion disk of
     radius ``skyrmion_radius`` [nm] centred on a living (x, y) [nm]; only skyrmions whose disk
     can reach the sensor disk (centre, radius) are considered."""
-    reach2 = (radius + skyrmion_radius) ** 2
     near = np.empty(x.shape[0], np.int64)
-    m = 0
-    for k in range(x.shape[0]):
-        if alive[k]:
-            dx = x[k] - center_x
-            dy = y[k] - center_y
-            if dx * dx + dy * dy < reach2:
-                near[m] = k
-                m += 1
+    m = _slots_in_disk(x, y, alive, center_x, center_y, radius + skyrmion_radius, near)
     if m == 0:
         return 0.0
     rs2 = skyrmion_radius * skyrmion_radius
