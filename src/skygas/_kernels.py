@@ -74,7 +74,10 @@ ST_WALL_ESCAPES = 1  # steps that crossed a wall (undone)
 ST_EXITS = 2         # skyrmions that left through a port
 ST_FRAMES = 3        # frames recorded
 ST_REBUILDS = 4      # neighbour-list builds
-ST_SIZE = 5
+ST_STEPS = 5         # steps taken (fewer than asked when a planned insertion cannot be made)
+ST_INSERTED = 6      # planned insertions made
+ST_NEXT_ID = 7       # in: id for the next inserted skyrmion; out: the one after the last
+ST_SIZE = 8
 
 # Channels of the packed grid array ``fields[j, i, c]`` (float32, nm and nm/ns). All per-node
 # fields sit side by side so that one bilinear lookup reads four neighbouring memory spots.
@@ -310,9 +313,26 @@ def compute_velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, vx, 
                 n_owners, vx, vy, stats, np.empty(n))
 
 
+@numba.njit(inline="always")
+def _free_slot_if_clear(x, y, alive, sx, sy, clearance2):
+    """The lowest free slot if no alive skyrmion lies closer than √clearance2 to (sx, sy);
+    −1 if one does (the site is occupied), −2 if the site is clear but no slot is free."""
+    free = -2
+    for i in range(x.shape[0]):
+        if alive[i]:
+            dx = x[i] - sx
+            dy = y[i] - sy
+            if dx * dx + dy * dy < clearance2:
+                return -1
+        elif free == -2:
+            free = i
+    return free
+
+
 @numba.njit(**_JIT)
 def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fields, ports,
-            frames_x, frames_y, exit_slot, exit_step, exit_port, exit_x, exit_y, stats):
+            frames_x, frames_y, exit_id, exit_step, exit_port, exit_x, exit_y,
+            plan_step, plan_x, plan_y, plan_ids, plan_clearance2, stats):
     """Advance the state by ``n_steps`` steps of the stochastic Heun (or Euler–Maruyama) scheme.
 
     Additive noise ξ = √(2D dt)·z is drawn once per skyrmion and step (keyed on its id and the
@@ -322,6 +342,13 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
     exit recorded) or crossed a wall (the step is undone for it and counted).
     A frame is recorded into ``frames_x/y`` (NaN = absent) whenever the global step count
     reaches a multiple of ``ip[IP_RECORD_EVERY]``. Returns the number of exits.
+
+    Planned insertions (an injector's nucleations, without a round trip to Python for each):
+    at the start of global step ``plan_step[k]`` (increasing), a skyrmion is inserted at
+    (``plan_x[k]``, ``plan_y[k]``) into the lowest free slot, with id ``stats[ST_NEXT_ID]``
+    (stored in ``plan_ids[k]``), if no skyrmion lies closer than √plan_clearance2. If the site
+    is occupied or no slot is free, the call stops before that step and leaves the event to the
+    caller. ``stats[ST_STEPS]`` and ``stats[ST_INSERTED]`` say how far it got.
     """
     n = x.shape[0]
     dt = fp[FP_DT]
@@ -356,8 +383,29 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
     pair_j = np.empty(capacity, dtype=np.int64)
     n_owners = -1  # no list yet
     n_exits = 0
+    n_planned = plan_step.shape[0]
+    cursor = 0
+    steps_done = n_steps
     for s in range(n_steps):
         step = step0 + s
+        if cursor < n_planned and plan_step[cursor] == step:
+            slot = _free_slot_if_clear(x, y, alive, plan_x[cursor], plan_y[cursor],
+                                       plan_clearance2)
+            if slot < 0:
+                steps_done = s
+                break
+            x[slot] = plan_x[cursor]
+            y[slot] = plan_y[cursor]
+            alive[slot] = True
+            ids[slot] = stats[ST_NEXT_ID]
+            plan_ids[cursor] = stats[ST_NEXT_ID]
+            stats[ST_NEXT_ID] += 1
+            cursor += 1
+            vx0[slot] = 0.0  # its margin starts from rest
+            vy0[slot] = 0.0
+            vx1[slot] = 0.0
+            vy1[slot] = 0.0
+            n_owners = -1  # the list must include it: rebuild
         if thermal and substeps == 1:
             fill_gaussian_pairs(seed, ids, alive, step, STREAM_THERMAL, cand, nx_, ny_)
             for i in range(n):
@@ -437,7 +485,7 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
             if crossed >= 0:
                 alive[i] = False
                 n_owners = -1  # the pair list still holds the removed skyrmion: rebuild it
-                exit_slot[n_exits] = i
+                exit_id[n_exits] = ids[i]  # the slot may be reused later in this call
                 exit_step[n_exits] = step + 1
                 exit_port[n_exits] = crossed
                 exit_x[n_exits] = xp[i]
@@ -456,6 +504,8 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
                     frames_y[f, i] = np.nan
             stats[ST_FRAMES] = f + 1
     stats[ST_EXITS] += n_exits
+    stats[ST_STEPS] = steps_done
+    stats[ST_INSERTED] = cursor
     return n_exits
 
 

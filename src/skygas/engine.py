@@ -65,6 +65,8 @@ NEIGHBOR_MARGIN_STEPS = 8.0
 NEIGHBOR_MARGIN_MAX = 1.25
 
 INTEGRATORS = {"heun": 0, "euler-maruyama": 1}
+#: Free slots beyond the last occupied one that a kernel call with planned insertions sees.
+PLAN_SLOTS = 4
 #: Systems with more skyrmions than this are sorted spatially before each kernel call.
 SORT_ABOVE = 256
 
@@ -137,6 +139,23 @@ class Operation(Protocol):
     def next_step(self, step: int) -> int: ...
 
     def act(self, sim: "Simulation") -> None: ...
+
+
+class PlannedInsertions(Protocol):
+    """An :class:`Operation` that can also hand its insertions to the compiled kernel.
+
+    ``plan_insertions(step, limit)`` returns the insertions it would make at steps in
+    (``step``, ``limit``), as ``(steps, positions_nm (k, 2), clearance_nm)``, each to be made at
+    the start of its step if no skyrmion lies closer than the clearance to its position, or
+    ``None`` when it needs Python for its next decisions (then it acts through ``act`` as
+    usual). The kernel makes them in order and stops before the first one it cannot make (site
+    occupied, or no free slot); ``planned_insertions_made(sim, ids)`` then reports the ids of
+    those made, and the operation's ``next_step`` takes over from there. This saves a return to
+    Python for every insertion (the reshuffler nucleates every 20 steps)."""
+
+    def plan_insertions(self, step: int, limit: int): ...
+
+    def planned_insertions_made(self, sim: "Simulation", ids: np.ndarray) -> None: ...
 
 
 class Periodic:
@@ -444,14 +463,44 @@ class Simulation:
         end = self.step + n_total
         while self.step < end:
             due = [op.next_step(self.step) for op in self.operations]
+            planner, plan = self._plan(due, min(end, self.step + chunk_steps), record_every)
             target = max(self.step, min([end, self.step + chunk_steps, *due]))
+            self._planned_done = 0
             if target > self.step:
-                self._advance(target - self.step, record_every)
+                self._advance(target - self.step, record_every, plan)
+            if planner is not None:  # the index of the planning operation
+                op = self.operations[planner]
+                op.planned_insertions_made(self, plan[3][:self._planned_done])
+                due[planner] = op.next_step(self.step)
             for op, when in zip(self.operations, due):
                 if when <= self.step:
                     op.act(self)
             if progress is not None:
                 progress(self.time)
+
+    def _plan(self, due: list[int], horizon: int, record_every: int):
+        """The first operation able to plan its insertions up to the next stop, and its plan
+        (steps, x [nm], y [nm], ids out, clearance² [nm²]); ``due`` is updated so that the
+        planner's own schedule does not stop the kernel. (None, None) if there is none, or
+        while frames are recorded (a call stopped early would leave frames unwritten)."""
+        if record_every:
+            return None, None
+        for k, op in enumerate(self.operations):
+            if due[k] <= self.step or not hasattr(op, "plan_insertions"):
+                continue
+            limit = min([horizon, *(d for j, d in enumerate(due) if j != k)])
+            if limit <= self.step:
+                return None, None
+            planned = op.plan_insertions(self.step, limit)
+            if planned is None:
+                continue
+            steps, pos, clearance = planned
+            due[k] = limit
+            plan = (np.asarray(steps, np.int64), np.ascontiguousarray(pos[:, 0], float),
+                    np.ascontiguousarray(pos[:, 1], float), np.empty(len(steps), np.int64),
+                    float(clearance) ** 2)
+            return k, plan
+        return None, None
 
     def _buffers(self, cap: int) -> dict:
         """Per-call work arrays, reused while the capacity is unchanged (the reshuffler makes
@@ -460,12 +509,14 @@ class Simulation:
             self._buffer_cap = cap
             self._buf = {
                 "stats": np.zeros(K.ST_SIZE, dtype=np.int64),
-                "exit_slot": np.empty(cap, dtype=np.int64),
+                "exit_id": np.empty(cap, dtype=np.int64),
                 "exit_step": np.empty(cap, dtype=np.int64),
                 "exit_port": np.empty(cap, dtype=np.int64),
                 "exit_x": np.empty(cap),
                 "exit_y": np.empty(cap),
                 "no_frames": np.empty((1, cap)),
+                "no_plan": (np.empty(0, np.int64), np.empty(0), np.empty(0),
+                            np.empty(0, np.int64), 0.0),
             }
         return self._buf
 
@@ -488,14 +539,21 @@ class Simulation:
         self._alive[:n] = True
         self._ids[n:] = -1
 
-    def _advance(self, n_steps: int, record_every: int) -> None:
+    def _advance(self, n_steps: int, record_every: int, plan=None) -> None:
         occupied = np.flatnonzero(self._alive)
         if len(occupied) > SORT_ABOVE:
             self._sort_spatially()
             occupied = np.arange(len(occupied))
         # The kernel sees the slots up to the last occupied one: new skyrmions fill the lowest
         # free slot, so this range stays compact and loops skip the empty tail of the arrays.
+        # Planned insertions get a few free slots more (the kernel stops if it runs out).
         used = int(occupied[-1]) + 1 if len(occupied) else 0
+        if plan is not None and len(plan[0]):
+            if len(self._x) < used + PLAN_SLOTS:
+                self._grow(used + PLAN_SLOTS)
+            used += PLAN_SLOTS
+        else:
+            plan = None
         buf = self._buffers(len(self._x))
         # frames fall on the global steps that are multiples of record_every
         n_frames = ((self.step + n_steps) // record_every - self.step // record_every
@@ -509,15 +567,18 @@ class Simulation:
             ids_before = None
         stats = buf["stats"]
         stats[:] = 0
+        stats[K.ST_NEXT_ID] = self._next_id
         self._ip[K.IP_RECORD_EVERY] = record_every
         n_exit = K.advance(
             self._x[:used], self._y[:used], self._alive[:used], self._ids[:used], self.step,
             n_steps, self._fp, self._ip, self.forces.pair.values, self.forces.wall.values,
-            self._fields, self._ports, frames_x, frames_y, buf["exit_slot"], buf["exit_step"],
-            buf["exit_port"], buf["exit_x"], buf["exit_y"], stats)
+            self._fields, self._ports, frames_x, frames_y, buf["exit_id"], buf["exit_step"],
+            buf["exit_port"], buf["exit_x"], buf["exit_y"], *(plan or buf["no_plan"]), stats)
+        n_steps = int(stats[K.ST_STEPS])
+        self._planned_done = int(stats[K.ST_INSERTED])
+        self._next_id = int(stats[K.ST_NEXT_ID])
         for e in range(n_exit):
-            slot = buf["exit_slot"][e]
-            self.exits.append((int(self._ids[slot]), float(buf["exit_step"][e] * self.time_step),
+            self.exits.append((int(buf["exit_id"][e]), float(buf["exit_step"][e] * self.time_step),
                                self._port_names[buf["exit_port"][e]],
                                float(buf["exit_x"][e] / units.M_TO_NM),
                                float(buf["exit_y"][e] / units.M_TO_NM)))

@@ -111,6 +111,30 @@ class Injector:
             while queue and self._site_clear(sim, chamber):
                 self._nucleate(sim, chamber, queue.popleft())
 
+    # -- the same, made by the compiled kernel (see skygas.engine.PlannedInsertions) ---------
+    def plan_insertions(self, step: int, limit: int):
+        """The nucleations due at steps in (step, limit), for the kernel to make while their
+        sites are clear; None while a queue is waiting (retries need the rules above)."""
+        if any(self.pending.values()):
+            return None
+        first = self.next_event
+        last = min(len(self.bits), -(-limit // self.interval_steps))  # ticks < limit
+        ticks = np.arange(first, max(first, last), dtype=np.int64) * self.interval_steps
+        keep = ticks > step
+        events = np.arange(first, max(first, last))[keep]
+        up, down = self.sites[CHAMBERS[0]], self.sites[CHAMBERS[1]]
+        positions = np.where(self.bits[events, None], up, down)
+        self._planned = events
+        return ticks[keep], positions, self.clearance_nm
+
+    def planned_insertions_made(self, sim, ids: np.ndarray) -> None:
+        """Log the planned nucleations the kernel made (in order, from the first)."""
+        events = self._planned[: len(ids)]
+        self.log.skyrmion[events] = ids
+        self.log.injection_step[events] = events * self.interval_steps
+        if len(events):
+            self.next_event = int(events[-1]) + 1
+
     # -- helpers ------------------------------------------------------------------------------
     def _site_clear(self, sim, chamber: str) -> bool:
         site = self.sites[chamber]
