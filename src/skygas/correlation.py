@@ -292,15 +292,16 @@ def occupancy(injection_times: Any, injection_chambers: Any, detection_times: An
     (sorted, unique), so ``up.max()`` is the exact peak occupancy (the paper quotes at most 51
     skyrmions per chamber at its lowest current).
     """
-    t_inj = _times(injection_times, "injection_times")
-    ch_inj = as_chambers(injection_chambers, "injection_chambers")
-    _same_size(injection_times=t_inj, injection_chambers=ch_inj)
-    t_det = _times(detection_times, "detection_times")
-    ch_det = as_chambers(detection_chambers, "detection_chambers")
-    _same_size(detection_times=t_det, detection_chambers=ch_det)
-    t_ann = _times(annihilation_times, "annihilation_times")
-    ch_ann = as_chambers(annihilation_chambers, "annihilation_chambers")
-    _same_size(annihilation_times=t_ann, annihilation_chambers=ch_ann)
+    def events(kind: str, times_: Any, chambers: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Validated (times, chambers) of one kind of event (injection, detection, …)."""
+        t = _times(times_, f"{kind}_times")
+        ch = as_chambers(chambers, f"{kind}_chambers")
+        _same_size(**{f"{kind}_times": t, f"{kind}_chambers": ch})
+        return t, ch
+
+    t_inj, ch_inj = events("injection", injection_times, injection_chambers)
+    t_det, ch_det = events("detection", detection_times, detection_chambers)
+    t_ann, ch_ann = events("annihilation", annihilation_times, annihilation_chambers)
     if times is None:
         query = np.unique(np.concatenate([t_inj, t_det, t_ann]))
     else:

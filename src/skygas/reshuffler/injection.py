@@ -26,19 +26,15 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
+from skygas._kernels import _free_slot_if_clear
 from skygas.reshuffler.device import CHAMBERS
 
 
 @numba.njit(cache=True)
-def _nearest_distance2(x, y, alive, sx, sy):
-    """Squared distance [nm²] from (sx, sy) to the nearest alive skyrmion (inf if none)."""
-    best = np.inf
-    for i in range(x.shape[0]):
-        if alive[i]:
-            d2 = (x[i] - sx) ** 2 + (y[i] - sy) ** 2
-            if d2 < best:
-                best = d2
-    return best
+def _site_occupied(x, y, alive, sx, sy, clearance2):
+    """True if an alive skyrmion lies closer than √clearance2 [nm] to (sx, sy): the same test
+    the kernel applies to the nucleations planned into it."""
+    return _free_slot_if_clear(x, y, alive, sx, sy, clearance2) == -1
 
 
 @dataclass
@@ -138,8 +134,8 @@ class Injector:
     # -- helpers ------------------------------------------------------------------------------
     def _site_clear(self, sim, chamber: str) -> bool:
         site = self.sites[chamber]
-        return _nearest_distance2(sim._x, sim._y, sim._alive, site[0], site[1]) \
-            >= self.clearance_nm**2
+        return not _site_occupied(sim._x, sim._y, sim._alive, site[0], site[1],
+                                  self.clearance_nm**2)
 
     def _nucleate(self, sim, chamber: str, k: int) -> None:
         ident = sim._insert_nm(self.sites[chamber][None, :])[0]
