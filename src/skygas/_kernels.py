@@ -23,6 +23,7 @@ import math
 import numba
 import numpy as np
 
+from skygas._field_lookup import field_at, prefetch_at
 from skygas._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
 
 # Let LLVM fuse multiply-adds, reassociate and use reciprocals, but keep NaN/Inf semantics
@@ -79,42 +80,20 @@ ST_INSERTED = 6      # planned insertions made
 ST_NEXT_ID = 7       # in: id for the next inserted skyrmion; out: the one after the last
 ST_SIZE = 8
 
-# Channels of the packed grid array ``fields[j, i, c]`` (float32, nm and nm/ns). All per-node
-# fields sit side by side so that one bilinear lookup reads four neighbouring memory spots.
+# Channels of the packed grid array ``fields[j, i, c]`` (float32, nm and nm/ns; N_CHANNELS = 8,
+# see skygas._field_lookup). All per-node fields sit side by side, so one lookup interpolates
+# them all with four vector loads.
 CH_WALL_DIST = 0     # signed distance to the nearest wall
 CH_NORMAL_X = 1      # inward wall normal
 CH_NORMAL_Y = 2
 CH_DOMAIN = 3        # signed distance to the boundary (walls and ports), > 0 inside
 CH_DRIFT_X = 4       # spin-drift velocity v_s
-CH_DRIFT_Y = 5
-N_CHANNELS = 6
+CH_DRIFT_Y = 5       # (channels 6 and 7 are padding)
 
 
 # Array indices in the hot loops are unsigned: NumPy-style negative-index wrap-around then
 # needs no extra instructions, which matters in loops of a few dozen instructions.
 _U = numba.uint64
-
-
-@numba.njit(inline="always")
-def _corner(fields, fx, fy):
-    """Cell index and bilinear weights at fractional grid indices (clamped to the grid)."""
-    ny, nx = fields.shape[0], fields.shape[1]
-    fx = min(max(fx, 0.0), nx - 1.000001)
-    fy = min(max(fy, 0.0), ny - 1.000001)
-    i = _U(fx)
-    j = _U(fy)
-    tx = fx - i
-    ty = fy - j
-    return i, j, (1.0 - tx) * (1.0 - ty), tx * (1.0 - ty), (1.0 - tx) * ty, tx * ty
-
-
-@numba.njit(inline="always")
-def _sample(fields, i, j, w00, w10, w01, w11, c):
-    """Bilinear value of channel ``c`` with weights from :func:`_corner`."""
-    i1 = i + _U(1)
-    j1 = j + _U(1)
-    return (w00 * fields[j, i, c] + w10 * fields[j, i1, c]
-            + w01 * fields[j1, i, c] + w11 * fields[j1, i1, c])
 
 
 @numba.njit(inline="always")
@@ -263,17 +242,16 @@ def _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, star
             continue
         fx = vx[i]
         fy = vy[i]
-        ci, cj, w00, w10, w01, w11 = _corner(fields, (x[i] - gx0) * inv_gh,
-                                             (y[i] - gy0) * inv_gh)
-        d = _sample(fields, ci, cj, w00, w10, w01, w11, CH_WALL_DIST)
-        domain[i] = _sample(fields, ci, cj, w00, w10, w01, w11, CH_DOMAIN)
+        field = field_at(fields, (x[i] - gx0) * inv_gh, (y[i] - gy0) * inv_gh)
+        d = field[CH_WALL_DIST]
+        domain[i] = field[CH_DOMAIN]
         if d < wall_cut:
             fw = _lerp(wall_table, max(d, 0.0) * inv_wall_h)
-            fx += fw * _sample(fields, ci, cj, w00, w10, w01, w11, CH_NORMAL_X)
-            fy += fw * _sample(fields, ci, cj, w00, w10, w01, w11, CH_NORMAL_Y)
+            fx += fw * field[CH_NORMAL_X]
+            fy += fw * field[CH_NORMAL_Y]
         if drift_grid:
-            vsx = _sample(fields, ci, cj, w00, w10, w01, w11, CH_DRIFT_X)
-            vsy = _sample(fields, ci, cj, w00, w10, w01, w11, CH_DRIFT_Y)
+            vsx = field[CH_DRIFT_X]
+            vsy = field[CH_DRIFT_Y]
         # drive force μ(g ε + b I)·v_s
         fx += drive_g * vsy + drive_b * vsx
         fy += -drive_g * vsx + drive_b * vsy
@@ -422,6 +400,14 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
                         sy += zy
                     nx_[i] = noise * sx * inv_sqrt_sub
                     ny_[i] = noise * sy * inv_sqrt_sub
+        if heun:
+            # Heun's predictor will land near x + v dt + ξ (v: the last corrector velocity),
+            # often on grid rows not read for a while: start loading them now, so that the
+            # wait overlaps with the first force pass.
+            for i in range(n):
+                if alive[i]:
+                    prefetch_at(fields, (x[i] + vx1[i] * dt + nx_[i] - gx0) * inv_gh,
+                                (y[i] + vy1[i] * dt + ny_[i] - gy0) * inv_gh)
         for stage in range(2 if heun else 1):
             px = x if stage == 0 else xp
             py = y if stage == 0 else yp
@@ -470,9 +456,7 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
                 x[i] = xp[i]
                 y[i] = yp[i]
                 continue
-            ci, cj, w00, w10, w01, w11 = _corner(fields, (xp[i] - gx0) * inv_gh,
-                                                 (yp[i] - gy0) * inv_gh)
-            if _sample(fields, ci, cj, w00, w10, w01, w11, CH_DOMAIN) >= 0.0:
+            if field_at(fields, (xp[i] - gx0) * inv_gh, (yp[i] - gy0) * inv_gh)[CH_DOMAIN] >= 0.0:
                 x[i] = xp[i]
                 y[i] = yp[i]
                 continue

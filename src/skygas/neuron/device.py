@@ -224,7 +224,7 @@ class NeuronRun:
 
     def emission_times(self) -> np.ndarray:
         """Times [s] of every skyrmion emitted through the output read-out line."""
-        return np.array([e[1] for e in self.sim.exits], dtype=float)
+        return self.sim.exits.arrays()["time"].copy()
 
     def injection_times(self) -> np.ndarray:
         return np.array([s for s, _ in self.injector.injected], dtype=float) * self.sim.time_step

@@ -191,12 +191,12 @@ class ReshufflerRun:
     # -- results ------------------------------------------------------------------------------
     def detections(self) -> dict[str, np.ndarray]:
         """Read-out events in time order: skyrmion id, time [s], chamber (1 = UP, 0 = DOWN)."""
-        exits = [e for e in self.sim.exits if e[2].endswith(".output")]
-        ids = np.array([e[0] for e in exits], dtype=np.int64)
-        times = np.array([e[1] for e in exits], dtype=float)
-        up = np.array([e[2] == "up.output" for e in exits], dtype=bool)
-        order = np.argsort(times, kind="stable")
-        return {"skyrmion": ids[order], "time": times[order], "up": up[order]}
+        exits = self.sim.exits.arrays()
+        labels = self.sim.exits.port_labels()
+        read = np.char.endswith(labels, ".output")
+        order = np.argsort(exits["time"][read], kind="stable")
+        return {"skyrmion": exits["skyrmion"][read][order], "time": exits["time"][read][order],
+                "up": (labels[read] == "up.output")[order]}
 
     def counts(self) -> dict[str, int]:
         """Injected, detected, present and annihilated skyrmions; raises if not conserved."""
