@@ -11,6 +11,7 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -34,9 +35,24 @@ def run_one(config_json: str) -> dict:
     return out
 
 
+def relative_cost(config) -> float:
+    """A rough relative cost of one run, used only to start the longest runs first, so that no
+    worker is left finishing one long run alone at the end of a sweep (results do not depend
+    on the order). Cost ∝ steps × (1 + skyrmions in the device): a skyrmion crosses a chamber
+    and its conduits at about the spin-drift speed ξJ, and one enters per injection interval.
+    """
+    device = config.device
+    speed = config.drift_coefficient() * config.current_density  # v_s [m/s]
+    present = (device.chamber_diameter + 2 * device.conduit_length) / speed \
+        / config.injection.interval
+    steps = config.duration / (config.time_step or 1e-10)
+    return steps * (1.0 + present)
+
+
 @dataclass
 class SweepReport:
-    """What one invocation did: runs computed now, runs found done, the store's path."""
+    """What one invocation did: runs computed now, runs found done, the store's path and the
+    invocation's session number in it (−1 if it ended before opening the store)."""
 
     store: Path
     session: int
@@ -54,7 +70,8 @@ def _progress_bar(enabled: bool, total: int, initial: int):
     return tqdm(total=total, initial=initial, unit="run", desc="sweep")
 
 
-def _serial(pending: list[Run], store: SweepStore, session: int, report: SweepReport, bar):
+def _serial(pending: list[Run], store: SweepStore, report: SweepReport, bar):
+    report.session = session = store.start_session()
     for run in pending:
         store.write(run, run_one(run.config.model_dump_json()), session)
         report.computed.append((run.index, run.replica))
@@ -62,7 +79,7 @@ def _serial(pending: list[Run], store: SweepStore, session: int, report: SweepRe
             bar.update(1)
 
 
-def _dask(pending: list[Run], store: SweepStore, session: int, report: SweepReport, bar,
+def _dask(pending: list[Run], open_store: Callable[[], SweepStore], report: SweepReport, bar,
           scheduler: str | None, workers: int | None):
     from dask.distributed import Client, LocalCluster, as_completed
 
@@ -75,11 +92,18 @@ def _dask(pending: list[Run], store: SweepStore, session: int, report: SweepRepo
         client = Client(scheduler)
     try:
         futures = {}
-        for run in pending:
+        # the costliest first: submitted first (an idle worker takes a task as soon as it
+        # arrives) and with the highest priority (Dask starts higher priorities first)
+        by_cost = sorted(pending, key=lambda r: relative_cost(r.config), reverse=True)
+        for rank, run in enumerate(by_cost):
             future = client.submit(run_one, run.config.model_dump_json(), pure=False,
+                                   priority=len(by_cost) - rank,
                                    key=f"skygas-run-{'-'.join(map(str, run.index))}"
-                                       f"-r{run.replica}-{session}-{time.time_ns()}")
+                                       f"-r{run.replica}-{time.time_ns()}")
             futures[future] = run
+        # the store is created (a new sweep) or opened while the workers start on the runs
+        store = open_store()
+        report.session = session = store.start_session()
         # as_completed must wait on this client's event loop: by default it takes the default
         # client's, which differs when the process holds another client (a test or benchmark
         # that started the cluster), and a run whose result is lost with a killed worker after
@@ -114,17 +138,20 @@ def run_sweep(sweep: Sweep, out: str | Path, *, scheduler: str | None = None,
     """
     require(workers is None or workers >= 1, "--workers", workers, "at least 1 worker")
     start = time.perf_counter()
-    store = SweepStore(out, sweep)
-    pending = store.pending()
-    session = store.start_session()
-    report = SweepReport(Path(out), session, skipped=len(sweep.runs) - len(pending))
+    # An existing store is opened (and checked against the sweep) before anything runs. A new
+    # one is created once the runs are on their way (creating it costs ~0.4 s).
+    store = SweepStore(out, sweep) if SweepStore.exists(out) or serial else None
+    pending = store.pending() if store is not None else list(sweep.runs)
+    report = SweepReport(Path(out), -1, skipped=len(sweep.runs) - len(pending))
     bar = _progress_bar(progress, len(sweep.runs), report.skipped)
     try:
-        if pending:
-            if serial:
-                _serial(pending, store, session, report, bar)
-            else:
-                _dask(pending, store, session, report, bar, scheduler, workers)
+        if not pending:
+            report.session = store.start_session()
+        elif serial:
+            _serial(pending, store, report, bar)
+        else:
+            _dask(pending, lambda: store or SweepStore(out, sweep), report, bar, scheduler,
+                  workers)
     finally:
         if bar is not None:
             bar.close()

@@ -6,6 +6,11 @@ points) and ``running`` for the running-correlation curves. Each quantity of a r
 after its end). Every array is chunked one run per chunk, so writing a run touches no other
 run's data, and zarr's local store replaces each chunk file atomically.
 
+A new store is written as metadata only: a chunk that was never written reads as its array's
+fill value (NaN, ``done`` = 0, ``session`` = −1), so creating the store writes no per-run files
+and each run later writes only its own chunks (stored uncompressed: one number or one curve per
+chunk is not worth compressing, and the client spends less time per run).
+
 ``done`` (0/1) is the source of truth for resuming: a run's values are written first and its
 ``done`` element last, so a run interrupted while being written counts as not done and is
 simply run again. ``finished_at`` (Unix time) and ``session`` (which invocation of the sweep
@@ -23,6 +28,7 @@ import json
 import time
 from pathlib import Path
 
+import dask.array as da
 import numpy as np
 import xarray as xr
 import zarr
@@ -65,14 +71,19 @@ def _skeleton(sweep: Sweep) -> tuple[xr.Dataset, dict]:
     seeds = np.zeros(shape, dtype=np.int64)
     for run in sweep.runs:
         seeds[(*run.index, run.replica)] = run.seed
-    data = {q: (dims, np.full(shape, np.nan)) for q in QUANTITIES}
+
+    def unwritten(fill, dtype=np.float64, extra=()):
+        # lazy: only the metadata is written, chunks stay absent and read as the fill value
+        return da.full((*shape, *extra), fill, dtype=dtype, chunks=(1,) * len(shape) + extra)
+
+    data = {q: (dims, unwritten(np.nan)) for q in QUANTITIES}
     for name in RUNNING:
-        data[name] = ((*dims, "running"), np.full((*shape, n_running), np.nan),
+        data[name] = ((*dims, "running"), unwritten(np.nan, extra=(n_running,)),
                       {"units": "s"} if name == "running_time" else {})
     data["seed"] = (dims, seeds)
-    data["done"] = (dims, np.zeros(shape, dtype=np.int8))
-    data["finished_at"] = (dims, np.full(shape, np.nan), {"units": "s since 1970-01-01 UTC"})
-    data["session"] = (dims, np.full(shape, -1, dtype=np.int32))
+    data["done"] = (dims, unwritten(0, np.int8))
+    data["finished_at"] = (dims, unwritten(np.nan), {"units": "s since 1970-01-01 UTC"})
+    data["session"] = (dims, unwritten(-1, np.int32))
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({
         "title": "skygas reshuffler sweep",
@@ -89,9 +100,11 @@ def _skeleton(sweep: Sweep) -> tuple[xr.Dataset, dict]:
         "sessions_json": "[]",
     })
     chunk = (1,) * len(dims)
-    encoding = {name: {"chunks": chunk} for name in (*QUANTITIES, "seed", "done",
-                                                      "finished_at", "session")}
-    encoding.update({name: {"chunks": (*chunk, n_running)} for name in RUNNING})
+    per_run = {"chunks": chunk, "compressors": None}
+    encoding = {name: dict(per_run) for name in (*QUANTITIES, "done", "finished_at")}
+    encoding["session"] = {**per_run, "fill_value": -1}  # an int: −1 without NaN masking
+    encoding.update({name: {**per_run, "chunks": (*chunk, n_running)} for name in RUNNING})
+    encoding["seed"] = {"chunks": shape}  # written once, never rewritten
     return ds, encoding
 
 
@@ -101,7 +114,7 @@ class SweepStore:
     def __init__(self, path: str | Path, sweep: Sweep):
         self.path = Path(path)
         self.sweep = sweep
-        if not (self.path / "zarr.json").exists():
+        if not self.exists(self.path):
             ds, encoding = _skeleton(sweep)
             # written under a temporary name and moved into place, so a store either exists
             # complete or not at all
@@ -110,7 +123,8 @@ class SweepStore:
                 import shutil
 
                 shutil.rmtree(tmp)
-            ds.to_zarr(tmp, mode="w", encoding=encoding, consolidated=False, zarr_format=3)
+            ds.to_zarr(tmp, mode="w", encoding=encoding, consolidated=False, zarr_format=3,
+                       compute=False)
             tmp.rename(self.path)
         self.group = zarr.open_group(self.path, mode="r+")
         found = self.group.attrs.get("fingerprint")
@@ -121,6 +135,11 @@ class SweepStore:
         self._arrays = {name: self.group[name] for name in
                         (*QUANTITIES, *RUNNING, "done", "finished_at", "session")}
         self._async = {name: _async_of(array) for name, array in self._arrays.items()}
+
+    @staticmethod
+    def exists(path: str | Path) -> bool:
+        """Whether a store (complete: see :meth:`__init__`) is at ``path``."""
+        return (Path(path) / "zarr.json").exists()
 
     def done(self) -> np.ndarray:
         return np.asarray(self._arrays["done"][...]).astype(bool)
