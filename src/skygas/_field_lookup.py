@@ -28,6 +28,11 @@ from numba.extending import intrinsic
 
 N_CHANNELS = 8  # channels per node: one 32-byte vector of float32
 
+# The intrinsic's name carries its pointer type: "p0" with opaque pointers (llvmlite ≥ 0.45),
+# "p0i8" with the typed pointers of older releases.
+_PREFETCH_NAME = ("llvm.prefetch.p0i8" if getattr(ir, "ir_layer_typed_pointers_enabled", True)
+                  else "llvm.prefetch.p0")
+
 
 @intrinsic
 def _bilinear8(typingctx, fields, base, row, w00, w10, w01, w11):
@@ -84,7 +89,7 @@ def _prefetch(typingctx, array, offset):
         i32 = ir.IntType(32)
         function = cgutils.get_or_insert_function(
             builder.module, ir.FunctionType(ir.VoidType(), [pointer.type, i32, i32, i32]),
-            "llvm.prefetch.p0")
+            _PREFETCH_NAME)
         # read access, locality 3 (keep in all levels), data cache
         builder.call(function, [pointer, ir.Constant(i32, 0), ir.Constant(i32, 3),
                                 ir.Constant(i32, 1)])
