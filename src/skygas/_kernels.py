@@ -189,12 +189,41 @@ def _list_is_stale(x, y, alive, ref_x, ref_y, margin):
 
 
 @numba.njit(inline="always")
+def _interior_floors(x, y, alive, fp, ip, fields, margin, floor):
+    """For each skyrmion, a lower bound on its distance to the device boundary [nm] that holds
+    while it stays within its margin s_i of (x, y), if it is also certain to stay beyond the
+    wall-force cutoff there; −1 otherwise (and always when the drift comes from the grid).
+
+    The interpolated fields change by at most √2 per nm (bilinear interpolation of values
+    that differ by at most one spacing h between neighbouring nodes), with one spacing more
+    for safety where exact values meet the distance transform. A skyrmion with
+        d_wall − √2 s_i − h ≥ wall cutoff   and   d_boundary − √2 s_i − h > 0
+    feels no wall force and cannot leave while the neighbour list stays valid, and with a
+    uniform drift nothing else in the grid concerns it: the force passes skip its lookup."""
+    gx0 = fp[FP_GRID_X0]
+    gy0 = fp[FP_GRID_Y0]
+    gh = fp[FP_GRID_H]
+    inv_gh = 1.0 / gh
+    wall_cut = fp[FP_WALL_CUT]
+    uniform_drift = ip[IP_DRIFT_GRID] == 0
+    for i in range(x.shape[0]):
+        floor[i] = -1.0
+        if alive[i] and uniform_drift:
+            field = field_at(fields, (x[i] - gx0) * inv_gh, (y[i] - gy0) * inv_gh)
+            slack = math.sqrt(2.0) * margin[i] + gh
+            if field[CH_WALL_DIST] - slack >= wall_cut and field[CH_DOMAIN] - slack > 0.0:
+                floor[i] = field[CH_DOMAIN] - slack
+
+
+@numba.njit(inline="always")
 def _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start, pair_j,
-                n_owners, vx, vy, stats, domain):
+                n_owners, vx, vy, stats, domain, floor):
     """Deterministic velocity (nm/ns) of every alive skyrmion: pair + wall + drive forces.
     Forces are accumulated in ``vx, vy`` and converted to velocities in place. The signed
     distance to the device boundary at each position is stored in ``domain`` (it shares the
-    cache lines of the wall lookup, and lets the step's acceptance skip a lookup)."""
+    cache lines of the wall lookup, and lets the step's acceptance skip a lookup); for a
+    skyrmion with ``floor[i] > 0`` (see :func:`_interior_floors`) the lookup is skipped and
+    ``domain`` gets that lower bound."""
     n = x.shape[0]
     for i in range(n):
         vx[i] = 0.0
@@ -242,16 +271,19 @@ def _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, star
             continue
         fx = vx[i]
         fy = vy[i]
-        field = field_at(fields, (x[i] - gx0) * inv_gh, (y[i] - gy0) * inv_gh)
-        d = field[CH_WALL_DIST]
-        domain[i] = field[CH_DOMAIN]
-        if d < wall_cut:
-            fw = _lerp(wall_table, max(d, 0.0) * inv_wall_h)
-            fx += fw * field[CH_NORMAL_X]
-            fy += fw * field[CH_NORMAL_Y]
-        if drift_grid:
-            vsx = field[CH_DRIFT_X]
-            vsy = field[CH_DRIFT_Y]
+        if floor[i] > 0.0:
+            domain[i] = floor[i]
+        else:
+            field = field_at(fields, (x[i] - gx0) * inv_gh, (y[i] - gy0) * inv_gh)
+            d = field[CH_WALL_DIST]
+            domain[i] = field[CH_DOMAIN]
+            if d < wall_cut:
+                fw = _lerp(wall_table, max(d, 0.0) * inv_wall_h)
+                fx += fw * field[CH_NORMAL_X]
+                fy += fw * field[CH_NORMAL_Y]
+            if drift_grid:
+                vsx = field[CH_DRIFT_X]
+                vsy = field[CH_DRIFT_Y]
         # drive force μ(g ε + b I)·v_s
         fx += drive_g * vsy + drive_b * vsx
         fy += -drive_g * vsx + drive_b * vsy
@@ -288,7 +320,7 @@ def compute_velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, vx, 
             break
         capacity *= 2
     _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start, pair_j,
-                n_owners, vx, vy, stats, np.empty(n))
+                n_owners, vx, vy, stats, np.empty(n), np.full(n, -1.0))
 
 
 @numba.njit(inline="always")
@@ -309,7 +341,7 @@ def _free_slot_if_clear(x, y, alive, sx, sy, clearance2):
 
 @numba.njit(**_JIT)
 def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fields, ports,
-            frames_x, frames_y, exit_id, exit_step, exit_port, exit_x, exit_y,
+            frames_x, frames_y, frames_id, exit_id, exit_step, exit_port, exit_x, exit_y,
             plan_step, plan_x, plan_y, plan_ids, plan_clearance2, stats):
     """Advance the state by ``n_steps`` steps of the stochastic Heun (or Euler–Maruyama) scheme.
 
@@ -318,8 +350,9 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
         x̃ = x + v(x) dt + ξ,   x' = x + ½[v(x) + v(x̃)] dt + ξ.
     After each step a skyrmion outside the device either crossed a port (it is removed and the
     exit recorded) or crossed a wall (the step is undone for it and counted).
-    A frame is recorded into ``frames_x/y`` (NaN = absent) whenever the global step count
-    reaches a multiple of ``ip[IP_RECORD_EVERY]``. Returns the number of exits.
+    A frame is recorded into ``frames_x/y`` (NaN = absent) and ``frames_id`` (the id in each
+    slot, −1 = absent) whenever the global step count reaches a multiple of
+    ``ip[IP_RECORD_EVERY]``; ``stats[ST_FRAMES]`` counts them. Returns the number of exits.
 
     Planned insertions (an injector's nucleations, without a round trip to Python for each):
     at the start of global step ``plan_step[k]`` (increasing), a skyrmion is inserted at
@@ -353,6 +386,7 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
     ref_x = np.empty(n)
     ref_y = np.empty(n)
     domain = np.empty(n)
+    floor = np.full(n, -1.0)  # set at each neighbour-list build
     cell_head = np.empty(ip[IP_NCX] * ip[IP_NCY], dtype=np.int64)
     cell_next = np.empty(n, dtype=np.int64)
     owner = np.empty(n, dtype=np.int64)
@@ -403,9 +437,10 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
         if heun:
             # Heun's predictor will land near x + v dt + ξ (v: the last corrector velocity),
             # often on grid rows not read for a while: start loading them now, so that the
-            # wait overlaps with the first force pass.
+            # wait overlaps with the first force pass. Skyrmions far from every wall (see
+            # _interior_floors) will not look their fields up.
             for i in range(n):
-                if alive[i]:
+                if alive[i] and floor[i] <= 0.0:
                     prefetch_at(fields, (x[i] + vx1[i] * dt + nx_[i] - gx0) * inv_gh,
                                 (y[i] + vy1[i] * dt + ny_[i] - gy0) * inv_gh)
         for stage in range(2 if heun else 1):
@@ -426,16 +461,17 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
                     pair_j = np.empty(capacity, dtype=np.int64)
                 ref_x[:] = px
                 ref_y[:] = py
+                _interior_floors(px, py, alive, fp, ip, fields, margin, floor)
                 stats[ST_REBUILDS] += 1
             if stage == 0:
                 _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start,
-                            pair_j, n_owners, vx0, vy0, stats, domain)
+                            pair_j, n_owners, vx0, vy0, stats, domain, floor)
                 for i in range(n):
                     xp[i] = x[i] + vx0[i] * dt + nx_[i]
                     yp[i] = y[i] + vy0[i] * dt + ny_[i]
             else:
                 _velocities(xp, yp, alive, fp, ip, pair_table, wall_table, fields, owner, start,
-                            pair_j, n_owners, vx1, vy1, stats, domain)
+                            pair_j, n_owners, vx1, vy1, stats, domain, floor)
                 for i in range(n):
                     xp[i] = x[i] + 0.5 * (vx0[i] + vx1[i]) * dt + nx_[i]
                     yp[i] = y[i] + 0.5 * (vy0[i] + vy1[i]) * dt + ny_[i]
@@ -483,9 +519,11 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
                 if alive[i]:
                     frames_x[f, i] = x[i]
                     frames_y[f, i] = y[i]
+                    frames_id[f, i] = ids[i]
                 else:
                     frames_x[f, i] = np.nan
                     frames_y[f, i] = np.nan
+                    frames_id[f, i] = -1
             stats[ST_FRAMES] = f + 1
     stats[ST_EXITS] += n_exits
     stats[ST_STEPS] = steps_done
@@ -513,6 +551,7 @@ def repeated_force_pass(x, y, alive, fp, ip, pair_table, wall_table, fields, rep
             break
         capacity *= 2
     domain = np.empty(n)
+    floor = np.full(n, -1.0)  # every skyrmion looks its fields up
     for _ in range(repeats):
         _velocities(x, y, alive, fp, ip, pair_table, wall_table, fields, owner, start, pair_j,
-                    n_owners, vx, vy, stats, domain)
+                    n_owners, vx, vy, stats, domain, floor)

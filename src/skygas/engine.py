@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
-from typing import Callable, Protocol
+from dataclasses import dataclass
+from typing import Callable, NamedTuple, Protocol
 
 import numpy as np
 import xarray as xr
@@ -175,10 +175,17 @@ class Periodic:
         self.action(sim)
 
 
-@dataclass
-class _Frames:
-    times: list = field(default_factory=list)
-    blocks: list = field(default_factory=list)  # (frame times, x (f, cap), y, slot→id copy)
+class FrameBlock(NamedTuple):
+    """The frames one kernel call recorded: ``f`` frames of the ``slots`` storage slots it saw.
+
+    ``x``, ``y`` [nm] are NaN and ``ids`` is −1 where a slot was empty. The id in a slot can
+    change from frame to frame (a skyrmion leaves, a new one is inserted in its slot)."""
+
+    step: np.ndarray   # (f,) global step numbers
+    time: np.ndarray   # (f,) [s]
+    x: np.ndarray      # (f, slots) [nm]
+    y: np.ndarray      # (f, slots) [nm]
+    ids: np.ndarray    # (f, slots)
 
 
 class Simulation:
@@ -251,7 +258,7 @@ class Simulation:
         self.wall_escapes = 0
         self.pair_evaluations = 0
         self.operations: list[Operation] = []
-        self._frames = _Frames()
+        self._frame_blocks: list[FrameBlock] = []
 
         # -- parameters for the kernels ------------------------------------------------------
         t = self.thiele
@@ -464,7 +471,7 @@ class Simulation:
         end = self.step + n_total
         while self.step < end:
             due = [op.next_step(self.step) for op in self.operations]
-            planner, plan = self._plan(due, min(end, self.step + chunk_steps), record_every)
+            planner, plan = self._plan(due, min(end, self.step + chunk_steps))
             target = max(self.step, min([end, self.step + chunk_steps, *due]))
             self._planned_done = 0
             if target > self.step:
@@ -479,13 +486,10 @@ class Simulation:
             if progress is not None:
                 progress(self.time)
 
-    def _plan(self, due: list[int], horizon: int, record_every: int):
+    def _plan(self, due: list[int], horizon: int):
         """The first operation able to plan its insertions up to the next stop, and its plan
         (steps, x [nm], y [nm], ids out, clearance² [nm²]); ``due`` is updated so that the
-        planner's own schedule does not stop the kernel. (None, None) if there is none, or
-        while frames are recorded (a call stopped early would leave frames unwritten)."""
-        if record_every:
-            return None, None
+        planner's own schedule does not stop the kernel. (None, None) if there is none."""
         for k, op in enumerate(self.operations):
             if due[k] <= self.step or not hasattr(op, "plan_insertions"):
                 continue
@@ -503,23 +507,26 @@ class Simulation:
             return k, plan
         return None, None
 
-    def _buffers(self, cap: int) -> dict:
-        """Per-call work arrays, reused while the capacity is unchanged (the reshuffler makes
-        ~10⁵ short kernel calls; allocating them each time would dominate)."""
-        if getattr(self, "_buffer_cap", -1) != cap:
-            self._buffer_cap = cap
-            self._buf = {
+    def _buffers(self, cap: int, exits: int) -> dict:
+        """Per-call work arrays, reused while they are large enough (the reshuffler makes
+        ~10⁴ kernel calls; allocating them each time would cost more than short calls).
+        ``cap`` is the storage capacity, ``exits`` the most exits the call can record."""
+        buf = getattr(self, "_buf", None)
+        if buf is None or buf["no_frames"].shape[1] != cap:
+            buf = self._buf = {
                 "stats": np.zeros(K.ST_SIZE, dtype=np.int64),
-                "exit_id": np.empty(cap, dtype=np.int64),
-                "exit_step": np.empty(cap, dtype=np.int64),
-                "exit_port": np.empty(cap, dtype=np.int64),
-                "exit_x": np.empty(cap),
-                "exit_y": np.empty(cap),
                 "no_frames": np.empty((1, cap)),
+                "no_frame_ids": np.empty((1, cap), dtype=np.int64),
                 "no_plan": (np.empty(0, np.int64), np.empty(0), np.empty(0),
                             np.empty(0, np.int64), 0.0),
             }
-        return self._buf
+        if "exit_id" not in buf or len(buf["exit_id"]) < exits:
+            size = max(exits, 2 * len(buf.get("exit_id", ())), 1)
+            buf.update({"exit_id": np.empty(size, dtype=np.int64),
+                        "exit_step": np.empty(size, dtype=np.int64),
+                        "exit_port": np.empty(size, dtype=np.int64),
+                        "exit_x": np.empty(size), "exit_y": np.empty(size)})
+        return buf
 
     def _sort_spatially(self) -> None:
         """Store skyrmions in row-major order of the neighbour cells they sit in, packed at the
@@ -555,17 +562,18 @@ class Simulation:
             used += PLAN_SLOTS
         else:
             plan = None
-        buf = self._buffers(len(self._x))
+        # Each exit removes a skyrmion present at the start of the call or inserted during it.
+        buf = self._buffers(len(self._x), used + (len(plan[0]) if plan is not None else 0))
         # frames fall on the global steps that are multiples of record_every
         n_frames = ((self.step + n_steps) // record_every - self.step // record_every
                     if record_every else 0)
         if n_frames:
             frames_x = np.empty((n_frames, used))
             frames_y = np.empty((n_frames, used))
-            ids_before = self._ids[:used].copy()
+            frames_id = np.empty((n_frames, used), dtype=np.int64)
         else:
             frames_x = frames_y = buf["no_frames"]
-            ids_before = None
+            frames_id = buf["no_frame_ids"]
         stats = buf["stats"]
         stats[:] = 0
         stats[K.ST_NEXT_ID] = self._next_id
@@ -573,7 +581,8 @@ class Simulation:
         n_exit = K.advance(
             self._x[:used], self._y[:used], self._alive[:used], self._ids[:used], self.step,
             n_steps, self._fp, self._ip, self.forces.pair.values, self.forces.wall.values,
-            self._fields, self._ports, frames_x, frames_y, buf["exit_id"], buf["exit_step"],
+            self._fields, self._ports, frames_x, frames_y, frames_id, buf["exit_id"],
+            buf["exit_step"],
             buf["exit_port"], buf["exit_x"], buf["exit_y"], *(plan or buf["no_plan"]), stats)
         n_steps = int(stats[K.ST_STEPS])
         self._planned_done = int(stats[K.ST_INSERTED])
@@ -582,10 +591,13 @@ class Simulation:
             self.exits.append(buf["exit_id"][:n_exit], buf["exit_step"][:n_exit] * self.time_step,
                               buf["exit_port"][:n_exit], buf["exit_x"][:n_exit] / units.M_TO_NM,
                               buf["exit_y"][:n_exit] / units.M_TO_NM)
-        if n_frames:
+        recorded = int(stats[K.ST_FRAMES])  # fewer than n_frames if the call stopped early
+        if recorded:
             first = (self.step // record_every + 1) * record_every
-            steps = first + record_every * np.arange(n_frames)
-            self._frames.blocks.append((steps * self.time_step, frames_x, frames_y, ids_before))
+            steps = first + record_every * np.arange(recorded, dtype=np.int64)
+            self._frame_blocks.append(FrameBlock(steps, steps * self.time_step,
+                                                 frames_x[:recorded], frames_y[:recorded],
+                                                 frames_id[:recorded]))
         self.step += n_steps
         self.wall_escapes += int(stats[K.ST_WALL_ESCAPES])
         self.pair_evaluations += int(stats[K.ST_PAIRS])
@@ -614,12 +626,13 @@ class Simulation:
         self._alive, self._ids = state["alive"].copy(), state["ids"].copy()
         self._next_id, self.step, self.wall_escapes, self.pair_evaluations = \
             (int(v) for v in state["counters"])
-        n_ids = state["frame_x"].shape[1]
-        self._frames = _Frames()
-        if len(state["frame_time"]):
-            self._frames.blocks.append((state["frame_time"], state["frame_x"] * units.M_TO_NM,
-                                        state["frame_y"] * units.M_TO_NM,
-                                        np.arange(n_ids, dtype=np.int64)))
+        self._frame_blocks = []
+        times = state["frame_time"]
+        if len(times):
+            fx, fy = state["frame_x"] * units.M_TO_NM, state["frame_y"] * units.M_TO_NM
+            ids = np.where(np.isfinite(fx), np.arange(fx.shape[1], dtype=np.int64), -1)
+            steps = np.rint(times / self.time_step).astype(np.int64)
+            self._frame_blocks.append(FrameBlock(steps, times, fx, fy, ids))
         self.exits = ExitLog.from_arrays(self.outline.ports, state["exit_skyrmion"],
                                          state["exit_time"], state["exit_port"],
                                          state["exit_x"], state["exit_y"])
@@ -647,22 +660,35 @@ class Simulation:
             "geometry": self.outline.describe(),
         }
 
+    @property
+    def frame_blocks(self) -> tuple[FrameBlock, ...]:
+        """The recorded frames, one :class:`FrameBlock` per kernel call, in time order."""
+        return tuple(self._frame_blocks)
+
+    def take_frames(self, first_block: int = 0) -> list[FrameBlock]:
+        """Remove and return the frame blocks from index ``first_block`` on (a long run that
+        keeps its own sparse record of positions takes them after each piece, so that the
+        simulation does not hold them all)."""
+        taken = self._frame_blocks[first_block:]
+        del self._frame_blocks[first_block:]
+        return taken
+
     def trajectories(self) -> xr.Dataset:
         """Recorded positions as a Dataset: ``x``, ``y`` [m] with dims (time, skyrmion), NaN
         where a skyrmion does not exist, ``time`` [s]; exits as variables on dim ``exit``;
         attributes hold every parameter (``parameters_json``), the seed and the version."""
-        blocks = self._frames.blocks
-        times = np.concatenate([b[0] for b in blocks]) if blocks else np.empty(0)
+        blocks = self._frame_blocks
+        times = np.concatenate([b.time for b in blocks]) if blocks else np.empty(0)
         n_ids = self._next_id
         x = np.full((len(times), n_ids), np.nan)
         y = np.full((len(times), n_ids), np.nan)
         row = 0
-        for t, fx, fy, ids in blocks:
-            slots = np.nonzero(ids >= 0)[0]
-            rows = slice(row, row + len(t))
-            x[rows, ids[slots]] = fx[:, slots] / units.M_TO_NM
-            y[rows, ids[slots]] = fy[:, slots] / units.M_TO_NM
-            row += len(t)
+        for block in blocks:
+            frame, slot = np.nonzero(block.ids >= 0)
+            ident = block.ids[frame, slot]
+            x[row + frame, ident] = block.x[frame, slot] / units.M_TO_NM
+            y[row + frame, ident] = block.y[frame, slot] / units.M_TO_NM
+            row += len(block.time)
         ex = self.exits.arrays()
         ds = xr.Dataset(
             {

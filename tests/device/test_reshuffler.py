@@ -203,3 +203,51 @@ def test_nucleations_made_in_the_kernel_follow_the_python_rule_exactly(rule):
     assert np.array_equal(ids_a, ids_b)
     assert np.abs(pos_a - pos_b).max() < 1e-15  # metres: 1e-6 nm
     assert planned.sim.step == python.sim.step
+
+
+def test_snapshots_recorded_in_the_kernel_equal_positions_read_at_each_snapshot_step():
+    """The kernel records the snapshots itself (frames with the id in each slot), also while it
+    makes planned nucleations and removes read-out skyrmions. They must equal what
+    ``Simulation.positions`` returns when the run stops at every snapshot step and returns to
+    Python for every nucleation, read before a nucleation due at the same step (T = 0, so the runs differ only by rounding: pair sums are
+    added in another order)."""
+    from skygas.engine import Periodic
+
+    config = parse_reshuffler_config({
+        **FAST, "temperature": 0.0, "duration": 0.4e-6,
+        "output": {"trajectory_window": 50e-9, "snapshot_interval": 20e-9}})
+    recorded, reference = ReshufflerRun.build(config), ReshufflerRun.build(config)
+    reference.injector.plan_insertions = lambda step, limit: None
+    read = []
+    # first in the list: it reads the positions before a nucleation due at the same step
+    reference.sim.operations.insert(
+        0, Periodic(reference.snapshot_steps, lambda sim: read.append((sim.time,
+                                                                       *sim.positions()))))
+    recorded.advance()
+    reference.advance()
+    snaps = recorded.snapshots
+    assert len(snaps) == len(read) == 20
+    assert recorded.counts()["detected"] >= 5  # skyrmions left between snapshots
+    for (t_a, ids_a, pos_a), (t_b, ids_b, pos_b) in zip(snaps, read):
+        assert t_a == pytest.approx(t_b, rel=1e-12)
+        assert np.array_equal(ids_a, ids_b)
+        assert np.abs(pos_a - pos_b).max(initial=0.0) < 1e-15  # metres
+    # the figure's dense frames: every 1 ns of the window, on the snapshot steps as well
+    times = recorded.sim.trajectories().time.values
+    assert len(times) == 50 and np.allclose(np.diff(times), 1e-9)
+
+
+def test_one_long_kernel_call_records_more_exits_than_the_storage_capacity():
+    """Without snapshots or checkpoints to stop it, one kernel call nucleates and reads out
+    far more skyrmions than the state has slots (64): every exit must be recorded once."""
+    config = parse_reshuffler_config({
+        **FAST, "duration": 1e-6, "output": {"trajectory_window": 0.0,
+                                            "snapshot_interval": 1.0}})
+    run = ReshufflerRun.build(config)
+    calls = []
+    advance = run.sim._advance
+    run.sim._advance = lambda *a, **k: (calls.append(1), advance(*a, **k))
+    run.advance(pieces=1)
+    counts = run.counts()  # raises unless injected = detected + present
+    assert counts["detected"] > 2 * len(run.sim._x) and len(calls) < 10
+    assert len(np.unique(run.detections()["skyrmion"])) == counts["detected"]

@@ -47,6 +47,35 @@ def test_list_with_margins_gives_the_same_trajectories_as_an_exact_list():
     assert fast.neighbor_rebuilds < exact.neighbor_rebuilds / 10
 
 
+def test_skipping_the_field_lookup_far_from_the_walls_changes_nothing():
+    """With a uniform drift, a skyrmion certain to stay beyond the wall-force cutoff while the
+    neighbour list is valid skips its grid lookup (skygas._kernels._interior_floors). A run
+    that looks every field up (the same zero drift, given as a grid) must be bit-identical."""
+    runs = []
+    for grid_drift in (False, True):
+        # the wall-force cutoff is ~256 nm: a 700 nm disk has an interior beyond it
+        sim = Simulation(disk(700e-9), "S2", temperature=300.0, seed=9, capacity=64)
+        rng = np.random.default_rng(4)
+        d_sk = sim.thiele.skyrmion_diameter_internal
+        sim._insert_nm(random_positions(sim.outline, 60, 1.3 * d_sk, 0.3 * d_sk, rng))
+        if grid_drift:
+            shape = sim._fields.shape[:2]
+            sim.set_drift_field(np.zeros(shape), np.zeros(shape))
+        sim.run(3000 * sim.time_step, record_interval=100 * sim.time_step)
+        runs.append(sim)
+    skip, lookup = runs
+    assert np.array_equal(skip._x, lookup._x) and np.array_equal(skip._y, lookup._y)
+    assert skip.wall_escapes == lookup.wall_escapes
+    # both paths were taken: skyrmions within the wall cutoff, and far inside
+    ds = skip.trajectories()
+    r = np.hypot(ds.x.values, ds.y.values).ravel() * 1e9
+    r = r[np.isfinite(r)]
+    wall_distance = 700.0 - r
+    cutoff = skip._fp[K.FP_WALL_CUT]
+    assert (wall_distance < cutoff).mean() > 0.1
+    assert (wall_distance > cutoff + 3 * skip._fp[K.FP_MARGIN_MAX]).mean() > 0.2
+
+
 def test_simd_logarithm_is_within_one_ulp_of_libm():
     @numba.njit
     def logs(w):

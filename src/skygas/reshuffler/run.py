@@ -23,8 +23,9 @@ from typing import Callable
 
 import numpy as np
 
+from skygas import units
 from skygas.current import solve_current
-from skygas.engine import ForceModel, Periodic, Simulation, default_time_step
+from skygas.engine import ForceModel, Simulation, default_time_step
 from skygas.errors import require
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
@@ -32,6 +33,11 @@ from skygas.reshuffler.injection import Injector
 from skygas.signals import SignalSpec, as_bits, generate_bits
 
 CHECKPOINT = "checkpoint.npz"
+
+
+def _largest_divisor_up_to(number: int, limit: int) -> int:
+    """The largest divisor of ``number`` that is ≤ ``limit`` (both ≥ 1)."""
+    return next(d for d in range(min(number, limit), 0, -1) if number % d == 0)
 
 
 def _seeds(seed: int) -> dict[str, int]:
@@ -111,10 +117,7 @@ class ReshufflerRun:
             clearance_nm=config.injection.site_clearance * thiele.skyrmion_diameter_internal,
             rule=config.injection.occupied_rule, max_pending=config.injection.max_pending)
         sim.operations.append(injector)
-        run = cls(config, geometry, sim, injector, current, chamber, n_events)
-        snap_steps = max(1, int(round(config.output.snapshot_interval / sim.time_step)))
-        sim.operations.append(Periodic(snap_steps, run._snapshot))
-        return run
+        return cls(config, geometry, sim, injector, current, chamber, n_events)
 
     # -- running ------------------------------------------------------------------------------
     @property
@@ -129,19 +132,11 @@ class ReshufflerRun:
         progress and saving periodic checkpoints."""
         end = self.total_steps if stop_after_step is None else min(stop_after_step,
                                                                       self.total_steps)
-        window = int(round(self.config.output.trajectory_window / self.sim.time_step))
-        record_every = max(1, int(round(1e-9 / self.sim.time_step)))
         piece = max(1, self.total_steps // pieces)
         last_save = time.perf_counter()
         while self.sim.step < end:
             start = time.perf_counter()
-            n = min(piece, end - self.sim.step)
-            if self.sim.step < window:  # dense frames of the first skyrmions, for the figure
-                n = min(n, window - self.sim.step)
-                self.sim.run(n * self.sim.time_step, record_interval=record_every
-                             * self.sim.time_step)
-            else:
-                self.sim.run(n * self.sim.time_step)
+            self._run_steps(min(piece, end - self.sim.step))
             self.wall_time += time.perf_counter() - start
             if progress is not None:
                 progress(self.sim.time)
@@ -153,16 +148,49 @@ class ReshufflerRun:
         """Keep running after the configured duration, without new input, until every event
         has been nucleated and read out (or ``max_duration`` [s] has passed). Returns whether
         the device emptied. Used when the whole output stream is needed (decorrelator use)."""
-        piece = 20 * self.config.injection.interval
-        waited = 0.0
-        while (self.sim.count or self.injector.n_pending) and waited < max_duration:
-            self.sim.run(piece)
-            waited += piece
+        piece = int(round(20 * self.config.injection.interval / self.sim.time_step))
+        end = self.sim.step + int(round(max_duration / self.sim.time_step))
+        while (self.sim.count or self.injector.n_pending) and self.sim.step < end:
+            self._run_steps(piece)
         return not (self.sim.count or self.injector.n_pending)
 
-    def _snapshot(self, sim: Simulation) -> None:
-        ids, pos = sim.positions()
-        self.snapshots.append((sim.time, ids, pos))
+    def _run_steps(self, n: int) -> None:
+        """Advance by ``n`` steps (fewer if the trajectory window ends first), recording the
+        snapshots and, inside the trajectory window, the dense frames of the figure.
+
+        The kernel records frames itself (:class:`~skygas.engine.FrameBlock`), so it does not
+        return to Python for every snapshot; the frames that are not needed for the figure are
+        taken out of the simulation after each call and kept only as sparse snapshots."""
+        dt = self.sim.time_step
+        window = int(round(self.config.output.trajectory_window / dt))
+        snapshot_every = self.snapshot_steps
+        kept = len(self.sim.frame_blocks)
+        if self.sim.step < window:
+            # frames ~1 ns apart that fall on every snapshot step as well
+            dense_every = _largest_divisor_up_to(snapshot_every, max(1, int(round(1e-9 / dt))))
+            self.sim.run(min(n, window - self.sim.step) * dt, record_interval=dense_every * dt)
+            new_frames = self.sim.frame_blocks[kept:]  # the simulation keeps them
+        else:
+            self.sim.run(n * dt, record_interval=snapshot_every * dt)
+            new_frames = self.sim.take_frames(kept)
+        self._add_snapshots(new_frames)
+
+    @property
+    def snapshot_steps(self) -> int:
+        """Steps between two snapshots of all positions (``output.snapshot_interval``)."""
+        return max(1, int(round(self.config.output.snapshot_interval / self.sim.time_step)))
+
+    def _add_snapshots(self, blocks) -> None:
+        """Append the frames of ``blocks`` that fall on snapshot steps to :attr:`snapshots`, as
+        (time [s], ids present in increasing order, positions [m] (n, 2)). A snapshot at step k
+        holds the state reached at the end of step k − 1, before a nucleation due at step k."""
+        every = self.snapshot_steps
+        for block in blocks:
+            for f in np.flatnonzero(block.step % every == 0):
+                slots = np.flatnonzero(block.ids[f] >= 0)
+                slots = slots[np.argsort(block.ids[f, slots])]
+                pos = np.column_stack([block.x[f, slots], block.y[f, slots]]) / units.M_TO_NM
+                self.snapshots.append((float(block.time[f]), block.ids[f, slots], pos))
 
     # -- checkpoints ------------------------------------------------------------------------
     def state_dict(self) -> dict:
