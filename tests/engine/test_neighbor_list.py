@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+import pytest
 
 from skygas import _kernels as K
 from skygas._rng import _log
@@ -74,6 +75,35 @@ def test_skipping_the_field_lookup_far_from_the_walls_changes_nothing():
     cutoff = skip._fp[K.FP_WALL_CUT]
     assert (wall_distance < cutoff).mean() > 0.1
     assert (wall_distance > cutoff + 3 * skip._fp[K.FP_MARGIN_MAX]).mean() > 0.2
+
+
+@pytest.mark.parametrize("n", [60, 1000])
+def test_pair_forces_equal_a_direct_sum_over_all_pairs(n):
+    """The kernel's pair forces (neighbour list, half shell, table) against a NumPy sum over
+    all N(N−1)/2 pairs with the same table. 1 000 skyrmions make a list longer than
+    K.BRANCH_FREE_ENTRIES, so both forms of the pair loop are checked."""
+    radius = 512e-9 * np.sqrt(n / 45)  # half-full chamber density, as in the benchmark
+    sim = Simulation(disk(radius), "S2", temperature=300.0, seed=1, capacity=n)
+    d_sk = sim.thiele.skyrmion_diameter_internal
+    sim._insert_nm(random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk,
+                                    np.random.default_rng(n)))
+    fx, fy = np.empty(n), np.empty(n)
+    stats = np.zeros(K.ST_SIZE, dtype=np.int64)
+    table = sim.forces.pair
+    K.repeated_pair_pass(sim._x, sim._y, sim._alive, sim._fp, sim._ip, table.values, 1, fx, fy,
+                         stats)
+    dx = sim._x[:, None] - sim._x[None, :]
+    dy = sim._y[:, None] - sim._y[None, :]
+    r2 = dx * dx + dy * dy
+    inside = (r2 < table.cutoff ** 2) & ~np.eye(n, dtype=bool)
+    f = np.where(inside, np.interp(r2 / table.spacing, np.arange(len(table.values)),
+                                   table.values), 0.0)  # |F|/r
+    assert stats[K.ST_PAIRS] == inside.sum() // 2
+    scale = np.abs(f * np.hypot(dx, dy)).max()
+    assert np.abs(fx - (f * dx).sum(axis=1)).max() < 1e-12 * n * scale
+    assert np.abs(fy - (f * dy).sum(axis=1)).max() < 1e-12 * n * scale
+    if n == 1000:
+        assert stats[K.ST_PAIRS] > K.BRANCH_FREE_ENTRIES  # the list holds at least the pairs
 
 
 def test_simd_logarithm_is_within_one_ulp_of_libm():
