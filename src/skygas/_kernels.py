@@ -188,6 +188,56 @@ def build_neighbor_list(x, y, alive, margin, fp, ip, cell_head, cell_next, owner
 
 
 @numba.njit(inline="always")
+def _list_remove(k, owner, start, pair_j, n_owners):
+    """Remove skyrmion ``k`` from the neighbour list, as owner and as partner, compacting the
+    arrays in place (a few hundred entries: cheaper than a rebuild). Returns the number of
+    owners left."""
+    kept_owners = 0
+    kept_pairs = 0
+    for e in range(n_owners):
+        first = start[e]  # not yet overwritten: writes go to indices ≤ e
+        last = start[e + 1]
+        if owner[e] == k:
+            continue
+        owner[kept_owners] = owner[e]
+        start[kept_owners] = kept_pairs
+        for p in range(first, last):
+            if pair_j[p] != k:
+                pair_j[kept_pairs] = pair_j[p]
+                kept_pairs += 1
+        kept_owners += 1
+    start[kept_owners] = kept_pairs
+    return kept_owners
+
+
+@numba.njit(inline="always")
+def _list_append(k, x, y, alive, ref_x, ref_y, margin, fp, owner, start, pair_j, n_owners):
+    """Add skyrmion ``k``, just inserted at rest, to a valid neighbour list: it gets the base
+    margin and its position as reference, and becomes an owner whose partners are all other
+    skyrmions j with |x_k − ref_j| < cutoff + s_k + s_j, which is the build's criterion, so
+    the list's guarantee extends to it. Returns the new number of owners, or −1 if
+    ``pair_j`` is full (the caller then rebuilds)."""
+    margin[k] = 0.5 * fp[FP_SKIN]
+    ref_x[k] = x[k]
+    ref_y[k] = y[k]
+    reach_k = fp[FP_PAIR_CUT] + margin[k]
+    count = start[n_owners]
+    for j in range(x.shape[0]):
+        if alive[j] and j != k:
+            dx = x[k] - ref_x[j]
+            dy = y[k] - ref_y[j]
+            reach = reach_k + margin[j]
+            if dx * dx + dy * dy < reach * reach:
+                if count >= pair_j.shape[0]:
+                    return -1
+                pair_j[count] = j
+                count += 1
+    owner[n_owners] = k
+    start[n_owners + 1] = count
+    return n_owners + 1
+
+
+@numba.njit(inline="always")
 def _list_is_stale(x, y, alive, ref_x, ref_y, margin):
     """True if some skyrmion has moved farther than its margin since the list was built."""
     stale = False
@@ -210,19 +260,21 @@ def _interior_floors(x, y, alive, fp, ip, fields, margin, floor):
         d_wall − √2 s_i − h ≥ wall cutoff   and   d_boundary − √2 s_i − h > 0
     feels no wall force and cannot leave while the neighbour list stays valid, and with a
     uniform drift nothing else in the grid concerns it: the force passes skip its lookup."""
-    gx0 = fp[FP_GRID_X0]
-    gy0 = fp[FP_GRID_Y0]
-    gh = fp[FP_GRID_H]
-    inv_gh = 1.0 / gh
-    wall_cut = fp[FP_WALL_CUT]
-    uniform_drift = ip[IP_DRIFT_GRID] == 0
     for i in range(x.shape[0]):
-        floor[i] = -1.0
-        if alive[i] and uniform_drift:
-            field = field_at(fields, (x[i] - gx0) * inv_gh, (y[i] - gy0) * inv_gh)
-            slack = math.sqrt(2.0) * margin[i] + gh
-            if field[CH_WALL_DIST] - slack >= wall_cut and field[CH_DOMAIN] - slack > 0.0:
-                floor[i] = field[CH_DOMAIN] - slack
+        floor[i] = _interior_floor(x[i], y[i], margin[i], fp, ip, fields) if alive[i] else -1.0
+
+
+@numba.njit(inline="always")
+def _interior_floor(xi, yi, margin_i, fp, ip, fields):
+    """One skyrmion's value of :func:`_interior_floors`."""
+    if ip[IP_DRIFT_GRID] != 0:
+        return -1.0
+    gh = fp[FP_GRID_H]
+    field = field_at(fields, (xi - fp[FP_GRID_X0]) / gh, (yi - fp[FP_GRID_Y0]) / gh)
+    slack = math.sqrt(2.0) * margin_i + gh
+    if field[CH_WALL_DIST] - slack >= fp[FP_WALL_CUT] and field[CH_DOMAIN] - slack > 0.0:
+        return field[CH_DOMAIN] - slack
+    return -1.0
 
 
 @numba.njit(inline="always")
@@ -443,7 +495,10 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
             vy0[slot] = 0.0
             vx1[slot] = 0.0
             vy1[slot] = 0.0
-            n_owners = -1  # the list must include it: rebuild
+            if n_owners >= 0:  # add it to the list (−1 if there is no room: rebuild)
+                n_owners = _list_append(slot, x, y, alive, ref_x, ref_y, margin, fp, owner,
+                                        start, pair_j, n_owners)
+                floor[slot] = _interior_floor(x[slot], y[slot], margin[slot], fp, ip, fields)
         if thermal and substeps == 1:
             fill_gaussian_pairs(seed, ids, alive, step, STREAM_THERMAL, cand, nx_, ny_)
             for i in range(n):
@@ -530,7 +585,8 @@ def advance(x, y, alive, ids, step0, n_steps, fp, ip, pair_table, wall_table, fi
                     break
             if crossed >= 0:
                 alive[i] = False
-                n_owners = -1  # the pair list still holds the removed skyrmion: rebuild it
+                if n_owners >= 0:
+                    n_owners = _list_remove(i, owner, start, pair_j, n_owners)
                 exit_id[n_exits] = ids[i]  # the slot may be reused later in this call
                 exit_step[n_exits] = step + 1
                 exit_port[n_exits] = crossed
