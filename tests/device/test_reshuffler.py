@@ -135,15 +135,19 @@ def test_a_file_signal_drives_the_injections(tmp_path):
 
 
 def test_resume_from_a_checkpoint_is_bit_identical():
-    config = parse_reshuffler_config({**FAST, "duration": 0.6e-6, "seed": 5})
+    """Checkpoints are taken between pieces of a run (here the first of two)."""
+    from skygas.reshuffler.run import MIN_PIECE_STEPS
+
+    config = parse_reshuffler_config({**FAST, "duration": 1.6e-6, "seed": 5})
     straight = ReshufflerRun.build(config)
-    straight.advance()
+    straight.advance(pieces=2)
     first = ReshufflerRun.build(config)
-    first.advance(stop_after_step=first.total_steps // 2)
+    assert first.total_steps > MIN_PIECE_STEPS
+    first.advance(pieces=2, stop_after_step=MIN_PIECE_STEPS)
     state = first.state_dict()
     second = ReshufflerRun.build(config)
     second.load_state_dict(state)
-    second.advance()
+    second.advance(pieces=2)
     a, b = straight.detections(), second.detections()
     assert len(a["time"]) > 50
     for key in a:

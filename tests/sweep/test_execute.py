@@ -68,7 +68,7 @@ def test_dask_two_workers_match_serial(tiny_sweep_file, tmp_path):
     # run again; the others are not touched
     group = zarr.open_group(tmp_path / "serial.zarr", mode="r+")
     group["done"][1, 0, 1] = 0
-    group["correlation"][1, 0, 1] = 99.0
+    group["summary"][1, 0, 1, QUANTITIES.index("correlation")] = 99.0
     before = np.asarray(group["finished_at"][...])
     again = run_sweep(sweep, tmp_path / "serial.zarr", serial=True, progress=False)
     assert again.computed == [((1, 0), 1)] and again.skipped == 3
@@ -76,6 +76,20 @@ def test_dask_two_workers_match_serial(tiny_sweep_file, tmp_path):
     changed = before != after
     assert changed.sum() == 1 and changed[1, 0, 1]
     assert_same_results(open_sweep(tmp_path / "serial.zarr"), b)
+
+
+def test_a_new_store_reads_as_runs_not_yet_done(tiny_sweep_file, tmp_path):
+    """Created as metadata only: every run reads as not done, its values NaN, its session −1
+    and its finish time NaT."""
+    sweep = load_sweep(tiny_sweep_file)
+    SweepStore(tmp_path / "s.zarr", sweep)
+    ds = open_sweep(tmp_path / "s.zarr")
+    assert ds["done"].shape == (*sweep.shape, sweep.replicas) and not ds["done"].any()
+    for name in QUANTITIES:
+        assert np.isnan(ds[name].values).all(), name
+    assert np.isnan(ds["running_rho"].values).all() and ds.sizes["running"] > 0
+    assert (ds["session"] == -1).all() and np.isnat(ds["finished_at"].values).all()
+    assert (ds["seed"].values > 0).all()
 
 
 def test_store_of_another_sweep_is_refused(tiny_sweep_file, tmp_path):

@@ -1,21 +1,28 @@
-"""The zarr store of a sweep: one xarray Dataset, filled run by run as runs finish.
+"""The zarr store of a sweep, filled run by run as runs finish; read as one xarray Dataset.
 
-Layout: dimensions ``(*point_dims, replica)`` (one per swept field, or ``point`` for a list of
-points) and ``running`` for the running-correlation curves. Each quantity of a run's summary
-(:data:`QUANTITIES`) is one variable; ``running_rho`` / ``running_time`` hold the curve (NaN
-after its end). Every array is chunked one run per chunk, so writing a run touches no other
-run's data, and zarr's local store replaces each chunk file atomically.
+On disk (zarr v3), dimensions ``(*point_dims, replica)`` (one per swept field, or ``point`` for
+a list of points) index the runs, and each run owns one chunk of each of five arrays:
+
+- ``summary`` (…, ``quantity``): the run's summary numbers (float64, in the order of its
+  attribute ``quantities`` = :data:`QUANTITIES`);
+- ``running_curves`` (…, ``curve``, ``running``): the running correlation ρ and its times
+  (attribute ``curves`` = :data:`RUNNING`; NaN after the curve's end);
+- ``finished_at`` (Unix time), ``session`` (which invocation of the sweep computed it) and
+  ``done`` (0/1).
+
+Packing the ~20 numbers of a run into two arrays makes a run five chunk writes instead of ~20,
+which is what the client's CPU time per run goes into. :func:`open_sweep` unpacks them into one
+variable per quantity (``correlation``, ``running_rho``, …).
 
 A new store is written as metadata only: a chunk that was never written reads as its array's
 fill value (NaN, ``done`` = 0, ``session`` = −1), so creating the store writes no per-run files
-and each run later writes only its own chunks (stored uncompressed: one number or one curve per
-chunk is not worth compressing, and the client spends less time per run).
+and each run later writes only its own chunks (stored uncompressed: a few numbers per chunk
+are not worth compressing). zarr's local store replaces each chunk file atomically.
 
-``done`` (0/1) is the source of truth for resuming: a run's values are written first and its
+``done`` is the source of truth for resuming: a run's values are written first and its
 ``done`` element last, so a run interrupted while being written counts as not done and is
-simply run again. ``finished_at`` (Unix time) and ``session`` (which invocation of the sweep
-computed it) record when a run was computed; a resumed sweep never rewrites them for runs
-already done. Only the client process writes (workers return results), so writes never race.
+simply run again. A resumed sweep never rewrites ``finished_at`` or ``session`` for runs already
+done. Only the client process writes (workers return results), so writes never race.
 
 Attributes: the sweep file's text, the root seed, the swept fields, the package version and a
 fingerprint of the resolved configurations; ``seed`` holds every run's derived seed.
@@ -28,7 +35,6 @@ import json
 import time
 from pathlib import Path
 
-import dask.array as da
 import numpy as np
 import xarray as xr
 import zarr
@@ -56,7 +62,13 @@ def _coordinate(values) -> np.ndarray:
                        for v in values], dtype=str)
 
 
-def _skeleton(sweep: Sweep) -> tuple[xr.Dataset, dict]:
+#: Layout of the arrays on disk (see the module docstring); stored in the attributes.
+STORE_LAYOUT = 2
+
+
+def _create(path: Path, sweep: Sweep) -> None:
+    """Write a new, empty store at ``path``: coordinates, seeds and attributes, and the per-run
+    arrays as metadata only (their chunks are absent until a run writes them)."""
     dims = (*sweep.point_dims, "replica")
     shape = (*sweep.shape, sweep.replicas)
     n_running = max(run.config.output.running_points for run in sweep.runs)
@@ -71,23 +83,11 @@ def _skeleton(sweep: Sweep) -> tuple[xr.Dataset, dict]:
     seeds = np.zeros(shape, dtype=np.int64)
     for run in sweep.runs:
         seeds[(*run.index, run.replica)] = run.seed
-
-    def unwritten(fill, dtype=np.float64, extra=()):
-        # lazy: only the metadata is written, chunks stay absent and read as the fill value
-        return da.full((*shape, *extra), fill, dtype=dtype, chunks=(1,) * len(shape) + extra)
-
-    data = {q: (dims, unwritten(np.nan)) for q in QUANTITIES}
-    for name in RUNNING:
-        data[name] = ((*dims, "running"), unwritten(np.nan, extra=(n_running,)),
-                      {"units": "s"} if name == "running_time" else {})
-    data["seed"] = (dims, seeds)
-    data["done"] = (dims, unwritten(0, np.int8))
-    data["finished_at"] = (dims, unwritten(np.nan), {"units": "s since 1970-01-01 UTC"})
-    data["session"] = (dims, unwritten(-1, np.int32))
-    ds = xr.Dataset(data, coords=coords)
-    ds.attrs.update({
+    fixed = xr.Dataset({"seed": (dims, seeds)}, coords=coords)
+    fixed.attrs.update({
         "title": "skygas reshuffler sweep",
         "skygas_version": __version__,
+        "store_layout": STORE_LAYOUT,
         "root_seed": sweep.root_seed,
         "replicas": sweep.replicas,
         "layout": sweep.layout,
@@ -99,13 +99,23 @@ def _skeleton(sweep: Sweep) -> tuple[xr.Dataset, dict]:
                            ".generate_state(1, uint64)[0] >> 1, i in C order of the points",
         "sessions_json": "[]",
     })
-    chunk = (1,) * len(dims)
-    per_run = {"chunks": chunk, "compressors": None}
-    encoding = {name: dict(per_run) for name in (*QUANTITIES, "done", "finished_at")}
-    encoding["session"] = {**per_run, "fill_value": -1}  # an int: −1 without NaN masking
-    encoding.update({name: {**per_run, "chunks": (*chunk, n_running)} for name in RUNNING})
-    encoding["seed"] = {"chunks": shape}  # written once, never rewritten
-    return ds, encoding
+    fixed.to_zarr(path, mode="w", encoding={"seed": {"chunks": shape}}, consolidated=False,
+                  zarr_format=3)
+    group = zarr.open_group(path, mode="r+")
+    per_run = {  # name: (extra dimensions and their sizes, dtype, fill value, attributes)
+        "summary": ({"quantity": len(QUANTITIES)}, np.float64, np.nan,
+                    {"quantities": list(QUANTITIES)}),
+        "running_curves": ({"curve": len(RUNNING), "running": n_running}, np.float64, np.nan,
+                           {"curves": list(RUNNING)}),
+        "finished_at": ({}, np.float64, np.nan, {"units": "s since 1970-01-01 UTC"}),
+        "session": ({}, np.int32, -1, {}),
+        "done": ({}, np.int8, 0, {}),
+    }
+    for name, (extra, dtype, fill, attrs) in per_run.items():
+        group.create_array(name, shape=(*shape, *extra.values()),
+                           chunks=(1,) * len(shape) + tuple(extra.values()), dtype=dtype,
+                           fill_value=fill, compressors=None,
+                           dimension_names=[*dims, *extra], attributes=attrs)
 
 
 class SweepStore:
@@ -115,7 +125,6 @@ class SweepStore:
         self.path = Path(path)
         self.sweep = sweep
         if not self.exists(self.path):
-            ds, encoding = _skeleton(sweep)
             # written under a temporary name and moved into place, so a store either exists
             # complete or not at all
             tmp = self.path.with_name(self.path.name + ".creating")
@@ -123,8 +132,7 @@ class SweepStore:
                 import shutil
 
                 shutil.rmtree(tmp)
-            ds.to_zarr(tmp, mode="w", encoding=encoding, consolidated=False, zarr_format=3,
-                       compute=False)
+            _create(tmp, sweep)
             tmp.rename(self.path)
         self.group = zarr.open_group(self.path, mode="r+")
         found = self.group.attrs.get("fingerprint")
@@ -132,8 +140,14 @@ class SweepStore:
             raise InputError("--out", str(self.path),
                              "a new store, or one written by this same sweep file "
                              f"(the store's sweep differs: fingerprint {found})")
+        layout = self.group.attrs.get("store_layout", 1)
+        if layout != STORE_LAYOUT:
+            raise InputError("--out", str(self.path),
+                             f"a store of layout {STORE_LAYOUT} (this one has layout {layout}, "
+                             "written by another skygas version: open_sweep still reads it; "
+                             "to continue the sweep, rerun it into a new store)")
         self._arrays = {name: self.group[name] for name in
-                        (*QUANTITIES, *RUNNING, "done", "finished_at", "session")}
+                        ("summary", "running_curves", "done", "finished_at", "session")}
         self._async = {name: _async_of(array) for name, array in self._arrays.items()}
 
     @staticmethod
@@ -157,19 +171,17 @@ class SweepStore:
     def write(self, run: Run, result: dict, session: int) -> None:
         """Store one finished run: its values first, its ``done`` flag last.
 
-        The values go to their ~20 arrays concurrently (one chunk file each, on zarr's I/O
-        loop), which halves the client's CPU time per run against writing them one by one:
-        that time competes with the workers when they share the client's cores. ``done`` is
-        written only after every value has been written."""
+        The values go to their four arrays concurrently (one chunk file each, on zarr's I/O
+        loop): the client's CPU time per run competes with the workers when they share the
+        client's cores. ``done`` is written only after every value has been written."""
         at = (*run.index, run.replica)
-        values = [(name, np.float64(result[name])) for name in QUANTITIES]
-        for name in RUNNING:
-            curve = np.full(self._arrays[name].shape[-1], np.nan)
-            data = np.asarray(result[name], dtype=np.float64)[:curve.size]
-            curve[:data.size] = data
-            values.append((name, curve))
-        values.append(("finished_at", np.float64(time.time())))
-        values.append(("session", np.int32(session)))
+        summary = np.array([result[name] for name in QUANTITIES], dtype=np.float64)
+        running = np.full(self._arrays["running_curves"].shape[-2:], np.nan)
+        for row, name in enumerate(RUNNING):
+            data = np.asarray(result[name], dtype=np.float64)[:running.shape[1]]
+            running[row, :data.size] = data
+        values = [("summary", summary), ("running_curves", running),
+                  ("finished_at", np.float64(time.time())), ("session", np.int32(session))]
         _sync(_set_all([(self._async[name], at, value) for name, value in values]))
         _sync(self._async["done"].setitem(at, np.int8(1)))
 
@@ -184,8 +196,25 @@ async def _set_all(items) -> None:
 
 
 def open_sweep(path: str | Path) -> xr.Dataset:
-    """The sweep store as an :class:`xarray.Dataset` (runs not yet done are NaN)."""
+    """The sweep store as an :class:`xarray.Dataset`, one variable per quantity
+    (``correlation``, …, ``running_rho``, ``running_time``), with ``seed``, ``done``,
+    ``session`` and ``finished_at`` (datetime64; NaT until done). Runs not yet done are NaN."""
     path = Path(path)
     if not (path / "zarr.json").exists():
         raise InputError("STORE", str(path), "a sweep store written by `skygas sweep`")
-    return xr.open_zarr(path, consolidated=False, decode_timedelta=False).load()
+    raw = xr.open_zarr(path, consolidated=False, decode_times=False).load()
+    if "summary" in raw:  # layout 2: unpack the per-run arrays
+        ds = raw.drop_vars(["summary", "running_curves"])
+        for packed, dim, names in (("summary", "quantity", "quantities"),
+                                   ("running_curves", "curve", "curves")):
+            for k, name in enumerate(raw[packed].attrs[names]):
+                part = raw[packed].variable[{dim: k}]
+                ds[name] = (part.dims, part.values, {"units": "s"} if name == "running_time"
+                            else {})
+    else:  # layout 1 (one array per quantity), written by earlier versions
+        ds = raw
+    seconds = ds["finished_at"].values
+    stamps = np.where(np.isnan(seconds), np.datetime64("NaT", "ns"),
+                      (np.nan_to_num(seconds) * 1e9).astype(np.int64).astype("datetime64[ns]"))
+    ds["finished_at"] = (ds["finished_at"].dims, stamps)
+    return ds
