@@ -381,27 +381,6 @@ def _segments_cross(px, py, qx, qy, ax, ay, bx, by):
 
 
 @numba.njit(inline="always")
-def _fresh_neighbor_list(x, y, alive, fp, ip):
-    """A neighbour list with the base margins, in new arrays: (owner, start, pair_j,
-    number of owners)."""
-    n = x.shape[0]
-    cell_head = np.empty(ip[IP_NCX] * ip[IP_NCY], dtype=np.int64)
-    cell_next = np.empty(n, dtype=np.int64)
-    owner = np.empty(n, dtype=np.int64)
-    start = np.empty(n + 1, dtype=np.int64)
-    capacity = 16 * n + 16
-    margin = np.full(n, 0.5 * fp[FP_SKIN])
-    while True:
-        pair_j = np.empty(capacity, dtype=np.int64)
-        n_owners = build_neighbor_list(x, y, alive, margin, fp, ip, cell_head, cell_next, owner,
-                                       start, pair_j)
-        if n_owners >= 0:
-            break
-        capacity *= 2
-    return owner, start, pair_j, n_owners
-
-
-@numba.njit(inline="always")
 def _free_slot_if_clear(x, y, alive, sx, sy, clearance2):
     """The lowest free slot if no alive skyrmion lies closer than √clearance2 to (sx, sy);
     −1 if one does (the site is occupied), −2 if the site is clear but no slot is free."""
@@ -618,6 +597,19 @@ def repeated_pair_pass(x, y, alive, fp, ip, pair_table, repeats, fx, fy, stats):
     """Build the neighbour list once and evaluate the pair forces ``repeats`` times
     (benchmarks: the pair-force loop a run repeats twice per step, without Python call
     overhead or the one-body forces)."""
-    owner, start, pair_j, n_owners = _fresh_neighbor_list(x, y, alive, fp, ip)
+    n = x.shape[0]
+    cell_head = np.empty(ip[IP_NCX] * ip[IP_NCY], dtype=np.int64)
+    cell_next = np.empty(n, dtype=np.int64)
+    owner = np.empty(n, dtype=np.int64)
+    start = np.empty(n + 1, dtype=np.int64)
+    capacity = 16 * n + 16
+    margin = np.full(n, 0.5 * fp[FP_SKIN])
+    while True:
+        pair_j = np.empty(capacity, dtype=np.int64)
+        n_owners = build_neighbor_list(x, y, alive, margin, fp, ip, cell_head, cell_next, owner,
+                                       start, pair_j)
+        if n_owners >= 0:
+            break
+        capacity *= 2
     for _ in range(repeats):
         _pair_forces(x, y, fp, pair_table, owner, start, pair_j, n_owners, fx, fy, stats)

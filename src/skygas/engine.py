@@ -582,8 +582,8 @@ class Simulation:
             self._x[:used], self._y[:used], self._alive[:used], self._ids[:used], self.step,
             n_steps, self._fp, self._ip, self.forces.pair.values, self.forces.wall.values,
             self._fields, self._ports, frames_x, frames_y, frames_id, buf["exit_id"],
-            buf["exit_step"],
-            buf["exit_port"], buf["exit_x"], buf["exit_y"], *(plan or buf["no_plan"]), stats)
+            buf["exit_step"], buf["exit_port"], buf["exit_x"], buf["exit_y"],
+            *(plan or buf["no_plan"]), stats)
         n_steps = int(stats[K.ST_STEPS])
         self._planned_done = int(stats[K.ST_INSERTED])
         self._next_id = int(stats[K.ST_NEXT_ID])
