@@ -379,6 +379,11 @@ class Simulation:
         """Number of skyrmions present."""
         return int(self._alive.sum())
 
+    @property
+    def ids_issued(self) -> int:
+        """Number of skyrmions created so far (ids are 0, 1, … in order of creation)."""
+        return self._next_id
+
     def positions(self) -> tuple[np.ndarray, np.ndarray]:
         """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
         slots = np.nonzero(self._alive)[0]
@@ -615,6 +620,7 @@ class Simulation:
             "counters": np.array([self._next_id, self.step, self.wall_escapes,
                                   self.pair_evaluations], dtype=np.int64),
             "frame_time": ds.time.values, "frame_x": ds.x.values, "frame_y": ds.y.values,
+            "frame_ids": ds.skyrmion.values,
             "exit_skyrmion": ds.exit_skyrmion.values, "exit_time": ds.exit_time.values,
             "exit_port": ds.exit_port.values.astype(str),
             "exit_x": self.exits.arrays()["x"].copy(), "exit_y": self.exits.arrays()["y"].copy(),
@@ -630,7 +636,8 @@ class Simulation:
         times = state["frame_time"]
         if len(times):
             fx, fy = state["frame_x"] * units.M_TO_NM, state["frame_y"] * units.M_TO_NM
-            ids = np.where(np.isfinite(fx), np.arange(fx.shape[1], dtype=np.int64), -1)
+            columns = state.get("frame_ids", np.arange(fx.shape[1], dtype=np.int64))
+            ids = np.where(np.isfinite(fx), np.asarray(columns, dtype=np.int64), -1)
             steps = np.rint(times / self.time_step).astype(np.int64)
             self._frame_blocks.append(FrameBlock(steps, times, fx, fy, ids))
         self.exits = ExitLog.from_arrays(self.outline.ports, state["exit_skyrmion"],
@@ -675,19 +682,24 @@ class Simulation:
 
     def trajectories(self) -> xr.Dataset:
         """Recorded positions as a Dataset: ``x``, ``y`` [m] with dims (time, skyrmion), NaN
-        where a skyrmion does not exist, ``time`` [s]; exits as variables on dim ``exit``;
-        attributes hold every parameter (``parameters_json``), the seed and the version."""
+        where a skyrmion does not exist, ``time`` [s]; the ``skyrmion`` coordinate holds the
+        ids of the skyrmions present in at least one frame. Exits as variables on dim
+        ``exit``; attributes hold every parameter (``parameters_json``), the seed and the
+        version."""
         blocks = self._frame_blocks
         times = np.concatenate([b.time for b in blocks]) if blocks else np.empty(0)
-        n_ids = self._next_id
-        x = np.full((len(times), n_ids), np.nan)
-        y = np.full((len(times), n_ids), np.nan)
+        # one column per skyrmion seen in a frame (a run that nucleates 10⁵ skyrmions but
+        # records only its first microsecond has a few hundred)
+        seen = np.unique(np.concatenate([b.ids[b.ids >= 0] for b in blocks])) if blocks \
+            else np.empty(0, dtype=np.int64)
+        x = np.full((len(times), len(seen)), np.nan)
+        y = np.full((len(times), len(seen)), np.nan)
         row = 0
         for block in blocks:
             frame, slot = np.nonzero(block.ids >= 0)
-            ident = block.ids[frame, slot]
-            x[row + frame, ident] = block.x[frame, slot] / units.M_TO_NM
-            y[row + frame, ident] = block.y[frame, slot] / units.M_TO_NM
+            column = np.searchsorted(seen, block.ids[frame, slot])
+            x[row + frame, column] = block.x[frame, slot] / units.M_TO_NM
+            y[row + frame, column] = block.y[frame, slot] / units.M_TO_NM
             row += len(block.time)
         ex = self.exits.arrays()
         ds = xr.Dataset(
@@ -699,7 +711,7 @@ class Simulation:
                 "exit_port": ("exit", self.exits.port_labels()),
             },
             coords={"time": ("time", times, {"units": "s"}),
-                    "skyrmion": np.arange(n_ids, dtype=np.int64)},
+                    "skyrmion": seen.astype(np.int64)},
         )
         params = self.parameters()
         ds.attrs.update({

@@ -101,7 +101,7 @@ def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: b
     summary = {
         "skygas_version": __version__,
         "seed": config.seed,
-        "skyrmions_initial": int(ds.sizes["skyrmion"]),
+        "skyrmions_initial": sim.ids_issued,  # `simulate` creates skyrmions only at the start
         "skyrmions_present": sim.count,
         "exits": len(sim.exits),
         "wall_escapes": sim.wall_escapes,

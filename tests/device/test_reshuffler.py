@@ -237,8 +237,19 @@ def test_snapshots_recorded_in_the_kernel_equal_positions_read_at_each_snapshot_
         assert np.array_equal(ids_a, ids_b)
         assert np.abs(pos_a - pos_b).max(initial=0.0) < 1e-15  # metres
     # the figure's dense frames: every 1 ns of the window, on the snapshot steps as well
-    times = recorded.sim.trajectories().time.values
-    assert len(times) == 50 and np.allclose(np.diff(times), 1e-9)
+    ds = recorded.sim.trajectories()
+    assert len(ds.time) == 50 and np.allclose(np.diff(ds.time.values), 1e-9)
+    # one column per skyrmion seen in the window, not per skyrmion ever nucleated
+    in_window = np.unique(np.concatenate([ids for t, ids, _ in snaps if t <= 50e-9]))
+    assert set(in_window) <= set(ds.skyrmion.values)
+    assert ds.sizes["skyrmion"] < recorded.sim.ids_issued
+    assert np.isfinite(ds.x.values).any(axis=0).all()
+    # and a checkpoint keeps them
+    restored = ReshufflerRun.build(config)
+    restored.sim.load_state_dict(recorded.sim.state_dict())
+    again = restored.sim.trajectories()
+    assert np.array_equal(again.skyrmion.values, ds.skyrmion.values)
+    assert np.array_equal(again.x.values, ds.x.values, equal_nan=True)
 
 
 def test_one_long_kernel_call_records_more_exits_than_the_storage_capacity():
