@@ -187,6 +187,18 @@ class FrameBlock(NamedTuple):
     y: np.ndarray      # (f, slots) [nm]
     ids: np.ndarray    # (f, slots)
 
+    def positions(self, f: int) -> tuple[np.ndarray, np.ndarray]:
+        """Frame ``f`` as :meth:`Simulation.positions` gives the live state: (ids, positions
+        [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
+        present = self.ids[f] >= 0
+        return _by_id(self.ids[f][present], self.x[f][present], self.y[f][present])
+
+
+def _by_id(ids: np.ndarray, x_nm: np.ndarray, y_nm: np.ndarray):
+    """(ids in increasing order, positions [m] of shape (n, 2)) of the given skyrmions."""
+    order = np.argsort(ids)
+    return ids[order].copy(), np.column_stack([x_nm[order], y_nm[order]]) / units.M_TO_NM
+
 
 class Simulation:
     """A skyrmion gas in a device outline.
@@ -386,11 +398,8 @@ class Simulation:
 
     def positions(self) -> tuple[np.ndarray, np.ndarray]:
         """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
-        slots = np.nonzero(self._alive)[0]
-        order = np.argsort(self._ids[slots])
-        slots = slots[order]
-        pos = np.column_stack([self._x[slots], self._y[slots]]) / units.M_TO_NM
-        return self._ids[slots].copy(), pos
+        alive = self._alive
+        return _by_id(self._ids[alive], self._x[alive], self._y[alive])
 
     def _grow(self, needed: int) -> None:
         cap = len(self._x)

@@ -23,7 +23,6 @@ from typing import Callable
 
 import numpy as np
 
-from skygas import units
 from skygas.current import solve_current
 from skygas.engine import ForceModel, Simulation, default_time_step
 from skygas.errors import require
@@ -196,10 +195,7 @@ class ReshufflerRun:
         every = self.snapshot_steps
         for block in blocks:
             for f in np.flatnonzero(block.step % every == 0):
-                slots = np.flatnonzero(block.ids[f] >= 0)
-                slots = slots[np.argsort(block.ids[f, slots])]
-                pos = np.column_stack([block.x[f, slots], block.y[f, slots]]) / units.M_TO_NM
-                self.snapshots.append((float(block.time[f]), block.ids[f, slots], pos))
+                self.snapshots.append((float(block.time[f]), *block.positions(f)))
 
     # -- checkpoints ------------------------------------------------------------------------
     def state_dict(self) -> dict:
