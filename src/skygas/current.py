@@ -68,7 +68,7 @@ from skygas.errors import InputError, require
 from skygas.geometry import Outline
 from skygas.memo import Memo, frozen, outline_key
 from skygas.units import M_TO_NM
-from skygas.wall_field import BilinearWeights, Grid, bilinear_at_indices
+from skygas.wall_field import Grid, bilinear_at_indices
 
 #: Default cell size [m]: 40 cells across the paper's 100 nm conduit, ~1.3e5 unknowns for the
 #: 1024 nm chamber (about 1.4 s to solve).
@@ -148,12 +148,6 @@ class _Cells:
         """Bilinear interpolation of a cell-centred ``field`` at (x, y) nm (clamped)."""
         return bilinear_at_indices(field, (np.asarray(x, float) - self.x0) / self.h - 0.5,
                                    (np.asarray(y, float) - self.y0) / self.h - 0.5)
-
-    def weights(self, x, y) -> BilinearWeights:
-        """The interpolation weights :meth:`bilinear` uses at (x, y) nm."""
-        return BilinearWeights.at_indices((self.ny, self.nx),
-                                          (np.asarray(x, float) - self.x0) / self.h - 0.5,
-                                          (np.asarray(y, float) - self.y0) / self.h - 0.5)
 
 
 def _aligned_cells(outline: Outline, reference: LineString, cell_size_nm: float) -> _Cells:
@@ -386,6 +380,7 @@ class CurrentSolution:
     _inside: np.ndarray = field(repr=False)
     _outline: Outline = field(repr=False)
     _port_flux: dict = field(repr=False)
+    _settings: Mapping = field(repr=False)  # solve_current's keyword arguments, as given
 
     # -- fields --------------------------------------------------------------------------------
     def sample(self, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
@@ -419,18 +414,10 @@ class CurrentSolution:
         ports and cell size)."""
         return self._cells
 
-    def sampling_weights(self, x, y) -> BilinearWeights:
-        """Interpolation weights at points (x, y) [m] for :meth:`current_density_with`.
-
-        They depend only on the points and :attr:`cell_grid`, so a caller sampling many
-        solutions of one device at the same points computes them once."""
-        return self._cells.weights(np.asarray(x, float) * M_TO_NM,
-                                   np.asarray(y, float) * M_TO_NM)
-
-    def current_density_with(self, weights: BilinearWeights) -> tuple[np.ndarray, np.ndarray]:
-        """(jx, jy) [A/m²] at the points of ``weights`` (:meth:`sampling_weights`): the same
-        bits as :meth:`current_density_at` at those points."""
-        return weights.apply(self._jx), weights.apply(self._jy)
+    def at_current_density(self, current_density: float) -> CurrentSolution:
+        """The same device, electrodes and layer driven at another J [A/m²] (the flow is
+        linear in J; the unit-voltage solve is shared, :data:`_MEMO`)."""
+        return solve_current(self._outline, current_density, **self._settings)
 
     def potential_at(self, x, y) -> np.ndarray:
         """Electric potential φ [V] at (x, y) [m] (the sink is at 0 V; nearest cell)."""
@@ -607,7 +594,10 @@ def solve_current(
         power=total_current ** 2 * resistance, cells=flow.cells_live,
         solve_seconds=flow.solve_seconds, conservation_error=flow.conservation_error,
         _cells=flow.cells, _jx=jx, _jy=jy, _phi=phi_volts, _inside=flow.inside,
-        _outline=outline, _port_flux=port_flux)
+        _outline=outline, _port_flux=port_flux,
+        _settings=MappingProxyType({"source": sources, "sink": sinks, "cell_size": cell_size,
+                                    "conductor_thickness": conductor_thickness,
+                                    "resistivity": resistivity}))
 
 
 # -- figures -------------------------------------------------------------------------------------

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, NamedTuple, Protocol
 
 import numpy as np
@@ -42,6 +42,7 @@ from skygas.exit_log import ExitLog
 from skygas.forces import DEFAULT_CUTOFF_FRACTION, ForceTable, pair_law, wall_law
 from skygas.geometry import Outline
 from skygas.materials import Material, ThieleParameters, derive_thiele, load_material
+from skygas.memo import Memo, frozen, outline_key
 from skygas.wall_field import WallField
 
 #: Time steps longer than this fraction of τ_min are refused (see Simulation.max_time_step).
@@ -73,6 +74,26 @@ PLAN_SLOTS = 4
 SORT_ABOVE = 256
 
 
+# Force tables per law, coefficients, F₀, d_sk and cutoff fraction (see skygas.memo): finding a
+# law's cutoff scans it at 2·10⁵ points, 10 ms per model.
+_FORCE_TABLES = Memo("force_tables", maxsize=8)
+# The wall channels of the kernels' packed grid, per wall field (same key as WallField.build;
+# see skygas.memo): each run of a device copies them instead of re-packing four float64 fields.
+_WALL_CHANNELS = Memo("wall_channels", maxsize=4)
+
+
+def _packed_wall_channels(wall_field: WallField) -> np.ndarray:
+    """The packed float32 grid (:func:`~skygas._field_lookup.empty_fields`) with the wall
+    channels filled in and no drift (read-only)."""
+    packed = empty_fields(wall_field.grid.ny, wall_field.grid.nx)
+    packed[..., K.CH_WALL_DIST] = wall_field.wall_distance
+    packed[..., K.CH_NORMAL_X] = wall_field.normal_x
+    packed[..., K.CH_NORMAL_Y] = wall_field.normal_y
+    packed[..., K.CH_DOMAIN] = wall_field.domain_distance
+    frozen(packed)
+    return packed
+
+
 @dataclass(frozen=True)
 class ForceModel:
     """The tabulated pair and wall laws (internal units) and how they were made."""
@@ -90,10 +111,21 @@ class ForceModel:
         params = dict(pair_law_params or {})
         f0 = thiele.force_scale_internal
         d_sk = thiele.skyrmion_diameter_internal
-        # 8192 nodes in r²: relative error < 5e-5 from r = d_sk/4 on (64 kB, in L2 cache)
-        pair = ForceTable.from_law(pair_law(pair_law_name, material.pair_law, **params), f0,
-                                   d_sk, cutoff_fraction, n_points=8192, squared=True)
-        wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)
+        key = (pair_law_name, tuple(material.pair_law), tuple(material.wall_law),
+               repr(sorted(params.items())), f0, d_sk, float(cutoff_fraction))
+
+        def tabulate() -> tuple[ForceTable, ForceTable]:
+            # 8192 nodes in r²: relative error < 5e-5 from r = d_sk/4 on (64 kB, in L2 cache)
+            pair = ForceTable.from_law(pair_law(pair_law_name, material.pair_law, **params),
+                                       f0, d_sk, cutoff_fraction, n_points=8192, squared=True)
+            wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)
+            frozen(pair.values, wall.values)
+            return pair, wall
+
+        # each model gets its own (writable) copy of the shared tables: the kernels take
+        # writable arrays (a read-only one would compile a second variant of every kernel)
+        pair, wall = (replace(table, values=table.values.copy())
+                      for table in _FORCE_TABLES.get(key, tabulate))
         return cls(pair, wall, pair_law_name, params, cutoff_fraction)
 
     def max_stiffness(self, closest: float = 0.0) -> float:
@@ -249,8 +281,8 @@ class Simulation:
         spacing = d_sk / 16 if grid_spacing is None else grid_spacing * units.M_TO_NM
         require(spacing > 0 and spacing <= d_sk, "grid_spacing", grid_spacing,
                 f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)")
-        self.wall_field = WallField.build(outline, spacing, band=self.forces.wall.cutoff
-                                          + 2 * spacing)
+        band = self.forces.wall.cutoff + 2 * spacing
+        self.wall_field = WallField.build(outline, spacing, band)
         limit = self.max_time_step()
         if time_step is None:
             time_step = self.suggested_time_step()
@@ -299,12 +331,11 @@ class Simulation:
         # Every per-node field in one interleaved float32 array: a bilinear lookup then reads
         # four 32-byte nodes (one vector load each, skygas._field_lookup) instead of twenty
         # scattered values.
-        wf = self.wall_field
         self._fields = empty_fields(grid.ny, grid.nx)
-        self._fields[..., K.CH_WALL_DIST] = wf.wall_distance
-        self._fields[..., K.CH_NORMAL_X] = wf.normal_x
-        self._fields[..., K.CH_NORMAL_Y] = wf.normal_y
-        self._fields[..., K.CH_DOMAIN] = wf.domain_distance
+        self._fields[...] = _WALL_CHANNELS.get((outline_key(outline), float(spacing),
+                                                float(band)),
+                                               lambda: _packed_wall_channels(self.wall_field))
+        self._grid_drift_max = 0.0  # largest |v_s| on the grid [nm/ns] (set_drift_field)
         self.set_uniform_drift(drift_velocity)
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
@@ -323,8 +354,7 @@ class Simulation:
         """
         fp = self._fp
         if self._ip[K.IP_DRIFT_GRID]:
-            vs = float(np.sqrt(self._fields[..., K.CH_DRIFT_X].astype(float) ** 2
-                               + self._fields[..., K.CH_DRIFT_Y].astype(float) ** 2).max())
+            vs = self._grid_drift_max
         else:
             vs = math.hypot(fp[K.FP_VS_X], fp[K.FP_VS_Y])
         # |v| of a free skyrmion = |mobility|·|drive|·|v_s| (both matrices are scaled rotations)
@@ -377,6 +407,8 @@ class Simulation:
                     np.shape(arr), f"a finite array of shape {shape} (the wall-field grid)")
         self._fields[..., K.CH_DRIFT_X] = vx
         self._fields[..., K.CH_DRIFT_Y] = vy
+        vx, vy = np.asarray(vx, dtype=float), np.asarray(vy, dtype=float)
+        self._grid_drift_max = math.sqrt(float(np.max(vx * vx + vy * vy)))
         self._ip[K.IP_DRIFT_GRID] = 1
         self._configure_neighbor_cells()
 

@@ -117,7 +117,45 @@ def test_drift_field_from_memo_is_identical():
         fresh = uncached(lambda s=solution: drift_field_on_grid(SMALL, s, grid, 1.3e-10))
         memo = drift_field_on_grid(SMALL, solution, grid, 1.3e-10)
         assert np.array_equal(fresh[0], memo[0]) and np.array_equal(fresh[1], memo[1])
-    assert memo_stats()["drift_sampling"] == {"hits": 1, "misses": 1, "entries": 1}
+    assert memo_stats()["drift_unit_sample"] == {"hits": 1, "misses": 1, "entries": 1}
+
+
+def test_drift_field_is_linear_in_the_current_density():
+    """The memo scales one sampled field by ξJ: that equals sampling each J's own solution
+    (to rounding), including J < 0."""
+    grid = Grid(-400.0, -700.0, 2.4, 340, 590)
+    gx, gy = grid.nodes()
+    for j in (2.9e11, -1.2e11):
+        solution = solve_current(SMALL.chamber(), j, cell_size=5e-9)
+        vx, vy = drift_field_on_grid(SMALL, solution, grid, 1.3e-10)
+        up = SMALL.chamber_of(gy) == 0
+        cx, cy = SMALL.centres()["up"]
+        jx, jy = solution.current_density_at(gx[up] * 1e-9 - cx, gy[up] * 1e-9 - cy)
+        scale = 1.3e-10 * abs(j)
+        np.testing.assert_allclose(vx[up], 1.3e-10 * jx, rtol=1e-12, atol=1e-12 * scale)
+        np.testing.assert_allclose(vy[up], 1.3e-10 * jy, rtol=1e-12, atol=1e-12 * scale)
+
+
+def test_force_tables_and_packed_wall_channels_are_shared_and_identical():
+    from skygas.engine import ForceModel, Simulation
+    from skygas.materials import derive_thiele, load_material
+
+    material = load_material("S2")
+    thiele = derive_thiele(material, 2e-9)
+    fresh = uncached(lambda: ForceModel.build(material, thiele))
+    first, again = ForceModel.build(material, thiele), ForceModel.build(material, thiele)
+    for table in ("pair", "wall"):
+        a, b, c = (getattr(m, table) for m in (fresh, first, again))
+        assert np.array_equal(a.values, b.values) and a.cutoff == b.cutoff
+        assert b.values is not c.values and b.values.flags.writeable  # private copies
+    assert memo_stats()["force_tables"] == {"hits": 1, "misses": 1, "entries": 1}
+    outline = SMALL.device_outline()
+    sims = [uncached(lambda: Simulation(outline, "S2")), Simulation(outline, "S2"),
+            Simulation(outline, "S2")]
+    for sim in sims[1:]:
+        assert np.array_equal(sim._fields, sims[0]._fields) and sim._fields.flags.writeable
+    assert sims[1]._fields is not sims[2]._fields
+    assert memo_stats()["wall_channels"]["hits"] == 1
 
 
 # -- a whole run ---------------------------------------------------------------------------------
@@ -137,5 +175,6 @@ def test_reshuffler_runs_with_and_without_memo_are_identical():
     memo = [_summary(j) for j in (1.2e11, 1.7e11)]
     assert memo == fresh
     stats = memo_stats()
-    assert stats["current"]["misses"] == 1 and stats["current"]["hits"] == 1
+    # one solve; re-used by the first run's J = 1 A/m² sample and by the second run
+    assert stats["current"]["misses"] == 1 and stats["current"]["hits"] == 2
     assert stats["wall_field"]["misses"] == 1 and stats["wall_field"]["hits"] == 1

@@ -13,6 +13,7 @@ identical and driven in parallel), so the Joule power of the device is twice one
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,8 +38,7 @@ class ReshufflerGeometry:
 
     def chamber(self) -> Outline:
         """One chamber centred at the origin, ports ``input`` and ``output`` (electrodes)."""
-        return chamber_with_conduits(self.chamber_diameter, self.conduit_width,
-                                     self.conduit_length)
+        return _chamber(self.chamber_diameter, self.conduit_width, self.conduit_length)
 
     def centres(self) -> dict[str, tuple[float, float]]:
         """Centre [m] of each chamber."""
@@ -47,12 +47,7 @@ class ReshufflerGeometry:
 
     def device_outline(self) -> Outline:
         """Both chambers, with ports ``up.output`` and ``down.output`` (read-out lines)."""
-        pieces, ports = [], {}
-        for name, (cx, cy) in self.centres().items():
-            moved = self.chamber().translated(cx, cy)
-            pieces.append(moved.region)
-            ports[f"{name}.output"] = moved.ports["output"]
-        return Outline(MultiPolygon(pieces), ports)
+        return _device_outline(self)
 
     def nucleation_sites(self) -> dict[str, np.ndarray]:
         """Nucleation site [nm] of each chamber: the middle of its input conduit."""
@@ -83,38 +78,51 @@ class ReshufflerGeometry:
         require(self.chamber_gap > 0, "chamber_gap", self.chamber_gap, "a gap > 0 in metres")
 
 
+# Outlines are immutable and cost a few ms of shapely work each: a sweep's runs of one
+# device share them.
+_chamber = functools.lru_cache(maxsize=8)(chamber_with_conduits)
+
+
+@functools.lru_cache(maxsize=8)
+def _device_outline(geometry: ReshufflerGeometry) -> Outline:
+    pieces, ports = [], {}
+    for name, (cx, cy) in geometry.centres().items():
+        moved = geometry.chamber().translated(cx, cy)
+        pieces.append(moved.region)
+        ports[f"{name}.output"] = moved.ports["output"]
+    return Outline(MultiPolygon(pieces), ports)
+
+
 def drift_field_on_grid(geometry: ReshufflerGeometry, solution, grid,
                         spin_drift_coefficient: float) -> tuple[np.ndarray, np.ndarray]:
     """v_s = ξ·j [m/s] on the simulation grid: the one-chamber current copied into both
     chambers. ``solution`` is a :class:`~skygas.current.CurrentSolution` of one chamber
     centred at the origin; ``grid`` the engine's :class:`~skygas.wall_field.Grid` (nm).
 
-    Which nodes fall in which chamber and their interpolation weights depend only on the
-    geometry, the grid and the solution's cells, not on J: they are kept per process
-    (:mod:`skygas.memo`), so runs that differ in J (or p, temperature, …) only re-weight."""
-    key = (geometry, grid, solution.cell_grid)
-    plan = _SAMPLING.get(key, lambda: _sampling_plan(geometry, solution, grid))
-    vx = np.zeros((grid.ny, grid.nx))
-    vy = np.zeros((grid.ny, grid.nx))
-    for mask, weights in plan:
-        jx, jy = solution.current_density_with(weights)
-        vx[mask] = spin_drift_coefficient * jx
-        vy[mask] = spin_drift_coefficient * jy
-    return vx, vy
+    The current is linear in J: its field for J = 1 A/m² is sampled on the grid once per
+    process for each device and grid (:mod:`skygas.memo`) and every run scales it by ξJ, so
+    runs that differ in J (or p, temperature, …) do not sample the solution again."""
+    key = (geometry, grid, solution.cell_grid, solution.sources, solution.sinks)
+    jx, jy = _UNIT_SAMPLE.get(key, lambda: _sample_both_chambers(
+        geometry, solution.at_current_density(1.0), grid))
+    scale = spin_drift_coefficient * solution.current_density
+    return scale * jx, scale * jy
 
 
-# (geometry, grid, cells) → per chamber: its nodes and their interpolation weights
-_SAMPLING = Memo("drift_sampling", maxsize=2)
+# (geometry, grid, cells, electrodes) → (jx, jy) [A/m²] on the grid for J = 1 A/m²
+_UNIT_SAMPLE = Memo("drift_unit_sample", maxsize=2)
 
 
-def _sampling_plan(geometry: ReshufflerGeometry, solution, grid) -> tuple:
+def _sample_both_chambers(geometry: ReshufflerGeometry, solution,
+                          grid) -> tuple[np.ndarray, np.ndarray]:
     gx, gy = grid.nodes()
     which = geometry.chamber_of(gy)
-    plan = []
+    jx = np.zeros((grid.ny, grid.nx))
+    jy = np.zeros((grid.ny, grid.nx))
     for index, name in enumerate(CHAMBERS):
         cx, cy = geometry.centres()[name]
         mask = which == index
-        weights = solution.sampling_weights(gx[mask] / M_TO_NM - cx, gy[mask] / M_TO_NM - cy)
-        frozen(mask, weights.flat, weights.w00, weights.w10, weights.w01, weights.w11)
-        plan.append((mask, weights))
-    return tuple(plan)
+        jx[mask], jy[mask] = solution.current_density_at(gx[mask] / M_TO_NM - cx,
+                                                         gy[mask] / M_TO_NM - cy)
+    frozen(jx, jy)
+    return jx, jy
