@@ -1,10 +1,16 @@
-"""A small per-process memo for geometry-dependent set-up (wall field, current solution).
+"""A small per-process memo for device set-up that does not depend on the run's other values.
 
 Why it exists: a sweep runs many short runs of one device that differ only in values the set-up
 does not depend on (current density, p-value, temperature, seed). Rasterising the outline into
 the wall-distance field and solving the current flow took 1.5-3 s per run, far more than a few
 µs of simulated time. With this memo, each process (the client of a serial sweep, each Dask
 worker) pays that set-up once per geometry and keeps the result for the following runs.
+
+What is kept: the wall field (:mod:`skygas.wall_field`), the unit-voltage current flow
+(:mod:`skygas.current`), the reshuffler's current field sampled on the engine grid for
+J = 1 A/m² (:mod:`skygas.reshuffler.device`), the force tables and the packed wall channels of
+the kernels' grid (:mod:`skygas.engine`). With all of them, building a 1024 nm reshuffler run
+of an already-seen device takes ~30 ms (92 ms with only the first two).
 
 Correctness rules that the users of this module follow:
 
