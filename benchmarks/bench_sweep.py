@@ -20,7 +20,9 @@ three modes:
 It also runs the sweep serially in this process, from a fresh set-up (``cold``/``warm``) and
 with the set-up already done (``hot``), and prints the Dask path's overhead per point,
 (T(1 worker) − T(serial)) / 16, for each mode. In ``warm``/``hot`` it prints how many current
-solves each worker did (``skygas.memo`` counts), to show the set-up was not repeated per point.
+solves each worker did (``skygas.memo`` counts), to show the set-up was not repeated per point,
+and the CPU time this process (the client, the scheduler and the nannies of the local cluster)
+used during a sweep: on a machine with as many cores as workers, that time is taken from them.
 
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--repeats 3] [--duration 2e-6]
 [--mode all|cold|warm|hot]``.
@@ -29,6 +31,7 @@ Run: ``.venv/bin/python benchmarks/bench_sweep.py [--repeats 3] [--duration 2e-6
 from __future__ import annotations
 
 import argparse
+import resource
 import statistics
 import tempfile
 import time
@@ -70,7 +73,16 @@ def _current_solves() -> int:
     return memo_stats()["current"]["misses"]
 
 
-def timed_on_cluster(sweep, tmp: Path, name: str, workers: int, hot: bool) -> tuple[float, list]:
+def _process_cpu() -> float:
+    """CPU seconds used so far by this process (all its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed_on_cluster(sweep, tmp: Path, name: str, workers: int,
+                     hot: bool) -> tuple[float, list, float]:
+    """Wall time of the sweep on a running local cluster, the current solves each worker did,
+    and the CPU time this process (client, scheduler and nannies) used meanwhile."""
     from dask.distributed import Client, LocalCluster
 
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
@@ -79,9 +91,11 @@ def timed_on_cluster(sweep, tmp: Path, name: str, workers: int, hot: bool) -> tu
         if hot:  # every worker runs this device once: its set-up is then kept
             client.run(run_one, sweep.runs[0].config.model_dump_json())
         before = client.run(_current_solves)
+        cpu = _process_cpu()
         t = timed(sweep, tmp, name, scheduler=cluster.scheduler_address)
+        cpu = _process_cpu() - cpu
         after = client.run(_current_solves)
-        return t, [after[w] - before[w] for w in sorted(after)]
+        return t, [after[w] - before[w] for w in sorted(after)], cpu
 
 
 def timed_serial(sweep, tmp: Path, name: str, hot: bool) -> float:
@@ -108,6 +122,7 @@ def main() -> None:
     times = {mode: {1: [], 2: []} for mode in modes}
     serial = {"fresh": [], "hot": []}
     solves = {mode: [] for mode in modes}
+    client_cpu = {mode: {1: [], 2: []} for mode in modes}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         for k in range(args.repeats):
@@ -123,8 +138,10 @@ def main() -> None:
                     if mode == "cold":
                         t = timed(sweep, tmp, name, workers=workers)
                     else:
-                        t, done = timed_on_cluster(sweep, tmp, name, workers, mode == "hot")
+                        t, done, cpu = timed_on_cluster(sweep, tmp, name, workers,
+                                                        mode == "hot")
                         solves[mode].append(done)
+                        client_cpu[mode][workers].append(cpu)
                     times[mode][workers].append(t)
                     print(f"repeat {k}, {mode}, {workers} worker(s): {t:.1f} s", flush=True)
     print(f"{n} points, {args.duration * 1e6:g} µs each, {args.repeats} repeats")
@@ -143,6 +160,10 @@ def main() -> None:
         if solves[mode]:
             print(f"  current solves per worker in each sweep (1 worker, 2 workers, ...): "
                   f"{solves[mode]}")
+            print("  CPU of the client, scheduler and nannies during a sweep (this process; "
+                  "it competes with the workers for the cores): median "
+                  f"{statistics.median(client_cpu[mode][1]):.2f} s with 1 worker, "
+                  f"{statistics.median(client_cpu[mode][2]):.2f} s with 2")
 
 
 if __name__ == "__main__":
