@@ -10,8 +10,9 @@ three modes:
 - ``cold``: each sweep starts its own local cluster (``skygas sweep --workers N``), so the
   cluster's start, each worker's imports and compiled-kernel loads, and each worker's device
   set-up are included;
-- ``warm``: the cluster is started and its workers warmed up first (imports and kernels, on
-  another, small device), then the sweep runs on it through its scheduler address
+- ``warm``: the cluster is started (with the settings ``skygas sweep`` gives its own,
+  :func:`skygas.sweep.start_local_cluster`) and its workers warmed up first (imports and
+  kernels, on another, small device), then the sweep runs on it through its scheduler address
   (``skygas sweep --scheduler ADDRESS``, a cluster that stays up); each worker's device set-up
   is included;
 - ``hot``: as ``warm``, but every worker has already run this device once (a cluster that ran
@@ -38,7 +39,7 @@ import time
 from pathlib import Path
 
 from skygas.memo import clear_memos, memo_stats
-from skygas.sweep import parse_sweep, run_one, run_sweep
+from skygas.sweep import parse_sweep, run_one, run_sweep, start_local_cluster
 
 MODES = ("cold", "warm", "hot")
 
@@ -83,10 +84,9 @@ def timed_on_cluster(sweep, tmp: Path, name: str, workers: int,
                      hot: bool) -> tuple[float, list, float]:
     """Wall time of the sweep on a running local cluster, the current solves each worker did,
     and the CPU time this process (client, scheduler and nannies) used meanwhile."""
-    from dask.distributed import Client, LocalCluster
+    from dask.distributed import Client
 
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      dashboard_address=":0") as cluster, Client(cluster) as client:
+    with start_local_cluster(workers) as cluster, Client(cluster) as client:
         client.run(_warm_up)
         if hot:  # every worker runs this device once: its set-up is then kept
             client.run(run_one, sweep.runs[0].config.model_dump_json())

@@ -14,7 +14,8 @@ import pytest
 import zarr
 
 from skygas.errors import InputError
-from skygas.sweep import load_sweep, open_sweep, parse_sweep, run_sweep
+from skygas.sweep import load_sweep, open_sweep, parse_sweep, run_sweep, start_local_cluster
+from skygas.sweep.execute import LOCAL_CLUSTER_CONFIG
 from skygas.sweep.store import QUANTITIES, SweepStore
 
 # everything but the wall-clock time is a deterministic function of the sweep file
@@ -39,15 +40,20 @@ def _kill_one_worker_after_first_run(store, pids, done_at_kill):
         time.sleep(0.02)
 
 
+def _worker_settings() -> tuple:
+    import dask
+
+    return tuple(dask.config.get(key) for key in LOCAL_CLUSTER_CONFIG)
+
+
 def test_dask_two_workers_match_serial(tiny_sweep_file, tmp_path):
-    from dask.distributed import Client, LocalCluster
+    from dask.distributed import Client
 
     sweep = load_sweep(tiny_sweep_file)
     serial = run_sweep(sweep, tmp_path / "serial.zarr", serial=True, progress=False)
     # two worker processes behind a scheduler given by address (as for a real cluster); one of
     # them is killed after the first run arrives: its nanny restarts it and Dask reruns its run
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=":0") as cluster, Client(cluster) as client:
+    with start_local_cluster(2) as cluster, Client(cluster) as client:
         pids = list(client.run(os.getpid).values())
         done_at_kill = []
         killer = threading.Thread(target=_kill_one_worker_after_first_run,
@@ -56,6 +62,11 @@ def test_dask_two_workers_match_serial(tiny_sweep_file, tmp_path):
         dask = run_sweep(sweep, tmp_path / "dask.zarr", scheduler=cluster.scheduler_address,
                          progress=False)
         killer.join()
+        # every worker, the restarted one included, runs with the cluster's quiet settings
+        client.wait_for_workers(2, timeout=120)
+        settings = client.run(_worker_settings)
+        assert len(settings) == 2 and set(pids) != set(client.run(os.getpid).values())
+        assert all(v == tuple(LOCAL_CLUSTER_CONFIG.values()) for v in settings.values()), settings
     assert done_at_kill and done_at_kill[0] < 4, "no worker was killed mid-sweep"
     assert len(serial.computed) == len(dask.computed) == 4
     a, b = open_sweep(tmp_path / "serial.zarr"), open_sweep(tmp_path / "dask.zarr")

@@ -3,7 +3,8 @@
 - :func:`load_sweep` / :func:`parse_sweep`: read and fully validate a sweep file (grid or list
   of points over any config field, replicas, a root seed from which every run's seed derives);
 - :func:`run_sweep`: run what is not yet done (local Dask cluster, an existing scheduler, or
-  serially) and stream each finished run into the store;
+  serially) and stream each finished run into the store; :func:`start_local_cluster` starts a
+  local cluster with the settings a sweep uses;
 - :func:`open_sweep`: the store as an :class:`xarray.Dataset`;
 - :func:`fit_current_scaling`, :func:`fit_chamber_scaling`: the paper's scaling fits;
 - :func:`plot_sweep`: the paper's reshuffler and chamber-size figures from a store.
@@ -17,7 +18,7 @@ from skygas.sweep.analysis import (
     replica_mean,
     running_mean,
 )
-from skygas.sweep.execute import SweepReport, run_one, run_sweep
+from skygas.sweep.execute import SweepReport, run_one, run_sweep, start_local_cluster
 from skygas.sweep.figures import plot_sweep
 from skygas.sweep.spec import Run, Sweep, load_sweep, parse_sweep
 from skygas.sweep.store import open_sweep
@@ -36,4 +37,5 @@ __all__ = [
     "run_one",
     "run_sweep",
     "running_mean",
+    "start_local_cluster",
 ]
