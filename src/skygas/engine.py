@@ -42,7 +42,7 @@ from skygas.exit_log import ExitLog
 from skygas.forces import DEFAULT_CUTOFF_FRACTION, ForceTable, pair_law, wall_law
 from skygas.geometry import Outline
 from skygas.materials import Material, ThieleParameters, derive_thiele, load_material
-from skygas.memo import Memo, frozen, outline_key
+from skygas.memo import Memo, frozen
 from skygas.wall_field import WallField
 
 #: Time steps longer than this fraction of τ_min are refused (see Simulation.max_time_step).
@@ -77,8 +77,8 @@ SORT_ABOVE = 256
 # Force tables per law, coefficients, F₀, d_sk and cutoff fraction (see skygas.memo): finding a
 # law's cutoff scans it at 2·10⁵ points, 10 ms per model.
 _FORCE_TABLES = Memo("force_tables", maxsize=8)
-# The wall channels of the kernels' packed grid, per wall field (same key as WallField.build;
-# see skygas.memo): each run of a device copies them instead of re-packing four float64 fields.
+# The wall channels of the kernels' packed grid, per wall field (WallField.key; see
+# skygas.memo): each run of a device copies them instead of re-packing four float64 fields.
 _WALL_CHANNELS = Memo("wall_channels", maxsize=4)
 
 
@@ -332,8 +332,7 @@ class Simulation:
         # four 32-byte nodes (one vector load each, skygas._field_lookup) instead of twenty
         # scattered values.
         self._fields = empty_fields(grid.ny, grid.nx)
-        self._fields[...] = _WALL_CHANNELS.get((outline_key(outline), float(spacing),
-                                                float(band)),
+        self._fields[...] = _WALL_CHANNELS.get(WallField.key(outline, spacing, band),
                                                lambda: _packed_wall_channels(self.wall_field))
         self._grid_drift_max = 0.0  # largest |v_s| on the grid [nm/ns] (set_drift_field)
         self.set_uniform_drift(drift_velocity)

@@ -141,8 +141,14 @@ class WallField:
 
         The field depends only on these three, so it is built once per process for each
         (outline, spacing, band) and shared, read-only, by later calls (:mod:`skygas.memo`)."""
-        key = (outline_key(outline), float(spacing), float(band))
-        return _MEMO.get(key, lambda: cls._build(outline, float(spacing), float(band)))
+        return _MEMO.get(cls.key(outline, spacing, band),
+                         lambda: cls._build(outline, float(spacing), float(band)))
+
+    @staticmethod
+    def key(outline: Outline, spacing: float, band: float) -> tuple:
+        """The memo key of the field :meth:`build` makes (and of what is derived from it
+        alone)."""
+        return (outline_key(outline), float(spacing), float(band))
 
     @classmethod
     def _build(cls, outline: Outline, spacing: float, band: float) -> WallField:
