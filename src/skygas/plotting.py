@@ -6,7 +6,6 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from matplotlib.figure import Figure
 
 from skygas.geometry import Outline
 
@@ -30,6 +29,8 @@ def draw_outline(ax, outline: Outline, scale: float = 1e-3) -> None:
 def plot_trajectories(ds: xr.Dataset, outline: Outline, path: str | Path,
                       max_tracks: int = 200, title: str | None = None) -> Path:
     """Save a PNG of the outline with the recorded trajectories (start ○, end ●)."""
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(6, 5.5), dpi=120)
     ax = fig.add_subplot()
     draw_outline(ax, outline)

@@ -6,7 +6,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from skygas.plotting import draw_outline
 from skygas.reshuffler.device import drift_field_on_grid
@@ -20,6 +19,8 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
     gx, gy = grid.nodes()
     inside = run.sim.outline.contains_nm(gx, gy)
     magnitude = np.where(inside, magnitude, np.nan)
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(6.5, 9), dpi=110)
     ax = fig.add_subplot()
     extent = np.array([grid.x0, grid.x0 + grid.spacing * (grid.nx - 1),
@@ -57,6 +58,8 @@ def _log_norm(values):
 
 def plot_running_correlation(ds, path: Path) -> Path:
     """ρ of the events read so far against time (paper's reshuffler figure, right panel)."""
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(6, 4), dpi=110)
     ax = fig.add_subplot()
     if ds.sizes.get("running", 0):
@@ -72,6 +75,8 @@ def plot_running_correlation(ds, path: Path) -> Path:
 
 def plot_occupancy(ds, path: Path) -> Path:
     """Skyrmions present in each chamber against time, and the transit-time distribution."""
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(9, 3.8), dpi=110)
     ax, hx = fig.subplots(1, 2)
     t = ds.occupancy_time.values * 1e6

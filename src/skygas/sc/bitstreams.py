@@ -25,7 +25,6 @@ import warnings
 from typing import Any
 
 import numpy as np
-from scipy.stats import qmc
 
 from skygas.errors import InputError
 from skygas.sc import _validate as v
@@ -184,6 +183,8 @@ def sobol_stream(p: Any, n_bits: int, *, shape: Any = (), seed: v.SeedLike = Non
     n_streams = int(np.prod(lead, dtype=np.int64))
     if n_streams > _SOBOL_MAX_DIMENSION:
         raise InputError("shape", lead, f"at most {_SOBOL_MAX_DIMENSION} streams in one batch")
+    from scipy.stats import qmc  # here: scipy.stats takes ~1 s to import
+
     sampler = qmc.Sobol(d=max(n_streams, 1), scramble=True, seed=rng)
     with warnings.catch_warnings():
         # scipy warns when N is not a power of two; the stream is still valid, only its

@@ -15,7 +15,6 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from matplotlib.figure import Figure
 
 from skygas.errors import InputError
 from skygas.sweep.analysis import (
@@ -48,6 +47,8 @@ def _grid_only(ds: xr.Dataset, keep: tuple[str, ...]) -> xr.Dataset:
 def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     ds = _grid_only(ds, (CURRENT, P_VALUE))
     stats = replica_mean(ds)
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(11, 4.2), dpi=110)
     left, right = fig.subplots(1, 2)
     j = ds[CURRENT].values
@@ -95,6 +96,8 @@ def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     ds = _grid_only(ds, (CHAMBER,))
     stats = replica_mean(ds)
     length = ds[CHAMBER].values / LENGTH_UNIT
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(5.5, 4.2), dpi=110)
     ax = fig.add_subplot()
     ax.errorbar(length * 1e3, stats["mean"].values, yerr=np.nan_to_num(stats["sem"].values),
