@@ -38,6 +38,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from machine_steal import StealMeter
 from skygas.memo import clear_memos, memo_stats
 from skygas.sweep import parse_sweep, run_one, run_sweep, start_local_cluster
 
@@ -115,6 +116,7 @@ def main() -> None:
     parser.add_argument("--duration", type=float, default=2e-6, help="simulated time [s]")
     parser.add_argument("--mode", choices=("all", *MODES), default="all")
     args = parser.parse_args()
+    steal, started = StealMeter(), time.perf_counter()
     sweep = workload(args.duration)
     n = len(sweep.runs)
     _warm_up()  # imports and JIT, outside the timings
@@ -164,6 +166,7 @@ def main() -> None:
                   "it competes with the workers for the cores): median "
                   f"{statistics.median(client_cpu[mode][1]):.2f} s with 1 worker, "
                   f"{statistics.median(client_cpu[mode][2]):.2f} s with 2")
+    print(steal.report(time.perf_counter() - started))
 
 
 if __name__ == "__main__":
