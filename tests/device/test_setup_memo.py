@@ -110,6 +110,16 @@ def test_current_solution_scaled_from_memo_is_identical(kwargs):
     assert memo_stats()["current"]["hits"] == (2 if same_key else 1)
 
 
+def test_solution_at_another_current_density_is_a_fresh_solve():
+    chamber = SMALL.chamber()
+    settings = {"cell_size": 5e-9, "conductor_thickness": 7e-9, "resistivity": 3e-7,
+                "source": "output", "sink": "input"}
+    solution = solve_current(chamber, 1.7e11, **settings)
+    for j in (1.0, -2.9e11):
+        assert_identical(solution.at_current_density(j),
+                         uncached(lambda j=j: solve_current(chamber, j, **settings)))
+
+
 def test_drift_field_from_memo_is_identical():
     grid = Grid(-400.0, -700.0, 2.4, 340, 590)
     for j in (1.2e11, 2.9e11):
