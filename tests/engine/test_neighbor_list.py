@@ -106,6 +106,34 @@ def test_pair_forces_equal_a_direct_sum_over_all_pairs(n):
         assert stats[K.ST_PAIRS] > K.BRANCH_FREE_ENTRIES  # the list holds at least the pairs
 
 
+def test_list_build_holds_exactly_the_pairs_within_their_margins():
+    """The cell-list build against a brute-force scan over all pairs, with random margins s_i:
+    the pair (i, j) is listed once, under the owner met first, iff |x_i − x_j| <
+    cutoff + s_i + s_j. A list array that is too small is reported (−1), not overrun."""
+    n = 400
+    sim = Simulation(disk(512e-9 * np.sqrt(n / 45)), "S2", temperature=300.0, seed=1,
+                     capacity=n)
+    d_sk = sim.thiele.skyrmion_diameter_internal
+    sim._insert_nm(random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk,
+                                    np.random.default_rng(4)))
+    fp, ip = sim._fp, sim._ip
+    margin = np.random.default_rng(5).uniform(0.0, fp[K.FP_MARGIN_MAX], n)
+    work = (np.empty(ip[K.IP_NCX] * ip[K.IP_NCY], np.int64), np.empty(n, np.int64),
+            np.empty(n, np.int64), np.empty(n + 1, np.int64))
+    args = (sim._x, sim._y, sim._alive, margin, fp, ip, *work)
+    assert K.build_neighbor_list(*args, np.full(100, -7, np.int64)) == -1
+    pair_j = np.empty(64 * n, np.int64)
+    n_owners = K.build_neighbor_list(*args, pair_j)
+    owner, start = work[2], work[3]
+    listed = [tuple(sorted((owner[e], j))) for e in range(n_owners)
+              for j in pair_j[start[e]:start[e + 1]]]
+    reach = fp[K.FP_PAIR_CUT] + margin[:, None] + margin[None, :]
+    r = np.hypot(sim._x[:, None] - sim._x[None, :], sim._y[:, None] - sim._y[None, :])
+    expected = {(i, j) for i, j in zip(*np.nonzero(np.triu(r < reach, k=1)))}
+    assert len(listed) == len(set(listed)) == len(expected) > 2 * n
+    assert set(listed) == expected
+
+
 def test_simd_logarithm_is_within_one_ulp_of_libm():
     @numba.njit
     def logs(w):
