@@ -8,6 +8,7 @@ measurement from a regression.
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
 _STAT = Path("/proc/stat")
@@ -29,9 +30,11 @@ class StealMeter:
 
     def __init__(self) -> None:
         self.start_value = steal_seconds()
+        self.started = time.perf_counter()
 
-    def report(self, wall_seconds: float) -> str:
+    def report(self) -> str:
         end = steal_seconds()
+        wall_seconds = time.perf_counter() - self.started
         if self.start_value is None or end is None:
             return "steal time: not reported by this system"
         stolen = end - self.start_value
