@@ -7,7 +7,10 @@ over several repeats of:
 - the time per Heun step (µs) and steps per second,
 - pair-force evaluations per second inside the cutoff, timing the pair-force loop alone (the
   wall and drive forces and the conversion to velocities are not part of it),
-and finally the exponent of cost versus N from a log–log fit.
+and finally the exponent of cost versus N from a log–log fit. Before and after each N it
+measures the core's clock (:mod:`machine_clock`) and prints the time per step in thousands of
+cycles at their mean: this shared machine changes clock from hour to hour, and cycles compare
+across those states where microseconds do not.
 
 Run: ``make bench`` or ``.venv/bin/python benchmarks/bench_engine.py [--quick]``.
 """
@@ -20,6 +23,7 @@ import time
 
 import numpy as np
 
+from machine_clock import clock_ghz
 from machine_steal import StealMeter
 from skygas import _kernels as K
 from skygas.engine import Simulation
@@ -77,16 +81,21 @@ def main() -> None:
     args = parser.parse_args()
     steal = StealMeter()
     repeats = 3 if args.quick else 7
-    print(f"{'N':>6} {'µs/step':>10} {'steps/s':>10} {'pairs/eval':>11} {'pair evals/s':>13}")
+    print(f"{'N':>6} {'µs/step':>10} {'steps/s':>10} {'pairs/eval':>11} {'pair evals/s':>13}"
+          f" {'GHz':>10} {'kcycles/step':>13}")
     costs = []
     for n in args.sizes:
         sim = make_sim(n)
         n_steps = max(50, int(2e5 / n))
+        before = clock_ghz()
         per_step = statistics.median(time_steps(sim, n_steps, repeats))
         t_pairs, pairs = time_pairs(sim, repeats, calls=max(20, int(1e5 / n)))
+        after = clock_ghz()
         costs.append(per_step)
+        ghz = 0.5 * (before + after)
         print(f"{n:>6} {per_step * 1e6:>10.2f} {1 / per_step:>10.0f} {pairs:>11.0f} "
-              f"{pairs / t_pairs:>13.3g}", flush=True)
+              f"{pairs / t_pairs:>13.3g} {before:>4.2f}-{after:<4.2f} "
+              f"{per_step * ghz * 1e6:>13.1f}", flush=True)
     slope = np.polyfit(np.log(args.sizes), np.log(costs), 1)[0]
     print(f"cost exponent (time per step ∝ N^b): b = {slope:.3f}")
     print(steal.report())
