@@ -2,9 +2,10 @@
 
 On a shared virtual machine the host may run the same core at different clocks from one hour
 to the next, and every timing follows (on the development VM, engine timings differ by about
-1.5× between a fast and a slow state; this probe reads 1.6–2.3 GHz in the slow one, moving within seconds). A chain
-of floating-point multiplies, each waiting for the previous result, takes a fixed number of
-cycles per multiply whatever else the machine does, so its speed gives the clock:
+1.5× between a fast and a slow state; in the slow one this probe reads 1.6–2.3 GHz, moving
+within seconds). A chain of floating-point multiplies, each waiting for the previous result,
+takes a fixed number of cycles per multiply whatever else the machine does, so its speed gives
+the clock:
 
     f = 4 · n / t     (n multiplies in t seconds, 4 cycles each)
 
