@@ -282,7 +282,9 @@ class _UnitFlow:
     jx_unit: np.ndarray  # in units of σ·(1 V)/h
     jy_unit: np.ndarray
     phi_unit: np.ndarray  # φ for 1 V (0 … 1)
-    port_current_unit: Mapping[str, float]  # port → outward current, units of σ t (1 V)
+    # (port, outward current in units of σ t (1 V)) pairs: a tuple, immutable like the arrays
+    # and picklable for the disk cache (a MappingProxyType is not)
+    port_current_unit: tuple[tuple[str, float], ...]
     source_unit: float
     cells_live: int
     conservation_error: float
@@ -291,7 +293,7 @@ class _UnitFlow:
 
 # Unit flows solved in this process (see skygas.memo): a sweep over J, p or temperature on one
 # device solves the current once.
-_MEMO = Memo("current", maxsize=4)
+_MEMO = Memo("current", maxsize=4, persist=True)
 
 
 def _unit_flow(outline: Outline, sources: tuple[str, ...], sinks: tuple[str, ...],
@@ -338,7 +340,7 @@ def _unit_flow(outline: Outline, sources: tuple[str, ...], sinks: tuple[str, ...
     phi_unit = phi[nearest[0], nearest[1]]  # every nearest cell is live: no nan left
     frozen(inside, jx_unit, jy_unit, phi_unit)
     return _UnitFlow(cells=cells, inside=inside, jx_unit=jx_unit, jy_unit=jy_unit,
-                     phi_unit=phi_unit, port_current_unit=MappingProxyType(port_current_unit),
+                     phi_unit=phi_unit, port_current_unit=tuple(port_current_unit.items()),
                      source_unit=source_unit, cells_live=int(live.sum()),
                      conservation_error=abs(sink_unit - source_unit) / source_unit,
                      solve_seconds=time.perf_counter() - started)
@@ -568,7 +570,7 @@ def solve_current(
 
     flow = _MEMO.get((outline_key(outline), sources, sinks, h_nm),
                      lambda: _unit_flow(outline, sources, sinks, h_nm, cell_size))
-    port_current_unit = flow.port_current_unit
+    port_current_unit = dict(flow.port_current_unit)
     h_m = flow.cells.h / M_TO_NM
     source_width = sum(outline.ports[n].length for n in sources) / M_TO_NM
     total_current = current_density * source_width * thickness

@@ -10,7 +10,9 @@ What is kept: the wall field (:mod:`skygas.wall_field`), the unit-voltage curren
 (:mod:`skygas.current`), the reshuffler's current field sampled on the engine grid for
 J = 1 A/m² (:mod:`skygas.reshuffler.device`), the force tables and the packed wall channels of
 the kernels' grid (:mod:`skygas.engine`). With all of them, building a 1024 nm reshuffler run
-of an already-seen device takes ~30 ms (92 ms with only the first two).
+of an already-seen device takes ~30 ms (92 ms with only the first two). The three costly ones
+(wall field, current flow, sampled current: ``persist=True``) are also kept on disk across
+processes (:mod:`skygas.disk_cache`), so a new process loads them instead of building them.
 
 Correctness rules that the users of this module follow:
 
@@ -26,7 +28,8 @@ Correctness rules that the users of this module follow:
 Entries are evicted least-recently-used beyond ``maxsize`` entries or ``max_bytes`` of arrays
 (the newest entry is always kept; a 1024 nm reshuffler's three entries take 5-20 MB each, and
 the sizes grow with the square of the chamber diameter). :func:`memo_stats` counts hits and
-misses (to check that a sweep really re-uses its set-up); :func:`set_memo_enabled` turns
+misses, and of the misses those loaded from disk (to check that a sweep really re-uses its
+set-up); :func:`set_memo_enabled` turns
 memoisation off (for comparisons, and the test above); the environment variable
 ``SKYGAS_MEMO=0`` does the same for new processes.
 """
@@ -43,6 +46,8 @@ from typing import TypeVar
 import numpy as np
 import shapely
 
+from skygas import disk_cache
+
 T = TypeVar("T")
 
 _enabled = os.environ.get("SKYGAS_MEMO", "1") not in ("0", "false", "no")
@@ -51,12 +56,15 @@ _enabled = os.environ.get("SKYGAS_MEMO", "1") not in ("0", "false", "no")
 class Memo:
     """A bounded, thread-safe LRU map from a hashable key to a built value."""
 
-    def __init__(self, name: str, maxsize: int = 4, max_bytes: int = 256 * 2**20):
+    def __init__(self, name: str, maxsize: int = 4, max_bytes: int = 256 * 2**20,
+                 persist: bool = False):
         self.name = name
         self.maxsize = maxsize
         self.max_bytes = max_bytes
+        self.persist = persist
         self.hits = 0
         self.misses = 0
+        self.disk_hits = 0
         self._items: OrderedDict[Hashable, object] = OrderedDict()
         self._sizes: dict[Hashable, int] = {}
         self._lock = threading.Lock()
@@ -65,8 +73,9 @@ class Memo:
     def get(self, key: Hashable, build: Callable[[], T]) -> T:
         """The value stored under ``key``, building (and storing) it with ``build()`` if absent.
 
-        ``build`` runs outside the lock: two threads missing at once both build, and the values
-        are equal, so either may be kept."""
+        With ``persist``, a miss looks in the disk cache (:mod:`skygas.disk_cache`) before
+        building, and stores what it builds there. ``build`` runs outside the lock: two threads
+        missing at once both build, and the values are equal, so either may be kept."""
         if not _enabled:
             return build()
         with self._lock:
@@ -75,11 +84,18 @@ class Memo:
                 self.hits += 1
                 return self._items[key]  # type: ignore[return-value]
             self.misses += 1
-        value = build()
+        if self.persist:
+            value, loaded = disk_cache.load_or_build(self.name, key, build)
+            if loaded:
+                frozen(*_arrays_in(value))
+                with self._lock:
+                    self.disk_hits += 1
+        else:
+            value = build()
         with self._lock:
             self._items[key] = value
             self._items.move_to_end(key)
-            self._sizes[key] = _nbytes(value)
+            self._sizes[key] = sum(a.nbytes for a in _arrays_in(value))
             while len(self._items) > 1 and (len(self._items) > self.maxsize
                                             or sum(self._sizes.values()) > self.max_bytes):
                 old, _ = self._items.popitem(last=False)
@@ -90,15 +106,17 @@ class Memo:
         with self._lock:
             self._items.clear()
             self._sizes.clear()
-            self.hits = self.misses = 0
+            self.hits = self.misses = self.disk_hits = 0
 
 
-def _nbytes(value, depth: int = 3) -> int:
-    """Bytes of the numpy arrays in ``value`` (dataclass fields, tuples, lists, dicts)."""
+def _arrays_in(value, depth: int = 3):
+    """The numpy arrays in ``value`` (dataclass fields, tuples, lists, dict values), down to
+    ``depth`` levels."""
     if isinstance(value, np.ndarray):
-        return value.nbytes
+        yield value
+        return
     if depth == 0:
-        return 0
+        return
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         items = [getattr(value, f.name) for f in dataclasses.fields(value)]
     elif isinstance(value, (tuple, list)):
@@ -106,8 +124,9 @@ def _nbytes(value, depth: int = 3) -> int:
     elif isinstance(value, dict):
         items = list(value.values())
     else:
-        return 0
-    return sum(_nbytes(item, depth - 1) for item in items)
+        return
+    for item in items:
+        yield from _arrays_in(item, depth - 1)
 
 
 _MEMOS: dict[str, Memo] = {}
@@ -127,8 +146,10 @@ def frozen(*arrays: np.ndarray) -> None:
 
 
 def memo_stats() -> dict[str, dict[str, int]]:
-    """Hits, misses and stored entries of every memo in this process."""
-    return {name: {"hits": m.hits, "misses": m.misses, "entries": len(m._items)}
+    """Hits, misses and stored entries of every memo in this process; of the misses,
+    ``disk_hits`` were loaded from the disk cache and ``built`` were computed."""
+    return {name: {"hits": m.hits, "misses": m.misses, "disk_hits": m.disk_hits,
+                   "built": m.misses - m.disk_hits, "entries": len(m._items)}
             for name, m in _MEMOS.items()}
 
 

@@ -48,7 +48,7 @@ from skygas.nearest_segment import nearest_segment
 
 # Wall fields built in this process, by outline, spacing and band (see skygas.memo): a sweep
 # over current, p-value or temperature re-uses its device's field instead of rebuilding it.
-_MEMO = Memo("wall_field", maxsize=4)
+_MEMO = Memo("wall_field", maxsize=4, persist=True)
 
 
 @dataclass(frozen=True)

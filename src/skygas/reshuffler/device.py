@@ -110,7 +110,7 @@ def drift_field_on_grid(geometry: ReshufflerGeometry, solution, grid,
 
 
 # (geometry, grid, cells, electrodes) → (jx, jy) [A/m²] on the grid for J = 1 A/m²
-_UNIT_SAMPLE = Memo("drift_unit_sample", maxsize=2)
+_UNIT_SAMPLE = Memo("drift_unit_sample", maxsize=2, persist=True)
 
 
 def _sample_both_chambers(geometry: ReshufflerGeometry, solution,
