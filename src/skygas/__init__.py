@@ -14,38 +14,9 @@ Sub-packages: :mod:`skygas.sc` (stochastic computing), :mod:`skygas.micromag` (m
 bridge). Everything else is private and may change.
 """
 
-from skygas._version import __version__
-from skygas.config import SimulationConfig, load_config
-from skygas.engine import Simulation
-from skygas.errors import InputError
-from skygas.geometry import Outline, chamber_with_conduits, disk, polygon, rectangle, union
-from skygas.materials import (
-    Material,
-    ThieleParameters,
-    derive_thiele,
-    load_material,
-    preset,
-    preset_names,
-)
-from skygas.runner import run_simulation
+# The public names are imported on first use (SPEC 1 lazy loading; the names and their modules
+# are listed once, in __init__.pyi, which type checkers read too). A Dask worker of a sweep
+# imports only what a run needs this way, not xarray, zarr or the plotting code.
+import lazy_loader
 
-__all__ = [
-    "__version__",
-    "InputError",
-    "Material",
-    "Outline",
-    "Simulation",
-    "SimulationConfig",
-    "ThieleParameters",
-    "chamber_with_conduits",
-    "derive_thiele",
-    "disk",
-    "load_config",
-    "load_material",
-    "polygon",
-    "preset",
-    "preset_names",
-    "rectangle",
-    "run_simulation",
-    "union",
-]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -28,10 +28,9 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, replace
-from typing import Callable, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Callable, NamedTuple, Protocol
 
 import numpy as np
-import xarray as xr
 
 from skygas import _kernels as K
 from skygas import units
@@ -44,6 +43,9 @@ from skygas.geometry import Outline
 from skygas.materials import Material, ThieleParameters, derive_thiele, load_material
 from skygas.memo import Memo, frozen
 from skygas.wall_field import WallField
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: Time steps longer than this fraction of τ_min are refused (see Simulation.max_time_step).
 MAX_STEP_FRACTION = 1.0
@@ -742,6 +744,9 @@ class Simulation:
             y[row + frame, column] = block.y[frame, slot] / units.M_TO_NM
             row += len(block.time)
         ex = self.exits.arrays()
+        # imported here: a run that records no trajectory (a sweep's worker) never needs it
+        import xarray as xr
+
         ds = xr.Dataset(
             {
                 "x": (("time", "skyrmion"), x, {"units": "m", "long_name": "x position"}),

@@ -7,21 +7,9 @@ stochastic bitstream while preserving its p-value.
 - :class:`ReshufflerRun`, :func:`summarize`: the same steps one by one, from Python.
 """
 
-from skygas.reshuffler.analysis import ReshufflerResult, summarize
-from skygas.reshuffler.config import (
-    ReshufflerConfig,
-    load_reshuffler_config,
-    parse_reshuffler_config,
-)
-from skygas.reshuffler.files import run_reshuffler
-from skygas.reshuffler.run import ReshufflerRun
+# The public names are imported on first use (SPEC 1 lazy loading; the names and their modules
+# are listed once, in __init__.pyi, which type checkers read too). A Dask worker of a sweep
+# imports only what a run needs this way, not xarray, zarr or the plotting code.
+import lazy_loader
 
-__all__ = [
-    "ReshufflerConfig",
-    "ReshufflerResult",
-    "ReshufflerRun",
-    "load_reshuffler_config",
-    "parse_reshuffler_config",
-    "run_reshuffler",
-    "summarize",
-]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -15,19 +15,24 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from skygas import correlation as corr
 from skygas._version import __version__
 
+if TYPE_CHECKING:
+    import xarray as xr
+
 @dataclass
 class ReshufflerResult:
-    """The summary (JSON-able dict, SI units) and the full :class:`xarray.Dataset`."""
+    """The summary (JSON-able dict, SI units), the running correlation (None with fewer than
+    3 aligned events) and the full :class:`xarray.Dataset` (None if not asked for)."""
 
     summary: dict
-    dataset: xr.Dataset
+    running: corr.RunningCorrelation | None
+    dataset: xr.Dataset | None
 
 
 def _injections(run) -> dict[str, np.ndarray]:
@@ -38,8 +43,12 @@ def _injections(run) -> dict[str, np.ndarray]:
             "time": log.injection_step[order] * run.sim.time_step, "up": log.bit[order]}
 
 
-def summarize(run) -> ReshufflerResult:
-    """Analyse a finished (or interrupted) :class:`~skygas.reshuffler.run.ReshufflerRun`."""
+def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
+    """Analyse a finished (or interrupted) :class:`~skygas.reshuffler.run.ReshufflerRun`.
+
+    ``dataset=False`` leaves out the dataset: a sweep's worker keeps only the summary and the
+    running curve, and skips importing xarray (its first dataset alone imports dask.array,
+    ~0.5 s per fresh worker process)."""
     cfg = run.config
     counts = run.counts()
     inj = _injections(run)
@@ -102,6 +111,10 @@ def summarize(run) -> ReshufflerResult:
         "seed": cfg.seed,
         "skygas_version": __version__,
     }
+    if not dataset:
+        return ReshufflerResult(summary, running, None)
+
+    import xarray as xr  # here, not at the top: see the docstring
 
     ds = xr.Dataset(
         {
@@ -152,4 +165,4 @@ def summarize(run) -> ReshufflerResult:
         "snapshot_layout": "entries of snapshot n are the snapshot_count[n] consecutive "
                            "entries after those of snapshots 0..n-1",
     })
-    return ReshufflerResult(summary, ds)
+    return ReshufflerResult(summary, running, ds)

@@ -12,30 +12,9 @@
 See ``docs/sweeps.md``.
 """
 
-from skygas.sweep.analysis import (
-    fit_chamber_scaling,
-    fit_current_scaling,
-    replica_mean,
-    running_mean,
-)
-from skygas.sweep.execute import SweepReport, run_one, run_sweep, start_local_cluster
-from skygas.sweep.figures import plot_sweep
-from skygas.sweep.spec import Run, Sweep, load_sweep, parse_sweep
-from skygas.sweep.store import open_sweep
+# The public names are imported on first use (SPEC 1 lazy loading; the names and their modules
+# are listed once, in __init__.pyi, which type checkers read too). A Dask worker of a sweep
+# imports only what a run needs this way, not xarray, zarr or the plotting code.
+import lazy_loader
 
-__all__ = [
-    "Run",
-    "Sweep",
-    "SweepReport",
-    "fit_chamber_scaling",
-    "fit_current_scaling",
-    "load_sweep",
-    "open_sweep",
-    "parse_sweep",
-    "plot_sweep",
-    "replica_mean",
-    "run_one",
-    "run_sweep",
-    "running_mean",
-    "start_local_cluster",
-]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -1,8 +1,9 @@
 """Running a sweep: serially in this process, or on Dask (a local cluster or a scheduler).
 
-Workers only compute (:func:`run_one` takes a configuration as JSON and returns plain numbers);
-this process writes every result into the store as it arrives, so whatever finished is kept
-when the sweep is interrupted, and running the same sweep again only runs what is missing.
+Workers only compute (:func:`~skygas.sweep.worker.run_one` takes a configuration as JSON and
+returns plain numbers); this process writes every result into the store as it arrives, so
+whatever finished is kept when the sweep is interrupted, and running the same sweep again only
+runs what is missing.
 """
 
 from __future__ import annotations
@@ -13,26 +14,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-import numpy as np
-
 from skygas.errors import require
 from skygas.sweep.spec import Run, Sweep
-from skygas.sweep.store import QUANTITIES, SweepStore
-
-
-def run_one(config_json: str) -> dict:
-    """Run one reshuffler configuration and return the numbers a sweep stores (on a worker)."""
-    from skygas.reshuffler import ReshufflerConfig, ReshufflerRun, summarize
-
-    config = ReshufflerConfig.model_validate_json(config_json)
-    run = ReshufflerRun.build(config)
-    run.advance()
-    result = summarize(run)
-    out = {name: float(result.summary[name]) for name in QUANTITIES}
-    ds = result.dataset
-    out["running_rho"] = np.asarray(ds["running_rho"].values, dtype=np.float64)
-    out["running_time"] = np.asarray(ds["running_time"].values, dtype=np.float64)
-    return out
+from skygas.sweep.store import SweepStore
+from skygas.sweep.worker import run_one
 
 
 #: Dask settings of the local cluster that a sweep starts (:func:`start_local_cluster`). The

@@ -43,15 +43,7 @@ from zarr.core.sync import sync as _sync
 from skygas._version import __version__
 from skygas.errors import InputError
 from skygas.sweep.spec import Run, Sweep
-
-# summary keys stored per run (float64; NaN until the run is done)
-QUANTITIES = (
-    "correlation", "correlation_max_lag", "scc", "p_in", "p_out",
-    "n_injected", "n_detected", "n_skipped", "n_present", "max_occupancy",
-    "mean_transit_s", "power_W", "energy_per_bit_J", "simulated_time_s", "time_step_s",
-    "wall_time_s",
-)
-RUNNING = ("running_rho", "running_time")
+from skygas.sweep.worker import QUANTITIES, RUNNING
 
 
 def _coordinate(values) -> np.ndarray:
