@@ -2,51 +2,63 @@
 
 Workload: the ``paper`` preset (1024 nm chambers), 4 current densities × 4 p-values, one
 replica, ``--duration`` of simulated time per run (default 2 µs). Every point of this sweep
-shares one device, so each process solves the current and builds the wall field once (about
-2 s, :mod:`skygas.memo`); a point then costs its simulation, ~0.2 s at 2 µs. Prints the median
+shares one device: a process builds its set-up (current solve, wall field: ~1.5-2 s) once and
+keeps it (:mod:`skygas.memo`), and the disk cache (:mod:`skygas.disk_cache`) lets a new process
+load it in ~0.1 s instead. A point then costs its simulation, ~0.2 s at 2 µs. Prints the median
 wall time (and the range) over ``--repeats`` sweeps for 1 and 2 workers and their ratio, in
-three modes:
+four modes:
 
-- ``cold``: each sweep starts its own local cluster (``skygas sweep --workers N``), so the
-  cluster's start, each worker's imports and compiled-kernel loads, and each worker's device
-  set-up are included;
+- ``first``: each sweep starts its own local cluster (``skygas sweep --workers N``) with an
+  empty disk cache, as the first sweep ever of a device: the cluster's start, each worker's
+  imports and compiled-kernel loads, and each worker's device set-up are included;
+- ``cold``: as ``first``, with the device's set-up in the disk cache (any earlier run of this
+  device, in any process, left it there): each worker loads it;
 - ``warm``: the cluster is started (with the settings ``skygas sweep`` gives its own,
   :func:`skygas.sweep.start_local_cluster`) and its workers warmed up first (imports and
   kernels, on another, small device), then the sweep runs on it through its scheduler address
-  (``skygas sweep --scheduler ADDRESS``, a cluster that stays up); each worker's device set-up
-  is included;
+  (``skygas sweep --scheduler ADDRESS``, a cluster that stays up); each worker loads the
+  device's set-up from the disk cache;
 - ``hot``: as ``warm``, but every worker has already run this device once (a cluster that ran
   an earlier sweep of the same device): only the runs themselves and the Dask path remain.
 
-It also runs the sweep serially in this process, from a fresh set-up (``cold``/``warm``) and
-with the set-up already done (``hot``), and prints the Dask path's overhead per point,
+The benchmark keeps its disk cache in a temporary directory (``SKYGAS_CACHE_DIR``), filled by
+the first serial sweep; ``first`` gives each sweep a new, empty one. It also runs the sweep
+serially in this process, with its set-up built (``first``), loaded from disk (``cold``,
+``warm``) or already in memory (``hot``), and prints the Dask path's overhead per point,
 (T(1 worker) − T(serial)) / 16, for each mode. In ``warm``/``hot`` it prints how many current
-solves each worker did (``skygas.memo`` counts), to show the set-up was not repeated per point,
-and the CPU time this process (the client, the scheduler and the nannies of the local cluster)
-used during a sweep: on a machine with as many cores as workers, that time is taken from them.
+solves each worker did (``skygas.memo`` counts), to show the set-up was not rebuilt, and the CPU
+time this process (the client, the scheduler and the nannies of the local cluster) used during a
+sweep: on a machine with as many cores as workers, that time is taken from them.
 
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--repeats 3] [--duration 2e-6]
-[--mode all|cold|warm|hot]``.
+[--mode all|first|cold|warm|hot]``.
 """
-
 from __future__ import annotations
 
 import argparse
+import os
 import resource
 import statistics
 import tempfile
 import time
 from pathlib import Path
 
+import skygas.memo as memo
+import skygas.sweep as api  # its names load on first use (skygas.sweep's lazy exports)
 from machine_steal import StealMeter
-from skygas.memo import clear_memos, memo_stats
-from skygas.sweep import parse_sweep, run_one, run_sweep, start_local_cluster
 
-MODES = ("cold", "warm", "hot")
+# The local cluster's worker processes start by re-running this file's top level (as
+# ``__mp_main__``, multiprocessing's spawn method), as they re-run the ``skygas`` command's
+# script under ``skygas sweep``: importing skygas.sweep's client side (zarr, xarray) here would
+# put ~0.7 s into every worker's start that the command does not have.
+
+MODES = ("first", "cold", "warm", "hot")
+#: the in-process set-up each mode's serial reference starts from
+SERIAL_OF = {"first": "built", "cold": "loaded", "warm": "loaded", "hot": "in memory"}
 
 
 def workload(duration: float):
-    return parse_sweep({
+    return api.parse_sweep({
         "sweep": {"seed": 1, "replicas": 1},
         "base": {"preset": "paper", "duration": duration,
                  "output": {"trajectory_window": 0.0}},
@@ -57,22 +69,22 @@ def workload(duration: float):
 
 def timed(sweep, tmp: Path, name: str, **kwargs) -> float:
     start = time.perf_counter()
-    report = run_sweep(sweep, tmp / f"{name}.zarr", progress=False, **kwargs)
+    report = api.run_sweep(sweep, tmp / f"{name}.zarr", progress=False, **kwargs)
     assert len(report.computed) == len(sweep.runs) and not report.failed, report.failed
     return time.perf_counter() - start
 
 
 def _warm_up() -> None:
     """Imports and compiled kernels, on a small device (not the benchmark's)."""
-    config = parse_sweep({"base": {"preset": "paper", "duration": 5e-8,
+    config = api.parse_sweep({"base": {"preset": "paper", "duration": 5e-8,
                                    "device": {"chamber_diameter": 3e-7},
                                    "output": {"trajectory_window": 0.0}},
                           "grid": {"temperature": [300.0]}}).runs[0].config
-    run_one(config.model_dump_json())
+    api.run_one(config.model_dump_json())
 
 
 def _current_solves() -> int:
-    return memo_stats()["current"]["misses"]
+    return memo.memo_stats()["current"]["built"]
 
 
 def _process_cpu() -> float:
@@ -87,10 +99,10 @@ def timed_on_cluster(sweep, tmp: Path, name: str, workers: int,
     and the CPU time this process (client, scheduler and nannies) used meanwhile."""
     from dask.distributed import Client
 
-    with start_local_cluster(workers) as cluster, Client(cluster) as client:
+    with api.start_local_cluster(workers) as cluster, Client(cluster) as client:
         client.run(_warm_up)
         if hot:  # every worker runs this device once: its set-up is then kept
-            client.run(run_one, sweep.runs[0].config.model_dump_json())
+            client.run(api.run_one, sweep.runs[0].config.model_dump_json())
         before = client.run(_current_solves)
         cpu = _process_cpu()
         t = timed(sweep, tmp, name, scheduler=cluster.scheduler_address)
@@ -99,11 +111,23 @@ def timed_on_cluster(sweep, tmp: Path, name: str, workers: int,
         return t, [after[w] - before[w] for w in sorted(after)], cpu
 
 
-def timed_serial(sweep, tmp: Path, name: str, hot: bool) -> float:
-    clear_memos()
-    if hot:
-        run_one(sweep.runs[0].config.model_dump_json())
-    return timed(sweep, tmp, name, serial=True)
+def use_new_disk_cache(tmp: Path, name: str) -> None:
+    """Point this process and the workers it starts from now on at an empty disk cache."""
+    os.environ["SKYGAS_CACHE_DIR"] = str(tmp / f"cache-{name}")
+
+
+def timed_serial(sweep, tmp: Path, name: str, setup: str) -> float:
+    """The sweep run in this process, its set-up ``built``, ``loaded`` from disk or
+    ``in memory``."""
+    memo.clear_memos()
+    if setup == "built":
+        use_new_disk_cache(tmp, name)
+    elif setup == "in memory":
+        api.run_one(sweep.runs[0].config.model_dump_json())
+    try:
+        return timed(sweep, tmp, name, serial=True)
+    finally:
+        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")
 
 
 def spread(values: list[float]) -> str:
@@ -119,26 +143,29 @@ def main() -> None:
     steal = StealMeter()
     sweep = workload(args.duration)
     n = len(sweep.runs)
-    _warm_up()  # imports and JIT, outside the timings
     modes = MODES if args.mode == "all" else (args.mode,)
     times = {mode: {1: [], 2: []} for mode in modes}
-    serial = {"fresh": [], "hot": []}
+    serial = {setup: [] for setup in dict.fromkeys(SERIAL_OF[mode] for mode in modes)}
     solves = {mode: [] for mode in modes}
     client_cpu = {mode: {1: [], 2: []} for mode in modes}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
+        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")  # this benchmark's own
+        _warm_up()  # imports and JIT, outside the timings
+        api.run_one(sweep.runs[0].config.model_dump_json())  # fills the disk cache
         for k in range(args.repeats):
-            for kind in ("fresh", "hot") if "hot" in modes else ("fresh",):
-                if kind == "fresh" and modes == ("hot",):
-                    continue
-                t = timed_serial(sweep, tmp, f"serial-{kind}-{k}", hot=kind == "hot")
-                serial[kind].append(t)
-                print(f"repeat {k}, serial ({kind} set-up): {t:.1f} s", flush=True)
+            for setup in serial:
+                t = timed_serial(sweep, tmp, f"serial-{setup.replace(' ', '-')}-{k}", setup)
+                serial[setup].append(t)
+                print(f"repeat {k}, serial (set-up {setup}): {t:.1f} s", flush=True)
             for mode in modes:
                 for workers in (1, 2):
                     name = f"{mode}{workers}-{k}"
-                    if mode == "cold":
+                    if mode in ("first", "cold"):
+                        if mode == "first":
+                            use_new_disk_cache(tmp, name)
                         t = timed(sweep, tmp, name, workers=workers)
+                        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")
                     else:
                         t, done, cpu = timed_on_cluster(sweep, tmp, name, workers,
                                                         mode == "hot")
@@ -147,17 +174,18 @@ def main() -> None:
                     times[mode][workers].append(t)
                     print(f"repeat {k}, {mode}, {workers} worker(s): {t:.1f} s", flush=True)
     print(f"{n} points, {args.duration * 1e6:g} µs each, {args.repeats} repeats")
-    for kind, values in serial.items():
-        if values:
-            t = statistics.median(values)
-            print(f"serial ({kind} set-up, in process): median {t:.1f} s ({spread(values)}) "
-                  f"= {t / n:.2f} s per point")
+    for setup, values in serial.items():
+        t = statistics.median(values)
+        print(f"serial (in this process, set-up {setup}): median {t:.1f} s ({spread(values)}) "
+              f"= {t / n:.2f} s per point")
     for mode in modes:
         t1, t2 = statistics.median(times[mode][1]), statistics.median(times[mode][2])
-        reference = statistics.median(serial["hot" if mode == "hot" else "fresh"])
+        ratios = [a / b for a, b in zip(times[mode][1], times[mode][2])]
+        reference = statistics.median(serial[SERIAL_OF[mode]])
         print(f"{mode}: 1 worker median {t1:.1f} s ({spread(times[mode][1])}), 2 workers "
               f"median {t2:.1f} s ({spread(times[mode][2])}), speed-up {t1 / t2:.2f}x "
-              f"(per repeat: {', '.join(f'{a / b:.2f}' for a, b in zip(times[mode][1], times[mode][2]))}), "
+              f"(per repeat: {', '.join(f'{r:.2f}' for r in ratios)}; their median "
+              f"{statistics.median(ratios):.2f}x), "
               f"Dask overhead per point {(t1 - reference) / n:.2f} s")
         if solves[mode]:
             print(f"  current solves per worker in each sweep (1 worker, 2 workers, ...): "
