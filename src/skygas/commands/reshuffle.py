@@ -6,8 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from skygas.reshuffler.config import PRESETS, load_reshuffler_config
-from skygas.reshuffler.files import run_reshuffler
+from skygas.reshuffler.presets import PRESETS
 
 # command-line option → configuration field it overrides
 OVERRIDES = {
@@ -52,6 +51,10 @@ def _format(summary: dict, out: Path) -> str:
 
 
 def _reshuffle(args) -> int:
+    # imported here: building the command line (every skygas call) imports no numerics
+    from skygas.reshuffler.config import load_reshuffler_config
+    from skygas.reshuffler.files import run_reshuffler
+
     overrides = {field: getattr(args, opt) for opt, field in OVERRIDES.items()}
     config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
     result = run_reshuffler(config, args.out, progress=not (args.json or args.quiet),

@@ -1,4 +1,8 @@
-"""``skygas simulate CONFIG.toml --out DIR`` and ``skygas demo --out DIR``."""
+"""``skygas simulate CONFIG.toml --out DIR`` and ``skygas demo --out DIR``.
+
+The handlers import the simulation when they run: building the command line (every ``skygas``
+call, ``--help`` included) then imports no numerics.
+"""
 
 from __future__ import annotations
 
@@ -6,11 +10,11 @@ import json
 from importlib import resources
 from pathlib import Path
 
-from skygas.config import load_config, parse_config
-from skygas.runner import run_simulation
-
 
 def _simulate(args) -> int:
+    from skygas.config import load_config
+    from skygas.runner import run_simulation
+
     config = load_config(args.config)
     summary = run_simulation(config, args.out, progress=not args.quiet, resume=args.resume)
     _report(summary, args.out)
@@ -18,6 +22,7 @@ def _simulate(args) -> int:
 
 
 def _check_timestep(args) -> int:
+    from skygas.config import load_config
     from skygas.timestep import check_config_time_step
 
     report = check_config_time_step(load_config(args.config), duration=args.duration,
@@ -31,11 +36,15 @@ def default_demo_config():
     """The closed-chamber demonstration configuration shipped with the package."""
     import tomllib
 
+    from skygas.config import parse_config
+
     text = resources.files("skygas").joinpath("data/demo-closed-chamber.toml").read_text()
     return parse_config(tomllib.loads(text), source="demo config: ")
 
 
 def _demo(args) -> int:
+    from skygas.runner import run_simulation
+
     summary = run_simulation(default_demo_config(), args.out, progress=not args.quiet)
     _report(summary, args.out)
     return 0

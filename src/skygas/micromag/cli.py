@@ -1,6 +1,7 @@
 """``skygas micromag``: inspect a magnetisation file, fit force laws from snapshots.
 
-Each sub-command is one call into :mod:`skygas.micromag`.
+Each sub-command is one call into :mod:`skygas.micromag`, imported when the sub-command runs
+(building the command line, for every ``skygas`` call, then imports no numerics).
 """
 
 from __future__ import annotations
@@ -8,10 +9,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-
-from skygas.micromag.detection import inspect_field
-from skygas.micromag.ovf import load_field
-from skygas.micromag.workflow import fit_snapshots
 
 
 def register(subparsers) -> None:
@@ -59,6 +56,9 @@ def register(subparsers) -> None:
 
 
 def _inspect(args: argparse.Namespace) -> int:
+    from skygas.micromag.detection import inspect_field
+    from skygas.micromag.ovf import load_field
+
     report = inspect_field(load_field(args.file, cell_size=args.cell_size),
                            threshold=args.threshold)
     if args.json:
@@ -74,6 +74,8 @@ def _inspect(args: argparse.Namespace) -> int:
 
 
 def _fit(args: argparse.Namespace) -> int:
+    from skygas.micromag.workflow import fit_snapshots
+
     result = fit_snapshots(
         args.snapshot_dir, args.out, pattern=args.pattern, interval=args.interval,
         max_step=args.max_step, material=args.material, film_thickness=args.film_thickness,

@@ -14,8 +14,6 @@ documented defaults (PHYSICS.md §4) and are recorded with every result:
 
 from __future__ import annotations
 
-import tomllib
-from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -24,7 +22,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from skygas import units
 from skygas.config import MaterialFields, _to_input_error, read_toml
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
-from skygas.errors import InputError
+from skygas.reshuffler.presets import PRESETS, preset_data  # noqa: F401 (PRESETS re-exported)
 
 PositiveFloat = Annotated[float, Field(gt=0)]
 
@@ -130,17 +128,6 @@ def _flatten(data: dict, prefix: str = "") -> dict:
         else:
             out[f"{prefix}{key}"] = value
     return out
-
-
-PRESETS = ("default", "paper")
-
-
-def preset_data(name: str) -> dict:
-    """The mapping of a named reshuffler preset (``default`` or ``paper``)."""
-    if name not in PRESETS:
-        raise InputError("preset", name, f"one of {', '.join(PRESETS)}")
-    text = resources.files("skygas").joinpath(f"data/reshuffler-{name}.toml").read_text()
-    return tomllib.loads(text)
 
 
 def load_reshuffler_config(path: str | Path | None = None, *, preset: str | None = None,
