@@ -1,12 +1,12 @@
 """The on-disk layer of the device set-up memo: set-up kept across processes.
 
 Why it exists: :mod:`skygas.memo` keeps a device's set-up for the runs of one process, but every
-new process pays it again: each Dask worker of a sweep, each ``skygas reshuffle`` or ``skygas
-run``. For the paper's 1024 nm reshuffler that is ~0.9 s to solve the current flow, ~0.3 s to
-build the wall field and ~0.1 s to sample the current on the engine's grid; loading the three
-from disk takes a few tens of milliseconds. A 16-point sweep on 2 workers that start fresh pays
-it once per worker, in parallel, so it adds the same wall time to 1 and 2 workers and lowers the
-speed-up (``docs/sweeps.md``).
+new process pays it again: each Dask worker of a sweep, each ``skygas reshuffle`` or
+``skygas simulate``. For the paper's 1024 nm reshuffler that is ~0.9 s to solve the current
+flow, ~0.3 s to build the wall field and ~0.1 s to sample the current on the engine's grid;
+loading the three from disk takes a few tens of milliseconds. A 16-point sweep on 2 workers that
+start fresh pays it once per worker, in parallel, so it adds the same wall time to 1 and 2
+workers and lowers the speed-up (``docs/sweeps.md``).
 
 Where: ``$SKYGAS_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/skygas``, else ``~/.cache/skygas``.
 ``SKYGAS_DISK_CACHE=0`` turns it off (every new process then builds its set-up again). The
@@ -25,7 +25,7 @@ Correctness rules (those of :mod:`skygas.memo`, plus one):
   the libraries the set-up is computed with, so after any change of code or library the cache
   starts empty instead of returning what an uncached call would no longer compute;
 - a loaded value is bit-identical to the built one (pickle round trip) and made read-only, like
-  every memoised value (``tests/device/test_setup_memo.py`` checks both).
+  every memoised value (``tests/device/test_disk_cache.py`` checks both).
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ MAX_BYTES = 2 * 2**30
 _LIBRARIES = ("numpy", "scipy", "shapely", "numba", "joblib")
 
 _lock = threading.Lock()
-_caches: dict[Path, tuple] = {}  # directory → (joblib.Memory, its MemorizedFunc of _built)
+_caches: dict[Path, tuple] = {}  # directory → (joblib.Memory, the cached function)
 _fingerprint: str | None = None
 _warned = False
 
@@ -139,9 +139,3 @@ def load_or_build(memo: str, key: Hashable, build: Callable[[], T]) -> tuple[T, 
             _warn_once(f"{where}: {err}")
     return value, not built
 
-
-def clear_disk_cache() -> None:
-    """Remove every entry of the disk cache at :func:`location` (if any)."""
-    where = location()
-    if where is not None and where.exists():
-        _cache_at(where)[1].clear(warn=False)

@@ -29,9 +29,8 @@ Entries are evicted least-recently-used beyond ``maxsize`` entries or ``max_byte
 (the newest entry is always kept; a 1024 nm reshuffler's three entries take 5-20 MB each, and
 the sizes grow with the square of the chamber diameter). :func:`memo_stats` counts hits and
 misses, and of the misses those loaded from disk (to check that a sweep really re-uses its
-set-up); :func:`set_memo_enabled` turns
-memoisation off (for comparisons, and the test above); the environment variable
-``SKYGAS_MEMO=0`` does the same for new processes.
+set-up); :func:`set_memo_enabled` turns memoisation off (for comparisons, and the test above);
+the environment variable ``SKYGAS_MEMO=0`` does the same for new processes.
 """
 
 from __future__ import annotations
