@@ -46,7 +46,7 @@ def reshuffler_decorrelator(config: ReshufflerConfig | None = None,
         run = ReshufflerRun.build(seeded, bits=bits)
         run.advance()
         run.drain(drain_limit)
-        summary = summarize(run).summary
+        summary = summarize(run, dataset=False).summary
         out = run.detections()["up"]
         if len(out) < len(bits):  # still inside: read out in nucleation order, counted
             log = run.injector.log
