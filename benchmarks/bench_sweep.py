@@ -36,6 +36,7 @@ Run: ``.venv/bin/python benchmarks/bench_sweep.py [--repeats 3] [--duration 2e-6
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import resource
 import statistics
@@ -111,23 +112,25 @@ def timed_on_cluster(sweep, tmp: Path, name: str, workers: int,
         return t, [after[w] - before[w] for w in sorted(after)], cpu
 
 
-def use_new_disk_cache(tmp: Path, name: str) -> None:
-    """Point this process and the workers it starts from now on at an empty disk cache."""
-    os.environ["SKYGAS_CACHE_DIR"] = str(tmp / f"cache-{name}")
+@contextlib.contextmanager
+def disk_cache(tmp: Path, name: str = ""):
+    """This process, and the workers it starts meanwhile, use the benchmark's disk cache
+    (filled by the first run), or with ``name`` a new, empty one; the shared one after."""
+    os.environ["SKYGAS_CACHE_DIR"] = str(tmp / (f"cache-{name}" if name else "cache"))
+    try:
+        yield
+    finally:
+        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")
 
 
 def timed_serial(sweep, tmp: Path, name: str, setup: str) -> float:
     """The sweep run in this process, its set-up ``built``, ``loaded`` from disk or
     ``in memory``."""
     memo.clear_memos()
-    if setup == "built":
-        use_new_disk_cache(tmp, name)
-    elif setup == "in memory":
+    if setup == "in memory":
         api.run_one(sweep.runs[0].config.model_dump_json())
-    try:
+    with disk_cache(tmp, name if setup == "built" else ""):
         return timed(sweep, tmp, name, serial=True)
-    finally:
-        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")
 
 
 def spread(values: list[float]) -> str:
@@ -150,7 +153,7 @@ def main() -> None:
     client_cpu = {mode: {1: [], 2: []} for mode in modes}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")  # this benchmark's own
+        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")  # this benchmark's own (disk_cache)
         _warm_up()  # imports and JIT, outside the timings
         api.run_one(sweep.runs[0].config.model_dump_json())  # fills the disk cache
         for k in range(args.repeats):
@@ -162,10 +165,8 @@ def main() -> None:
                 for workers in (1, 2):
                     name = f"{mode}{workers}-{k}"
                     if mode in ("first", "cold"):
-                        if mode == "first":
-                            use_new_disk_cache(tmp, name)
-                        t = timed(sweep, tmp, name, workers=workers)
-                        os.environ["SKYGAS_CACHE_DIR"] = str(tmp / "cache")
+                        with disk_cache(tmp, name if mode == "first" else ""):
+                            t = timed(sweep, tmp, name, workers=workers)
                     else:
                         t, done, cpu = timed_on_cluster(sweep, tmp, name, workers,
                                                         mode == "hot")

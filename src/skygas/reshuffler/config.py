@@ -22,7 +22,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from skygas import units
 from skygas.config import MaterialFields, _to_input_error, read_toml
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
-from skygas.reshuffler.presets import PRESETS, preset_data  # noqa: F401 (PRESETS re-exported)
+from skygas.reshuffler.presets import preset_data
 
 PositiveFloat = Annotated[float, Field(gt=0)]
 
