@@ -202,7 +202,7 @@ class SimulationConfig(MaterialFields):
             pts = geo.random_positions(sim.outline, s.random_count, s.min_separation * d_sk,
                                        s.min_separation * d_sk, rng)
             sim.validate_positions(pts, "skyrmions.random_count")
-            sim._insert_nm(pts)
+            sim.state.insert_nm(pts)
         return sim
 
 

@@ -218,7 +218,7 @@ def final_positions(integrator, dt, temperature=0.0, substeps=1, seed=0):
 
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(sim.outline, 20, 1.05 * d_sk, 0.5 * d_sk, rng)
-    sim._insert_nm(pts)
+    sim.state.insert_nm(pts)
     sim.run(4e-9)
     return sim.positions()[1] * units.M_TO_NM
 
@@ -264,7 +264,7 @@ def dense_chamber_run(seed: int, duration=30e-9):
     sim = Simulation(outline, S2, temperature=300.0, seed=seed)
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(outline, 90, 1.05 * d_sk, 0.5 * d_sk, np.random.default_rng(1))
-    sim._insert_nm(pts)
+    sim.state.insert_nm(pts)
     sim.run(duration, record_interval=1e-9)
     return sim
 
@@ -333,7 +333,7 @@ def test_exit_through_port_is_recorded_and_removes_the_skyrmion():
 
 
 def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypatch):
-    import skygas.engine as engine
+    import skygas.engine.simulation as engine
 
     def run(sort_above):
         monkeypatch.setattr(engine, "SORT_ABOVE", sort_above)
@@ -343,7 +343,7 @@ def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypat
         d_sk = sim.thiele.skyrmion_diameter_internal
         pts = random_positions(sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk,
                                np.random.default_rng(3))
-        sim._insert_nm(pts)
+        sim.state.insert_nm(pts)
         sim.run(2e-9)
         return sim.positions()
 

@@ -105,7 +105,8 @@ class ReadElement:
                                 self.r_sk, self.samples)
 
     def read(self, sim) -> float:
-        value = self.exact(sim._x, sim._y, sim._alive)
+        store = sim.state.arrays_nm()
+        value = self.exact(store.x, store.y, store.alive)
         if self.read_noise > 0:
             value += self.rng.normal(0.0, self.read_noise)
         return value
