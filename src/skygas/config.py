@@ -103,7 +103,7 @@ GeometrySpec = Annotated[Union[ChamberGeometry, ShapesGeometry], Field(discrimin
 
 
 class ThieleOverrides(_Strict):
-    """Optional overrides of the derived Thiele parameters (PHYSICS.md §4)."""
+    """Optional overrides of the derived Thiele parameters (docs/physics.md §4)."""
 
     dissipation: PositiveFloat | None = None
     force_scale: PositiveFloat | None = None        # F0 [N]

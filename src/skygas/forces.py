@@ -1,7 +1,7 @@
 """Force laws: small pure functions of a distance, and their tabulation for the engine.
 
 All laws are dimensionless: they take a distance ``d`` in units of the skyrmion diameter d_sk
-and return the force magnitude in units of F₀ (PHYSICS.md §2). The engine multiplies by F₀.
+and return the force magnitude in units of F₀ (docs/physics.md §2). The engine multiplies by F₀.
 
 - :func:`paper_pair_force`: |F| = exp[−(a₂d² + a₁d + a₀)/(d + 1)] (paper eq. "interparticle",
   coefficient order of the Appendix C table), repulsive along the line of centres.

@@ -1,4 +1,4 @@
-"""Engine physics against exact results (PHYSICS.md §1), with stated statistical tolerances.
+"""Engine physics against exact results (docs/physics.md §1), with stated statistical tolerances.
 
 Statistical assertions use "4 standard errors" unless stated otherwise: for a correct engine a
 single check fails with probability ≈ 6×10⁻⁵; the seeds are fixed, so the suite is
@@ -14,7 +14,7 @@ import pytest
 from scipy import integrate, stats
 
 from skygas import units
-from skygas.engine import Simulation
+from skygas.engine import INTEGRATOR_ORDERS, Simulation
 from skygas.forces import wall_potential
 from skygas.geometry import disk, rectangle
 from skygas.materials import derive_thiele, preset
@@ -234,11 +234,15 @@ def convergence_slope(integrator, temperature, steps, ref_dt):
 
 
 def test_heun_is_second_order_without_noise_and_euler_first_order():
+    """The measured orders without noise against the ones the integrators declare
+    (skygas.engine.INTEGRATOR_ORDERS), within −0.2…+0.3 (slopes over a factor 8 in dt)."""
     steps = [8e-11, 4e-11, 2e-11, 1e-11]
     heun, err_h = convergence_slope("heun", 0.0, steps, 1.25e-12)
     euler, err_e = convergence_slope("euler-maruyama", 0.0, steps, 1.25e-12)
-    assert 1.8 < heun < 2.3, err_h
-    assert 0.85 < euler < 1.2, err_e
+    assert INTEGRATOR_ORDERS["heun"]["deterministic"] == 2.0
+    assert INTEGRATOR_ORDERS["euler-maruyama"]["deterministic"] == 1.0
+    assert -0.2 < heun - INTEGRATOR_ORDERS["heun"]["deterministic"] < 0.3, err_h
+    assert -0.15 < euler - INTEGRATOR_ORDERS["euler-maruyama"]["deterministic"] < 0.2, err_e
     assert err_h[-1] < err_e[-1] / 20
 
 
@@ -251,8 +255,9 @@ def test_strong_order_with_additive_noise():
     ref_dt = 2.5e-12 / 16
     heun, err_h = convergence_slope("heun", 300.0, steps, ref_dt)
     euler, err_e = convergence_slope("euler-maruyama", 300.0, steps, ref_dt)
-    assert 0.8 < heun < 1.4, err_h
-    assert 0.8 < euler < 1.3, err_e
+    assert INTEGRATOR_ORDERS["heun"]["strong"] == INTEGRATOR_ORDERS["euler-maruyama"]["strong"]
+    assert -0.2 < heun - INTEGRATOR_ORDERS["heun"]["strong"] < 0.4, err_h
+    assert -0.2 < euler - INTEGRATOR_ORDERS["euler-maruyama"]["strong"] < 0.3, err_e
     assert err_h[0] < err_e[0] / 4
 
 

@@ -1,4 +1,4 @@
-"""Force laws (PHYSICS.md §2), their cutoff, their tabulation and the wall potential."""
+"""Force laws (docs/physics.md §2), their cutoff, their tabulation and the wall potential."""
 
 import math
 

@@ -78,10 +78,7 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
     n = x.shape[0]
     dt = stepper.dt
     heun = stepper.heun
-    record_every = stepper.record_every
     grid = terms.grid
-    gx0 = grid.x0
-    gy0 = grid.y0
     inv_gh = 1.0 / grid.spacing
     cutoff = terms.pair.cutoff
     vx0 = np.zeros(n)
@@ -137,8 +134,8 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
             # stages.interior_floor) will not look their fields up.
             for i in range(n):
                 if alive[i] and floor[i] <= 0.0:
-                    prefetch_at(grid.fields, (x[i] + vx1[i] * dt + nx_[i] - gx0) * inv_gh,
-                                (y[i] + vy1[i] * dt + ny_[i] - gy0) * inv_gh)
+                    prefetch_at(grid.fields, (x[i] + vx1[i] * dt + nx_[i] - grid.x0) * inv_gh,
+                                (y[i] + vy1[i] * dt + ny_[i] - grid.y0) * inv_gh)
         # -- force passes: Heun's predictor and corrector (Euler: the first only) -------------
         for stage in range(2 if heun else 1):
             px = x if stage == 0 else xp
@@ -204,7 +201,7 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
             else:
                 counters.wall_escapes += 1  # position kept: the step is undone
         # -- recording ------------------------------------------------------------------------
-        if record_every > 0 and (step + 1) % record_every == 0:
+        if stepper.record_every > 0 and (step + 1) % stepper.record_every == 0:
             record_frame(x, y, alive, ids, counters.frames, frames.x, frames.y, frames.ids)
             counters.frames += 1
     counters.exits += n_exits

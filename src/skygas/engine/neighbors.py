@@ -43,17 +43,13 @@ def build_neighbor_list(x, y, alive, margin, cells, cutoff, cell_head, cell_next
     """Half neighbour list of all alive pairs closer than ``cutoff`` + s_i + s_j (``margin``).
     Returns the number of owners, or −1 if ``pair_j`` is too small (the caller grows it and
     calls again)."""
-    n = x.shape[0]
     ncx = cells.ncx
     ncy = cells.ncy
-    x0 = cells.x0
-    y0 = cells.y0
-    size = cells.size
     cell_head[:] = -1
-    for i in range(n):
+    for i in range(x.shape[0]):
         if alive[i]:
-            cx = min(max(int((x[i] - x0) / size), 0), ncx - 1)
-            cy = min(max(int((y[i] - y0) / size), 0), ncy - 1)
+            cx = min(max(int((x[i] - cells.x0) / cells.size), 0), ncx - 1)
+            cy = min(max(int((y[i] - cells.y0) / cells.size), 0), ncy - 1)
             c = cy * ncx + cx
             cell_next[i] = cell_head[c]
             cell_head[c] = i

@@ -171,7 +171,7 @@ class Simulation:
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
         self._counters = np.zeros(1, T.COUNTERS)
-        self._cells = None
+        self._neighbor_cells = None
         self.set_uniform_drift(drift_velocity)
 
     def _configure_neighbor_cells(self) -> None:
@@ -196,7 +196,7 @@ class Simulation:
         height = grid.spacing * (grid.ny - 1)
         ncx = max(1, int(width // reach))
         ncy = max(1, int(height // reach))
-        self._cells = T.NeighborCells(skin, NEIGHBOR_MARGIN_STEPS, margin_max, grid.x0, grid.y0,
+        self._neighbor_cells = T.NeighborCells(skin, NEIGHBOR_MARGIN_STEPS, margin_max, grid.x0, grid.y0,
                                       max(width / ncx, height / ncy), ncx, ncy)
 
     @property
@@ -204,13 +204,13 @@ class Simulation:
         """The neighbour list's margins and cells (:class:`~skygas.engine.terms.NeighborCells`).
         Assigning one (e.g. with zero margins, for a test against an exact list) replaces them
         until the drift changes."""
-        return self._cells
+        return self._neighbor_cells
 
     @neighbor_cells.setter
     def neighbor_cells(self, cells: T.NeighborCells) -> None:
         require(isinstance(cells, T.NeighborCells), "neighbor_cells", cells,
                 "a skygas.engine.terms.NeighborCells record")
-        self._cells = cells
+        self._neighbor_cells = cells
 
     @property
     def force_terms(self) -> T.ForceTerms:
@@ -353,7 +353,7 @@ class Simulation:
         """One kernel call of up to ``n_steps`` steps; returns the planned insertions made."""
         store = self.store
         if store.count > SORT_ABOVE:
-            cells = self._cells
+            cells = self._neighbor_cells
             store.sort_into_cells(cells.x0, cells.y0, cells.size)
         # The kernel sees the slots up to the last occupied one: new skyrmions fill the lowest
         # free slot, so this range stays compact and loops skip the empty tail of the arrays.
@@ -376,7 +376,7 @@ class Simulation:
         stepper = T.Stepper(self._dt_ns, self.integrator == "heun", record_every)
         n_exit = advance(store.x[:used], store.y[:used], store.alive[:used], store.ids[:used],
                          self.step, n_steps, stepper, self._noise, self._mobility, self._terms,
-                         self._cells, self._ports, frames, exits, plan, counters)
+                         self._neighbor_cells, self._ports, frames, exits, plan, counters)
         c = counters[0]
         store.next_id = int(c["next_id"])
         self.recorder.add_exits(exits, n_exit, self.time_step)

@@ -180,6 +180,23 @@ def pair_forces(x, y, pair, owner, start, pair_j, n_owners, fx, fy, counters):
 
 
 @numba.njit(inline="always")
+def wall_force(wall, field):
+    """The wall term's force [pN] at a grid lookup ``field``: |F|(d) along the inward normal
+    within the cutoff, zero beyond it."""
+    d = field[CH_WALL_DIST]
+    if d < wall.cutoff:
+        fw = _lerp(wall.table, max(d, 0.0) / wall.spacing)
+        return fw * field[CH_NORMAL_X], fw * field[CH_NORMAL_Y]
+    return 0.0, 0.0
+
+
+@numba.njit(inline="always")
+def drive_force(drift, vsx, vsy):
+    """The drift term's force [pN] for a spin-drift velocity v_s [nm/ns]: μ(g ε + b I)·v_s."""
+    return drift.drive_g * vsy + drift.drive_b * vsx, -drift.drive_g * vsx + drift.drive_b * vsy
+
+
+@numba.njit(inline="always")
 def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
     """Add the one-body terms (wall, drive) to the pair forces in ``vx, vy`` and turn the
     totals into velocities in place, v = M·F. The signed boundary distance at each position
@@ -187,20 +204,10 @@ def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
     acceptance skip a lookup); a skyrmion with ``floor[i] > 0`` (:func:`interior_floor`)
     skips the lookup and gets that lower bound."""
     grid = terms.grid
-    fields = grid.fields
-    gx0 = grid.x0
-    gy0 = grid.y0
     inv_gh = 1.0 / grid.spacing
-    wall_table = terms.wall.table
-    inv_wall_h = 1.0 / terms.wall.spacing
-    wall_cut = terms.wall.cutoff
-    mob_a = mobility.a
-    mob_g = mobility.g
-    drive_g = terms.drift.drive_g
-    drive_b = terms.drift.drive_b
-    drift_grid = terms.drift.from_grid
-    vsx = terms.drift.vs_x
-    vsy = terms.drift.vs_y
+    drift = terms.drift
+    vsx = drift.vs_x
+    vsy = drift.vs_y
     for i in range(x.shape[0]):
         if not alive[i]:
             continue
@@ -209,22 +216,20 @@ def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
         if floor[i] > 0.0:
             domain[i] = floor[i]
         else:
-            field = field_at(fields, (x[i] - gx0) * inv_gh, (y[i] - gy0) * inv_gh)
-            d = field[CH_WALL_DIST]
+            field = field_at(grid.fields, (x[i] - grid.x0) * inv_gh, (y[i] - grid.y0) * inv_gh)
             domain[i] = field[CH_DOMAIN]
-            if d < wall_cut:  # wall term
-                fw = _lerp(wall_table, max(d, 0.0) * inv_wall_h)
-                fx += fw * field[CH_NORMAL_X]
-                fy += fw * field[CH_NORMAL_Y]
-            if drift_grid:
+            wx, wy = wall_force(terms.wall, field)
+            fx += wx
+            fy += wy
+            if drift.from_grid:
                 vsx = field[CH_DRIFT_X]
                 vsy = field[CH_DRIFT_Y]
-        # drift term: drive force μ(g ε + b I)·v_s
-        fx += drive_g * vsy + drive_b * vsx
-        fy += -drive_g * vsx + drive_b * vsy
+        dx, dy = drive_force(drift, vsx, vsy)
+        fx += dx
+        fy += dy
         # v = (a F − g εF)/(a² + g²)
-        vx[i] = mob_a * fx - mob_g * fy
-        vy[i] = mob_a * fy + mob_g * fx
+        vx[i] = mobility.a * fx - mobility.g * fy
+        vy[i] = mobility.a * fy + mobility.g * fx
 
 
 @numba.njit(inline="always")

@@ -51,20 +51,6 @@ class StateView:
 
     # -- reading ----------------------------------------------------------------------------
     @property
-    def time(self) -> float:
-        """Simulated time [s]."""
-        return self._sim.time
-
-    @property
-    def step(self) -> int:
-        return self._sim.step
-
-    @property
-    def count(self) -> int:
-        """Number of skyrmions present."""
-        return self._sim.count
-
-    @property
     def ids(self) -> np.ndarray:
         """Ids of the skyrmions present, in increasing order."""
         return self._sim.positions()[0]

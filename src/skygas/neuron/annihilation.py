@@ -1,4 +1,4 @@
-r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron"; PHYSICS.md §3-4).
+r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron"; docs/physics.md §3-4).
 
 The paper gives no annihilation rule; it says that skyrmions compressed by neighbours to length
 scales near their diameter collapse (thermal fluctuations, dipolar strain, defects), and that a
