@@ -45,9 +45,9 @@ RESHUFFLER = """
 import time
 from skygas.reshuffler import ReshufflerRun, load_reshuffler_config
 def run(duration):
-    config = load_reshuffler_config(preset="paper", overrides={{
+    config = load_reshuffler_config(preset="paper", overrides={
         "duration": duration, "seed": 1, "current_density": 1.7e11,
-        "output.trajectory_window": 0.0}})
+        "output.trajectory_window": 0.0})
     r = ReshufflerRun.build(config)
     t0 = time.perf_counter(); r.advance(); return time.perf_counter() - t0
 run(2e-7)
@@ -64,7 +64,9 @@ WORKLOADS = {
 def timed(src: str, code: str) -> float:
     env = {**os.environ, "PYTHONPATH": src}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                         text=True, check=True)
+                         text=True)
+    if out.returncode:
+        sys.exit(f"workload failed with {src}:\n{out.stderr}")
     return float(out.stdout.strip().splitlines()[-1])
 
 

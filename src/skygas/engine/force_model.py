@@ -78,11 +78,13 @@ class ForceModel:
         return max(slopes)
 
 
-def relaxation_time(thiele: ThieleParameters, forces: ForceModel) -> float:
+def relaxation_time(thiele: ThieleParameters, forces: ForceModel,
+                    landscape_curvature: float = 0.0) -> float:
     """τ_min [s]: the fastest force relaxation, 1/(κ_max |M|).
 
     κ_max is the steepest slope |dF/dr| of either force law at distances of at least
-    MIN_PLACEMENT_SEPARATION skyrmion diameters (from another skyrmion or from a wall), and
+    MIN_PLACEMENT_SEPARATION skyrmion diameters (from another skyrmion or from a wall), or the
+    largest curvature |∂²U| [pN/nm] of an energy landscape if that is steeper, and
     |M| = 1/√(G² + (α𝒟k)²) the mobility: a skyrmion displaced on the steepest part of a law
     relaxes back (spiralling, when G ≠ 0) at the rate κ_max|M|. Closer than that the laws are
     not valid (paper, "Boundary Effects"), so their slope there does not limit the step; a
@@ -90,7 +92,8 @@ def relaxation_time(thiele: ThieleParameters, forces: ForceModel) -> float:
     """
     a, g = thiele.friction_internal, thiele.gyrocoupling_internal
     closest = MIN_PLACEMENT_SEPARATION * thiele.skyrmion_diameter_internal
-    rate = forces.max_stiffness(closest) / math.hypot(a, g)  # 1/ns
+    stiffness = max(forces.max_stiffness(closest), landscape_curvature)
+    rate = stiffness / math.hypot(a, g)  # 1/ns
     return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 

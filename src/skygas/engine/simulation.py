@@ -36,6 +36,7 @@ from skygas.engine.store import SkyrmionStore
 from skygas.errors import InputError, require
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
 from skygas.geometry import Outline
+from skygas.landscape import LandscapeField, parse_potentials
 from skygas.materials import Material, ThieleParameters, derive_thiele, load_material
 from skygas.memo import Memo, frozen
 from skygas.wall_field import WallField
@@ -99,6 +100,8 @@ class Simulation:
     brownian_substeps: draw each step's noise as the sum of this many sub-increments, so that
         runs with steps dt and dt/m share one Brownian path (strong-convergence studies).
     capacity: initial room in the store (it grows on demand).
+    landscape: external potentials (:mod:`skygas.landscape`: objects or their TOML tables),
+        added up on the field grid; their force −∇U enters like the pair and wall forces.
 
     Operations (:attr:`operations`) act on the run at the steps they ask for and read and
     change skyrmions through :attr:`state`.
@@ -111,7 +114,7 @@ class Simulation:
                  pair_law_params: dict | None = None,
                  cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
                  grid_spacing: float | None = None, integrator: str = "heun",
-                 brownian_substeps: int = 1, capacity: int = 64):
+                 brownian_substeps: int = 1, capacity: int = 64, landscape=()):
         require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
         require(np.isfinite(temperature) and temperature >= 0, "temperature", temperature,
                 "a temperature >= 0 in kelvin")
@@ -135,6 +138,8 @@ class Simulation:
                 f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)")
         band = self.forces.wall.cutoff + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
+        self.landscape = LandscapeField(parse_potentials(landscape), self.wall_field.grid,
+                                        self.temperature, self.seed)
         limit = self.max_time_step()
         if time_step is None:
             time_step = self.suggested_time_step()
@@ -166,7 +171,8 @@ class Simulation:
         fields[...] = _WALL_CHANNELS.get(WallField.key(outline, spacing, band),
                                          lambda: _packed_wall_channels(self.wall_field))
         self._terms = T.ForceTerms(T.pair_term(self.forces.pair), T.wall_term(self.forces.wall),
-                                   T.drift_term(self.thiele), T.field_grid(fields, grid))
+                                   T.drift_term(self.thiele), T.landscape_term(self.landscape),
+                                   T.field_grid(fields, grid))
         self._grid_drift_max = 0.0  # largest |v_s| on the grid [nm/ns] (set_drift_field)
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
@@ -219,8 +225,9 @@ class Simulation:
 
     # -- time step -----------------------------------------------------------------------------
     def relaxation_time(self) -> float:
-        """τ_min [s] of this simulation (see :func:`relaxation_time`)."""
-        return relaxation_time(self.thiele, self.forces)
+        """τ_min [s] of this simulation (see :func:`relaxation_time`), the landscape's
+        largest curvature counted as a stiffness like the force laws' slopes."""
+        return relaxation_time(self.thiele, self.forces, self.landscape.max_curvature())
 
     def max_time_step(self) -> float:
         """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""
@@ -230,6 +237,12 @@ class Simulation:
         """A safe default [s]: SUGGESTED_STEP_FRACTION · τ_min. Check it with
         :func:`skygas.timestep.check_time_step`."""
         return SUGGESTED_STEP_FRACTION * self.relaxation_time()
+
+    # -- landscape -----------------------------------------------------------------------------
+    def set_landscape_enabled(self, term, on: bool) -> None:
+        """Switch a landscape term (index, or the ``name`` of a band) off or on; the change
+        acts from the next step (no recompilation)."""
+        self.landscape.set_enabled(term, on)
 
     # -- drift ---------------------------------------------------------------------------------
     def set_uniform_drift(self, velocity) -> None:
@@ -438,6 +451,7 @@ class Simulation:
             "wall_cutoff_m": self.forces.wall.cutoff / units.M_TO_NM,
             "grid_spacing_m": self.wall_field.grid.spacing / units.M_TO_NM,
             "drift": "field" if drift.from_grid else [drift.vs_x, drift.vs_y],
+            "landscape": self.landscape.describe(),
             "geometry": self.outline.describe(),
         }
 

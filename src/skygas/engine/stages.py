@@ -19,6 +19,7 @@ import numpy as np
 from skygas._field_lookup import field_at
 from skygas._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
 from skygas.engine._jit import U
+from skygas.landscape.hermite import hermite_gradient
 from skygas.engine.terms import (
     CH_DOMAIN,
     CH_DRIFT_X,
@@ -197,8 +198,17 @@ def drive_force(drift, vsx, vsy):
 
 
 @numba.njit(inline="always")
+def landscape_force(landscape, xi, yi):
+    """The landscape term's force −∇U [pN] at (xi, yi) [nm]."""
+    inv_h = 1.0 / landscape.spacing
+    gx, gy = hermite_gradient(landscape.nodes, (xi - landscape.x0) * inv_h,
+                              (yi - landscape.y0) * inv_h, inv_h)
+    return -gx, -gy
+
+
+@numba.njit(inline="always")
 def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
-    """Add the one-body terms (wall, drive) to the pair forces in ``vx, vy`` and turn the
+    """Add the one-body terms (wall, drive, landscape) to the pair forces in ``vx, vy`` and turn the
     totals into velocities in place, v = M·F. The signed boundary distance at each position
     goes into ``domain`` (it shares the cache lines of the wall lookup, and lets the step's
     acceptance skip a lookup); a skyrmion with ``floor[i] > 0`` (:func:`interior_floor`)
@@ -227,6 +237,10 @@ def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
         dx, dy = drive_force(drift, vsx, vsy)
         fx += dx
         fy += dy
+        if terms.landscape.active:
+            lx, ly = landscape_force(terms.landscape, x[i], y[i])
+            fx += lx
+            fy += ly
         # v = (a F − g εF)/(a² + g²)
         vx[i] = mobility.a * fx - mobility.g * fy
         vy[i] = mobility.a * fy + mobility.g * fx

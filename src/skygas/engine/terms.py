@@ -13,7 +13,9 @@ velocity by the mobility (:class:`Mobility`):
 - :class:`PairTerm`: the skyrmion–skyrmion law, tabulated (paper, Lin–Reichhardt or a user's
   law, :mod:`skygas.forces`), summed over a neighbour list;
 - :class:`WallTerm`: the skyrmion–wall law along the inward wall normal of the field grid;
-- :class:`DriftTerm`: the current's drive μ(G ε + η𝒟k I)·v_s, v_s uniform or from the grid.
+- :class:`DriftTerm`: the current's drive μ(G ε + η𝒟k I)·v_s, v_s uniform or from the grid;
+- :class:`LandscapeTerm`: an external potential's force −∇U (gates, pinning, disorder;
+  :mod:`skygas.landscape`), the exact gradient of its bicubic Hermite interpolant.
 
 The per-node fields (wall distance and normal, boundary distance, drift) share one packed grid,
 :class:`FieldGrid`, read with one bilinear lookup (:mod:`skygas._field_lookup`).
@@ -90,6 +92,17 @@ class DriftTerm(NamedTuple):
     from_grid: bool
 
 
+class LandscapeTerm(NamedTuple):
+    """An external potential: ``nodes[j, i] = (U, h ∂U/∂x, h ∂U/∂y, h² ∂²U/∂x∂y)`` [pN·nm] on
+    a grid of origin (x0, y0) and spacing h [nm] (:mod:`skygas.landscape.hermite`)."""
+
+    nodes: np.ndarray
+    x0: float
+    y0: float
+    spacing: float
+    active: bool       # False: no landscape (``nodes`` is a placeholder)
+
+
 class FieldGrid(NamedTuple):
     """The packed per-node fields ``fields[j, i, channel]`` (float32) on a grid of origin
     (x0, y0) and spacing [nm]."""
@@ -106,6 +119,7 @@ class ForceTerms(NamedTuple):
     pair: PairTerm
     wall: WallTerm
     drift: DriftTerm
+    landscape: LandscapeTerm
     grid: FieldGrid
 
 
@@ -187,6 +201,13 @@ def drift_term(thiele, velocity=(0.0, 0.0), from_grid: bool = False) -> DriftTer
     return DriftTerm(thiele.mu * thiele.gyrocoupling_internal,
                      thiele.mu * thiele.drive_friction_internal, float(velocity[0]),
                      float(velocity[1]), bool(from_grid))
+
+
+def landscape_term(field=None) -> LandscapeTerm:
+    """:class:`LandscapeTerm` of a :class:`~skygas.landscape.LandscapeField` (or none)."""
+    if field is None or not field.terms:
+        return LandscapeTerm(np.zeros((2, 2, 4)), 0.0, 0.0, 1.0, False)
+    return LandscapeTerm(field.nodes, field.grid.x0, field.grid.y0, field.grid.spacing, True)
 
 
 def field_grid(fields: np.ndarray, grid) -> FieldGrid:
