@@ -142,7 +142,7 @@ def test_invalid_derivation_arguments_are_refused(kwargs, field):
 @pytest.mark.parametrize("name", ["S2", "S6"])
 @pytest.mark.parametrize("temperature", [0.0, 4.2, 300.0])
 def test_diffusion_constant_formula(name, temperature):
-    # docs/physics.md §1: D = k_B T α𝒟 / (k (G̃² + (α𝒟)²)), G̃ = 4πQ
+    # docs/physics.md §1: D = k_B T α𝒟 / (k (G̃² + (α𝒟)²)), G̃ = −4πQ (only G̃² enters)
     row = PAPER_TABLE[name]
     film = 2e-9
     k = row[0] * 1e6 * film / GAMMA
