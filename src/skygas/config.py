@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from skygas import geometry as geo
 from skygas.errors import InputError
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
+from skygas.landscape.kinds import Potential
 from skygas.materials import (
     Material,
     ThieleParameters,
@@ -137,6 +138,8 @@ class MaterialFields(_Strict):
     material: Union[str, dict[str, Any]] = "S2"
     film_thickness: PositiveFloat = 2e-9
     thiele: ThieleOverrides = ThieleOverrides()
+    #: the energy landscape: external potentials (``[[potentials]]``, skygas.landscape)
+    potentials: list[Potential] = []
 
     def resolved_material(self) -> Material:
         """The material: a preset name, a TOML file, or an inline table."""
@@ -192,7 +195,7 @@ class SimulationConfig(MaterialFields):
                          drift_velocity=self.drift.velocity, pair_law=self.forces.pair_law,
                          pair_law_params=self.forces.pair_law_params,
                          cutoff_fraction=self.forces.cutoff_fraction,
-                         integrator=self.integrator)
+                         integrator=self.integrator, landscape=self.potentials)
         s = self.skyrmions
         if s.positions:
             sim.add_skyrmions(np.asarray(s.positions), validate=True)

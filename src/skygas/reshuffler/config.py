@@ -22,6 +22,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from skygas import units
 from skygas.config import MaterialFields, _to_input_error, read_toml
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
+from skygas.errors import require
 from skygas.reshuffler.presets import preset_data
 
 PositiveFloat = Annotated[float, Field(gt=0)]
@@ -102,8 +103,19 @@ def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
         node = data
         parts = key.split(".")
         for part in parts[:-1]:
-            node = node.setdefault(part, {})
-        node[parts[-1]] = value
+            if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")
+                require(part.isdigit() and int(part) < len(node), key, value,
+                        f"an index below {len(node)} into the list of {parts[0]}")
+                node = node[int(part)]
+                continue
+            child = node.get(part, {})
+            node[part] = child = ([dict(t) for t in child] if isinstance(child, list)
+                                  else dict(child) if isinstance(child, dict) else child)
+            node = child
+        if isinstance(node, list):
+            node[int(parts[-1])] = value
+        else:
+            node[parts[-1]] = value
     return data
 
 
