@@ -50,7 +50,7 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
         out["msd"] = msd.as_dict()
         out["free_diffusion_constant_m2_s"] = _free_diffusion_constant(record)
         out["velocity"] = mean_velocity(frames).as_dict(record.drive)
-    x0, y0, x1, y1 = record.outline.bounds_nm()
+    x0, y0, x1, y1 = record.outline.bounds_nm
     r_max = min(10 * record.skyrmion_diameter, 0.5 * min(x1 - x0, y1 - y0) * 1e-9)
     if frames.n_frames and frames.count.max(initial=0) >= 2:
         out["pair_correlation"] = pair_correlation(frames, record.outline, r_max,

@@ -57,7 +57,7 @@ class RunRecord:
         skyrmions (the current density), or None. NaN outside the device."""
         if self.background_fn is None:
             return None
-        x0, y0, x1, y1 = self.outline.bounds_nm()
+        x0, y0, x1, y1 = self.outline.bounds_nm
         ny = max(2, int(round(nx * (y1 - y0) / (x1 - x0))))
         gx, gy = np.meshgrid(np.linspace(x0, x1, nx), np.linspace(y0, y1, ny))
         values, label = self.background_fn(gx * 1e-9, gy * 1e-9)
