@@ -45,7 +45,7 @@ class PairCorrelation:
                 "pairs": self.pairs.tolist(), "expected_ideal_pairs": self.expected.tolist()}
 
 
-def isotropic_covariogram(region, r_nm, n_angles: int = 24) -> np.ndarray:
+def isotropic_covariogram(region, r_nm, n_angles: int = 12) -> np.ndarray:
     """γ̄(r) [nm²]: area of ``region`` ∩ (``region`` + r·e_θ) averaged over θ ∈ [0, π) (the
     covariogram is even in θ); ``region`` a shapely geometry in nm."""
     angles = (np.arange(n_angles) + 0.5) * np.pi / n_angles
@@ -56,7 +56,7 @@ def isotropic_covariogram(region, r_nm, n_angles: int = 24) -> np.ndarray:
     return out
 
 
-def ideal_pair_probability(region, edges_nm, sub: int = 4, n_angles: int = 24) -> np.ndarray:
+def ideal_pair_probability(region, edges_nm, sub: int = 2, n_angles: int = 12) -> np.ndarray:
     """Probability that two independent uniform points of ``region`` lie a distance in each
     bin apart: ∫ 2π r γ̄(r) dr / A² (midpoint rule on ``sub`` points per bin)."""
     edges_nm = np.asarray(edges_nm, float)
