@@ -29,9 +29,10 @@ FORMATS = (".mp4", ".gif")
 FPS = 25
 #: default most frames: 48 s of MP4; GIFs are larger per frame and get fewer
 MAX_FRAMES = {".mp4": 1200, ".gif": 300}
-#: the time between frames a run records when a movie is asked for (``--animate``): at the
-#: reshuffler's conduit speed (~30 m/s) a skyrmion moves about 60 nm, 1.5 diameters, per frame
-MOVIE_FRAME_INTERVAL = 2e-9
+#: the time between frames a run records when a movie is asked for (``--animate``): a skyrmion
+#: crossing the reshuffler's chamber (~1 µm in ~200 ns at the default current) moves about
+#: 20 nm, half a diameter, per frame; 1 200 frames show the first 4.8 µs of a run
+MOVIE_FRAME_INTERVAL = 4e-9
 
 
 @dataclass(frozen=True)
