@@ -27,14 +27,10 @@ from skygas.engine import Simulation
 from skygas.geometry import disk, rectangle
 from skygas.materials import derive_thiele, preset
 
+# the engine tests' helpers: lattice(n_side, spacing_nm) [nm], the 2×2 drift solve, no pairs
+from engine.test_dynamics import NO_PAIRS, drift_solution, lattice  # noqa: E402
+
 S2 = preset("S2")
-NO_PAIRS = {"pair_law": "lin-reichhardt", "pair_law_params": {"amplitude": 0.0}}
-
-
-def lattice(n_side: int, spacing_m: float) -> np.ndarray:
-    c = (np.arange(n_side) - (n_side - 1) / 2) * spacing_m
-    gx, gy = np.meshgrid(c, c)
-    return np.column_stack([gx.ravel(), gy.ravel()])
 
 
 # -- the frame table ------------------------------------------------------------------------
@@ -72,7 +68,7 @@ def test_free_diffusion_constant_from_the_msd():
     exact = derive_thiele(S2).diffusion_constant(temperature)
     sim = Simulation(rectangle(16e-6, 16e-6), S2, temperature=temperature, seed=3,
                      grid_spacing=30e-9, **NO_PAIRS)
-    sim.add_skyrmions(lattice(20, 500e-9))
+    sim.add_skyrmions(lattice(20, 500.0) * 1e-9)
     sim.run(60e-9, record_interval=5e-9)
     frames = Frames.from_trajectories(sim.trajectories())
     lag1 = mean_squared_displacement(frames, lags=[1], fit_lags=[1])
@@ -126,21 +122,12 @@ def test_pair_correlation_of_an_ideal_gas_is_one_at_every_distance():
 
 
 # -- Hall angle -----------------------------------------------------------------------------
-def drift_solution(thiele, v_s) -> np.ndarray:
-    """(G ε + α𝒟k I)·v = μ (G ε + η𝒟k I)·v_s, solved directly (the 2×2 system)."""
-    eps = np.array([[0.0, 1.0], [-1.0, 0.0]])
-    lhs = thiele.gyrocoupling * eps + thiele.friction * np.eye(2)
-    rhs = thiele.mu * (thiele.gyrocoupling * eps
-                       + thiele.eta * thiele.dissipation * thiele.k * np.eye(2))
-    return np.linalg.solve(lhs, rhs @ np.asarray(v_s))
-
-
 def test_hall_angle_of_a_uniform_drift_is_the_thiele_solution():
     thiele = derive_thiele(S2, eta=2.5 * S2.damping)
     v_s = np.array([15.0, 4.0])
     sim = Simulation(rectangle(6e-6, 6e-6), S2, temperature=0.0, thiele=thiele,
                      drift_velocity=v_s, grid_spacing=30e-9, **NO_PAIRS)
-    sim.add_skyrmions(lattice(3, 600e-9) - [1e-6, 0.0])
+    sim.add_skyrmions(lattice(3, 600.0) * 1e-9 - [1e-6, 0.0])
     sim.run(100e-9, record_interval=10e-9)
     v = mean_velocity(Frames.from_trajectories(sim.trajectories()))
     expected = drift_solution(thiele, v_s)
@@ -157,7 +144,7 @@ def test_hall_angle_with_thermal_noise_within_its_error():
     v_s = np.array([20.0, 0.0])
     sim = Simulation(rectangle(16e-6, 16e-6), S2, temperature=300.0, thiele=thiele,
                      drift_velocity=v_s, seed=9, grid_spacing=30e-9, **NO_PAIRS)
-    sim.add_skyrmions(lattice(12, 700e-9))
+    sim.add_skyrmions(lattice(12, 700.0) * 1e-9)
     sim.run(100e-9, record_interval=10e-9)
     v = mean_velocity(Frames.from_trajectories(sim.trajectories()))
     expected = drift_solution(thiele, v_s)
