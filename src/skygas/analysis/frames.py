@@ -10,6 +10,7 @@ written once. Positions are in metres, times in seconds.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -56,7 +57,7 @@ class Frames:
         """Index of the first entry of each frame, and the total at the end (F + 1,)."""
         return np.concatenate([[0], np.cumsum(self.count)]).astype(np.int64)
 
-    @property
+    @cached_property
     def frame_of_entry(self) -> np.ndarray:
         return np.repeat(np.arange(self.n_frames), self.count)
 
@@ -94,16 +95,22 @@ class Frames:
             raise ValueError("frames are not evenly spaced in time")
         return step
 
+    @cached_property
+    def _by_skyrmion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Entry keys id·F + frame, the order that sorts them, and the sorted keys (sorted
+        once, then shared by every lag)."""
+        key = self.ids.astype(np.int64) * self.n_frames + self.frame_of_entry
+        order = np.argsort(key, kind="stable")
+        return key, order, key[order]
+
     def pairs_at_lag(self, lag: int) -> tuple[np.ndarray, np.ndarray]:
         """Entries (a, b) of the same skyrmion in frames f and f + ``lag`` (every f: the
         overlapping time origins of windowed averages)."""
-        frame = self.frame_of_entry
         n = self.n_frames
-        key = self.ids.astype(np.int64) * n + frame
-        order = np.argsort(key, kind="stable")
-        sorted_key = key[order]
-        wanted = key + lag
+        _, order, sorted_key = self._by_skyrmion
+        # the wanted keys, id·F + frame + lag, are sorted too: a sorted search is fast
+        wanted = sorted_key + lag
         where = np.searchsorted(sorted_key, wanted)
-        ok = (frame + lag < n) & (where < len(key))
+        ok = (sorted_key % n + lag < n) & (where < len(sorted_key))
         ok[ok] &= sorted_key[where[ok]] == wanted[ok]
-        return np.flatnonzero(ok), order[where[ok]]
+        return order[ok], order[where[ok]]
