@@ -123,3 +123,22 @@ def test_report_loads_in_a_real_browser(reshuffler_report, tmp_path):
     assert page["images"] and all(image["ok"] for image in page["images"]), page["images"]
     assert page["videoError"] is None
     assert page["duration"] and page["duration"] > 0
+
+
+def test_report_of_a_sweep_store_holds_the_fits(tmp_path):
+    from skygas.cli import main
+    from sweep.test_analysis import fake_store
+
+    grid = {"current_density": [1e11, 1.5e11, 2e11, 2.7e11, 3.8e11]}
+    store = fake_store(tmp_path / "j.zarr", grid,
+                       lambda c: 1 / (1 + (c.current_density / 1e11) ** -1.5))
+    out = tmp_path / "sweep.html"
+    assert main(["report", str(store), "--out", str(out)]) == 0
+    text = out.read_text()
+    parser = _Resources()
+    parser.feed(text)
+    assert all(url.startswith("data:") for _, url in parser.urls)
+    assert sum(url.startswith("data:image/png") for _, url in parser.urls) == 1
+    fits = json.loads(parser.json_blocks["fits"].replace("<\\/", "</"))
+    assert fits["current"]["beta"]["exponent"] == pytest.approx(1.5, abs=1e-6)
+    assert "beta (ρ/(1−ρ) power law)" in html.unescape(text)

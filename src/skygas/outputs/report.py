@@ -285,8 +285,9 @@ def _analysis_figures(a: dict):
         if a.get("free_diffusion_constant_m2_s"):
             ax.plot(t, 4 * a["free_diffusion_constant_m2_s"] * t * 1e-9 * 1e18, ":",
                     color="tab:red", label="4D₀τ (free)")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
+        if len(t) > 1:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
         ax.set_xlabel("lag τ (ns)")
         ax.set_ylabel("MSD (nm²)")
         ax.legend(fontsize=8)
