@@ -29,6 +29,8 @@ FORMATS = (".mp4", ".gif")
 FPS = 25
 #: default most frames: 48 s of MP4; GIFs are larger per frame and get fewer
 MAX_FRAMES = {".mp4": 1200, ".gif": 300}
+#: the tallest frame [px]
+MAX_HEIGHT = 1024
 #: the time between frames a run records when a movie is asked for (``--animate``): a skyrmion
 #: crossing the reshuffler's chamber (~1 µm in ~200 ns at the default current) moves about
 #: 20 nm, half a diameter, per frame; 1 200 frames show the first 4.8 µs of a run
@@ -99,10 +101,13 @@ class _Canvas:
         dpi = 100
         # sizes in whole multiples of 16 px: H.264 encoders want even sizes, and ffmpeg
         # would rescale sizes that are not multiples of its macro block
+        # a tall device (the reshuffler's two chambers) is narrowed to MAX_HEIGHT: pixels are
+        # what painting and encoding cost
+        width_px = min(width_px, (MAX_HEIGHT - 90) / (0.78 * aspect))
         width = 16 * round(width_px / 16)
         height = 16 * max(8, round((width * 0.78 * aspect + 90) / 16))
         fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi)
-        ax = fig.add_axes((0.09, 0.07, 0.70, 0.86))
+        ax = fig.add_axes((0.14, 0.07, 0.64, 0.86))
         background = record.background()
         if background is not None:
             from matplotlib.colors import LogNorm
@@ -126,9 +131,11 @@ class _Canvas:
         bar_um = _nice_length(0.25 * (x1 - x0))
         ax.add_artist(AnchoredSizeBar(ax.transData, bar_um, _length_label(bar_um),
                                       "lower right", pad=0.4, frameon=True, size_vertical=0))
-        if len(record.group_names) > 1:
-            handles = [Patch(color=np.array(c) / 255, label=name) for c, name in
-                       zip(GROUP_COLOURS, record.group_names)]
+        f = record.frames
+        shown = np.unique(record.group_of(f.ids, f.x, f.y)) if len(f.ids) else []
+        if len(record.group_names) > 1 and len(shown):
+            handles = [Patch(color=np.array(GROUP_COLOURS[g]) / 255,
+                             label=record.group_names[g]) for g in shown]
             fig.legend(handles=handles, loc="upper right", fontsize=7, frameon=False)
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
@@ -141,7 +148,7 @@ class _Canvas:
         self.px_per_um = px1 - px0
         self.origin = (px0, self.height - py0)
         bbox = ax.get_window_extent()
-        self.stamp_xy = (bbox.x0 + 6, self.height - bbox.y1 + 6)
+        self.stamp_xy = (bbox.x0, self.height - bbox.y1 - 24)  # above the axes, clear of walls
         self.radius_px = max(1.0, 0.5 * record.skyrmion_diameter * 1e6 * self.px_per_um)
 
     def pixels(self, xy_m: np.ndarray) -> np.ndarray:
