@@ -5,7 +5,8 @@ Runs the default reshuffler (``skygas reshuffle --animate``: snapshots every 4 n
 results are written: the movie (first 1 200 frames, MP4) and the self-contained HTML report,
 with this process and ffmpeg pinned to one core. Prints both wall times, their sum and the
 CPU time they took (on a shared machine the wall time also counts other programs' turns on
-the core), the movie's size and the report's size. Budget: at most 30 s together, and a movie of at most 20 MB.
+the core), the movie's size and the report's size. Budget: at most 30 s together, and a
+movie of at most 20 MB.
 
 Run: ``.venv/bin/python benchmarks/bench_outputs.py [--duration 1e-4] [--out DIR] [--cpu 0]``.
 """

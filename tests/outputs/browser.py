@@ -131,7 +131,13 @@ class Chromium:
         result = self.call("Runtime.evaluate", {"expression": PAGE_CHECK, "awaitPromise": True,
                                                 "returnByValue": True}, session=True)
         value = result["result"].get("value", {})
-        shot = self.call("Page.captureScreenshot", {"format": "png"}, session=True)
+        size = self.call("Page.getLayoutMetrics", session=True)["cssContentSize"]
+        # the whole page, at half scale (a long report would make a huge image otherwise)
+        clip = {"x": 0, "y": 0, "width": size["width"], "height": min(size["height"], 12000),
+                "scale": 0.5}
+        shot = self.call("Page.captureScreenshot", {"format": "png", "clip": clip,
+                                                    "captureBeyondViewport": True},
+                         session=True)
         value["screenshot"] = base64.b64decode(shot["data"])
         value["errors"] = self.errors()
         return value

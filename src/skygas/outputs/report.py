@@ -162,11 +162,14 @@ def write_report(source: str | Path, out: str | Path, *, analysis: dict | None =
     return _write(run_report(load_run(source), analysis=analysis), out)
 
 
-def _figures_and_movie(page: _Page, directory: Path) -> None:
+def _movie(page: _Page, directory: Path) -> None:
     movie = next((directory / n for n in MOVIE_NAMES if (directory / n).exists()), None)
     if movie is not None:
         page.heading("Movie")
         page.movie(movie)
+
+
+def _figures(page: _Page, directory: Path) -> None:
     figures = sorted(directory.glob("*.png"))
     if figures:
         page.heading("Figures")
@@ -183,9 +186,10 @@ def directory_report(directory: Path) -> str:
     page.heading("Provenance")
     page.table([("skygas version of the run", summary.get("skygas_version", "?")),
                 ("seed", summary.get("seed", "?"))])
+    _movie(page, directory)
     page.heading("Summary")
     page.table(_summary_rows(summary))
-    _figures_and_movie(page, directory)
+    _figures(page, directory)
     page.heading("Configuration")
     page.pre(json.dumps(summary.get("config", {}), indent=2))
     page.heading("Data")
@@ -209,6 +213,7 @@ def run_report(record, *, analysis: dict | None = None) -> str:
                 ("frames recorded", record.frames.n_frames),
                 ("time span", _number(float(record.frames.time[-1]), unit="s")
                  if record.frames.n_frames else "n/a")])
+    _movie(page, record.directory)
     page.heading("Summary")
     if record.summary:
         page.table(_summary_rows(record.summary))
@@ -216,7 +221,7 @@ def run_report(record, *, analysis: dict | None = None) -> str:
     page.table(_observable_rows(analysis))
     for png, caption in _analysis_figures(analysis):
         page.image(png, caption)
-    _figures_and_movie(page, record.directory)
+    _figures(page, record.directory)
     page.heading("Configuration")
     page.pre(json.dumps(record.config, indent=2))
     page.heading("Data")
