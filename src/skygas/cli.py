@@ -20,6 +20,10 @@ _COMMAND_MODULES = [
     "skygas.commands.reshuffle",
     "skygas.commands.neuron",
     "skygas.commands.sweep",
+    "skygas.commands.animate",
+    "skygas.commands.report",
+    "skygas.commands.export",
+    "skygas.commands.analyze",
     "skygas.sc.cli",
     "skygas.micromag.cli",
 ]

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from skygas.errors import InputError
+from skygas.outputs.flags import add_output_flags
 
 
 def _neuron(args) -> int:
@@ -23,7 +24,9 @@ def _neuron(args) -> int:
     device = NeuronDevice(config)          # validates everything before any run
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    run = device.build().run()
+    from skygas.outputs.finish import finish_outputs, movie_record_interval
+
+    run = device.build().run(record_interval=movie_record_interval(args.animate))
     summary = run.summary()
     lif = L.fit_lif(run)
     summary["lif_fit"] = lif
@@ -46,6 +49,8 @@ def _neuron(args) -> int:
         summary["transfer_curve"] = curve
         plot_transfer(curve, out / "transfer_curve.png", lif)
     (out / "summary.json").write_text(json.dumps(summary, indent=1, default=float))
+    finish_outputs(out, animate=args.animate, report=not args.no_report, simulation=run.sim,
+                   config=config)
     if args.json:
         print(json.dumps(summary, default=float))
     else:
@@ -111,6 +116,7 @@ def register(subparsers) -> None:
     p.add_argument("--seed", type=int, help="random seed")
     p.add_argument("--duration", type=float, help="simulated time [s]")
     p.add_argument("--no-transfer", action="store_true", help="skip the transfer curve")
+    add_output_flags(p)
     p.set_defaults(func=_neuron)
 
     s = subparsers.add_parser("saturation",

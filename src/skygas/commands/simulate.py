@@ -10,6 +10,8 @@ import json
 from importlib import resources
 from pathlib import Path
 
+from skygas.outputs.flags import add_output_flags
+
 
 def _simulate(args) -> int:
     from skygas.config import load_config
@@ -17,6 +19,8 @@ def _simulate(args) -> int:
 
     config = load_config(args.config)
     summary = run_simulation(config, args.out, progress=not args.quiet, resume=args.resume)
+    from skygas.outputs.finish import finish_outputs
+    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
     _report(summary, args.out)
     return 0
 
@@ -46,6 +50,8 @@ def _demo(args) -> int:
     from skygas.runner import run_simulation
 
     summary = run_simulation(default_demo_config(), args.out, progress=not args.quiet)
+    from skygas.outputs.finish import finish_outputs
+    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
     _report(summary, args.out)
     return 0
 
@@ -62,6 +68,7 @@ def register(subparsers) -> None:
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.npz")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_output_flags(p)
     p.set_defaults(func=_simulate)
 
     c = subparsers.add_parser("check-timestep",
@@ -77,4 +84,5 @@ def register(subparsers) -> None:
     d = subparsers.add_parser("demo", help="run the default demonstration")
     d.add_argument("--out", default="demo-output", help="output directory")
     d.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_output_flags(d)
     d.set_defaults(func=_demo)

@@ -205,9 +205,11 @@ class NeuronRun:
     duration: float
     wall_time: float = 0.0
 
-    def run(self) -> "NeuronRun":
+    def run(self, record_interval: float | None = None) -> "NeuronRun":
+        """Run for the configured duration, recording positions every ``record_interval`` [s]
+        (none by default; a movie asks for them)."""
         t0 = _time.perf_counter()
-        self.sim.run(self.duration)
+        self.sim.run(self.duration, record_interval=record_interval)
         self.wall_time = _time.perf_counter() - t0
         return self
 
