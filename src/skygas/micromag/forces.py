@@ -39,6 +39,7 @@ constrained law repairs, is refused (:class:`~skygas.errors.InputError`).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -204,8 +205,10 @@ def _clean(d, force, force_scale: float, need: int):
 
 def _finish(law, model, d, y, start, force_scale, rejected) -> LawFit:
     try:
-        params, cov = optimize.curve_fit(model, d, y, p0=start, method="lm")
-    except (RuntimeError, optimize.OptimizeWarning):  # keep the linear solution
+        with warnings.catch_warnings():  # exact samples: no covariance, the fit is still right
+            warnings.simplefilter("ignore", optimize.OptimizeWarning)
+            params, cov = optimize.curve_fit(model, d, y, p0=start, method="lm")
+    except RuntimeError:  # keep the linear solution
         params, cov = start, np.full((len(start), len(start)), np.nan)
     residual = y - model(d, *params)
     return LawFit(law, tuple(map(float, params)), tuple(map(float, np.sqrt(np.diag(cov)))),

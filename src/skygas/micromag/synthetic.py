@@ -171,8 +171,12 @@ def pair_forces(system: ThieleSystem, pair_law) -> Callable[[np.ndarray], np.nda
     def force(positions: np.ndarray) -> np.ndarray:
         sep = positions[:, None, :] - positions[None, :, :]
         dist = np.linalg.norm(sep, axis=-1)
-        np.fill_diagonal(dist, 1.0)  # self-pairs: sep = 0, so they add nothing
+        # self-pairs (sep = 0) add nothing: evaluated at one diameter, then zeroed, so that a
+        # law that grows with distance does not overflow there
+        self_pair = np.eye(len(positions), dtype=bool)
+        dist = np.where(self_pair, system.skyrmion_diameter, dist)
         size = system.force_scale * pair_law_magnitude(dist / system.skyrmion_diameter, pair_law)
+        size = np.where(self_pair, 0.0, size)
         return np.sum(size[..., None] * sep / dist[..., None], axis=1)
 
     return force
