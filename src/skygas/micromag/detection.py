@@ -22,8 +22,10 @@
    by 30° with ξ = Δ, band 7 nm: 0.5 nm at 20 nm from the edge, < 0.05 nm from 25 nm on; the
    whole-region centre of earlier versions was off by 0.4–0.6 nm at every distance).
 4. **Centre.** The topological-charge-weighted guiding centre, R = Σ x_p q_p / Σ q_p over the
-   neighbourhood's plaquettes p (Berg–Lüscher density, :mod:`skygas.micromag.topology`). It is
-   the guiding centre of Thiele's theory and needs no model of the profile.
+   neighbourhood's plaquettes p (Berg–Lüscher density, :mod:`skygas.micromag.topology`; a
+   plaquette counts a quarter for each of its corner cells' regions, so the border between two
+   touching skyrmions splits its charge evenly). It is the guiding centre of Thiele's theory
+   and needs no model of the profile.
 5. **Radius and wall width.** The m_z = 0 contour, sampled along ``n_rays`` rays from the
    centre on a cubic spline of m_z; the radius is that of the disk of equal area, √(⟨r(φ)²⟩).
    The ratio of the shortest to the longest ray is reported as ``circularity`` (1 for a round
@@ -147,15 +149,21 @@ def _contour_rays(spline, background, cx_cells, cy_cells, max_r, n_rays):
     return radii, slopes
 
 
-def _centre(density, in_region, px, py, core) -> tuple[float, float]:
-    """Charge-weighted centre [cell-index units] of the plaquettes ``in_region``; a
-    topologically trivial bubble (|Q| < ½) falls back on its reversed core's centroid."""
-    weight = density[in_region]
-    if abs(weight.sum()) > 0.5:
-        return (float((px[in_region] * weight).sum() / weight.sum()),
-                float((py[in_region] * weight).sum() / weight.sum()))
-    cy, cx = ndimage.center_of_mass(core)
-    return float(cx), float(cy)
+def _centres(density, labels, charges, cores) -> list[tuple[float, float]]:
+    """Charge-weighted centre [cell-index units] of every labelled region, plaquettes shared
+    between corner regions as for the charge; a topologically trivial bubble (|Q| < ½) falls
+    back on its reversed core's centroid."""
+    py, px = np.mgrid[0 : density.shape[0], 0 : density.shape[1]] + 0.5  # plaquette centres
+    sum_x = topology.plaquette_sums(density * px, labels)
+    sum_y = topology.plaquette_sums(density * py, labels)
+    centres = []
+    for k, charge in enumerate(charges):
+        if abs(charge) > 0.5:
+            centres.append((float(sum_x[k] / charge), float(sum_y[k] / charge)))
+        else:
+            cy, cx = ndimage.center_of_mass(cores == k + 1)
+            centres.append((float(cx), float(cy)))
+    return centres
 
 
 def detect_skyrmions(
@@ -178,7 +186,6 @@ def detect_skyrmions(
     dx, dy = float(field.attrs["dx"]), float(field.attrs["dy"])
     x0, y0 = float(field.x.values[0]), float(field.y.values[0])
     yy, xx = np.mgrid[0 : mz.shape[0], 0 : mz.shape[1]]  # cell-index units
-    py, px = yy[:-1, :-1] + 0.5, xx[:-1, :-1] + 0.5  # plaquette centres
     core_sizes = np.bincount(cores.ravel(), minlength=count + 1)
     neighbourhoods = np.zeros_like(regions)
     shapes = {}
@@ -196,10 +203,9 @@ def detect_skyrmions(
         neighbourhoods[(regions == label) & near & ~band] = label
     charges = topology.topological_charge(field, neighbourhoods)
     dissipations = topology.dissipation(field, neighbourhoods)
-    plaquette_labels = neighbourhoods[:-1, :-1]
     found = []
-    for label in range(1, count + 1):
-        cx, cy = _centre(density, plaquette_labels == label, px, py, cores == label)
+    centres = _centres(density, neighbourhoods, charges, cores)
+    for label, (cx, cy) in enumerate(centres, start=1):
         max_r = 2.0 * math.sqrt(core_sizes[label] / math.pi) + 3.0
         radii, _ = _contour_rays(spline, background, cx, cy, max_r, n_rays)
         radii = radii * math.sqrt(dx * dy)

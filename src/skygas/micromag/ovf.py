@@ -300,10 +300,12 @@ def write_ovf(
     fmt: str = "bin4",
     version: int = 2,
     time: float | None = None,
+    notes: list[str] = (),
 ) -> Path:
     """Write a field DataArray as OVF ``version`` 1 or 2, ``fmt`` "text", "bin4" or "bin8".
 
-    The header follows what mumax3 writes (metre mesh unit, ``Desc: Total simulation time``).
+    The header follows what mumax3 writes (metre mesh unit, ``Desc: Total simulation time``);
+    each of ``notes`` becomes one more ``Desc`` line.
     """
     if fmt not in ("text", "bin4", "bin8"):
         raise InputError("fmt", fmt, "text, bin4 or bin8")
@@ -326,6 +328,7 @@ def write_ovf(
     else:
         lines += ["# valueunit: 1", "# valuemultiplier: 1",
                   "# ValueRangeMinMag: 1e-08", "# ValueRangeMaxMag: 1"]
+    lines += [f"# Desc: {note}" for note in notes]
     if when is not None and math.isfinite(when):
         lines.append(f"# Desc: Total simulation time:  {when!r}  s")
     for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz)):
@@ -335,7 +338,7 @@ def write_ovf(
     lines.append(f"# Begin: Data {label}")
     flat = array.reshape(-1, 3)
     with path.open("wb") as out:
-        out.write(("\n".join(lines) + "\n").encode("ascii"))
+        out.write(("\n".join(lines) + "\n").encode("utf-8"))
         if fmt == "text":
             np.savetxt(out, flat, fmt="%.17g")
         else:
