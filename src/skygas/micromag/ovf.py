@@ -88,9 +88,11 @@ def _parse_header(path: Path, raw: bytes) -> tuple[dict, str, int]:
     if magic not in _MAGIC:
         raise _bad(path, "header", first[:60], "a first line '# OOMMF OVF 2.0' or "
                    "'# OOMMF: rectangular mesh v1.0'")
-    header: dict = {"version": _MAGIC[magic], "desc": []}
+    header: dict = {"version": _MAGIC[magic], "desc": [], "line": {}}
     pos = first_end + 1
+    number = 1
     while True:
+        number += 1
         end = raw.find(b"\n", pos)
         if end < 0:
             raise _bad(path, "data", "missing", "a '# Begin: Data ...' line (file truncated?)")
@@ -117,6 +119,7 @@ def _parse_header(path: Path, raw: bytes) -> tuple[dict, str, int]:
             header["desc"].append(value)
         else:
             header[key] = value
+            header["line"][key] = number
 
 
 def _number(path: Path, header: dict, key: str, cast=float):
@@ -148,7 +151,7 @@ def read_ovf(path: str | Path) -> xr.DataArray:
     if header.get("meshtype", "rectangular").lower() != "rectangular":
         raise _bad(path, "meshtype", header["meshtype"], "rectangular")
     unit = header.get("meshunit", "m")
-    scale = _mesh_scale(path, unit)
+    scale = _mesh_scale(path, unit, header["line"].get("meshunit", 1))
     nodes = [_number(path, header, f"{a}nodes", int) for a in "xyz"]
     steps = [_number(path, header, f"{a}stepsize") for a in "xyz"]
     bases = [_number(path, header, f"{a}base") for a in "xyz"]
@@ -193,15 +196,24 @@ def read_ovf(path: str | Path) -> xr.DataArray:
     )
 
 
-def _mesh_scale(path: Path, unit: str) -> float:
-    """Metres per mesh unit; warns (:class:`OVFUnitWarning`) when the unit is not the metre."""
+# Warnings already shown (the registry of warnings.warn_explicit): one per unit and header line,
+# not one per snapshot of a run.
+_SHOWN: dict = {}
+
+
+def _mesh_scale(path: Path, unit: str, line: int) -> float:
+    """Metres per mesh unit; warns (:class:`OVFUnitWarning`) when the unit is not the metre.
+
+    The warning points at the file and its ``meshunit`` line (``FILE:LINE: OVFUnitWarning: …``).
+    """
     scale = MESH_UNITS.get(unit.lower())
     if scale is None:
         raise _bad(path, "meshunit", unit, f"one of {', '.join(MESH_UNITS)} (edit the header's "
                    "'# meshunit:' line to the unit the mesh was written in)")
     if scale != 1.0:
-        warnings.warn(f"{path.name}: mesh unit {unit!r}: lengths converted to metres "
-                      f"(× {scale:g})", OVFUnitWarning, stacklevel=3)
+        warnings.warn_explicit(f"mesh unit {unit!r}: lengths converted to metres (× {scale:g})",
+                               OVFUnitWarning, str(path), line, module=__name__,
+                               registry=_SHOWN)
     return scale
 
 
