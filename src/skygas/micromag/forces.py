@@ -239,12 +239,9 @@ def fit_pair_law(d, force, force_scale: float, check: bool = True) -> LawFit:
     constrained = _constrained_pair_fit(d, y, fit, reason, rejected)
     problem = law_problem("pair", constrained.coefficients)
     if problem is not None:
-        lo, hi = fit.distance_range
-        raise InputError("pair_law", _rounded(fit.coefficients),
-                         f"a force that decays with distance: this fit {reason} and even the "
-                         f"best decaying law {problem}, so the data (d = "
-                         f"{lo:.2f}–{hi:.2f} d_sk) do not fix how the force decays; record "
-                         "snapshots until the skyrmions are farther apart")
+        raise _refusal(fit, f"this fit {reason} and even the best decaying law {problem}, so "
+                       "the data do not fix how the force decays",
+                       "record snapshots until the skyrmions are farther apart")
     return constrained
 
 
@@ -300,17 +297,22 @@ def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = Tr
     problem = law_problem("wall", fit.coefficients) if check else None
     if problem is not None:
         _refuse_if_rising_in_data(fit)
-        lo, hi = fit.distance_range
-        raise InputError("wall_law", _rounded(fit.coefficients),
-                         f"a force that decays with distance over the range the engine uses: "
-                         f"the fit {problem} (data: d = {lo:.2f}–{hi:.2f} d_sk); refit with a "
-                         f"lower --wall-degree (now {degree}) or with snapshots that cover "
-                         "more of that range")
+        raise _refusal(fit, f"the fit {problem}, where the engine uses it",
+                       f"refit with a lower --wall-degree (now {degree}) or with snapshots "
+                       "that cover more of that range")
     return fit
 
 
 def _rounded(coefficients) -> list[float]:
     return [float(f"{c:.4g}") for c in coefficients]
+
+
+def _refusal(fit: LawFit, why: str, remedy: str) -> InputError:
+    """The one-line refusal of a fitted law: what is wrong, the data's range, what to do."""
+    lo, hi = fit.distance_range
+    return InputError(f"{fit.law}_law", _rounded(fit.coefficients),
+                      f"a force that decays with distance: {why} (data: d = {lo:.2f}–{hi:.2f} "
+                      f"d_sk); {remedy}")
 
 
 def _magnitude(law: str, coefficients):
@@ -371,9 +373,7 @@ def _refuse_if_rising_in_data(fit: LawFit) -> None:
     lo, hi = fit.distance_range
     rising = _rising(fit.law, fit.coefficients, max(lo, DECREASING_FROM), hi)
     if rising is not None:
-        raise InputError(f"{fit.law}_law", _rounded(fit.coefficients),
-                         f"a force that decays with distance: the fit rises at d = "
-                         f"{rising[0]:.2f}–{rising[1]:.2f} d_sk, inside the data (d = {lo:.2f}–"
-                         f"{hi:.2f} d_sk), so the samples do not show a decaying repulsion; "
-                         "check that the snapshots hold one relaxing pair (no third skyrmion) "
-                         "or one skyrmion near the wall")
+        raise _refusal(fit, f"the fit rises at d = {rising[0]:.2f}–{rising[1]:.2f} d_sk, inside "
+                       "the data, so the samples do not show a decaying repulsion",
+                       "check that the snapshots hold one relaxing pair (no third skyrmion) "
+                       "or one skyrmion near the wall")

@@ -52,7 +52,7 @@ class FitResult:
         }
 
     def write(self, out_dir: str | Path) -> dict[str, Path]:
-        """Write ``fit.json``, ``forces.csv``, ``fit.png`` and ``material.toml`` (if valid)."""
+        """Write ``fit.json``, ``forces.csv``, ``fit.png`` and ``material.toml``."""
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         paths = {"json": out / "fit.json", "csv": out / "forces.csv", "plot": out / "fit.png"}
