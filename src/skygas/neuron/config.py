@@ -45,8 +45,13 @@ class DeviceSpec(_Strict):
 
 
 class GateSpec(_Strict):
-    barrier_height: float = Field(100.0, ge=0)  # k_B T
-    band_width: float | None = Field(None, gt=0)  # m; default half the conduit length
+    """The closed gate, a potential band across the output conduit (skygas.neuron.gate):
+    the top of the barrier [k_BT], its width between the half-height points [m] and the width
+    of its tanh edges [m]."""
+
+    barrier_height: float = Field(20.0, ge=0)   # k_B T
+    band_width: float = Field(30e-9, gt=0)      # m, inside the conduit
+    edge_width: float = Field(10e-9, gt=0)      # m
     initially_open: bool = False
 
 
