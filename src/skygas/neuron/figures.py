@@ -1,4 +1,5 @@
-"""Figures of the neuron: count trace, transfer curve, maximum density (matplotlib, Agg)."""
+"""Figures of the neuron: the device over its energy landscape, count trace, transfer curve,
+maximum density (matplotlib, Agg)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,37 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+
+
+def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
+    """The device over its energy landscape (the gate's band drawn closed, with the user's
+    potentials), the nucleation site, and the recorded trajectories (start ○, end ●) or, for a
+    run that recorded none, the skyrmions present at its end."""
+    from skygas.plotting import draw_landscape, draw_outline, draw_tracks
+
+    sim = run.sim
+    fig = Figure(figsize=(7, 5), dpi=120)
+    ax = fig.add_subplot()
+    draw_landscape(ax, sim.landscape, sim.outline)
+    draw_outline(ax, sim.outline)
+    ds = sim.trajectories()
+    if ds.sizes.get("skyrmion", 0):
+        draw_tracks(ax, ds, max_tracks)
+        what = f"{ds.sizes['skyrmion']} trajectories"
+    else:
+        xy = sim.state.positions * 1e6
+        ax.plot(xy[:, 0], xy[:, 1], "o", color="tab:red", ms=3)
+        what = f"{len(xy)} skyrmions at the end"
+    site = run.device.site * 1e-3
+    ax.plot(*site, "*", color="tab:red", ms=9)
+    ax.annotate("nucleation", site, color="tab:red", fontsize=7, ha="center", va="top",
+                xytext=(0, -6), textcoords="offset points")
+    g = run.device.config.gate
+    ax.set_title(f"gate {g.barrier_height:g} k_BT (drawn closed), {what}, "
+                 f"{sim.time * 1e9:.0f} ns", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
 
 
 def plot_trace(run, path: Path) -> Path:

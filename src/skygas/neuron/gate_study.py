@@ -73,9 +73,10 @@ def drift_band_field(device, grid, hold_vx, hold_vy, barrier_height: float,
 
 
 def hold_crowd(config, n: int, duration: float = 300e-9, seed: int = 0, gate: str = "potential",
-               annihilation: bool = False) -> dict:
+               annihilation: bool = False, record_interval: float | None = None) -> dict:
     """Closed gate, holding current, ``n`` skyrmions crowded at the output conduit's mouth; see
-    the module's docstring. Returns counts and the leak (emitted) times [s]."""
+    the module's docstring. Returns counts and the leak (emitted) times [s]; trajectories are
+    recorded every ``record_interval`` [s] if given."""
     from skygas.neuron.device import NeuronDevice
 
     require(gate in ("potential", "drift"), "gate", gate, "'potential' or 'drift'")
@@ -93,7 +94,7 @@ def hold_crowd(config, n: int, duration: float = 300e-9, seed: int = 0, gate: st
                                                   *run.gate.base,
                                                   cfg.gate.barrier_height, cfg.temperature))
     run.sim.state.insert_nm(crowd_at_gate(device, n))
-    run.run()
+    run.sim.run(duration, record_interval=record_interval)
     exits = run.emission_times()
     return {"n": n, "gate": gate, "barrier_height_kT": cfg.gate.barrier_height,
             "annihilation": annihilation, "duration_s": duration, "seed": seed,
@@ -144,7 +145,19 @@ def _main() -> None:  # pragma: no cover - prints the tables of docs/neuron.md
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     parser.add_argument("--release-seeds", type=int, nargs="+", default=[0, 1, 2])
     parser.add_argument("--skip", choices=["hold", "release"], nargs="*", default=[])
+    parser.add_argument("--figure", help="PNG of a crowd of the first size at the first two "
+                        "heights (trajectories over the landscape), then stop")
     args = parser.parse_args()
+    if args.figure:
+        from skygas.neuron.figures import plot_device
+
+        for h in args.heights[:2]:
+            r = hold_crowd(neuron_config({"gate": {"barrier_height": h}}), args.crowds[0],
+                           args.duration, args.seeds[0], record_interval=2e-9)
+            path = args.figure.replace(".png", f"-{h:g}kT.png")
+            plot_device(r["run"], path)
+            print(f"{path}: {r['n_leaked']} of {args.crowds[0]} leaked", flush=True)
+        return
     if "hold" not in args.skip:
         print("gate      h(kT)  N  annihilation  leaked  annihilated  left   (per seed)")
         for gate in ("potential", "drift"):

@@ -7,12 +7,13 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas.plotting import draw_outline
+from skygas.plotting import draw_landscape, draw_outline
 from skygas.reshuffler.device import drift_field_on_grid
 
 
 def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
-    """|j| in both chambers (colour), walls, read-out lines and the first trajectories."""
+    """|j| in both chambers (colour), walls, read-out lines and the first trajectories; with an
+    energy landscape, the landscape is the background and |j| its contour lines."""
     grid = run.sim.wall_field.grid
     jx, jy = drift_field_on_grid(run.geometry, run.current, grid, 1.0)
     magnitude = np.hypot(jx, jy)
@@ -25,9 +26,20 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
     ax = fig.add_subplot()
     extent = np.array([grid.x0, grid.x0 + grid.spacing * (grid.nx - 1),
                        grid.y0, grid.y0 + grid.spacing * (grid.ny - 1)]) * 1e-3
-    image = ax.imshow(magnitude, origin="lower", extent=extent, cmap="viridis",
-                      norm=_log_norm(magnitude))
-    fig.colorbar(image, ax=ax, label="current density |j| (A/m²)", shrink=0.6)
+    if draw_landscape(ax, run.sim.landscape, run.sim.outline) is None:
+        image = ax.imshow(magnitude, origin="lower", extent=extent, cmap="viridis",
+                          norm=_log_norm(magnitude))
+        fig.colorbar(image, ax=ax, label="current density |j| (A/m²)", shrink=0.6)
+        track_colour = "white"
+    else:
+        norm = _log_norm(magnitude)
+        if norm is not None:
+            levels = np.geomspace(norm.vmin, norm.vmax, 7)
+            lines = ax.contour(np.linspace(extent[0], extent[1], grid.nx),
+                               np.linspace(extent[2], extent[3], grid.ny), magnitude,
+                               levels=levels, colors="white", linewidths=0.5, alpha=0.6)
+            ax.clabel(lines, fmt="%.1e", fontsize=5)
+        track_colour = "tab:red"
     draw_outline(ax, run.sim.outline)
     ds = run.sim.trajectories()
     if ds.sizes.get("skyrmion", 0):
@@ -35,11 +47,12 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
         for k in range(min(x.shape[1], max_tracks)):
             ok = np.isfinite(x[:, k])
             if ok.sum() > 1:
-                ax.plot(x[ok, k], y[ok, k], lw=0.8, color="white", alpha=0.8)
+                ax.plot(x[ok, k], y[ok, k], lw=0.8, color=track_colour, alpha=0.8)
     for name, site in run.geometry.nucleation_sites().items():
         ax.plot(site[0] * 1e-3, site[1] * 1e-3, "r*", ms=8)
         ax.annotate(name.upper(), (site[0] * 1e-3, site[1] * 1e-3 + 0.08), color="tab:red")
-    ax.set_title(f"J = {run.config.current_density:.2g} A/m² in the conduits, "
+    contours = ", |j| contours (A/m²)" if run.sim.landscape.terms else ""
+    ax.set_title(f"J = {run.config.current_density:.2g} A/m² in the conduits{contours}, "
                  f"first {run.config.output.trajectory_window * 1e9:.0f} ns of trajectories",
                  fontsize=9)
     fig.tight_layout()
