@@ -103,6 +103,43 @@ def hold_crowd(config, n: int, duration: float = 300e-9, seed: int = 0, gate: st
             "run": run}
 
 
+def release_crowd(config, n: int, hold: float = 100e-9, limit: float = 400e-9, seed: int = 0,
+                  step: float = 1e-9) -> dict:
+    """The release on its own: ``n`` skyrmions at random in the chamber (2 d_sk apart, 1.5 d_sk
+    from the walls), ``hold`` [s] with the gate closed at the holding current (the crowd
+    gathers at the gate), then the gate opens at the release current, with no input, until the
+    count reaches the reset level or ``limit`` [s] has passed. Returns the count against the
+    time since the opening (sampled every ``step``), the time to the reset level [s] (None if
+    not reached), and the skyrmions emitted and annihilated during the release."""
+    from skygas.geometry import random_positions
+    from skygas.neuron.device import NeuronDevice
+
+    device = NeuronDevice(config)
+    run = device.build(inputs=[], duration=hold, seed=seed)
+    run.controller.threshold = math.inf
+    d = device.thiele.skyrmion_diameter * units.M_TO_NM
+    rng = np.random.default_rng(np.random.SeedSequence((seed, 0x72656C)))
+    run.sim.state.insert_nm(random_positions(run.sim.outline, n, 2 * d, 1.5 * d, rng))
+    run.sim.run(hold)
+    run.controller.reset_level = -math.inf       # the study decides when it ends
+    run.gate.set(True)
+    start_count, start_exits = run.sim.count, len(run.sim.exits)
+    start_deaths = run.annihilator.n_annihilated
+    times, counts, t_reset = [0.0], [start_count], None
+    reset = config.rule.reset_level
+    while times[-1] < limit - step / 2:
+        run.sim.run(step)
+        times.append(times[-1] + step)
+        counts.append(run.sim.count)
+        if counts[-1] <= reset:
+            t_reset = times[-1]
+            break
+    return {"n": n, "count_at_opening": start_count, "time_s": np.array(times),
+            "count": np.array(counts), "time_to_reset_s": t_reset,
+            "emitted": len(run.sim.exits) - start_exits,
+            "annihilated": run.annihilator.n_annihilated - start_deaths}
+
+
 def release_statistics(run) -> list[dict]:
     """One record per gate opening of a finished neuron run: ``duration_s``, ``ended``
     ("reset", "cap" or "run end"), ``emitted`` and ``annihilated`` while open, and the count
@@ -144,7 +181,9 @@ def _main() -> None:  # pragma: no cover - prints the tables of docs/neuron.md
     parser.add_argument("--duration", type=float, default=300e-9)
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     parser.add_argument("--release-seeds", type=int, nargs="+", default=[0, 1, 2])
-    parser.add_argument("--skip", choices=["hold", "release"], nargs="*", default=[])
+    parser.add_argument("--skip", choices=["hold", "release", "runs"], nargs="*", default=[],
+                        help="parts to leave out: the holding table, the release of a crowd, "
+                        "the releases of default neuron runs")
     parser.add_argument("--figure", help="PNG of a crowd of the first size at the first two "
                         "heights (trajectories over the landscape), then stop")
     args = parser.parse_args()
@@ -171,6 +210,16 @@ def _main() -> None:  # pragma: no cover - prints the tables of docs/neuron.md
                               f"{[r['n_annihilated'] for r in rows]}  "
                               f"{[r['n_left'] for r in rows]}", flush=True)
     if "release" not in args.skip:
+        print("release of a crowd (no input): n, count at opening, time to reset (ns), "
+              "emitted, annihilated")
+        for n in args.crowds:
+            for seed in args.release_seeds:
+                r = release_crowd(neuron_config({}), n, seed=seed)
+                t = r["time_to_reset_s"]
+                print(f"  {n:3d} {r['count_at_opening']:3d} "
+                      f"{'not reached' if t is None else round(t * 1e9)} {r['emitted']:3d} "
+                      f"{r['annihilated']:3d}", flush=True)
+    if "runs" not in args.skip:
         for seed in args.release_seeds:
             run = NeuronDevice(neuron_config({"seed": seed})).build().run()
             rel = release_statistics(run)
