@@ -21,13 +21,31 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
     draw_landscape(ax, sim.landscape, sim.outline)
     draw_outline(ax, sim.outline)
     ds = sim.trajectories()
-    if ds.sizes.get("skyrmion", 0):
-        draw_tracks(ax, ds, max_tracks)
-        what = f"{ds.sizes['skyrmion']} trajectories"
-    else:
-        xy = sim.state.positions * 1e6
-        ax.plot(xy[:, 0], xy[:, 1], "o", color="tab:red", ms=3)
-        what = f"{len(xy)} skyrmions at the end"
+    # an inset magnifies the output conduit and its gate, a few skyrmion diameters wide
+    dev = run.device.config.device
+    d_um = sim.thiele.skyrmion_diameter * 1e6
+    x0 = run.device.x_meet * 1e-3 - 2 * d_um
+    x1 = run.device.x_meet * 1e-3 + dev.conduit_length * 1e6 + 0.5 * d_um
+    half = dev.conduit_width * 1e6 / 2 + 1.5 * d_um
+    height = 0.3 * 2 * half / (x1 - x0)
+    inset = ax.inset_axes([0.02, 0.98 - height, 0.3, height])   # the Hall drift keeps it clear
+    draw_landscape(inset, sim.landscape, sim.outline, colorbar=False)
+    draw_outline(inset, sim.outline)
+    for axis in (ax, inset):
+        if ds.sizes.get("skyrmion", 0):
+            draw_tracks(axis, ds, max_tracks)
+        else:
+            xy = sim.state.positions * 1e6
+            axis.plot(xy[:, 0], xy[:, 1], "o", color="tab:red", ms=3)
+    what = (f"{ds.sizes['skyrmion']} trajectories" if ds.sizes.get("skyrmion", 0)
+            else f"{sim.count} skyrmions at the end")
+    inset.set_xlim(x0, x1)
+    inset.set_ylim(-half, half)
+    inset.set_xticks([])
+    inset.set_yticks([])
+    inset.set_xlabel("")
+    inset.set_ylabel("")
+    ax.indicate_inset_zoom(inset, edgecolor="grey")
     site = run.device.site * 1e-3
     ax.plot(*site, "*", color="tab:red", ms=9)
     ax.annotate("nucleation", site, color="tab:red", fontsize=7, ha="center", va="top",
