@@ -100,7 +100,8 @@ def plot_trajectories(ds: xr.Dataset, outline: Outline, path: str | Path,
     draw_landscape(ax, landscape, outline)
     draw_outline(ax, outline)
     draw_tracks(ax, ds, max_tracks)
-    ax.set_title(title or f"{ds.sizes.get('skyrmion', 0)} skyrmions, {ds.attrs.get('temperature_K', '?')} K, "
+    ax.set_title(title or f"{ds.sizes.get('skyrmion', 0)} skyrmions, "
+                 f"{ds.attrs.get('temperature_K', '?')} K, "
                  f"{ds.time.values[-1] * 1e9:.0f} ns" if len(ds.time) else "no frames")
     fig.tight_layout()
     path = Path(path)

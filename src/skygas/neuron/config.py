@@ -4,9 +4,9 @@ Defaults: the paper's chamber (1024 nm, 100 nm × 50 nm conduits), material S2 i
 300 K, the reshuffler's calibrated ξ = 1.84e-10 m³/C (data/reshuffler-paper.toml), the
 calibrated annihilation model (:mod:`skygas.neuron.calibration`), a 20 k_B T gate (a potential
 band 30 nm wide with 10 nm edges: it holds the threshold's crowd of 12 at the holding current;
-docs/neuron.md, "The gate: the crowd it holds back") and a whole-chamber counting sensor. The paper gives no operating point for the neuron; the drive and
-the rule were chosen so that the default run integrates, fires and resets (docs/neuron.md,
-"Choosing the defaults"):
+docs/neuron.md, "The gate: the crowd it holds back") and a whole-chamber counting sensor. The
+paper gives no operating point for the neuron; the drive and the rule were chosen so that the
+default run integrates, fires and resets (docs/neuron.md, "Choosing the defaults"):
 
 - holding current J = 5e10 A/m² while the gate is closed: it carries injected skyrmions into
   the chamber without pressing them against the gate (at 1e11 A/m² and above the current packs

@@ -7,9 +7,10 @@ Layout: :func:`~skygas.geometry.chamber_with_conduits`; the input conduit's end 
 skyrmions are detected and removed. The current (conduit density J, v_s = ξ j) drives skyrmions
 from input to output; the gate (:class:`~skygas.neuron.gate.PotentialGate`, a potential band
 across the output conduit) holds them back. The configuration's own ``potentials`` (a user
-landscape) act everywhere in the device, under the gate's band. The current switches with the gate: the holding density ``current_density`` while it is closed, the
-release density ``release_current_density`` while it is open (docs/neuron.md, "Choosing the
-defaults", says why).
+landscape) act everywhere in the device, under the gate's band. The current switches with the
+gate: the holding density ``current_density`` while it is closed, the release density
+``release_current_density`` while it is open (docs/neuron.md, "Choosing the defaults", says
+why).
 
 Threshold rule, evaluated every ``read_interval``: a closed gate opens when the reading reaches
 ``threshold`` (and no refractory time is running); an open gate closes when the reading has
