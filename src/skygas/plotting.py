@@ -42,24 +42,82 @@ def _label_port(ax, outline: Outline, name: str, xy: np.ndarray, scale: float) -
                 bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
 
 
-def plot_trajectories(ds: xr.Dataset, outline: Outline, path: str | Path,
-                      max_tracks: int = 200, title: str | None = None) -> Path:
-    """Save a PNG of the outline with the recorded trajectories (start ○, end ●)."""
-    from matplotlib.figure import Figure
+def landscape_energy(field, outline: Outline | None = None,
+                     all_terms: bool = True) -> tuple[np.ndarray, str] | None:
+    """The landscape's energy U on its grid (ny, nx) in plotting units, and their label: U/k_BT
+    at the field's temperature (zJ at T = 0), NaN outside ``outline``. ``all_terms`` draws
+    every term, switched-off ones (an open gate) included. None without terms."""
+    from skygas import units
 
-    fig = Figure(figsize=(6, 5.5), dpi=120)
-    ax = fig.add_subplot()
-    draw_outline(ax, outline)
+    if field is None or not field.terms:
+        return None
+    enabled = list(field.enabled)
+    try:
+        for k in range(len(enabled)):
+            field.set_enabled(k, True if all_terms else enabled[k])
+        u = field.nodes[..., 0].copy()  # pN·nm
+    finally:
+        for k, on in enumerate(enabled):
+            field.set_enabled(k, on)
+    if field.temperature > 0:
+        u /= units.thermal_energy_internal(field.temperature)
+        label = f"U (k_BT, T = {field.temperature:g} K)"
+    else:
+        u *= 1e21 / units.J_TO_PN_NM
+        label = "U (zJ)"
+    if outline is not None:
+        gx, gy = field.grid.nodes()
+        u = np.where(outline.contains_nm(gx, gy), u, np.nan)
+    return u, label
+
+
+def draw_landscape(ax, field, outline: Outline | None = None, all_terms: bool = True,
+                   cmap: str = "cividis", colorbar: bool = True):
+    """Draw an energy landscape (:class:`~skygas.landscape.LandscapeField`) on ``ax`` as an
+    image in µm, coloured by U/k_BT (:func:`landscape_energy`), with a labelled colour bar;
+    returns the image, or None when there is no landscape to draw."""
+    energy = landscape_energy(field, outline, all_terms)
+    if energy is None:
+        return None
+    u, label = energy
+    grid = field.grid
+    extent = np.array([grid.x0 - grid.spacing / 2, grid.x0 + grid.spacing * (grid.nx - 0.5),
+                       grid.y0 - grid.spacing / 2, grid.y0 + grid.spacing * (grid.ny - 0.5)])
+    image = ax.imshow(u, origin="lower", extent=extent * 1e-3, cmap=cmap, interpolation="nearest")
+    if colorbar:
+        ax.figure.colorbar(image, ax=ax, label=label, shrink=0.7)
+    return image
+
+
+def draw_tracks(ax, ds: xr.Dataset, max_tracks: int, color=None, ends: bool = True) -> None:
+    """Recorded trajectories in µm, one line each (start ○, end ● when ``ends``)."""
     x = ds.x.values * 1e6
     y = ds.y.values * 1e6
     for k in range(min(x.shape[1], max_tracks)):
         ok = np.isfinite(x[:, k])
-        if not ok.any():
+        if ok.sum() < 1:
             continue
-        line, = ax.plot(x[ok, k], y[ok, k], lw=0.7, alpha=0.8)
-        ax.plot(x[ok, k][0], y[ok, k][0], "o", mfc="none", color=line.get_color(), ms=3)
-        ax.plot(x[ok, k][-1], y[ok, k][-1], "o", color=line.get_color(), ms=3)
-    ax.set_title(title or f"{x.shape[1]} skyrmions, {ds.attrs.get('temperature_K', '?')} K, "
+        line, = ax.plot(x[ok, k], y[ok, k], lw=0.7, alpha=0.8, color=color)
+        if ends:
+            ax.plot(x[ok, k][0], y[ok, k][0], "o", mfc="none", color=line.get_color(), ms=3)
+            ax.plot(x[ok, k][-1], y[ok, k][-1], "o", color=line.get_color(), ms=3)
+
+
+def plot_trajectories(ds: xr.Dataset, outline: Outline, path: str | Path,
+                      max_tracks: int = 200, title: str | None = None,
+                      landscape=None) -> Path:
+    """Save a PNG of the outline with the recorded trajectories (start ○, end ●), over the
+    energy ``landscape`` (a :class:`~skygas.landscape.LandscapeField`) when there is one."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.5 if landscape is not None and landscape.terms else 6, 5.5),
+                 dpi=120)
+    ax = fig.add_subplot()
+    draw_landscape(ax, landscape, outline)
+    draw_outline(ax, outline)
+    draw_tracks(ax, ds, max_tracks)
+    ax.set_title(title or f"{ds.sizes.get('skyrmion', 0)} skyrmions, "
+                 f"{ds.attrs.get('temperature_K', '?')} K, "
                  f"{ds.time.values[-1] * 1e9:.0f} ns" if len(ds.time) else "no frames")
     fig.tight_layout()
     path = Path(path)

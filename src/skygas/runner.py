@@ -97,7 +97,7 @@ def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: b
     ds = sim.trajectories()
     ds.attrs["config_json"] = config.model_dump_json()
     write_netcdf(ds, out / "trajectories.nc")
-    plot_trajectories(ds, sim.outline, out / "trajectories.png")
+    plot_trajectories(ds, sim.outline, out / "trajectories.png", landscape=sim.landscape)
     summary = {
         "skygas_version": __version__,
         "seed": config.seed,

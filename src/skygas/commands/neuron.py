@@ -18,7 +18,7 @@ def _neuron(args) -> int:
     from skygas.neuron import lif as L
     from skygas.neuron.config import load_neuron_config
     from skygas.neuron.device import NeuronDevice
-    from skygas.neuron.figures import plot_trace, plot_transfer
+    from skygas.neuron.figures import plot_device, plot_trace, plot_transfer
 
     config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
     device = NeuronDevice(config)          # validates everything before any run
@@ -34,6 +34,7 @@ def _neuron(args) -> int:
     np.savez_compressed(out / "trace.npz", **tr, spikes=run.spike_times(),
                         emissions=run.emission_times(), injections=run.injection_times())
     plot_trace(run, out / "count_trace.png")
+    plot_device(run, out / "device.png")
     if not args.no_transfer:
         rates = config.transfer.rates
         if not rates:

@@ -2,10 +2,11 @@
 
 Defaults: the paper's chamber (1024 nm, 100 nm × 50 nm conduits), material S2 in a 2 nm film at
 300 K, the reshuffler's calibrated ξ = 1.84e-10 m³/C (data/reshuffler-paper.toml), the
-calibrated annihilation model (:mod:`skygas.neuron.calibration`), a 100 k_B T gate and a
-whole-chamber counting sensor. The paper gives no operating point for the neuron; the drive and
-the rule were chosen so that the default run integrates, fires and resets (docs/neuron.md,
-"Choosing the defaults"):
+calibrated annihilation model (:mod:`skygas.neuron.calibration`), a 20 k_B T gate (a potential
+band 30 nm wide with 10 nm edges: it holds the threshold's crowd of 12 at the holding current;
+docs/neuron.md, "The gate: the crowd it holds back") and a whole-chamber counting sensor. The
+paper gives no operating point for the neuron; the drive and the rule were chosen so that the
+default run integrates, fires and resets (docs/neuron.md, "Choosing the defaults"):
 
 - holding current J = 5e10 A/m² while the gate is closed: it carries injected skyrmions into
   the chamber without pressing them against the gate (at 1e11 A/m² and above the current packs
@@ -45,8 +46,13 @@ class DeviceSpec(_Strict):
 
 
 class GateSpec(_Strict):
-    barrier_height: float = Field(100.0, ge=0)  # k_B T
-    band_width: float | None = Field(None, gt=0)  # m; default half the conduit length
+    """The closed gate, a potential band across the output conduit (skygas.neuron.gate):
+    the top of the barrier [k_BT], its width between the half-height points [m] and the width
+    of its tanh edges [m]."""
+
+    barrier_height: float = Field(20.0, ge=0)   # k_B T
+    band_width: float = Field(30e-9, gt=0)      # m, inside the conduit
+    edge_width: float = Field(10e-9, gt=0)      # m
     initially_open: bool = False
 
 
