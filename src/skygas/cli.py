@@ -12,7 +12,7 @@ import importlib
 import sys
 
 from skygas._version import __version__
-from skygas.errors import InputError
+from skygas.errors import InputError, RunInterrupted
 
 # Modules that add sub-commands; each defines ``register(subparsers)``.
 _COMMAND_MODULES = [
@@ -45,6 +45,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"skygas: error: {err}", file=sys.stderr)
         return 2
+    except RunInterrupted as err:
+        print(f"skygas: {err}", file=sys.stderr)
+        return err.exit_status
     except KeyboardInterrupt:
         print("skygas: interrupted", file=sys.stderr)
         return 130

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from skygas.commands.run_options import add_run_options, run_options
 from skygas.reshuffler.presets import PRESETS
 
 # command-line option → configuration field it overrides
@@ -57,8 +58,7 @@ def _reshuffle(args) -> int:
 
     overrides = {field: getattr(args, opt) for opt, field in OVERRIDES.items()}
     config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
-    result = run_reshuffler(config, args.out, progress=not (args.json or args.quiet),
-                            resume=args.resume)
+    result = run_reshuffler(config, args.out, **run_options(args, progress=not args.json))
     if args.json:
         print(json.dumps(result.summary))
     else:
@@ -74,8 +74,7 @@ def register(subparsers) -> None:
     p.add_argument("--preset", choices=PRESETS, default=None,
                    help="start from a preset (the config file's values override it)")
     p.add_argument("--json", action="store_true", help="print one JSON object, no progress bar")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.npz")
+    add_run_options(p, checkpoint_seconds=60.0)
     p.add_argument("--current-density", type=float, help="J in the conduits [A/m²]")
     p.add_argument("--chamber-diameter", type=float, help="chamber diameter [m]")
     p.add_argument("--conduit-width", type=float, help="conduit width [m]")

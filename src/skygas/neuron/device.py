@@ -21,8 +21,10 @@ skyrmions emitted during each release are also recorded (``exits``, and per rele
 
 from __future__ import annotations
 
+import json
 import math
 import time as _time
+from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -37,6 +39,9 @@ from skygas.neuron.config import NeuronConfig
 from skygas.neuron.gate import BarrierGate, ReadElement
 from skygas.neuron.inputs import SiteInjector, injection_schedule
 from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
+
+#: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
+PIECES = 100
 
 
 @dataclass
@@ -76,6 +81,20 @@ class NeuronController:
             self.gate.set(True)
             self.openings.append(sim.step)
         self.trace.append((sim.time, sim.count, reading, bool(self.gate.is_open)))
+
+    def state_dict(self) -> dict:
+        """Trace, openings, closings and schedule as JSON-able values."""
+        return {"trace": [[float(t), int(n), float(r), bool(o)] for t, n, r, o in self.trace],
+                "openings": [int(k) for k in self.openings],
+                "closings": [int(k) for k in self.closings],
+                "next": int(self._next), "refractory_until": int(self._refractory_until)}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.trace = [tuple(e) for e in state["trace"]]
+        self.openings = list(state["openings"])
+        self.closings = list(state["closings"])
+        self._next = int(state["next"])
+        self._refractory_until = int(state["refractory_until"])
 
 
 class NeuronDevice:
@@ -205,11 +224,66 @@ class NeuronRun:
     duration: float
     wall_time: float = 0.0
 
-    def run(self) -> "NeuronRun":
+    @property
+    def total_steps(self) -> int:
+        return int(round(self.duration / self.sim.time_step))
+
+    @property
+    def piece_steps(self) -> int:
+        """Length [steps] of a piece (:data:`PIECES` per run)."""
+        return max(1, self.total_steps // PIECES)
+
+    def advance_piece(self) -> None:
+        """Run to the next multiple of :attr:`piece_steps` (or to the end). Pieces start at
+        fixed steps, so a run resumed from a checkpoint re-enters the compiled kernel at the
+        same steps as one left alone, and continues bit-identically."""
+        sim = self.sim
+        n = min(self.piece_steps - sim.step % self.piece_steps, self.total_steps - sim.step)
         t0 = _time.perf_counter()
-        self.sim.run(self.duration)
-        self.wall_time = _time.perf_counter() - t0
+        sim.run(n * sim.time_step)
+        self.wall_time += _time.perf_counter() - t0
+
+    def run(self) -> "NeuronRun":
+        """Run to the end, piece by piece (the pieces the run driver runs, with progress,
+        checkpoints and interruption, in :mod:`skygas.neuron.files`)."""
+        while self.sim.step < self.total_steps:
+            self.advance_piece()
         return self
+
+    # -- checkpoints -----------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The whole mutable state: the engine's arrays, and (as one JSON string) the
+        controller, the annihilator, the injector, the gate and the read element's generator.
+        With the same device and build arguments, :meth:`load_state_dict` continues the run
+        bit-identically."""
+        inj = self.injector
+        ops = {"controller": self.controller.state_dict(),
+               "annihilator": self.annihilator.state_dict(),
+               # the injector's schedule is rebuilt from the seed; its position in it (_k) and
+               # its logs are the state
+               "injector": {"injected": [[int(s), int(i)] for s, i in inj.injected],
+                            "skipped": int(inj.skipped), "delayed": int(inj.delayed),
+                            "pending": [int(k) for k in inj.pending], "k": int(inj._k)},
+               "gate_open": bool(self.gate.is_open),
+               "sensor_rng": self.controller.sensor.rng.bit_generator.state,
+               "wall_time": self.wall_time}
+        state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
+        state["operations_json"] = np.array(json.dumps(ops))
+        return state
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
+        ops = json.loads(str(state["operations_json"]))
+        self.controller.load_state_dict(ops["controller"])
+        self.annihilator.load_state_dict(ops["annihilator"])
+        inj, saved = self.injector, ops["injector"]
+        inj.injected = [tuple(e) for e in saved["injected"]]
+        inj.skipped, inj.delayed = saved["skipped"], saved["delayed"]
+        inj.pending = deque(saved["pending"])
+        inj._k = saved["k"]
+        self.gate.set(ops["gate_open"])
+        self.controller.sensor.rng.bit_generator.state = ops["sensor_rng"]
+        self.wall_time = ops["wall_time"]
 
     # -- results -------------------------------------------------------------------------------
     def trace(self) -> dict[str, np.ndarray]:
