@@ -1,8 +1,9 @@
 """Command-line interface: a thin layer over the Python API.
 
-Each command group lives beside the code it drives and exposes ``register(subparsers)``; this
-module only collects them. Every command is one call into the library, so anything the CLI does
-can be done from Python as well.
+Each command group is a module of :mod:`skygas.commands` that exposes
+``register(subparsers)``; this module only collects them. Every command is one call into the
+library (imported when the command runs, so building the parser imports no numerics), and
+anything the CLI does can be done from Python as well.
 """
 
 from __future__ import annotations
@@ -20,8 +21,8 @@ _COMMAND_MODULES = [
     "skygas.commands.reshuffle",
     "skygas.commands.neuron",
     "skygas.commands.sweep",
-    "skygas.sc.cli",
-    "skygas.micromag.cli",
+    "skygas.commands.sc",
+    "skygas.commands.micromag",
 ]
 
 
