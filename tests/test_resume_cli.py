@@ -250,6 +250,7 @@ def test_sigint_at_random_moments_resumes_bit_identically(command, seed, referen
         assert codes[-1] in (0, 130), run.stderr.decode()
         if codes[-1] == 0:  # the signal came after the end
             break
+    assert codes[0] == 130  # the first signal came while the run was stepping
     if codes[-1] == 130:
         done = _resume(argv)
         assert done.returncode == 0, done.stderr
