@@ -74,6 +74,43 @@ class Job(Protocol):
     def finish(self, out_dir: Path) -> Any: ...
 
 
+class PiecewiseRunJob:
+    """A :class:`Job` for a device run that already steps in pieces: ``run`` has ``sim`` (the
+    :class:`~skygas.engine.Simulation`), ``total_steps``, ``advance_piece()`` and
+    ``state_dict()`` / ``load_state_dict()``; ``config`` is its validated pydantic
+    configuration (with a ``seed``). Work is simulated time in ``work_unit`` (``time_scale``
+    units per second). Subclasses add :meth:`finish`."""
+
+    work_unit = "ns"
+    time_scale = 1e9
+
+    def __init__(self, config, run):
+        self.config = config
+        self.run = run
+        self.work_total = self._time(run.total_steps)
+
+    def _time(self, steps: int) -> float:
+        return steps * self.run.sim.time_step * self.time_scale
+
+    def work_done(self) -> float:
+        return self._time(self.run.sim.step)
+
+    def advance_piece(self) -> None:
+        self.run.advance_piece()
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        return self.run.state_dict()
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.run.load_state_dict(state)
+
+    def config_json(self) -> str:
+        return self.config.model_dump_json()
+
+    def seed(self) -> int:
+        return self.config.seed
+
+
 def fingerprint(config_json: str) -> str:
     """A hash of a configuration's JSON: a checkpoint only resumes the run that wrote it."""
     return hashlib.sha256(config_json.encode()).hexdigest()[:16]

@@ -22,42 +22,17 @@ from skygas._version import __version__
 from skygas.neuron.config import NeuronConfig
 from skygas.neuron.device import NeuronDevice
 from skygas.neuron.saturation import SaturationProtocol, SaturationResult
-from skygas.run_driver import drive, write_atomic, write_json
+from skygas.run_driver import PiecewiseRunJob, drive, write_atomic, write_json
 
 
-class NeuronJob:
+class NeuronJob(PiecewiseRunJob):
     """One neuron run as a job of the run driver (work in ns of simulated time). The transfer
     curve, when asked for, is computed when the results are written."""
 
-    work_unit = "ns"
-
     def __init__(self, config: NeuronConfig, transfer: bool = True):
-        self.config = config
-        self.transfer = transfer
         self.device = NeuronDevice(config)  # validates everything before any run
-        self.run = self.device.build()
-        self.work_total = self._ns(self.run.total_steps)
-
-    def _ns(self, steps: int) -> float:
-        return steps * self.run.sim.time_step * 1e9
-
-    def work_done(self) -> float:
-        return self._ns(self.run.sim.step)
-
-    def advance_piece(self) -> None:
-        self.run.advance_piece()
-
-    def state_dict(self) -> dict[str, np.ndarray]:
-        return self.run.state_dict()
-
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.run.load_state_dict(state)
-
-    def config_json(self) -> str:
-        return self.config.model_dump_json()
-
-    def seed(self) -> int:
-        return self.config.seed
+        super().__init__(config, self.device.build())
+        self.transfer = transfer
 
     def finish(self, out: Path) -> dict:
         from skygas.neuron import analysis as A

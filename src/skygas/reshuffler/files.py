@@ -11,46 +11,23 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from skygas.reshuffler.analysis import ReshufflerResult, summarize
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.run import ReshufflerRun
-from skygas.run_driver import drive, write_atomic, write_json, write_netcdf
+from skygas.run_driver import PiecewiseRunJob, drive, write_atomic, write_json, write_netcdf
 
 
-class ReshufflerJob:
+class ReshufflerJob(PiecewiseRunJob):
     """A :class:`~skygas.reshuffler.run.ReshufflerRun` as a job of the run driver (work in
     µs of simulated time)."""
 
     work_unit = "µs"
+    time_scale = 1e6
 
     def __init__(self, config: ReshufflerConfig, figures: bool = True):
-        self.config = config
+        # every check happens in build, before any stepping
+        super().__init__(config, ReshufflerRun.build(config))
         self.figures = figures
-        self.run = ReshufflerRun.build(config)  # every check happens here, before any stepping
-        self.work_total = self._us(self.run.total_steps)
-
-    def _us(self, steps: int) -> float:
-        return steps * self.run.sim.time_step * 1e6
-
-    def work_done(self) -> float:
-        return self._us(self.run.sim.step)
-
-    def advance_piece(self) -> None:
-        self.run.advance_piece()
-
-    def state_dict(self) -> dict[str, np.ndarray]:
-        return self.run.state_dict()
-
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.run.load_state_dict(state)
-
-    def config_json(self) -> str:
-        return self.config.model_dump_json()
-
-    def seed(self) -> int:
-        return self.config.seed
 
     def finish(self, out: Path | None) -> ReshufflerResult:
         result = summarize(self.run)
