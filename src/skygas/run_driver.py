@@ -122,13 +122,19 @@ def write_atomic(path: str | Path, write: Callable[[Path], Any]) -> Path:
     finished file is never partial, whatever stops the process. The temporary name keeps the
     suffix (writers such as :func:`numpy.savez` and matplotlib choose the format by it)."""
     path = Path(path)
-    tmp = path.with_name(f".{path.stem}.partial{path.suffix}")
+    tmp = partial_path(path)
     try:
         write(tmp)
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
     return path
+
+
+def partial_path(path: Path) -> Path:
+    """The temporary file :func:`write_atomic` writes before renaming it to ``path`` (a
+    process killed while writing leaves it behind)."""
+    return path.with_name(f".{path.stem}.partial{path.suffix}")
 
 
 def write_json(path: str | Path, data: Any, indent: int | None = 2) -> Path:
@@ -262,4 +268,5 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
             raise RunInterrupted(signals.received, ckpt)
     result = job.finish(out)
     ckpt.unlink(missing_ok=True)
+    partial_path(ckpt).unlink(missing_ok=True)  # left by a process killed while saving
     return result
