@@ -58,6 +58,9 @@ reset_level = 2
 [[inputs]]
 kind = "poisson"
 rate = 2e8                    # an injection attempt every 5 ns, a reading every 1 ns
+[transfer]
+rates = [1e8, 4e8]            # two short runs after the main one, one piece each
+duration = 0.4e-6
 """
 
 # The reshuffler's defaults already make injections dense (one every 5 ns); a short run keeps
@@ -93,7 +96,9 @@ COMMANDS = {
                             ("skygas.reshuffler.run", "ReshufflerRun", "_add_snapshots", 2)]},
     "neuron": {"files": ("trace.npz", "summary.json"),
                "hooks": [("skygas.neuron.inputs", "SiteInjector", "_inject", 60),
-                         ("skygas.neuron.device", "NeuronController", "act", 500)]},
+                         ("skygas.neuron.device", "NeuronController", "act", 500),
+                         # inside a run of the transfer curve (the first build is the main run)
+                         ("skygas.neuron.device", "NeuronDevice", "build", 2)]},
 }
 
 
@@ -105,7 +110,7 @@ def _argv(command: str, tmp_path: Path, out: Path) -> list[str]:
     if command == "neuron":
         config = tmp_path / "neuron.toml"
         config.write_text(NEURON_TOML)
-        return ["neuron", str(config), "--out", str(out), "--no-transfer"]
+        return ["neuron", str(config), "--out", str(out)]
     return ["reshuffle", "--out", str(out), *RESHUFFLE_ARGS]
 
 
@@ -214,19 +219,20 @@ def _resume(argv: list[str], hook=None) -> subprocess.CompletedProcess:
 def test_sigint_inside_bookkeeping_resumes_bit_identically(command, reference, tmp_path):
     """SIGINT raised in the middle of an injection or a recording (from inside the method that
     does it) stops the run at the end of its piece: the state saved there is consistent. The
-    run is interrupted twice (the second time while resumed) before it is let finish."""
+    run is interrupted two or three times (then while resumed) before it is let finish."""
     ref = reference(command)
     out = tmp_path / "out"
     argv = _argv(command, tmp_path, out)
-    first, second = COMMANDS[command]["hooks"]
+    first, *others = COMMANDS[command]["hooks"]
     stopped = _cli([*argv, "--quiet"], first)
     assert stopped.returncode == 130, stopped.stderr
     message = stopped.stderr.strip().splitlines()
     assert len(message) == 1 and "--resume" in message[0], stopped.stderr
     assert (out / "checkpoint.npz").is_file()
     assert not any((out / f).exists() for f in COMMANDS[command]["files"])
-    again = _resume(argv, second)
-    assert again.returncode == 130, again.stderr
+    for hook in others:
+        again = _resume(argv, hook)
+        assert again.returncode == 130, again.stderr
     done = _resume(argv)
     assert done.returncode == 0, done.stderr
     assert_same_results(ref, out, COMMANDS[command]["files"])

@@ -3,7 +3,8 @@
 :func:`run_neuron_to_files` (``skygas neuron``) writes into ``out_dir``: ``trace.npz`` (count
 trace, spikes, emissions, injections; with the configuration, the seed and the version),
 ``count_trace.png``, ``summary.json`` (with the LIF fit) and, unless ``transfer=False``,
-``transfer_curve.png`` and the transfer curve in the summary.
+``transfer_curve.png`` and the transfer curve in the summary (its runs are pieces of the job
+too: they show progress and resume).
 
 :func:`run_saturation_to_files` (``skygas saturation``) writes ``saturation.json`` and
 ``max_density.png``.
@@ -22,17 +23,84 @@ from skygas._version import __version__
 from skygas.neuron.config import NeuronConfig
 from skygas.neuron.device import NeuronDevice
 from skygas.neuron.saturation import SaturationProtocol, SaturationResult
-from skygas.run_driver import PiecewiseRunJob, drive, write_atomic, write_json
+from skygas.run_driver import (
+    PiecewiseRunJob,
+    drive,
+    from_json_array,
+    json_array,
+    write_atomic,
+    write_json,
+)
+
+
+#: Default transfer-curve input rates, in units of the fitted LIF's rheobase θ/τ.
+RHEOBASE_MULTIPLES = (0.25, 0.5, 1, 1.5, 2, 3)
 
 
 class NeuronJob(PiecewiseRunJob):
-    """One neuron run as a job of the run driver (work in ns of simulated time). The transfer
-    curve, when asked for, is computed when the results are written."""
+    """One neuron run as a job of the run driver, work in ns of simulated time: the main run
+    piece by piece, then (``transfer=True``) one piece per point of the transfer curve."""
 
     def __init__(self, config: NeuronConfig, transfer: bool = True):
         self.device = NeuronDevice(config)  # validates everything before any run
         super().__init__(config, self.device.build())
-        self.transfer = transfer
+        self.transfer_duration = config.transfer.duration or config.duration
+        self.n_rates = (len(config.transfer.rates) or len(RHEOBASE_MULTIPLES)) if transfer \
+            else 0
+        self.work_total += self._transfer_work(self.n_rates)
+        #: transfer-curve points done: (firing rate [Hz], injected, annihilated) per rate
+        self.points: list[list] = []
+        self._lif = None
+
+    def _transfer_work(self, n_points: int) -> float:
+        return n_points * self.transfer_duration * self.time_scale
+
+    def work_done(self) -> float:
+        return super().work_done() + self._transfer_work(len(self.points))
+
+    def lif_fit(self) -> dict:
+        """The LIF fit of the finished main run (computed once)."""
+        from skygas.neuron.lif import fit_lif
+
+        if self._lif is None:
+            self._lif = fit_lif(self.run)
+        return self._lif
+
+    def transfer_rates(self) -> list[float]:
+        """Input rates [Hz] of the transfer curve: the configured ones, or multiples of the
+        LIF's rheobase θ/τ (τ of the integrating, closed-gate phase)."""
+        if self.config.transfer.rates:
+            return list(self.config.transfer.rates)
+        tau = self.lif_fit()["tau_s"]
+        tau = tau if np.isfinite(tau) else 1e-6
+        return list(np.array(RHEOBASE_MULTIPLES) * self.config.rule.threshold / tau)
+
+    def advance_piece(self) -> None:
+        if self.run.sim.step < self.run.total_steps:
+            self.run.advance_piece()
+            return
+        from skygas.neuron.analysis import transfer_curve
+
+        rate = self.transfer_rates()[len(self.points)]
+        point = transfer_curve(self.device, [rate], self.transfer_duration,
+                               seed=self.config.seed)
+        self.points.append([point["firing_rate_Hz"][0], point["n_injected"][0],
+                            point["n_annihilated"][0]])
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        return {**super().state_dict(), "transfer_points_json": json_array(self.points)}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        super().load_state_dict(state)
+        self.points = from_json_array(state["transfer_points_json"])
+
+    def transfer_curve(self) -> dict:
+        """The finished transfer curve, as :func:`~skygas.neuron.analysis.transfer_curve`
+        returns it."""
+        firing, injected, annihilated = (list(c) for c in zip(*self.points))
+        return {"input_rate_Hz": [float(r) for r in self.transfer_rates()],
+                "firing_rate_Hz": firing, "n_injected": injected,
+                "n_annihilated": annihilated, "duration_s": self.transfer_duration}
 
     def finish(self, out: Path) -> dict:
         from skygas.neuron import analysis as A
@@ -41,7 +109,7 @@ class NeuronJob(PiecewiseRunJob):
 
         run, config = self.run, self.config
         summary = run.summary()
-        lif = L.fit_lif(run)
+        lif = dict(self.lif_fit())
         summary["lif_fit"] = lif
         arrays = {**run.trace(), "spikes": run.spike_times(), "emissions": run.emission_times(),
                   "injections": run.injection_times(),
@@ -49,15 +117,8 @@ class NeuronJob(PiecewiseRunJob):
                   "skygas_version": np.array(__version__)}
         write_atomic(out / "trace.npz", lambda tmp: np.savez_compressed(tmp, **arrays))
         write_atomic(out / "count_trace.png", lambda tmp: plot_trace(run, tmp))
-        if self.transfer:
-            rates = config.transfer.rates
-            if not rates:
-                # around the LIF's rheobase θ/τ (τ of the integrating, closed-gate phase)
-                tau = lif["tau_s"] if np.isfinite(lif["tau_s"]) else 1e-6
-                rates = list(np.array([0.25, 0.5, 1, 1.5, 2, 3]) * config.rule.threshold / tau)
-            curve = A.transfer_curve(self.device, rates,
-                                     config.transfer.duration or config.duration,
-                                     seed=config.seed)
+        if self.n_rates:
+            curve = self.transfer_curve()
             pred = L.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
                               lif["reset"], lif["release_time_s"], lif["refractory_time_s"])
             lif["predicted_Hz"] = pred.tolist()
