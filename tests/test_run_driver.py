@@ -20,6 +20,7 @@ class CountingJob:
     half-way through (between two halves of its bookkeeping)."""
 
     work_unit = "pieces"
+    result_files = ("result.json",)
 
     def __init__(self, pieces=5, signal_at=None, seed=0):
         self.work_total = float(pieces)
@@ -72,6 +73,9 @@ def test_sigint_waits_for_the_end_of_the_piece_then_resume_finishes(tmp_path):
     assert drive(CountingJob(), tmp_path, resume=True, progress=False) == 0 + 1 + 2 + 3 + 4
     assert not (tmp_path / CHECKPOINT).exists()
     assert [p.name for p in tmp_path.iterdir()] == ["result.json"]  # no temporary file left
+    for resume in (False, True):  # finished results are never overwritten
+        with pytest.raises(InputError, match="without finished results"):
+            drive(CountingJob(), tmp_path, resume=resume, progress=False)
 
 
 def test_a_second_signal_stops_at_once_and_keeps_the_periodic_checkpoint(tmp_path):

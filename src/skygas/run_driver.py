@@ -54,10 +54,12 @@ class Job(Protocol):
     :meth:`state_dict` holds NumPy arrays only (what :func:`numpy.savez` stores) and
     :meth:`load_state_dict` restores it; :meth:`config_json` is the validated configuration
     (its hash tells whether a checkpoint belongs to this run); :meth:`finish` writes the
-    results into the output directory and returns what the caller reports."""
+    results into the output directory and returns what the caller reports; ``result_files``
+    names the files whose presence means a finished run (never overwritten)."""
 
     work_total: float
     work_unit: str
+    result_files: tuple[str, ...]
 
     def work_done(self) -> float: ...
 
@@ -237,7 +239,8 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
     """Run ``job`` to its end and return ``job.finish(out_dir)`` (see the module docstring).
 
     ``resume``: continue from ``OUT/checkpoint.npz`` when there is one. Without it, an existing
-    checkpoint is refused (it holds an interrupted run that a fresh start would overwrite).
+    checkpoint is refused (it holds an interrupted run that a fresh start would overwrite), and
+    so are finished results (``job.result_files``) in any case.
     ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece).
     Raises :class:`RunInterrupted` after saving the checkpoint when SIGINT/SIGTERM arrives."""
     if not (checkpoint_seconds >= 0):
@@ -245,6 +248,10 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     ckpt = out / CHECKPOINT
+    finished = [name for name in job.result_files if (out / name).exists()]
+    if finished and not ckpt.exists():
+        raise InputError("--out", str(out), f"a directory without finished results ({finished[0]} "
+                         "is there: choose another --out, or delete the results to run again)")
     if ckpt.exists():
         if not resume:
             raise InputError("--out", str(out), "a directory without an interrupted run "

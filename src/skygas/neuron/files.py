@@ -41,6 +41,8 @@ class NeuronJob(PiecewiseRunJob):
     """One neuron run as a job of the run driver, work in ns of simulated time: the main run
     piece by piece, then (``transfer=True``) one piece per point of the transfer curve."""
 
+    result_files = ("trace.npz", "summary.json")
+
     def __init__(self, config: NeuronConfig, transfer: bool = True):
         self.device = NeuronDevice(config)  # validates everything before any run
         super().__init__(config, self.device.build())
@@ -143,6 +145,7 @@ class SaturationJob:
     job of the run driver: one trial (one relaxation) per piece, work counted in trials."""
 
     work_unit = "runs"
+    result_files = ("saturation.json",)
 
     def __init__(self, diameters, *, repetitions: int, seed: int, relax_time: float,
                  temperature: float):
