@@ -133,6 +133,29 @@ def write_atomic(path: str | Path, write: Callable[[Path], Any]) -> Path:
     return path
 
 
+def run_record(job: Job) -> dict[str, str]:
+    """What every file of a run records: the skygas version, the seed and the configuration."""
+    return {"skygas_version": __version__, "seed": str(job.seed()),
+            "config_json": job.config_json()}
+
+
+def write_figure(path: str | Path, plot: Callable[[Path], Any], record: dict[str, str]) -> Path:
+    """Write the PNG that ``plot(tmp)`` draws, atomically, with ``record`` (see
+    :func:`run_record`) in its text chunks (``PIL.Image.open(path).text``)."""
+    def write(tmp: Path) -> None:
+        from PIL import Image, PngImagePlugin
+
+        plot(tmp)
+        info = PngImagePlugin.PngInfo()
+        for key, value in record.items():
+            info.add_itxt(key, value)  # international text: UTF-8 (µ, ², ...)
+        with Image.open(tmp) as image:
+            image.load()
+        image.save(tmp, format="PNG", pnginfo=info, dpi=image.info.get("dpi", (72, 72)))
+
+    return write_atomic(path, write)
+
+
 def partial_path(path: Path) -> Path:
     """The temporary file :func:`write_atomic` writes before renaming it to ``path`` (a
     process killed while writing leaves it behind)."""

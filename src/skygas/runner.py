@@ -20,7 +20,7 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.config import SimulationConfig
-from skygas.run_driver import drive, write_atomic, write_json, write_netcdf
+from skygas.run_driver import drive, run_record, write_figure, write_json, write_netcdf
 
 #: Pieces per run: each returns to Python once (progress, checkpoints, interruption).
 PIECES = 100
@@ -94,8 +94,8 @@ class SimulationJob:
         ds = self.sim.trajectories()
         ds.attrs["config_json"] = self.config_json()
         write_netcdf(ds, out / "trajectories.nc")
-        write_atomic(out / "trajectories.png",
-                     lambda tmp: plot_trajectories(ds, self.sim.outline, tmp))
+        write_figure(out / "trajectories.png",
+                     lambda tmp: plot_trajectories(ds, self.sim.outline, tmp), run_record(self))
         summary = self.summary()
         write_json(out / "summary.json", summary)
         return summary

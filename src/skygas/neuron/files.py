@@ -28,7 +28,9 @@ from skygas.run_driver import (
     drive,
     from_json_array,
     json_array,
+    run_record,
     write_atomic,
+    write_figure,
     write_json,
 )
 
@@ -118,7 +120,8 @@ class NeuronJob(PiecewiseRunJob):
                   "config_json": np.array(self.config_json()), "seed": np.array(config.seed),
                   "skygas_version": np.array(__version__)}
         write_atomic(out / "trace.npz", lambda tmp: np.savez_compressed(tmp, **arrays))
-        write_atomic(out / "count_trace.png", lambda tmp: plot_trace(run, tmp))
+        record = run_record(self)
+        write_figure(out / "count_trace.png", lambda tmp: plot_trace(run, tmp), record)
         if self.n_rates:
             curve = self.transfer_curve()
             pred = L.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
@@ -126,8 +129,8 @@ class NeuronJob(PiecewiseRunJob):
             lif["predicted_Hz"] = pred.tolist()
             lif["transfer_r_squared"] = A.r_squared(curve["firing_rate_Hz"], pred)
             summary["transfer_curve"] = curve
-            write_atomic(out / "transfer_curve.png",
-                         lambda tmp: plot_transfer(curve, tmp, lif))
+            write_figure(out / "transfer_curve.png",
+                         lambda tmp: plot_transfer(curve, tmp, lif), record)
         write_json(out / "summary.json", summary, indent=1)
         return summary
 
@@ -181,7 +184,8 @@ class SaturationJob:
         result = self.protocol.result(self.survivors)
         write_json(out / "saturation.json", {"skygas_version": __version__,
                                              "seed": self.seed(), **result.summary()}, indent=1)
-        write_atomic(out / "max_density.png", lambda tmp: plot_saturation(result, tmp))
+        write_figure(out / "max_density.png", lambda tmp: plot_saturation(result, tmp),
+                     run_record(self))
         return result
 
 

@@ -14,7 +14,14 @@ from pathlib import Path
 from skygas.reshuffler.analysis import ReshufflerResult, summarize
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.run import ReshufflerRun
-from skygas.run_driver import PiecewiseRunJob, drive, write_atomic, write_json, write_netcdf
+from skygas.run_driver import (
+    PiecewiseRunJob,
+    drive,
+    run_record,
+    write_figure,
+    write_json,
+    write_netcdf,
+)
 
 
 class ReshufflerJob(PiecewiseRunJob):
@@ -43,10 +50,12 @@ class ReshufflerJob(PiecewiseRunJob):
         write_netcdf(result.dataset, out / "reshuffler.nc")
         write_json(out / "summary.json", result.summary)
         if self.figures:
-            write_atomic(out / "device.png", lambda tmp: plot_device(self.run, tmp))
-            write_atomic(out / "running_correlation.png",
-                         lambda tmp: plot_running_correlation(result.dataset, tmp))
-            write_atomic(out / "occupancy.png", lambda tmp: plot_occupancy(result.dataset, tmp))
+            record = run_record(self)
+            write_figure(out / "device.png", lambda tmp: plot_device(self.run, tmp), record)
+            write_figure(out / "running_correlation.png",
+                         lambda tmp: plot_running_correlation(result.dataset, tmp), record)
+            write_figure(out / "occupancy.png",
+                         lambda tmp: plot_occupancy(result.dataset, tmp), record)
         return result
 
 
