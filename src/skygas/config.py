@@ -23,6 +23,7 @@ from skygas.config_types import (
 )
 from skygas.errors import InputError
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
+from skygas.landscape.kinds import Potential
 from skygas.materials import (
     Material,
     ThieleParameters,
@@ -101,7 +102,7 @@ GeometrySpec = Annotated[Union[ChamberGeometry, ShapesGeometry], Field(discrimin
 
 
 class ThieleOverrides(StrictModel):
-    """Optional overrides of the derived Thiele parameters (PHYSICS.md §4)."""
+    """Optional overrides of the derived Thiele parameters (docs/physics.md §4)."""
 
     dissipation: PositiveFloat | None = None
     force_scale: PositiveFloat | None = None        # F0 [N]
@@ -135,6 +136,8 @@ class MaterialFields(StrictModel):
     material: Union[str, dict[str, Any]] = "S2"
     film_thickness: PositiveFloat = 2e-9
     thiele: ThieleOverrides = ThieleOverrides()
+    #: the energy landscape: external potentials (``[[potentials]]``, skygas.landscape)
+    potentials: list[Potential] = []
 
     def resolved_material(self) -> Material:
         """The material: a preset name, a TOML file, or an inline table."""
@@ -190,7 +193,7 @@ class SimulationConfig(MaterialFields):
                          drift_velocity=self.drift.velocity, pair_law=self.forces.pair_law,
                          pair_law_params=self.forces.pair_law_params,
                          cutoff_fraction=self.forces.cutoff_fraction,
-                         integrator=self.integrator)
+                         integrator=self.integrator, landscape=self.potentials)
         s = self.skyrmions
         if s.positions:
             sim.add_skyrmions(np.asarray(s.positions), validate=True)
@@ -200,7 +203,7 @@ class SimulationConfig(MaterialFields):
             pts = geo.random_positions(sim.outline, s.random_count, s.min_separation * d_sk,
                                        s.min_separation * d_sk, rng)
             sim.validate_positions(pts, "skyrmions.random_count")
-            sim._insert_nm(pts)
+            sim.state.insert_nm(pts)
         return sim
 
 

@@ -1,7 +1,7 @@
 """Current flow through a device: the drift field v_s = ξ·j, resistance, Joule power.
 
 The paper drives skyrmions with the current density j(x) obtained from a separate current-flow
-simulation (COMSOL; paper, Methods) and quotes J as the density *in the conduits* (PHYSICS.md §3).
+simulation (COMSOL; paper, Methods) and quotes J as the density *in the conduits* (docs/physics.md §3).
 :func:`solve_current` redoes that calculation for any :class:`~skygas.geometry.Outline`:
 
     ∇·(σ∇φ) = 0          in the device (uniform conductivity σ = 1/ρ),
@@ -395,7 +395,7 @@ class CurrentSolution:
         return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
 
     def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
-        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (PHYSICS.md §1)."""
+        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (docs/physics.md §1)."""
         xi = float(spin_drift_coefficient)
         require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
                 "a finite number (m³/C)")

@@ -9,7 +9,7 @@ G = −4πQk, the conventions of :func:`skygas.materials.derive_thiele`. Compone
 Velocities come from a local least-squares polynomial (Savitzky–Golay) derivative, which
 averages out the sub-cell jitter of detected centres; its window sets the smoothing.
 
-Laws (PHYSICS.md §2), d in units of the skyrmion diameter d_sk, F₀ the force scale:
+Laws (docs/physics.md §2), d in units of the skyrmion diameter d_sk, F₀ the force scale:
 
 - pair:  |F| = F₀ exp[−(a₂d² + a₁d + a₀)/(d + 1)], repulsive along the line of centres;
 - wall:  |F| = F₀ exp[−p(d)], p = polyval(b, d) (highest power first), along the inward normal.

@@ -1,4 +1,4 @@
-"""The Skyrmion Neuron (paper, "Skyrmion Neuron"; PHYSICS.md §3): one chamber of the
+"""The Skyrmion Neuron (paper, "Skyrmion Neuron"; docs/physics.md §3): one chamber of the
 reshuffler whose output conduit is closed by a voltage gate, a read element inside the chamber,
 and a threshold rule that opens the gate (the neuron fires) and closes it again.
 

@@ -9,7 +9,7 @@ adds, in a band of width w across the output conduit, a drift pointing back into
 
     v_\mathrm{gate}(x, y) = -\Big(v_{s,x}^\mathrm{current}(x, y) + \frac{h\,D}{w}\Big)\,\hat x,
 
-with D the free-diffusion constant (PHYSICS.md §1). It cancels the current's push across the
+with D the free-diffusion constant (docs/physics.md §1). It cancels the current's push across the
 band and adds a uniform backward drift whose Péclet integral ∫ v dx / D over the band is h: for
 motion along the conduit this is exactly the stationary (Boltzmann) effect of a potential step
 of height h k_B T (P ∝ exp(∫ v dx / D)), so ``barrier_height`` is in units of k_B T. The
@@ -105,7 +105,8 @@ class ReadElement:
                                 self.r_sk, self.samples)
 
     def read(self, sim) -> float:
-        value = self.exact(sim._x, sim._y, sim._alive)
+        store = sim.state.arrays_nm()
+        value = self.exact(store.x, store.y, store.alive)
         if self.read_noise > 0:
             value += self.rng.normal(0.0, self.read_noise)
         return value

@@ -128,14 +128,10 @@ class SiteInjector:
             self._inject(sim)
 
     def _clear(self, sim) -> bool:
-        alive = sim._alive
-        if not alive.any():
-            return True
-        d2 = (sim._x[alive] - self.site[0]) ** 2 + (sim._y[alive] - self.site[1]) ** 2
-        return bool(d2.min() >= self.clearance_nm**2)
+        return sim.state.is_site_clear_nm(self.site[0], self.site[1], self.clearance_nm)
 
     def _inject(self, sim) -> None:
-        ident = int(sim._insert_nm(self.site[None, :])[0])
+        ident = int(sim.state.insert_nm(self.site[None, :])[0])
         self.injected.append((sim.step, ident))
 
     @property

@@ -80,7 +80,7 @@ def relax_survivors(diameter: float, n: int, *, model: AnnihilationModel, seed: 
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x736174)))
     pts = random_positions(outline, n, MIN_PLACEMENT_SEPARATION * d_nm,
                            MIN_PLACEMENT_SEPARATION * d_nm, rng)
-    sim._insert_nm(pts)
+    sim.state.insert_nm(pts)
     sim.operations.append(Annihilator.for_simulation(model, sim))
     sim.run(relax_time)
     return sim.count

@@ -2,7 +2,7 @@
 
 Defaults describe the paper's device (two 1024 nm chambers, 100 nm × 50 nm conduits, one
 nucleation every 5 ns, material S2, 2 nm film, 300 K). Quantities the paper leaves open have
-documented defaults (PHYSICS.md §4) and are recorded with every result:
+documented defaults (docs/physics.md §4) and are recorded with every result:
 
 - ``spin_drift_coefficient`` ξ [m³/C] (v_s = ξ j): default the spin-transfer estimate
   ξ = P g μ_B/(2 e M_s) with spin polarisation P = ``spin_polarization`` (0.5) and g = 2. The
@@ -31,6 +31,7 @@ from skygas.config_types import (
     to_input_error,
 )
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
+from skygas.errors import require
 from skygas.reshuffler.presets import preset_data
 
 
@@ -102,8 +103,19 @@ def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
         node = data
         parts = key.split(".")
         for part in parts[:-1]:
-            node = node.setdefault(part, {})
-        node[parts[-1]] = value
+            if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")
+                require(part.isdigit() and int(part) < len(node), key, value,
+                        f"an index below {len(node)} into the list of {parts[0]}")
+                node = node[int(part)]
+                continue
+            child = node.get(part, {})
+            node[part] = child = ([dict(t) for t in child] if isinstance(child, list)
+                                  else dict(child) if isinstance(child, dict) else child)
+            node = child
+        if isinstance(node, list):
+            node[int(parts[-1])] = value
+        else:
+            node[parts[-1]] = value
     return data
 
 

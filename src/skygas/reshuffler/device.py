@@ -1,5 +1,5 @@
 """The reshuffler's hardware: two identical chambers, their nucleation sites and read-outs,
-and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler"; PHYSICS.md §3).
+and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler"; docs/physics.md §3).
 
 Layout: the UP chamber sits above the DOWN chamber, each the paper's disk with an input conduit
 on the left and an output conduit on the right (:func:`~skygas.geometry.chamber_with_conduits`).

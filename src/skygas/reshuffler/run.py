@@ -106,7 +106,8 @@ class ReshufflerRun:
         if time_step is None:
             time_step = default_time_step(thiele, ForceModel.build(material, thiele), interval)
         sim = Simulation(geometry.device_outline(), material, temperature=config.temperature,
-                         time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64)
+                         time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64,
+                         landscape=config.potentials)
         vx, vy = drift_field_on_grid(geometry, current, sim.wall_field.grid,
                                      config.drift_coefficient())
         sim.set_drift_field(vx, vy)

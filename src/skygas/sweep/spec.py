@@ -122,6 +122,11 @@ def _field_exists(model: type[BaseModel], dotted: str) -> bool:
         return True
     if head in _LEAF_FIELDS:
         return False
+    if head == "potentials":  # "potentials.<index>.<field of a potential kind>"
+        from skygas.landscape import KINDS
+
+        index, _, name = rest.partition(".")
+        return index.isdigit() and any(name in kind.model_fields for kind in KINDS.values())
     sub = info.annotation
     return isinstance(sub, type) and issubclass(sub, BaseModel) and _field_exists(sub, rest)
 
