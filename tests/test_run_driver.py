@@ -22,10 +22,10 @@ class CountingJob:
     work_unit = "pieces"
     result_files = ("result.json",)
 
-    def __init__(self, pieces=5, signal_at=None, seed=0):
+    def __init__(self, pieces=5, signal_at=None, seed=0, signum=signal.SIGINT):
         self.work_total = float(pieces)
         self.done, self.total, self.halves = 0, 0, 0
-        self.signal_at, self._seed = signal_at, seed
+        self.signal_at, self._seed, self.signum = signal_at, seed, signum
 
     def work_done(self):
         return float(self.done)
@@ -33,7 +33,7 @@ class CountingJob:
     def advance_piece(self):
         self.halves += 1
         if self.done == self.signal_at:
-            os.kill(os.getpid(), signal.SIGINT)
+            os.kill(os.getpid(), self.signum)
         self.total += self.done
         self.halves += 1
         self.done += 1
@@ -76,6 +76,16 @@ def test_sigint_waits_for_the_end_of_the_piece_then_resume_finishes(tmp_path):
     for resume in (False, True):  # finished results are never overwritten
         with pytest.raises(InputError, match="without finished results"):
             drive(CountingJob(), tmp_path, resume=resume, progress=False)
+
+
+def test_sigterm_is_deferred_the_same_way(tmp_path):
+    before = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(RunInterrupted) as stop:
+        drive(CountingJob(signal_at=0, signum=signal.SIGTERM), tmp_path, progress=False)
+    assert stop.value.exit_status == 143 and "SIGTERM" in str(stop.value)
+    assert signal.getsignal(signal.SIGTERM) is before
+    with np.load(tmp_path / CHECKPOINT) as saved:
+        assert int(saved["done"]) == 1 and int(saved["halves"]) == 2
 
 
 def test_a_second_signal_stops_at_once_and_keeps_the_periodic_checkpoint(tmp_path):
