@@ -7,14 +7,20 @@ seconds, kelvin, m/s). Every field is checked when the file is loaded; an invali
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import Field, ValidationError
 
 from skygas import geometry as geo
+from skygas.config_types import (
+    ChamberSize,
+    PositiveFloat,
+    StrictModel,
+    read_toml,
+    to_input_error,
+)
 from skygas.errors import InputError
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
 from skygas.landscape.kinds import Potential
@@ -26,15 +32,10 @@ from skygas.materials import (
     preset_names,
 )
 
-PositiveFloat = Annotated[float, Field(gt=0)]
 Point2 = tuple[float, float]
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class PortSpec(_Strict):
+class PortSpec(StrictModel):
     """An open boundary segment, from ``start`` to ``end`` [m]."""
 
     name: str
@@ -42,20 +43,20 @@ class PortSpec(_Strict):
     end: Point2
 
 
-class DiskSpec(_Strict):
+class DiskSpec(StrictModel):
     kind: Literal["disk"]
     radius: PositiveFloat
     center: Point2 = (0.0, 0.0)
 
 
-class RectangleSpec(_Strict):
+class RectangleSpec(StrictModel):
     kind: Literal["rectangle"]
     width: PositiveFloat
     height: PositiveFloat
     center: Point2 = (0.0, 0.0)
 
 
-class PolygonSpec(_Strict):
+class PolygonSpec(StrictModel):
     kind: Literal["polygon"]
     vertices: list[Point2] = Field(min_length=3)
 
@@ -63,13 +64,10 @@ class PolygonSpec(_Strict):
 ShapeSpec = Annotated[Union[DiskSpec, RectangleSpec, PolygonSpec], Field(discriminator="kind")]
 
 
-class ChamberGeometry(_Strict):
+class ChamberGeometry(ChamberSize):
     """The paper's chamber with input and output conduits (ports ``input``, ``output``)."""
 
     kind: Literal["chamber"] = "chamber"
-    chamber_diameter: PositiveFloat = 1024e-9
-    conduit_width: PositiveFloat = 100e-9
-    conduit_length: PositiveFloat = 50e-9
     closed: bool = Field(False, description="close both conduit ends (no ports)")
 
     def build(self) -> geo.Outline:
@@ -78,7 +76,7 @@ class ChamberGeometry(_Strict):
         return geo.Outline(outline.region) if self.closed else outline
 
 
-class ShapesGeometry(_Strict):
+class ShapesGeometry(StrictModel):
     """A union of shapes with optional ports."""
 
     kind: Literal["shapes"]
@@ -103,7 +101,7 @@ class ShapesGeometry(_Strict):
 GeometrySpec = Annotated[Union[ChamberGeometry, ShapesGeometry], Field(discriminator="kind")]
 
 
-class ThieleOverrides(_Strict):
+class ThieleOverrides(StrictModel):
     """Optional overrides of the derived Thiele parameters (docs/physics.md §4)."""
 
     dissipation: PositiveFloat | None = None
@@ -113,17 +111,17 @@ class ThieleOverrides(_Strict):
     mu: float = 1.0
 
 
-class ForcesSpec(_Strict):
+class ForcesSpec(StrictModel):
     pair_law: Literal["paper", "lin-reichhardt"] = "paper"
     pair_law_params: dict[str, float] = {}
     cutoff_fraction: float = Field(DEFAULT_CUTOFF_FRACTION, gt=0, lt=1)
 
 
-class DriftSpec(_Strict):
+class DriftSpec(StrictModel):
     velocity: Point2 = (0.0, 0.0)  # uniform v_s [m/s]
 
 
-class SkyrmionsSpec(_Strict):
+class SkyrmionsSpec(StrictModel):
     """Initial skyrmions: explicit ``positions`` [m] and/or ``random_count`` placed at random
     at least ``min_separation`` diameters apart and from walls."""
 
@@ -132,7 +130,7 @@ class SkyrmionsSpec(_Strict):
     min_separation: PositiveFloat = 1.0
 
 
-class MaterialFields(_Strict):
+class MaterialFields(StrictModel):
     """Fields every run configuration shares: the material, its film, Thiele overrides."""
 
     material: Union[str, dict[str, Any]] = "S2"
@@ -209,36 +207,12 @@ class SimulationConfig(MaterialFields):
         return sim
 
 
-def _to_input_error(err: ValidationError, source: str) -> InputError:
-    first = err.errors()[0]
-    loc = ".".join(str(p) for p in first["loc"])
-    value = first.get("input") if first["type"] != "missing" else "(missing)"
-    msg = first["msg"]
-    if first["type"] == "missing":
-        msg = "this required field to be given"
-    elif first["type"] == "extra_forbidden":
-        msg = "no such field (check the spelling)"
-    return InputError(f"{source}{loc}", value, msg)
-
-
 def parse_config(data: dict, source: str = "") -> SimulationConfig:
     """Validate a mapping (e.g. parsed TOML) into a :class:`SimulationConfig`."""
     try:
         return SimulationConfig(**data)
     except ValidationError as err:
-        raise _to_input_error(err, source) from None
-
-
-def read_toml(path: str | Path, field: str = "config") -> dict:
-    """Parse a TOML file, or raise :class:`InputError` naming ``field`` if it is missing or
-    malformed."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(field, str(path), "an existing TOML file")
-    try:
-        return tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(field, str(path), f"valid TOML ({err})") from None
+        raise to_input_error(err, source) from None
 
 
 def load_config(path: str | Path) -> SimulationConfig:

@@ -22,14 +22,14 @@ from dataclasses import asdict, dataclass
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
 
 from skygas import units
+from skygas.config_types import PositiveFloat
 from skygas.errors import InputError
 
-PositiveFloat = Annotated[float, Field(gt=0)]
 
 
 class Material(BaseModel):

@@ -47,7 +47,7 @@ from typing import Any, Literal
 import numpy as np
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 
 #: Time between injections [s] (paper: 0.2 nucleations per ns).

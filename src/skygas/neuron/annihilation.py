@@ -197,6 +197,22 @@ class Annihilator:
         if self.model.nucleation_rate > 0:
             self._nucleate(sim, dt)
 
+    def state_dict(self) -> dict:
+        """The mutable state (event logs, counters, schedule, both generators' states) as
+        JSON-able values; :meth:`load_state_dict` continues bit-identically."""
+        return {"annihilations": [list(map(float, e)) for e in self.annihilations],
+                "nucleations": [list(map(float, e)) for e in self.nucleations],
+                "nucleation_misses": int(self.nucleation_misses), "next": int(self._next),
+                "rng": self.rng.bit_generator.state, "nuc_rng": self.nuc_rng.bit_generator.state}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.annihilations = [tuple(e) for e in state["annihilations"]]
+        self.nucleations = [tuple(e) for e in state["nucleations"]]
+        self.nucleation_misses = int(state["nucleation_misses"])
+        self._next = int(state["next"])
+        self.rng.bit_generator.state = state["rng"]
+        self.nuc_rng.bit_generator.state = state["nuc_rng"]
+
     def _fixed_arguments(self, sim) -> tuple:
         """The kernels' arguments that stay fixed during a run (looked up once per model and
         simulation)."""

@@ -26,26 +26,21 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, ValidationError, model_validator
 
-from skygas.config import MaterialFields, _to_input_error, read_toml
+from skygas.config import MaterialFields
+from skygas.config_types import ChamberSize, StrictModel, read_toml, to_input_error
 from skygas.errors import InputError
 from skygas.neuron.annihilation import AnnihilationModel
 from skygas.neuron.calibration import CALIBRATED
 from skygas.neuron.inputs import InputSpec
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+class DeviceSpec(ChamberSize):
+    """The neuron's chamber (the paper's by default)."""
 
 
-class DeviceSpec(_Strict):
-    chamber_diameter: float = Field(1024e-9, gt=0)
-    conduit_width: float = Field(100e-9, gt=0)
-    conduit_length: float = Field(50e-9, gt=0)
-
-
-class GateSpec(_Strict):
+class GateSpec(StrictModel):
     """The closed gate, a potential band across the output conduit (skygas.neuron.gate):
     the top of the barrier [k_BT], its width between the half-height points [m] and the width
     of its tanh edges [m]."""
@@ -56,7 +51,7 @@ class GateSpec(_Strict):
     initially_open: bool = False
 
 
-class SensorSpec(_Strict):
+class SensorSpec(StrictModel):
     center: tuple[float, float] = (0.0, 0.0)    # m
     radius: float | None = Field(None, gt=0)    # m; default the chamber's radius
     signal: Literal["count", "area"] = "count"
@@ -64,7 +59,7 @@ class SensorSpec(_Strict):
     read_interval: float = Field(1e-9, gt=0)    # s
 
 
-class RuleSpec(_Strict):
+class RuleSpec(StrictModel):
     # The release usually ends at the reset level (the release current empties the chamber in
     # ~150 ns); the release time only bounds an opening that cannot get there.
     threshold: float = Field(12.0, gt=0)
@@ -73,7 +68,7 @@ class RuleSpec(_Strict):
     refractory_time: float = Field(2e-8, ge=0)      # s
 
 
-class AnnihilationSpec(_Strict):
+class AnnihilationSpec(StrictModel):
     base_rate: float = Field(CALIBRATED.base_rate, ge=0)
     compression_sensitivity: float = Field(CALIBRATED.compression_sensitivity, ge=0)
     crowding_distance: float | None = Field(CALIBRATED.crowding_distance, gt=0)
@@ -83,7 +78,7 @@ class AnnihilationSpec(_Strict):
     enabled: bool = True
 
 
-class InputConfig(_Strict):
+class InputConfig(StrictModel):
     kind: Literal["poisson", "telegraph", "bernoulli", "regular", "bits"] = "poisson"
     rate: float = Field(0.0, ge=0)
     p: float = Field(0.5, ge=0, le=1)
@@ -101,13 +96,13 @@ class InputConfig(_Strict):
         return self
 
 
-class InjectionSpec(_Strict):
+class InjectionSpec(StrictModel):
     occupied_rule: Literal["delay", "skip"] = "delay"
     site_clearance: float = Field(1.0, gt=0)    # skyrmion diameters
     retry_interval: float = Field(0.5e-9, gt=0)
 
 
-class TransferSpec(_Strict):
+class TransferSpec(StrictModel):
     rates: list[Annotated[float, Field(ge=0)]] = []  # Hz; empty: a default sweep
     duration: float | None = Field(None, gt=0)  # s; default the run's duration
 
@@ -166,7 +161,7 @@ def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
     try:
         return NeuronConfig.model_validate(data)
     except ValidationError as err:
-        raise _to_input_error(err, "neuron config: ") from None
+        raise to_input_error(err, "neuron config: ") from None
 
 
 def load_neuron_config(path: str | Path | None = None, **overrides) -> NeuronConfig:

@@ -23,6 +23,7 @@ skyrmions emitted during each release are also recorded (``exits``, and per rele
 
 from __future__ import annotations
 
+import json
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -40,6 +41,9 @@ from skygas.neuron.gate import (PotentialGate, ReadElement, gate_band, gate_max_
                                 gate_relaxation_time)
 from skygas.neuron.inputs import SiteInjector, injection_schedule
 from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
+
+#: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
+PIECES = 100
 
 
 @dataclass
@@ -79,6 +83,20 @@ class NeuronController:
             self.gate.set(True)
             self.openings.append(sim.step)
         self.trace.append((sim.time, sim.count, reading, bool(self.gate.is_open)))
+
+    def state_dict(self) -> dict:
+        """Trace, openings, closings and schedule as JSON-able values."""
+        return {"trace": [[float(t), int(n), float(r), bool(o)] for t, n, r, o in self.trace],
+                "openings": [int(k) for k in self.openings],
+                "closings": [int(k) for k in self.closings],
+                "next": int(self._next), "refractory_until": int(self._refractory_until)}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.trace = [tuple(e) for e in state["trace"]]
+        self.openings = list(state["openings"])
+        self.closings = list(state["closings"])
+        self._next = int(state["next"])
+        self._refractory_until = int(state["refractory_until"])
 
 
 class NeuronDevice:
@@ -211,7 +229,8 @@ class NeuronDevice:
                                 c.injection.site_clearance * d_nm,
                                 steps(c.injection.retry_interval), c.injection.occupied_rule)
         sim.operations += [injector, annihilator, controller]
-        return NeuronRun(self, sim, gate, controller, annihilator, injector, inputs, duration)
+        return NeuronRun(self, sim, gate, controller, annihilator, injector, inputs, duration,
+                         record_interval=record_interval)
 
 
 @dataclass
@@ -225,14 +244,63 @@ class NeuronRun:
     inputs: list
     duration: float
     wall_time: float = 0.0
+    record_interval: float | None = None   # [s] between recorded frames (None: no frames)
+
+    @property
+    def total_steps(self) -> int:
+        return int(round(self.duration / self.sim.time_step))
+
+    @property
+    def piece_steps(self) -> int:
+        """Length [steps] of a piece (:data:`PIECES` per run)."""
+        return max(1, self.total_steps // PIECES)
+
+    def advance_piece(self) -> None:
+        """Run to the next multiple of :attr:`piece_steps` (or to the end), recording positions
+        every :attr:`record_interval` [s] if set (a movie asks for them). Pieces start at
+        fixed steps, so a run resumed from a checkpoint re-enters the compiled kernel at the
+        same steps as one left alone, and continues bit-identically."""
+        sim = self.sim
+        n = min(self.piece_steps - sim.step % self.piece_steps, self.total_steps - sim.step)
+        t0 = _time.perf_counter()
+        sim.run(n * sim.time_step, record_interval=self.record_interval)
+        self.wall_time += _time.perf_counter() - t0
 
     def run(self, record_interval: float | None = None) -> "NeuronRun":
-        """Run for the configured duration, recording positions every ``record_interval`` [s]
-        (none by default; a movie asks for them)."""
-        t0 = _time.perf_counter()
-        self.sim.run(self.duration, record_interval=record_interval)
-        self.wall_time = _time.perf_counter() - t0
+        """Run to the end, piece by piece (the pieces the run driver runs, with progress,
+        checkpoints and interruption, in :mod:`skygas.neuron.files`), recording positions
+        every ``record_interval`` [s] if given."""
+        if record_interval is not None:
+            self.record_interval = record_interval
+        while self.sim.step < self.total_steps:
+            self.advance_piece()
         return self
+
+    # -- checkpoints -----------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The whole mutable state: the engine's arrays, and (as one JSON string) the
+        controller, the annihilator, the injector, the gate and the read element's generator.
+        With the same device and build arguments, :meth:`load_state_dict` continues the run
+        bit-identically."""
+        ops = {"controller": self.controller.state_dict(),
+               "annihilator": self.annihilator.state_dict(),
+               "injector": self.injector.state_dict(),
+               "gate_open": bool(self.gate.is_open),
+               "sensor_rng": self.controller.sensor.rng.bit_generator.state,
+               "wall_time": self.wall_time}
+        state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
+        state["operations_json"] = np.array(json.dumps(ops))
+        return state
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
+        ops = json.loads(str(state["operations_json"]))
+        self.controller.load_state_dict(ops["controller"])
+        self.annihilator.load_state_dict(ops["annihilator"])
+        self.injector.load_state_dict(ops["injector"])
+        self.gate.set(ops["gate_open"])
+        self.controller.sensor.rng.bit_generator.state = ops["sensor_rng"]
+        self.wall_time = ops["wall_time"]
 
     # -- results -------------------------------------------------------------------------------
     def trace(self) -> dict[str, np.ndarray]:

@@ -137,3 +137,16 @@ class SiteInjector:
     @property
     def n_injected(self) -> int:
         return len(self.injected)
+
+    def state_dict(self) -> dict:
+        """Its position in the schedule (the schedule itself is rebuilt from the seed) and its
+        logs, as JSON-able values."""
+        return {"injected": [[int(s), int(i)] for s, i in self.injected],
+                "skipped": int(self.skipped), "delayed": int(self.delayed),
+                "pending": [int(k) for k in self.pending], "k": int(self._k)}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.injected = [tuple(e) for e in state["injected"]]
+        self.skipped, self.delayed = state["skipped"], state["delayed"]
+        self.pending = deque(state["pending"])
+        self._k = state["k"]

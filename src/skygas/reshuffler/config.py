@@ -15,31 +15,31 @@ documented defaults (docs/physics.md §4) and are recorded with every result:
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import Field, ValidationError
 
 from skygas import units
-from skygas.config import MaterialFields, _to_input_error, read_toml
+from skygas.config import MaterialFields
+from skygas.config_types import (
+    CHAMBER_GAP,
+    ChamberSize,
+    Length,
+    PositiveFloat,
+    StrictModel,
+    read_toml,
+    to_input_error,
+)
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
 from skygas.errors import require
 from skygas.reshuffler.presets import preset_data
 
-PositiveFloat = Annotated[float, Field(gt=0)]
+
+class DeviceSpec(ChamberSize):
+    chamber_gap: Length = CHAMBER_GAP
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class DeviceSpec(_Strict):
-    chamber_diameter: PositiveFloat = 1024e-9
-    conduit_width: PositiveFloat = 100e-9
-    conduit_length: PositiveFloat = 50e-9
-    chamber_gap: PositiveFloat = 400e-9
-
-
-class SignalConfig(_Strict):
+class SignalConfig(StrictModel):
     """The input signal (see :mod:`skygas.signals`)."""
 
     kind: Literal["telegraph", "bernoulli", "file"] = "telegraph"
@@ -48,7 +48,7 @@ class SignalConfig(_Strict):
     path: str | None = None
 
 
-class InjectionSpec(_Strict):
+class InjectionSpec(StrictModel):
     interval: PositiveFloat = 5e-9
     occupied_rule: Literal["delay", "skip"] = "delay"
     site_clearance: PositiveFloat = 1.0   # skyrmion diameters
@@ -56,13 +56,13 @@ class InjectionSpec(_Strict):
     max_pending: int = Field(1000, ge=1)
 
 
-class CurrentSpec(_Strict):
+class CurrentSpec(StrictModel):
     cell_size: PositiveFloat = DEFAULT_CELL_SIZE
     conductor_thickness: PositiveFloat = DEFAULT_CONDUCTOR_THICKNESS
     resistivity: PositiveFloat = DEFAULT_RESISTIVITY
 
 
-class OutputSpec(_Strict):
+class OutputSpec(StrictModel):
     snapshot_interval: PositiveFloat = 100e-9   # positions of all skyrmions, stored sparsely
     trajectory_window: float = Field(300e-9, ge=0)  # dense 1 ns frames for the figure
     running_points: int = Field(200, ge=2)
@@ -129,7 +129,7 @@ def parse_reshuffler_config(data: dict, source: str = "",
     try:
         return ReshufflerConfig(**data)
     except ValidationError as err:
-        raise _to_input_error(err, source) from None
+        raise to_input_error(err, source) from None
 
 
 def _flatten(data: dict, prefix: str = "") -> dict:

@@ -25,7 +25,7 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 from skygas.sc.decorrelators import Decorrelator, DelayIsolator, Regenerator, ShuffleBuffer
 from skygas.sc.metrics import binomial_std, p_value, scc

@@ -19,7 +19,7 @@ setting the same fields (``[[points]]`` with ``current_density = 1e11`` and ``"s
 and so on). ``[sweep] config = "file.toml"`` may name the base configuration instead of
 ``[base]`` (relative to the sweep file).
 
-Seeds (STYLE.md, "Randomness"): ``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]``
+Seeds (counter-based noise, docs/engine.md): ``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]``
 gives run (point ``i`` in C order of the grid, replica ``r``); its 63-bit ``seed`` is the
 first word of that sequence's state. A run's result therefore depends only on the sweep file,
 never on which worker ran it or when.
