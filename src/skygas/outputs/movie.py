@@ -1,8 +1,8 @@
 """Movies of the gas: MP4 (H.264 through the ffmpeg that the imageio-ffmpeg wheel ships) or GIF
 (Pillow).
 
-Each frame shows the device outline over its current density (log colour scale; plain grey
-without a current), the skyrmions as disks of their real diameter coloured by their group (the
+Each frame shows the device outline over its energy landscape (U/k_BT) when the run has one,
+else over its current density (log colour scale; plain grey without a current), the skyrmions as disks of their real diameter coloured by their group (the
 input bit they carry in the reshuffler), a time stamp and a scale bar.
 
 Speed: the static picture (outline, current, colour bar, legend, scale bar) is drawn once with
@@ -112,10 +112,10 @@ class _Canvas:
         if background is not None:
             from matplotlib.colors import LogNorm
 
-            values, extent, label = background
+            values, extent, label, scale = background
             finite = values[np.isfinite(values) & (values > 0)]
             norm = LogNorm(vmin=max(finite.min(), finite.max() * 1e-3), vmax=finite.max()) \
-                if finite.size else None
+                if finite.size and scale == "log" else None
             image = ax.imshow(values, origin="lower", extent=np.array(extent) * 1e6,
                               cmap="Greys_r", norm=norm, alpha=0.85)
             cax = fig.add_axes((0.82, 0.25, 0.03, 0.5))

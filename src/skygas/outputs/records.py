@@ -47,14 +47,27 @@ class RunRecord:
     seed: int | None
     summary: dict | None = None
     background_fn: Callable | None = field(default=None, repr=False)
+    #: builds the run's energy landscape (a LandscapeField), for runs that have one
+    landscape_fn: Callable | None = field(default=None, repr=False)
 
     @property
     def directory(self) -> Path:
         return self.path.parent
 
     def background(self, nx: int = 320):
-        """(values (ny, nx), extent (x0, x1, y0, y1) [m], label) of the picture behind the
-        skyrmions (the current density), or None. NaN outside the device."""
+        """(values (ny, nx), extent (x0, x1, y0, y1) [m], label, scale) of the picture behind
+        the skyrmions, or None; NaN outside the device. The energy landscape (U/k_BT on the
+        engine's grid, ``scale`` "linear") when the run has one, else the current density
+        (``scale`` "log")."""
+        field_ = self.landscape_fn() if self.landscape_fn is not None else None
+        if field_ is not None and field_.terms:
+            from skygas.plotting import landscape_energy
+
+            values, label = landscape_energy(field_, self.outline)
+            g = field_.grid
+            extent = (g.x0 - g.spacing / 2, g.x0 + g.spacing * (g.nx - 0.5),
+                      g.y0 - g.spacing / 2, g.y0 + g.spacing * (g.ny - 0.5))
+            return values, tuple(e * 1e-9 for e in extent), label, "linear"
         if self.background_fn is None:
             return None
         x0, y0, x1, y1 = self.outline.bounds_nm
@@ -62,7 +75,7 @@ class RunRecord:
         gx, gy = np.meshgrid(np.linspace(x0, x1, nx), np.linspace(y0, y1, ny))
         values, label = self.background_fn(gx * 1e-9, gy * 1e-9)
         values = np.where(self.outline.contains_nm(gx, gy), values, np.nan)
-        return values, (x0 * 1e-9, x1 * 1e-9, y0 * 1e-9, y1 * 1e-9), label
+        return values, (x0 * 1e-9, x1 * 1e-9, y0 * 1e-9, y1 * 1e-9), label, "log"
 
 
 def find_result_file(path: str | Path) -> Path:
@@ -117,7 +130,9 @@ def _simulation_record(ds, file: Path) -> RunRecord:
     return RunRecord("simulate", file, Frames.from_trajectories(ds), config.geometry.build(),
                      config.thiele_parameters().skyrmion_diameter, ("skyrmions",), _one_group,
                      drive, json.loads(ds.attrs["config_json"]),
-                     str(ds.attrs.get("skygas_version", "?")), int(ds.attrs.get("seed", -1)))
+                     str(ds.attrs.get("skygas_version", "?")), int(ds.attrs.get("seed", -1)),
+                     landscape_fn=(lambda: config.build().landscape) if config.potentials
+                     else None)
 
 
 def _reshuffler_record(ds, file: Path) -> RunRecord:
@@ -169,13 +184,27 @@ def _reshuffler_record(ds, file: Path) -> RunRecord:
                      ("input bit 1 (to UP)", "input bit 0 (to DOWN)", "unknown"), group_of,
                      (1.0, 0.0), json.loads(ds.attrs["config_json"]),
                      str(ds.attrs.get("skygas_version", "?")), int(ds.attrs.get("seed", -1)),
-                     background_fn=background)
+                     background_fn=background, landscape_fn=_reshuffler_landscape(config))
+
+
+def _reshuffler_landscape(config):
+    """Builds the landscape of a reshuffler run (the engine's, same grid and seed), or None."""
+    if not config.potentials:
+        return None
+
+    def build():
+        from skygas.reshuffler.run import ReshufflerRun
+
+        return ReshufflerRun.build(config).sim.landscape
+
+    return build
 
 
 def _neuron_record(ds, file: Path) -> RunRecord:
     from skygas.current import solve_current
     from skygas.geometry import chamber_with_conduits
     from skygas.neuron.config import NeuronConfig
+    from skygas.neuron.device import NeuronDevice
 
     config = NeuronConfig.model_validate_json(ds.attrs["config_json"])
     d = config.device
@@ -190,4 +219,5 @@ def _neuron_record(ds, file: Path) -> RunRecord:
                      config.thiele_parameters().skyrmion_diameter, ("skyrmions",), _one_group,
                      (1.0, 0.0), json.loads(ds.attrs["config_json"]),
                      str(ds.attrs.get("skygas_version", "?")), int(ds.attrs.get("seed", -1)),
-                     background_fn=background if config.current_density > 0 else None)
+                     background_fn=background if config.current_density > 0 else None,
+                     landscape_fn=lambda: NeuronDevice(config).build().sim.landscape)
