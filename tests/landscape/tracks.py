@@ -29,11 +29,18 @@ class Tracks:
         self.track_of = {int(i): k for k, i in enumerate(ids)}
 
     def positions(self) -> np.ndarray:
-        """Present positions (n, 2) [m] in track order."""
+        """Present positions (n, 2) [m] in track order (NaN for ended tracks)."""
         ids, pos = self.sim.positions()
-        out = np.empty_like(self.starts)
+        out = np.full_like(self.starts, np.nan)
         out[[self.track_of[int(i)] for i in ids]] = pos
         return out
+
+    def end(self, tracks) -> None:
+        """Remove the skyrmions of ``tracks`` for good."""
+        by_track = {k: i for i, k in self.track_of.items()}
+        self.sim.remove_skyrmions([by_track[k] for k in tracks], reason="track ended")
+        for k in tracks:
+            del self.track_of[by_track[k]]
 
     def unwrapped(self) -> np.ndarray:
         return self.positions() + self.offset
@@ -55,7 +62,9 @@ class Tracks:
     def recentre(self) -> None:
         """Bring back the skyrmions that left the box."""
         p = self.positions()
-        far = np.nonzero((np.abs(p[:, 0]) > self.box[0]) | (np.abs(p[:, 1]) > self.box[1]))[0]
+        with np.errstate(invalid="ignore"):  # NaN: ended tracks
+            far = np.nonzero((np.abs(p[:, 0]) > self.box[0]) |
+                             (np.abs(p[:, 1]) > self.box[1]))[0]
         if len(far) == 0:
             return
         new = p[far].copy()
