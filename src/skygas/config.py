@@ -209,16 +209,62 @@ class SimulationConfig(MaterialFields):
         return sim
 
 
-def _to_input_error(err: ValidationError, source: str) -> InputError:
+def _to_input_error(err: ValidationError, source: str, prefix: str = "") -> InputError:
+    """The first error of a pydantic validation as one :class:`InputError` line: the dotted
+    field (``source`` + ``prefix`` + location), the value and what is allowed.
+
+    A tagged union's tag (``potentials.0.gaussian.sigma``) is left out of the name
+    (``potentials.0.sigma``), and an unknown or missing tag is reported as the ``kind`` field
+    with the allowed kinds."""
     first = err.errors()[0]
-    loc = ".".join(str(p) for p in first["loc"])
+    loc = [p for i, p in enumerate(first["loc"]) if not _is_tag(first["loc"], i)]
     value = first.get("input") if first["type"] != "missing" else "(missing)"
-    msg = first["msg"]
+    msg = first["msg"].removeprefix("Value error, ")
+    if msg.startswith("Input should be "):  # "… is not allowed: expected a finite number"
+        msg = msg.removeprefix("Input should be ")
+        msg = f"a value {msg}" if msg.startswith(("greater", "less")) else msg
     if first["type"] == "missing":
         msg = "this required field to be given"
     elif first["type"] == "extra_forbidden":
         msg = "no such field (check the spelling)"
-    return InputError(f"{source}{loc}", value, msg)
+    elif first["type"] in _TAG_ERRORS:
+        tags = first.get("ctx", {}).get("expected_tags", "")
+        loc.append(first.get("ctx", {}).get("discriminator", "kind").strip("'"))
+        value = first.get("ctx", {}).get("tag", "(missing)")
+        msg = f"one of {tags}"
+    field = ".".join(str(p) for p in [*prefix.split("."), *loc] if p != "")
+    return InputError(f"{source}{field}", value, msg)
+
+
+#: pydantic's error types for a tagged union whose tag is unknown or missing
+_TAG_ERRORS = ("union_tag_invalid", "union_tag_not_found")
+
+
+def _is_tag(loc: tuple, i: int) -> bool:
+    """True if element ``i`` of a pydantic error location is a union's tag (the name of the
+    member tried, as in ``potentials.0.gaussian.sigma``), not a field."""
+    from skygas.landscape.kinds import KINDS
+
+    return i >= 1 and isinstance(loc[i - 1], int) and loc[i] in KINDS
+
+
+def resolve_paths(data: dict, folder: Path) -> dict:
+    """``data`` (a parsed TOML configuration) with its relative file names, a material's
+    ``.toml`` and the ``path`` of ``grid`` potentials, taken relative to ``folder`` (the
+    configuration's folder), as a user who writes them next to the file means them."""
+    data = dict(data)
+    material = data.get("material")
+    if isinstance(material, str) and material.endswith(".toml") \
+            and not Path(material).is_absolute():
+        data["material"] = str(folder / material)
+    potentials = data.get("potentials")
+    if isinstance(potentials, list):
+        data["potentials"] = [
+            {**p, "path": str(folder / p["path"])}
+            if isinstance(p, dict) and isinstance(p.get("path"), str)
+            and not Path(p["path"]).is_absolute() else p
+            for p in potentials]
+    return data
 
 
 def parse_config(data: dict, source: str = "") -> SimulationConfig:
@@ -244,10 +290,4 @@ def read_toml(path: str | Path, field: str = "config") -> dict:
 def load_config(path: str | Path) -> SimulationConfig:
     """Read and validate a TOML configuration file."""
     path = Path(path)
-    data = read_toml(path)
-    # a material file named in the config is found relative to the config's folder
-    material = data.get("material")
-    if isinstance(material, str) and material.endswith(".toml") \
-            and not Path(material).is_absolute():
-        data["material"] = str(path.parent / material)
-    return parse_config(data, source=f"{path.name}: ")
+    return parse_config(resolve_paths(read_toml(path), path.parent), source=f"{path.name}: ")

@@ -27,7 +27,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from skygas.config import MaterialFields, _to_input_error, read_toml
+from skygas.config import MaterialFields, _to_input_error, read_toml, resolve_paths
 from skygas.errors import InputError
 from skygas.neuron.annihilation import AnnihilationModel
 from skygas.neuron.calibration import CALIBRATED
@@ -164,5 +164,5 @@ def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
 
 
 def load_neuron_config(path: str | Path | None = None, **overrides) -> NeuronConfig:
-    data = read_toml(path) if path is not None else {}
+    data = resolve_paths(read_toml(path), Path(path).parent) if path is not None else {}
     return neuron_config(data, **overrides)

@@ -20,7 +20,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from skygas import units
-from skygas.config import MaterialFields, _to_input_error, read_toml
+from skygas.config import MaterialFields, _to_input_error, read_toml, resolve_paths
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
 from skygas.errors import require
 from skygas.reshuffler.presets import preset_data
@@ -150,7 +150,7 @@ def load_reshuffler_config(path: str | Path | None = None, *, preset: str | None
         source = f"preset {preset or 'default'}: "
     else:
         path = Path(path)
-        data = read_toml(path)
+        data = resolve_paths(read_toml(path), path.parent)
         if preset is not None:
             data["preset"] = preset
         source = f"{path.name}: "
