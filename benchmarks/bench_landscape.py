@@ -1,0 +1,77 @@
+"""Cost of an energy landscape: the time of a Heun step with and without one.
+
+The gas of ``bench_engine.py`` (a disk at the density of a half-full 1024 nm chamber, S2,
+300 K) with N skyrmions is built twice: once with no landscape, once with a grid landscape
+(a disorder of rms 3 k_BT and correlation length 40 nm plus random pinning wells of 5 k_BT,
+σ = 15 nm, one per (100 nm)², so the engine interpolates the summed nodes at every force
+pass). Both use the same time step (the suggested step without the landscape, which the
+landscape's curvature allows). Each round times a block of steps of one, then of the other,
+alternating the order, so that the shared machine's changing clock affects both alike; the
+script prints the median time per step of each and the median of the per-round ratios.
+
+Run: ``.venv/bin/python benchmarks/bench_landscape.py [--rounds 9] [--sizes 100 1000]``.
+The cost of the engine without a landscape against the code before landscapes existed is
+measured with ``bench_versions.py OLD_SRC NEW_SRC``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+from skygas.engine import Simulation
+from skygas.geometry import disk, random_positions
+from skygas.landscape import Disorder, RandomPinning
+
+HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
+LANDSCAPE = [Disorder(rms_kT=3.0, correlation_length=40e-9),
+             RandomPinning(density=1e14, sigma=15e-9, depth_kT=5.0)]
+
+
+def make_sim(n: int, landscape, time_step=None) -> Simulation:
+    radius_nm = np.sqrt(n / (np.pi * HALF_FULL_DENSITY))
+    outline = disk(radius_nm * 1e-9)
+    sim = Simulation(outline, "S2", temperature=300.0, seed=1, grid_spacing=4e-9, capacity=n,
+                     time_step=time_step, landscape=landscape)
+    d_sk = sim.thiele.skyrmion_diameter_internal
+    pts = random_positions(outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(1))
+    sim.state.insert_nm(pts)
+    sim.run(2000 * sim.time_step)  # compile, and let the random start relax
+    return sim
+
+
+def seconds_per_step(sim: Simulation, steps: int) -> float:
+    t0 = time.perf_counter()
+    sim.run(steps * sim.time_step, chunk_steps=steps)
+    return (time.perf_counter() - t0) / steps
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--rounds", type=int, default=9)
+    parser.add_argument("--sizes", type=int, nargs="*", default=[100, 1000])
+    args = parser.parse_args()
+    for n in args.sizes:
+        plain = make_sim(n, ())
+        rough = make_sim(n, LANDSCAPE, time_step=plain.time_step)
+        steps = max(200, 400_000 // n)
+        times = {"none": [], "grid": []}
+        ratios = []
+        for r in range(args.rounds):
+            order = [("none", plain), ("grid", rough)]
+            for name, sim in order if r % 2 == 0 else order[::-1]:
+                times[name].append(seconds_per_step(sim, steps))
+            ratios.append(times["grid"][-1] / times["none"][-1])
+        none, grid = (statistics.median(times[k]) for k in ("none", "grid"))
+        print(f"N = {n}: {steps} steps per timing, {args.rounds} rounds, dt = "
+              f"{plain.time_step:.3g} s; per step: no landscape {none * 1e6:.1f} µs, grid "
+              f"landscape {grid * 1e6:.1f} µs; median ratio grid/none "
+              f"{statistics.median(ratios):.3f} (rounds {min(ratios):.3f}…{max(ratios):.3f})",
+              flush=True)
+
+
+if __name__ == "__main__":
+    main()
