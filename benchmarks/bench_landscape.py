@@ -4,10 +4,13 @@ The gas of ``bench_engine.py`` (a disk at the density of a half-full 1024 nm cha
 300 K) with N skyrmions is built twice: once with no landscape, once with a grid landscape
 (a disorder of rms 3 k_BT and correlation length 40 nm plus random pinning wells of 5 k_BT,
 σ = 15 nm, one per (100 nm)², so the engine interpolates the summed nodes at every force
-pass). Both use the same time step (the suggested step without the landscape, which the
-landscape's curvature allows). Each round times a block of steps of one, then of the other,
-alternating the order, so that the shared machine's changing clock affects both alike; the
-script prints the median time per step of each and the median of the per-round ratios.
+pass), and a third time with a landscape of zeros (a disorder of rms 0: the same lookups and
+arithmetic, the dynamics of the plain gas, so the pure cost of the landscape term). All use
+the same time step (the suggested step without the landscape, which the landscape's curvature
+allows). Each round times a block of steps of each, rotating the order, so that the shared
+machine's changing clock affects all alike; the script prints the median time per step of each
+and the median of the per-round ratios. Times are the process's CPU time (the engine runs on
+one thread), which other processes on a shared machine disturb less than the wall clock.
 
 Run: ``.venv/bin/python benchmarks/bench_landscape.py [--rounds 9] [--sizes 100 1000]``.
 The cost of the engine without a landscape against the code before landscapes existed is
@@ -27,8 +30,12 @@ from skygas.geometry import disk, random_positions
 from skygas.landscape import Disorder, RandomPinning
 
 HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
-LANDSCAPE = [Disorder(rms_kT=3.0, correlation_length=40e-9),
-             RandomPinning(density=1e14, sigma=15e-9, depth_kT=5.0)]
+LANDSCAPES = {
+    "none": [],
+    "zeros": [Disorder(rms_kT=0.0, correlation_length=40e-9)],
+    "grid": [Disorder(rms_kT=3.0, correlation_length=40e-9),
+             RandomPinning(density=1e14, sigma=15e-9, depth_kT=5.0)],
+}
 
 
 def make_sim(n: int, landscape, time_step=None) -> Simulation:
@@ -44,9 +51,9 @@ def make_sim(n: int, landscape, time_step=None) -> Simulation:
 
 
 def seconds_per_step(sim: Simulation, steps: int) -> float:
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     sim.run(steps * sim.time_step, chunk_steps=steps)
-    return (time.perf_counter() - t0) / steps
+    return (time.process_time() - t0) / steps
 
 
 def main() -> None:
@@ -55,23 +62,26 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="*", default=[100, 1000])
     args = parser.parse_args()
     for n in args.sizes:
-        plain = make_sim(n, ())
-        rough = make_sim(n, LANDSCAPE, time_step=plain.time_step)
+        sims = {"none": make_sim(n, LANDSCAPES["none"])}
+        dt = sims["none"].time_step
+        for name in ("zeros", "grid"):
+            sims[name] = make_sim(n, LANDSCAPES[name], time_step=dt)
         steps = max(200, 400_000 // n)
-        times = {"none": [], "grid": []}
-        ratios = []
+        times = {name: [] for name in sims}
+        ratios = {"zeros": [], "grid": []}
+        names = list(sims)
         for r in range(args.rounds):
-            order = [("none", plain), ("grid", rough)]
-            for name, sim in order if r % 2 == 0 else order[::-1]:
-                times[name].append(seconds_per_step(sim, steps))
-            ratios.append(times["grid"][-1] / times["none"][-1])
-        none, grid = (statistics.median(times[k]) for k in ("none", "grid"))
-        print(f"N = {n}: {steps} steps per timing, {args.rounds} rounds, dt = "
-              f"{plain.time_step:.3g} s; per step: no landscape {none * 1e6:.1f} µs, grid "
-              f"landscape {grid * 1e6:.1f} µs; median ratio grid/none "
-              f"{statistics.median(ratios):.3f} (rounds {min(ratios):.3f}…{max(ratios):.3f})",
-              flush=True)
-
+            for name in names[r % 3:] + names[:r % 3]:
+                times[name].append(seconds_per_step(sims[name], steps))
+            for name in ratios:
+                ratios[name].append(times[name][-1] / times["none"][-1])
+        per_step = {k: statistics.median(v) * 1e6 for k, v in times.items()}
+        print(f"N = {n}: {steps} steps per timing, {args.rounds} rounds, dt = {dt:.3g} s; CPU "
+              f"time per step: no landscape {per_step['none']:.1f} µs, zeros "
+              f"{per_step['zeros']:.1f} µs, grid {per_step['grid']:.1f} µs", flush=True)
+        for name, values in ratios.items():
+            print(f"  {name}/none: median {statistics.median(values):.3f} "
+                  f"(rounds {min(values):.3f}…{max(values):.3f})", flush=True)
 
 if __name__ == "__main__":
     main()
