@@ -12,6 +12,10 @@ machine's changing clock affects all alike; the script prints the median time pe
 and the median of the per-round ratios. Times are the process's CPU time (the engine runs on
 one thread), which other processes on a shared machine disturb less than the wall clock.
 
+A second workload is the ``paper`` reshuffler (J = 1.7×10¹¹ A/m², 20 µs), whose steps also
+inject, detect and look up walls: its run with no landscape against the same run with a
+disorder of rms 0 and of rms 3 k_BT (ξ = 40 nm), alternating, CPU time.
+
 Run: ``.venv/bin/python benchmarks/bench_landscape.py [--rounds 9] [--sizes 100 1000]``.
 The cost of the engine without a landscape against the code before landscapes existed is
 measured with ``bench_versions.py OLD_SRC NEW_SRC``.
@@ -56,10 +60,27 @@ def seconds_per_step(sim: Simulation, steps: int) -> float:
     return (time.process_time() - t0) / steps
 
 
+def reshuffler_seconds(rms_kt: float | None) -> float:
+    """CPU seconds of a 20 µs paper reshuffler run (after building it)."""
+    from skygas.reshuffler import ReshufflerRun, load_reshuffler_config
+
+    overrides = {"duration": 2e-5, "seed": 1, "current_density": 1.7e11,
+                 "output.trajectory_window": 0.0}
+    config = load_reshuffler_config(preset="paper", overrides=overrides)
+    if rms_kt is not None:
+        config = config.model_copy(update={"potentials": [
+            Disorder(rms_kT=rms_kt, correlation_length=40e-9)]})
+    run = ReshufflerRun.build(config)
+    t0 = time.process_time()
+    run.advance()
+    return time.process_time() - t0
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--rounds", type=int, default=9)
     parser.add_argument("--sizes", type=int, nargs="*", default=[100, 1000])
+    parser.add_argument("--reshuffler-rounds", type=int, default=5)
     args = parser.parse_args()
     for n in args.sizes:
         sims = {"none": make_sim(n, LANDSCAPES["none"])}
@@ -82,6 +103,19 @@ def main() -> None:
         for name, values in ratios.items():
             print(f"  {name}/none: median {statistics.median(values):.3f} "
                   f"(rounds {min(values):.3f}…{max(values):.3f})", flush=True)
+    if args.reshuffler_rounds:
+        variants = {"none": None, "zeros": 0.0, "disorder 3 kT": 3.0}
+        for rms in variants.values():  # compile
+            reshuffler_seconds(rms)
+        times = {name: [] for name in variants}
+        names = list(variants)
+        for r in range(args.reshuffler_rounds):
+            for name in names[r % 3:] + names[:r % 3]:
+                times[name].append(reshuffler_seconds(variants[name]))
+        base = statistics.median(times["none"])
+        print("reshuffler (paper, 1.7e11 A/m², 20 µs), CPU s: " + ", ".join(
+            f"{name} {statistics.median(t):.2f} (×{statistics.median(t) / base:.2f})"
+            for name, t in times.items()), flush=True)
 
 if __name__ == "__main__":
     main()

@@ -33,7 +33,7 @@ def test_skyrmions_in_gaussian_wells_sample_boltzmann_with_G():
     density ∝ r·exp(−U(r)/k_BT) (the gyrotropic term, which does no work, leaves the
     equilibrium unchanged).
 
-    Frames 80 ns apart, four relaxation times of r² (rate 2κ α𝒟k/(α𝒟k² + G²),
+    Frames 80 ns apart, four relaxation times of r² (rate 2κ α𝒟k/((α𝒟k)² + G²),
     κ = A/σ²), are nearly independent: a KS test (p > 10⁻³, as for the wall's Boltzmann test)
     and ⟨U⟩ against its exact value within 4 standard errors."""
     depth, sigma = 10.0, 30e-9
@@ -93,7 +93,7 @@ def lifson_jackson_estimate(antiferromagnetic: bool, u0_kt: float, seed: int):
     starts = np.column_stack([rng.uniform(-100e-9, 100e-9, n), rng.uniform(-100e-9, 100e-9, n)])
     tracks = Tracks(sim, starts, box=(150e-9, 150e-9), period_x=wavelength)
     frame = 0.1 * hop_time
-    sim.run(frame * 1e-9)  # within-well equilibrium: ~1/(κ α𝒟k/(α𝒟k² + G²)) ≪ frame
+    sim.run(frame * 1e-9)  # within-well equilibrium: ~1/(κ α𝒟k/((α𝒟k)² + G²)) ≪ frame
     xs = []
     for _ in range(80):  # 8 λ²/D_eff per skyrmion
         sim.run(frame * 1e-9)
@@ -116,11 +116,11 @@ def lifson_jackson_estimate(antiferromagnetic: bool, u0_kt: float, seed: int):
 @pytest.mark.parametrize("u0_kt", [1.0, 2.0])
 def test_lifson_jackson_diffusion_in_a_periodic_landscape(antiferromagnetic, u0_kt):
     """In U = U₀ cos(2πx/λ) the x coordinate decouples even with G ≠ 0: the Thiele velocity
-    is v = M·F + noise with M (α𝒟k − Gε)/(α𝒟k² + G²) and isotropic noise of D = k_BT α𝒟k/
-    (α𝒟k² + G²), and F has no y component, so ẋ = (α𝒟k/(α𝒟k² + G²)) F_x(x) + √(2D) ξ_x, a
+    is v = M·F + noise with M (α𝒟k − Gε)/((α𝒟k)² + G²) and isotropic noise of D = k_BT α𝒟k/
+    ((α𝒟k)² + G²), and F has no y component, so ẋ = (α𝒟k/((α𝒟k)² + G²)) F_x(x) + √(2D) ξ_x, a
     one-dimensional Brownian motion whose long-time diffusion constant is exactly
     D/I₀(U₀/k_BT)² (Lifson–Jackson). 256 skyrmions over 8 λ²/D_eff each: the estimate is
-    within 4 standard errors (per-skyrmion estimates are independent), which are ≈ 3 % of D_eff."""
+    within 4 standard errors (per-skyrmion estimates are independent), which are 3–4 % of D_eff."""
     est, se, d_exact, d_free = lifson_jackson_estimate(antiferromagnetic, u0_kt, seed=31)
     assert abs(est - d_exact) < 4 * se, (est, d_exact, se)
     assert se < 0.05 * d_exact
