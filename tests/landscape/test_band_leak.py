@@ -5,7 +5,7 @@ conduit, independent of y), the x coordinate decouples exactly: the Thiele veloc
 v = M·(F_drive − ∇U) + noise with M = (α𝒟k − Gε)/((α𝒟k)² + G²) and isotropic noise of
 D = k_BT α𝒟k/((α𝒟k)² + G²), so
 
-    ẋ = μ_x (f − U′(x)) + √(2D) ξ,   μ_x = α𝒟k/((α𝒟k)² + G²),   f = μ|v_s|(η𝒟k + G²/α𝒟k),
+    ẋ = μ_x (f − U′(x)) + √(2D) ξ,  μ_x = α𝒟k/((α𝒟k)² + G²),  f = μ|v_s|(η𝒟k + G²/α𝒟k),
 
 a one-dimensional overdamped motion in V(x) = U(x) − f x with D = k_BT μ_x (the y coordinate
 slides along the band and does not feed back). Its mean first-passage time from the well at

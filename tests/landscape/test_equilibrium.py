@@ -116,11 +116,12 @@ def lifson_jackson_estimate(antiferromagnetic: bool, u0_kt: float, seed: int):
 @pytest.mark.parametrize("u0_kt", [1.0, 2.0])
 def test_lifson_jackson_diffusion_in_a_periodic_landscape(antiferromagnetic, u0_kt):
     """In U = U₀ cos(2πx/λ) the x coordinate decouples even with G ≠ 0: the Thiele velocity
-    is v = M·F + noise with M (α𝒟k − Gε)/((α𝒟k)² + G²) and isotropic noise of D = k_BT α𝒟k/
-    ((α𝒟k)² + G²), and F has no y component, so ẋ = (α𝒟k/((α𝒟k)² + G²)) F_x(x) + √(2D) ξ_x, a
-    one-dimensional Brownian motion whose long-time diffusion constant is exactly
-    D/I₀(U₀/k_BT)² (Lifson–Jackson). 256 skyrmions over 8 λ²/D_eff each: the estimate is
-    within 4 standard errors (per-skyrmion estimates are independent), which are 3–4 % of D_eff."""
+    is v = M·F + noise with M = (α𝒟k − Gε)/((α𝒟k)² + G²) and isotropic noise of
+    D = k_BT α𝒟k/((α𝒟k)² + G²), and F has no y component, so
+    ẋ = (α𝒟k/((α𝒟k)² + G²)) F_x(x) + √(2D) ξ_x, a one-dimensional Brownian motion whose
+    long-time diffusion constant is exactly D/I₀(U₀/k_BT)² (Lifson–Jackson). 256 skyrmions
+    over 8 λ²/D_eff each: the estimate is within 4 standard errors (per-skyrmion estimates are
+    independent), which are 3–4 % of D_eff."""
     est, se, d_exact, d_free = lifson_jackson_estimate(antiferromagnetic, u0_kt, seed=31)
     assert abs(est - d_exact) < 4 * se, (est, d_exact, se)
     assert se < 0.05 * d_exact

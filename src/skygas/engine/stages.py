@@ -218,8 +218,6 @@ def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
     drift = terms.drift
     vsx = drift.vs_x
     vsy = drift.vs_y
-    landscape = terms.landscape
-    landscape_on = landscape.active
     for i in range(x.shape[0]):
         if not alive[i]:
             continue
@@ -239,8 +237,8 @@ def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
         dx, dy = drive_force(drift, vsx, vsy)
         fx += dx
         fy += dy
-        if landscape_on:
-            lx, ly = landscape_force(landscape, x[i], y[i])
+        if terms.landscape.active:
+            lx, ly = landscape_force(terms.landscape, x[i], y[i])
             fx += lx
             fy += ly
         # v = (a F − g εF)/(a² + g²)
