@@ -1,4 +1,4 @@
-"""Independent skyrmions followed over long runs in a small device (a test helper).
+"""Independent skyrmions followed over long runs in a small device (used by the tests).
 
 With a pair law of zero amplitude skyrmions do not interact, so many of them can share one
 small rectangle. In a landscape that does not depend on y (or is periodic in x) a skyrmion
