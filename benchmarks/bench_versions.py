@@ -8,8 +8,10 @@ Workloads (same as ``bench_engine.py`` and ``bench_reshuffler.py``): Heun steps 
 of 100 and 1 000 skyrmions (S2, 300 K, suggested step), and a 100 µs run of the ``paper``
 reshuffler at J = 1.7×10¹¹ A/m².
 
-Run: ``.venv/bin/python benchmarks/bench_versions.py OLD_SRC NEW_SRC [--rounds 5]``, e.g. with
-OLD_SRC a ``git worktree`` of the older commit's ``src`` folder.
+Run: ``.venv/bin/python benchmarks/bench_versions.py OLD_SRC NEW_SRC [--rounds 5] [--clock cpu]``,
+e.g. with OLD_SRC a ``git worktree`` of the older commit's ``src`` folder. ``--clock cpu`` times
+the process's CPU time instead of the wall clock (the workloads run on one thread): on a machine
+shared with other jobs it scatters far less from round to round.
 """
 
 from __future__ import annotations
@@ -36,8 +38,8 @@ sim.add_skyrmions(pts * 1e-9, validate=False)
 sim.run(2000 * sim.time_step)
 best = []
 for _ in range(5):
-    t0 = time.perf_counter(); sim.run({steps} * sim.time_step, chunk_steps={steps})
-    best.append((time.perf_counter() - t0) / {steps})
+    t0 = time.CLOCK(); sim.run({steps} * sim.time_step, chunk_steps={steps})
+    best.append((time.CLOCK() - t0) / {steps})
 print(sorted(best)[2])
 """
 
@@ -49,7 +51,7 @@ def run(duration):
         "duration": duration, "seed": 1, "current_density": 1.7e11,
         "output.trajectory_window": 0.0})
     r = ReshufflerRun.build(config)
-    t0 = time.perf_counter(); r.advance(); return time.perf_counter() - t0
+    t0 = time.CLOCK(); r.advance(); return time.CLOCK() - t0
 run(2e-7)
 print(run(1e-4))
 """
@@ -61,7 +63,8 @@ WORKLOADS = {
 }
 
 
-def timed(src: str, code: str) -> float:
+def timed(src: str, code: str, clock: str = "perf_counter") -> float:
+    code = code.replace("time.CLOCK", f"time.{clock}")
     env = {**os.environ, "PYTHONPATH": src}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                          text=True)
@@ -75,7 +78,9 @@ def main() -> None:
     parser.add_argument("old_src")
     parser.add_argument("new_src")
     parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--clock", choices=["wall", "cpu"], default="wall")
     args = parser.parse_args()
+    clock = "process_time" if args.clock == "cpu" else "perf_counter"
     for code in WORKLOADS.values():  # compile both versions' kernels into their caches
         timed(args.old_src, code)
         timed(args.new_src, code)
@@ -83,7 +88,7 @@ def main() -> None:
         ratios = []
         for r in range(args.rounds):
             order = (args.old_src, args.new_src) if r % 2 == 0 else (args.new_src, args.old_src)
-            times = {src: timed(src, code) for src in order}
+            times = {src: timed(src, code, clock) for src in order}
             ratios.append(times[args.new_src] / times[args.old_src])
             print(f"  {name}: old {times[args.old_src]:.4g}, new {times[args.new_src]:.4g}, "
                   f"new/old {ratios[-1]:.3f}", flush=True)

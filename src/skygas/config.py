@@ -207,6 +207,25 @@ class SimulationConfig(MaterialFields):
         return sim
 
 
+def resolve_paths(data: dict, folder: Path) -> dict:
+    """``data`` (a parsed TOML configuration) with its relative file names, a material's
+    ``.toml`` and the ``path`` of ``grid`` potentials, taken relative to ``folder`` (the
+    configuration's folder), as a user who writes them next to the file means them."""
+    data = dict(data)
+    material = data.get("material")
+    if isinstance(material, str) and material.endswith(".toml") \
+            and not Path(material).is_absolute():
+        data["material"] = str(folder / material)
+    potentials = data.get("potentials")
+    if isinstance(potentials, list):
+        data["potentials"] = [
+            {**p, "path": str(folder / p["path"])}
+            if isinstance(p, dict) and isinstance(p.get("path"), str)
+            and not Path(p["path"]).is_absolute() else p
+            for p in potentials]
+    return data
+
+
 def parse_config(data: dict, source: str = "") -> SimulationConfig:
     """Validate a mapping (e.g. parsed TOML) into a :class:`SimulationConfig`."""
     try:
@@ -218,10 +237,4 @@ def parse_config(data: dict, source: str = "") -> SimulationConfig:
 def load_config(path: str | Path) -> SimulationConfig:
     """Read and validate a TOML configuration file."""
     path = Path(path)
-    data = read_toml(path)
-    # a material file named in the config is found relative to the config's folder
-    material = data.get("material")
-    if isinstance(material, str) and material.endswith(".toml") \
-            and not Path(material).is_absolute():
-        data["material"] = str(path.parent / material)
-    return parse_config(data, source=f"{path.name}: ")
+    return parse_config(resolve_paths(read_toml(path), path.parent), source=f"{path.name}: ")

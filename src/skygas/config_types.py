@@ -53,18 +53,43 @@ class ChamberSize(StrictModel):
     conduit_length: Length = CONDUIT_LENGTH
 
 
-def to_input_error(err: ValidationError, source: str = "") -> InputError:
-    """The first error of a pydantic validation as an :class:`InputError` naming the field
-    (prefixed by ``source``, e.g. the file name), the value and what is allowed."""
+def to_input_error(err: ValidationError, source: str = "", prefix: str = "") -> InputError:
+    """The first error of a pydantic validation as one :class:`InputError` line: the dotted
+    field (``source`` + ``prefix`` + location), the value and what is allowed.
+
+    A tagged union's tag (``potentials.0.gaussian.sigma``) is left out of the name
+    (``potentials.0.sigma``), and an unknown or missing tag is reported as the ``kind`` field
+    with the allowed kinds."""
     first = err.errors()[0]
-    loc = ".".join(str(p) for p in first["loc"])
+    loc = [p for i, p in enumerate(first["loc"]) if not _is_tag(first["loc"], i)]
     value = first.get("input") if first["type"] != "missing" else "(missing)"
-    msg = first["msg"]
+    msg = first["msg"].removeprefix("Value error, ")
+    if msg.startswith("Input should be "):  # "… is not allowed: expected a finite number"
+        msg = msg.removeprefix("Input should be ")
+        msg = f"a value {msg}" if msg.startswith(("greater", "less")) else msg
     if first["type"] == "missing":
         msg = "this required field to be given"
     elif first["type"] == "extra_forbidden":
         msg = "no such field (check the spelling)"
-    return InputError(f"{source}{loc}", value, msg)
+    elif first["type"] in _TAG_ERRORS:
+        tags = first.get("ctx", {}).get("expected_tags", "")
+        loc.append(first.get("ctx", {}).get("discriminator", "kind").strip("'"))
+        value = first.get("ctx", {}).get("tag", "(missing)")
+        msg = f"one of {tags}"
+    field = ".".join(str(p) for p in [*prefix.split("."), *loc] if p != "")
+    return InputError(f"{source}{field}", value, msg)
+
+
+#: pydantic's error types for a tagged union whose tag is unknown or missing
+_TAG_ERRORS = ("union_tag_invalid", "union_tag_not_found")
+
+
+def _is_tag(loc: tuple, i: int) -> bool:
+    """True if element ``i`` of a pydantic error location is a union's tag (the name of the
+    member tried, as in ``potentials.0.gaussian.sigma``), not a field."""
+    from skygas.landscape.kinds import KINDS  # imported here: the kinds import this module
+
+    return i >= 1 and isinstance(loc[i - 1], int) and loc[i] in KINDS
 
 
 def read_toml(path: str | Path, field: str = "config") -> dict:

@@ -27,22 +27,14 @@ def parse_potentials(potentials) -> list:
     a bad one raises :class:`~skygas.errors.InputError` naming its field."""
     from pydantic import TypeAdapter, ValidationError
 
-    from skygas.errors import InputError, require
+    from skygas.config_types import to_input_error
+    from skygas.errors import require
 
     potentials = [] if potentials is None else list(potentials)
-    adapter = TypeAdapter(Potential)
-    out = []
     for k, p in enumerate(potentials):
-        if isinstance(p, tuple(KINDS.values())):
-            out.append(p)
-            continue
-        require(isinstance(p, dict), f"potentials[{k}]", p,
+        require(isinstance(p, (dict, *KINDS.values())), f"potentials.{k}", p,
                 f"a table with kind = one of {sorted(KINDS)}")
-        try:
-            out.append(adapter.validate_python(p))
-        except ValidationError as err:
-            first = err.errors()[0]
-            loc = ".".join(str(x) for x in first["loc"][1:] if x not in KINDS) or "kind"
-            raise InputError(f"potentials[{k}].{loc}", first.get("input"), first["msg"]) \
-                from None
-    return out
+    try:
+        return TypeAdapter(list[Potential]).validate_python(potentials)
+    except ValidationError as err:
+        raise to_input_error(err, "", prefix="potentials") from None

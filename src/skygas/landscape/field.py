@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from skygas import units
+from skygas.errors import InputError
 from skygas.landscape.hermite import energy_and_gradient
 from skygas.landscape.kinds import SampleContext, Samples
 
@@ -34,7 +35,11 @@ class LandscapeField:
         self._samples: list[Samples] = []
         for index, term in enumerate(self.terms):
             seq = np.random.SeedSequence([self.seed, LANDSCAPE_STREAM, index])
-            self._samples.append(term.sample(SampleContext(gx, gy, kt, seq)))
+            try:
+                self._samples.append(term.sample(SampleContext(gx, gy, kt, seq)))
+            except InputError as err:  # a term's field, named as in the configuration
+                raise InputError(f"potentials.{index}.{err.field}", err.value,
+                                 err.allowed) from None
         self.enabled = [True] * len(self.terms)
         self.nodes = np.zeros((grid.ny, grid.nx, 4))
         self._sum()

@@ -17,9 +17,16 @@ from pathlib import Path
 from typing import Annotated, Literal, NamedTuple, Union
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import (
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 from skygas import units
+from skygas.config_types import StrictModel
 
 Length = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 Energy = Annotated[float, Field(allow_inf_nan=False)]
@@ -46,8 +53,11 @@ class SampleContext(NamedTuple):
     seed: np.random.SeedSequence
 
 
-class _Kind(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class _Kind(StrictModel):
+    """A potential: strict like every configuration section, and immutable (a run's landscape
+    is sampled once from it)."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
 
     def sample(self, ctx: SampleContext) -> Samples:  # pragma: no cover - every kind has one
         raise NotImplementedError
@@ -291,63 +301,88 @@ class Disorder(_Kind):
         return Samples(*(f[inner] for f in fields))
 
 
+def read_grid(path: str, array: str | None = None) -> tuple[np.ndarray, bool]:
+    """The samples of a grid file (ny, nx), row 0 at the lowest y, and whether it is an image
+    (grey levels 0…1) rather than an array of energies. Raises ValueError saying what is wrong
+    with the file (missing, unreadable, not 2-D, smaller than 4×4, not finite)."""
+    file = Path(path)
+    if not file.is_file():
+        raise ValueError(f"an existing .npy, .npz or image file (no file {file})")
+    suffix = file.suffix.lower()
+    try:
+        if suffix in (".npy", ".npz"):
+            data = np.load(file, allow_pickle=False)
+            if suffix == ".npz":
+                names = list(data.files)
+                name = array or (names[0] if len(names) == 1 else None)
+                if name not in names:
+                    raise ValueError(f"an .npz with one array, or array = the name of one "
+                                     f"of {names}")
+                data = data[name]
+            values, image = np.asarray(data, dtype=float), False
+        else:
+            import matplotlib.image
+
+            values = np.asarray(matplotlib.image.imread(file), dtype=float)
+            if values.ndim == 3:  # colour or alpha: the mean of the colour channels
+                values = values[..., :3].mean(axis=2)
+            if values.size and values.max() > 1:
+                values = values / 255.0
+            values, image = values[::-1], True  # image rows run top to bottom
+    except (OSError, SyntaxError, TypeError) as err:  # numpy's and Pillow's read errors
+        raise ValueError(f"a readable .npy, .npz or image file ({err})") from None
+    if values.ndim != 2 or min(values.shape) < 4:
+        raise ValueError(f"a 2-D array of at least 4×4 samples, rows along y (the file holds "
+                         f"shape {values.shape})")
+    if not np.all(np.isfinite(values)):
+        raise ValueError("finite values only (the file holds NaN or inf)")
+    return values, image
+
+
 class GridFile(_Kind):
     """A landscape measured or computed elsewhere (e.g. a micromagnetic energy map), read from
     ``path``: a .npy/.npz array of energies (rows along y, J or k_BT per ``unit``), or a
     greyscale image whose grey level 0…1 is scaled by ``amplitude`` (J) or ``amplitude_kT``.
     ``spacing`` [m] is the distance between samples, ``origin`` [m] the position of the first
     (lower-left) sample. Fitted with a bicubic spline (scipy) and sampled, with its
-    derivatives, at the engine's nodes; it must cover the whole device."""
+    derivatives, at the engine's nodes; it must cover the whole device. The file is read and
+    checked when the potential is validated; a relative ``path`` in a TOML configuration is
+    taken relative to the configuration's folder."""
 
     kind: Literal["grid"] = "grid"
+    array: str | None = None  # the array's name inside an .npz (default: its only array)
     path: str
     spacing: Length
     origin: Point = (0.0, 0.0)
     unit: Literal["J", "kT"] = "J"
     amplitude: Energy | None = None
     amplitude_kT: Energy | None = None
-    array: str | None = None  # the array's name inside an .npz (default: its only array)
+
+    @field_validator("path")
+    @classmethod
+    def _readable(cls, path: str, info: ValidationInfo) -> str:
+        read_grid(path, info.data.get("array"))
+        return path
+
+    @model_validator(mode="after")
+    def _scale(self):
+        image = Path(self.path).suffix.lower() not in (".npy", ".npz")
+        if image and (self.amplitude is None) == (self.amplitude_kT is None):
+            raise ValueError("an image needs exactly one of amplitude (J) or amplitude_kT "
+                             "(k_BT) to scale its grey levels")
+        return self
 
     def values(self, kt: float) -> np.ndarray:
         """The energies [pN·nm] on the file's grid (ny, nx), row 0 at the lowest y."""
         from skygas.errors import InputError
 
-        path = Path(self.path)
-        if not path.is_file():
-            raise InputError("potentials.path", self.path, "an existing .npy, .npz or image file")
-        suffix = path.suffix.lower()
-        if suffix in (".npy", ".npz"):
-            data = np.load(path, allow_pickle=False)
-            if suffix == ".npz":
-                names = list(data.files)
-                name = self.array or (names[0] if len(names) == 1 else None)
-                if name not in names:
-                    raise InputError("potentials.array", self.array,
-                                     f"the name of one array in {path.name} ({names})")
-                data = data[name]
-            values = np.asarray(data, dtype=float)
-            scale = kt if self.unit == "kT" else units.J_TO_PN_NM
-            if self.unit == "kT" and kt <= 0:
-                raise InputError("potentials.unit", "kT", "a temperature > 0 (or unit = \"J\")")
-        else:
-            import matplotlib.image
-
-            image = np.asarray(matplotlib.image.imread(path), dtype=float)
-            if image.ndim == 3:  # colour or alpha: the mean of the colour channels
-                image = image[..., :3].mean(axis=2)
-            if image.max() > 1:
-                image = image / 255.0
-            values = image[::-1]  # image rows run top to bottom
-            if (self.amplitude is None) == (self.amplitude_kT is None):
-                raise InputError("potentials.amplitude", None,
-                                 "exactly one of amplitude (J) or amplitude_kT for an image")
-            scale = _energy(self.amplitude, self.amplitude_kT, kt, "amplitude")
-        if values.ndim != 2 or min(values.shape) < 4:
-            raise InputError("potentials.path", self.path,
-                             f"a 2-D array of at least 4×4 samples (got shape {values.shape})")
-        if not np.all(np.isfinite(values)):
-            raise InputError("potentials.path", self.path, "finite values only (no NaN or inf)")
-        return values * scale
+        values, image = read_grid(self.path, self.array)
+        if image:
+            return values * _energy(self.amplitude, self.amplitude_kT, kt, "amplitude")
+        if self.unit == "kT" and kt <= 0:
+            raise InputError("unit", "kT", "a temperature > 0 (or unit = \"J\"): k_BT is "
+                             "zero at T = 0")
+        return values * (kt if self.unit == "kT" else units.J_TO_PN_NM)
 
     def sample(self, ctx: SampleContext) -> Samples:
         from scipy.interpolate import RectBivariateSpline
@@ -363,7 +398,7 @@ class GridFile(_Kind):
             need = [ctx.x.min() * 1e-9, ctx.y.min() * 1e-9, ctx.x.max() * 1e-9,
                     ctx.y.max() * 1e-9]
             have = [xs[0] * 1e-9, ys[0] * 1e-9, xs[-1] * 1e-9, ys[-1] * 1e-9]
-            raise InputError("potentials.path", self.path,
+            raise InputError("path", self.path,
                              f"samples covering the device's grid, x0 y0 x1 y1 = "
                              f"{np.round(need, 12).tolist()} m (the file covers "
                              f"{np.round(have, 12).tolist()} m; check spacing and origin)")

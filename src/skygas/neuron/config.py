@@ -28,7 +28,7 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field, ValidationError, model_validator
 
-from skygas.config import MaterialFields
+from skygas.config import MaterialFields, resolve_paths
 from skygas.config_types import ChamberSize, StrictModel, read_toml, to_input_error
 from skygas.errors import InputError
 from skygas.neuron.annihilation import AnnihilationModel
@@ -165,5 +165,5 @@ def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
 
 
 def load_neuron_config(path: str | Path | None = None, **overrides) -> NeuronConfig:
-    data = read_toml(path) if path is not None else {}
+    data = resolve_paths(read_toml(path), Path(path).parent) if path is not None else {}
     return neuron_config(data, **overrides)

@@ -20,7 +20,7 @@ from typing import Any, Literal
 from pydantic import Field, ValidationError
 
 from skygas import units
-from skygas.config import MaterialFields
+from skygas.config import MaterialFields, resolve_paths
 from skygas.config_types import (
     CHAMBER_GAP,
     ChamberSize,
@@ -150,7 +150,7 @@ def load_reshuffler_config(path: str | Path | None = None, *, preset: str | None
         source = f"preset {preset or 'default'}: "
     else:
         path = Path(path)
-        data = read_toml(path)
+        data = resolve_paths(read_toml(path), path.parent)
         if preset is not None:
             data["preset"] = preset
         source = f"{path.name}: "

@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 from pydantic import BaseModel
 
-from skygas.config import read_toml
+from skygas.config import read_toml, resolve_paths
 from skygas.errors import InputError, require
 from skygas.reshuffler.config import ReshufflerConfig, parse_reshuffler_config
 from skygas.reshuffler.device import ReshufflerGeometry
@@ -236,10 +236,12 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         path = Path(head["config"])
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
-        base = read_toml(path, "sweep.config")
+        base = resolve_paths(read_toml(path, "sweep.config"), path.parent)
     else:
         base = data.get("base", {"preset": "default"})
         require(isinstance(base, dict), "base", base, "a reshuffler configuration table")
+        if base_dir is not None:  # file names in [base] are relative to the sweep file
+            base = resolve_paths(base, base_dir)
     require("seed" not in base, "base.seed", base.get("seed"),
             "no seed in [base]: runs get seeds derived from [sweep] seed")
 
