@@ -201,7 +201,7 @@ def drive_force(drift, vsx, vsy):
 def landscape_force(landscape, xi, yi):
     """The landscape term's force −∇U [pN] at (xi, yi) [nm]."""
     inv_h = 1.0 / landscape.spacing
-    gx, gy = hermite_gradient(landscape.nodes, (xi - landscape.x0) * inv_h,
+    gx, gy = hermite_gradient(landscape.coefficients, (xi - landscape.x0) * inv_h,
                               (yi - landscape.y0) * inv_h, inv_h)
     return -gx, -gy
 

@@ -93,10 +93,11 @@ class DriftTerm(NamedTuple):
 
 
 class LandscapeTerm(NamedTuple):
-    """An external potential: ``nodes[j, i] = (U, h ∂U/∂x, h ∂U/∂y, h² ∂²U/∂x∂y)`` [pN·nm] on
-    a grid of origin (x0, y0) and spacing h [nm] (:mod:`skygas.landscape.hermite`)."""
+    """An external potential: the polynomial coefficients of its interpolant in every cell of
+    a grid of origin (x0, y0) and spacing h [nm], ``coefficients[j, i, 4a + b]`` of tᵃuᵇ
+    [pN·nm] (:mod:`skygas.landscape.hermite`)."""
 
-    nodes: np.ndarray
+    coefficients: np.ndarray
     x0: float
     y0: float
     spacing: float
@@ -206,8 +207,8 @@ def drift_term(thiele, velocity=(0.0, 0.0), from_grid: bool = False) -> DriftTer
 def landscape_term(field=None) -> LandscapeTerm:
     """:class:`LandscapeTerm` of a :class:`~skygas.landscape.LandscapeField` (or none)."""
     if field is None or not field.terms:
-        return LandscapeTerm(np.zeros((2, 2, 4)), 0.0, 0.0, 1.0, False)
-    return LandscapeTerm(field.nodes, field.grid.x0, field.grid.y0, field.grid.spacing, True)
+        return LandscapeTerm(np.zeros((1, 1, 16)), 0.0, 0.0, 1.0, False)
+    return LandscapeTerm(field.coefficients, field.grid.x0, field.grid.y0, field.grid.spacing, True)
 
 
 def field_grid(fields: np.ndarray, grid) -> FieldGrid:

@@ -14,11 +14,19 @@ import numpy as np
 
 from skygas import units
 from skygas.errors import InputError
-from skygas.landscape.hermite import energy_and_gradient
+from skygas.landscape.hermite import cell_coefficients, energy_and_gradient
 from skygas.landscape.kinds import SampleContext, Samples
 
 #: Sub-stream of the run's seed for the random kinds (one child per term).
 LANDSCAPE_STREAM = 0x4C414E44
+
+
+def _aligned_cells(ny: int, nx: int) -> np.ndarray:
+    """Zeroed float32 (ny, nx, 16) whose cells start on 64-byte boundaries (one cache line
+    each)."""
+    raw = np.zeros(ny * nx * 16 + 16, dtype=np.float32)
+    skip = (-raw.ctypes.data % 64) // 4
+    return raw[skip:skip + ny * nx * 16].reshape(ny, nx, 16)
 
 
 class LandscapeField:
@@ -42,6 +50,12 @@ class LandscapeField:
                                  err.allowed) from None
         self.enabled = [True] * len(self.terms)
         self.nodes = np.zeros((grid.ny, grid.nx, 4))
+        #: the interpolant's polynomial per cell (see skygas.landscape.hermite), what the
+        #: engine reads; rebuilt in place with the nodes. float32: one cell is one 64-byte
+        #: cache line, and a large grid half the memory pages (each skyrmion reads its own
+        #: cell somewhere in a grid of up to hundreds of MB: the page-table misses, not the
+        #: arithmetic, set the cost)
+        self.coefficients = _aligned_cells(max(grid.ny - 1, 1), max(grid.nx - 1, 1))
         self._sum()
 
     def _sum(self) -> None:
@@ -53,6 +67,7 @@ class LandscapeField:
                 self.nodes[..., 1] += h * s.ux
                 self.nodes[..., 2] += h * s.uy
                 self.nodes[..., 3] += h * h * s.uxy
+        cell_coefficients(self.nodes, out=self.coefficients)
 
     def index(self, name_or_index) -> int:
         """The index of a term given by index or by its ``name`` (bands have one)."""
@@ -77,7 +92,7 @@ class LandscapeField:
         """U [J] and the force −∇U [N] (n, 2) of the interpolant at ``points`` [m] (n, 2)."""
         p = np.asarray(points, dtype=float).reshape(-1, 2) * units.M_TO_NM
         u, gx, gy = (np.empty(len(p)) for _ in range(3))
-        energy_and_gradient(self.nodes, self.grid.x0, self.grid.y0, self.grid.spacing,
+        energy_and_gradient(self.coefficients, self.grid.x0, self.grid.y0, self.grid.spacing,
                             np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]),
                             u, gx, gy)
         force = -np.column_stack([gx, gy]) / units.N_TO_PN
