@@ -19,6 +19,7 @@ _COMMAND_MODULES = [
     "skygas.commands.simulate",
     "skygas.commands.reshuffle",
     "skygas.commands.neuron",
+    "skygas.commands.reservoir",
     "skygas.commands.sweep",
     "skygas.sc.cli",
     "skygas.micromag.cli",
