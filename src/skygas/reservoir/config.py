@@ -17,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from skygas.config import MaterialFields, PortSpec, _to_input_error, read_toml
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
@@ -110,13 +110,6 @@ class ReservoirConfig(MaterialFields):
     readout: ReadoutSpec = ReadoutSpec()
     study: StudySpec = StudySpec()
     sweep: SweepSpec = SweepSpec()
-
-    @model_validator(mode="after")
-    def _consistent(self):
-        if self.hold_time < self.sensors.sample_interval * self.sensors.bins:
-            raise ValueError(f"hold_time = {self.hold_time} s is shorter than sensors.bins × "
-                             f"sensors.sample_interval: each bin needs at least one read")
-        return self
 
 
 def _check_counts(data: dict) -> None:

@@ -73,11 +73,20 @@ class ReservoirDevice:
         self.time_step = probe.time_step
         self.skyrmion_radius_nm = probe.thiele.skyrmion_diameter_internal / 2
         self.diffusion_constant = probe.thiele.diffusion_constant(max(config.temperature, 0.0))
-        require(config.hold_time >= self.time_step, "hold_time", config.hold_time,
-                f"a hold time of at least one time step ({self.time_step:.3g} s)")
-        require(s.sample_interval >= self.time_step, "sensors.sample_interval",
-                s.sample_interval, f"an interval of at least one time step "
-                f"({self.time_step:.3g} s)")
+        for field, hold in (("hold_time", config.hold_time),
+                            ("study.temporal_hold_time", config.study.temporal_hold_time)):
+            require(hold >= self.time_step, field, hold,
+                    f"a hold time of at least one time step ({self.time_step:.3g} s)")
+        st = config.study
+        for field, interval, hold in (("sensors.sample_interval", s.sample_interval,
+                                       config.hold_time),
+                                      ("study.temporal_sample_interval",
+                                       st.temporal_sample_interval, st.temporal_hold_time)):
+            require(interval >= self.time_step, field, interval,
+                    f"an interval of at least one time step ({self.time_step:.3g} s)")
+            require(hold >= s.bins * interval, field, interval, f"at most 1/{s.bins} of the "
+                    f"hold time {hold:.3g} s, so that each of the sensors.bins = {s.bins} "
+                    "windows gets a read")
         self._fields = self.drive.drift_fields(probe.wall_field.grid)
         self._initial_positions(probe, np.random.default_rng(0))  # do they fit?
 
