@@ -355,23 +355,46 @@ def _flow_fields(cells: _Cells, inside: np.ndarray, ports: _PortFaces, phi: np.n
     return jx, jy, phi, outward, live
 
 
-def _sample(cells: _Cells, jx: np.ndarray, jy: np.ndarray, grid: Grid):
-    """(jx, jy) of cell-centred fields at the nodes of ``grid`` (bilinear)."""
-    gx, gy = grid.nodes()
-    return cells.bilinear(jx, gx, gy), cells.bilinear(jy, gx, gy)
-
-
-def _drift(j: tuple[np.ndarray, np.ndarray], spin_drift_coefficient: float):
-    """v_s = ξ·j [m/s] from (jx, jy) [A/m²] and ξ [m³/C]."""
-    xi = float(spin_drift_coefficient)
-    require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
-            "a finite number (m³/C)")
-    return xi * j[0], xi * j[1]
-
 
 # -- the solution --------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class CurrentSolution:
+class _CellFlow:
+    """Cell-centred fields of a solved flow: j [A/m²], φ [V], and how to sample them."""
+
+    _cells: _Cells = field(repr=False)
+    _jx: np.ndarray = field(repr=False)
+    _jy: np.ndarray = field(repr=False)
+    _phi: np.ndarray = field(repr=False)
+    _inside: np.ndarray = field(repr=False)
+
+    def sample(self, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+        """(jx, jy) [A/m²] at the nodes of ``grid`` (nm), arrays of shape (ny, nx).
+
+        Nodes outside the device get the nearest inside value, so the engine's bilinear
+        interpolation is accurate up to the wall. Pass ``sim.wall_field.grid`` and hand
+        ξ·jx, ξ·jy to ``Simulation.set_drift_field``.
+        """
+        gx, gy = grid.nodes()
+        return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
+
+    def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
+        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (docs/physics.md §1)."""
+        xi = float(spin_drift_coefficient)
+        require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
+                "a finite number (m³/C)")
+        jx, jy = self.sample(grid)
+        return xi * jx, xi * jy
+
+    def current_density_at(self, x, y) -> tuple[np.ndarray, np.ndarray]:
+        """(jx, jy) [A/m²] at points (x, y) [m] (outside points: the nearest inside value)."""
+        x_nm = np.asarray(x, float) * M_TO_NM
+        y_nm = np.asarray(y, float) * M_TO_NM
+        return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(self._jy, x_nm,
+                                                                                  y_nm)
+
+
+@dataclass(frozen=True)
+class CurrentSolution(_CellFlow):
     """The current flow through one device, scaled to the user's J (SI at the interface).
 
     Attributes
@@ -398,36 +421,11 @@ class CurrentSolution:
     cells: int
     solve_seconds: float
     conservation_error: float
-    _cells: _Cells = field(repr=False)
-    _jx: np.ndarray = field(repr=False)
-    _jy: np.ndarray = field(repr=False)
-    _phi: np.ndarray = field(repr=False)
-    _inside: np.ndarray = field(repr=False)
     _outline: Outline = field(repr=False)
     _port_flux: dict = field(repr=False)
     _settings: Mapping = field(repr=False)  # solve_current's keyword arguments, as given
 
     # -- fields --------------------------------------------------------------------------------
-    def sample(self, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
-        """(jx, jy) [A/m²] at the nodes of ``grid`` (nm), arrays of shape (ny, nx).
-
-        Nodes outside the device get the nearest inside value, so the engine's bilinear
-        interpolation is accurate up to the wall. Pass ``sim.wall_field.grid`` and hand
-        ξ·jx, ξ·jy to ``Simulation.set_drift_field``.
-        """
-        return _sample(self._cells, self._jx, self._jy, grid)
-
-    def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
-        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (docs/physics.md §1)."""
-        return _drift(self.sample(grid), spin_drift_coefficient)
-
-    def current_density_at(self, x, y) -> tuple[np.ndarray, np.ndarray]:
-        """(jx, jy) [A/m²] at points (x, y) [m] (outside points: the nearest inside value)."""
-        x_nm = np.asarray(x, float) * M_TO_NM
-        y_nm = np.asarray(y, float) * M_TO_NM
-        return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(self._jy, x_nm,
-                                                                                  y_nm)
-
     @property
     def cell_grid(self) -> _Cells:
         """The cells the fields live on (hashable; equal for every solve of one outline, set of
@@ -622,7 +620,7 @@ def solve_current(
 
 # -- contacts at arbitrary potentials ---------------------------------------------------------------
 @dataclass(frozen=True)
-class ContactFlow:
+class ContactFlow(_CellFlow):
     """The current flow through a device whose contacts are held at given potentials.
 
     Every port named in ``potentials`` is an electrode at that potential [V]; the rest of the
@@ -643,29 +641,10 @@ class ContactFlow:
     conductor_thickness: float
     resistivity: float
     cell_size: float
-    _cells: _Cells = field(repr=False)
-    _jx: np.ndarray = field(repr=False)
-    _jy: np.ndarray = field(repr=False)
-    _phi: np.ndarray = field(repr=False)
-    _inside: np.ndarray = field(repr=False)
 
     @property
     def power(self) -> float:
         return float(sum(self.potentials[k] * self.contact_currents[k] for k in self.potentials))
-
-    def sample(self, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
-        """(jx, jy) [A/m²] at the nodes of ``grid`` (nm), as :meth:`CurrentSolution.sample`."""
-        return _sample(self._cells, self._jx, self._jy, grid)
-
-    def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
-        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C]."""
-        return _drift(self.sample(grid), spin_drift_coefficient)
-
-    def current_density_at(self, x, y) -> tuple[np.ndarray, np.ndarray]:
-        """(jx, jy) [A/m²] at points (x, y) [m] (outside points: the nearest inside value)."""
-        x_nm, y_nm = np.asarray(x, float) * M_TO_NM, np.asarray(y, float) * M_TO_NM
-        return (self._cells.bilinear(self._jx, x_nm, y_nm),
-                self._cells.bilinear(self._jy, x_nm, y_nm))
 
     def mean_current_density(self) -> float:
         """Area mean of |j| [A/m²] over the cells inside the device."""
@@ -740,16 +719,19 @@ def solve_contacts(outline: Outline, potentials: Mapping[str, float], *,
     h_m = cells.h / M_TO_NM
     if np.all(ports.potential == low):  # one potential everywhere: no current
         zero = np.zeros(inside.shape)
-        return ContactFlow(volts, {n: 0.0 for n in names}, thickness, rho, h_m, cells,
-                           zero, zero, np.full(inside.shape, low), inside)
+        return ContactFlow(potentials=volts, contact_currents={n: 0.0 for n in names},
+                           conductor_thickness=thickness, resistivity=rho, cell_size=h_m,
+                           _cells=cells, _jx=zero, _jy=zero, _phi=np.full(inside.shape, low),
+                           _inside=inside)
     phi = _solve_potential(cells, inside, ports, cell_size)
     jx, jy, phi, outward, _ = _flow_fields(cells, inside, ports, phi)
     # flux densities in σ·V/h → A/m²; face fluxes in σ t V → A (inward = −outward)
     currents = {n: -float(np.sum(outward[ports.port == p])) * thickness / rho
                 for p, n in enumerate(names)}
     scale = 1.0 / (rho * h_m)
-    return ContactFlow(volts, currents, thickness, rho, h_m, cells, jx * scale, jy * scale,
-                       phi, inside)
+    return ContactFlow(potentials=volts, contact_currents=currents,
+                       conductor_thickness=thickness, resistivity=rho, cell_size=h_m,
+                       _cells=cells, _jx=jx * scale, _jy=jy * scale, _phi=phi, _inside=inside)
 
 
 class ContactBasis:
