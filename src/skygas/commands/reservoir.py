@@ -37,56 +37,63 @@ def _format(s: dict, out: Path) -> str:
         "  " + ", ".join(f"{n} {100 * a:.0f} %" for n, a in s["accuracy"].items()),
         f"  mean of the 16 functions {100 * s['mean_accuracy']:.1f} %; energy per operation "
         f"{s['energy_per_operation_J']:.3g} J",
-        "  recall of input a, k back: " + ", ".join(
-            f"k={k} {100 * r['accuracy']:.0f} %" for k, r in t["recall"].items())
-        + f"; parity of the last two {100 * t['parity_last_two']['accuracy']:.0f} %",
-        f"results in {out.resolve()}",
     ]
+    if t:
+        lines.append("  recall of input a, k back: " + ", ".join(
+            f"k={k} {100 * r['accuracy']:.0f} %" for k, r in t["recall"].items())
+            + f"; parity of the last two {100 * t['parity_last_two']['accuracy']:.0f} %")
+    lines.append(f"results in {out.resolve()}")
     return "\n".join(lines)
 
 
+def _margin(r: dict) -> str:
+    m = r["margin_standard_errors"]
+    return "n/a" if m is None else f"{m:.1f}"
+
+
 def _report(s: dict, sweep: dict | None) -> str:
+    """The study as a Markdown report (report.md)."""
     d = s["device"]
-    rows = "\n".join(
-        f"| {n} | {r['truth_table']} | {100 * r['accuracy']:.1f} % | {100 * r['chance']:.0f} % "
-        f"| {r['margin_standard_errors'] if r['margin_standard_errors'] is None else round(r['margin_standard_errors'], 1)} |"
-        for n, r in s["boolean"].items())
+    c = d["config"]
+    material = c["material"] if isinstance(c["material"], str) else "a custom material"
+    lines = [
+        "# Brownian reservoir", "",
+        f"skygas {d['skygas_version']}, seed {d['seed']}: {s['n_skyrmions']} skyrmion(s) of "
+        f"{material} at {s['temperature_K']:g} K in a {c['chamber']['shape']} chamber of size "
+        f"{c['chamber']['size'] * 1e9:.0f} nm; each input held {s['hold_time_s'] * 1e6:.3g} µs; "
+        f"time step {d['time_step_s']:.3g} s; free diffusion "
+        f"{d['diffusion_constant_m2_per_s'] * 1e9:.3g} nm²/ns.", "",
+        f"Drive: V₀ = {d['drive']['unit_voltage_V']:.3g} V; energy per operation "
+        f"{s['energy_per_operation_J']:.3g} J. {s['n_inputs']} inputs in {s['streams']} "
+        f"streams, {s['wall_seconds']:.1f} s ({s['cpu_seconds']:.1f} s CPU).", "",
+        "## Boolean functions (test accuracy)", "",
+        "| function | truth table | accuracy | chance | margin (standard errors) |",
+        "|---|---|---|---|---|",
+        *(f"| {n} | {r['truth_table']} | {100 * r['accuracy']:.1f} % | "
+          f"{100 * r['chance']:.0f} % | {_margin(r)} |" for n, r in s["boolean"].items()),
+        "", "## Temporal tasks", ""]
     t = s["temporal"]
-    text = f"""# Brownian reservoir
-
-skygas {d['skygas_version']}, seed {d['seed']}; {s['n_skyrmions']} skyrmion(s) of
-{d['config']['material'] if isinstance(d['config']['material'], str) else 'a custom material'}
-at {s['temperature_K']:g} K in a {d['config']['chamber']['shape']} chamber
-(side/diameter {d['config']['chamber']['size'] * 1e9:.0f} nm), each input held
-{s['hold_time_s'] * 1e6:.3g} µs; time step {d['time_step_s']:.3g} s; free diffusion
-{d['diffusion_constant_m2_per_s'] * 1e9:.3g} nm²/ns.
-
-Drive: V₀ = {d['drive']['unit_voltage_V']:.3g} V; energy per operation
-{s['energy_per_operation_J']:.3g} J. {s['n_inputs']} inputs in {s['streams']} streams,
-{s['wall_seconds']:.1f} s ({s['cpu_seconds']:.1f} s CPU).
-
-## Boolean functions (test accuracy)
-
-| function | truth table | accuracy | chance | margin (standard errors) |
-|---|---|---|---|---|
-{rows}
-
-## Temporal tasks
-
-""" + "\n".join(f"- recall of input a, {k} inputs back: {100 * r['accuracy']:.1f} % "
-                f"(chance {100 * r['chance']:.0f} %)" for k, r in t["recall"].items()) + f"""
-- parity of the last two inputs: {100 * t['parity_last_two']['accuracy']:.1f} %
-  (chance {100 * t['parity_last_two']['chance']:.0f} %)
-
-Figures: `occupation.png` (where the skyrmion is while each input is held),
-`accuracy.png` (the 16 functions and the temporal tasks).
-"""
+    if t:
+        lines.append(f"Inputs held {s['temporal_hold_time_s'] * 1e9:.3g} ns; the state at "
+                     "step n is read out.\n")
+        lines += [f"- recall of input a, {k} inputs back: {100 * r['accuracy']:.1f} % "
+                  f"(chance {100 * r['chance']:.0f} %, margin {_margin(r)})"
+                  for k, r in t["recall"].items()]
+        p = t["parity_last_two"]
+        lines.append(f"- parity of the last two inputs: {100 * p['accuracy']:.1f} % "
+                     f"(chance {100 * p['chance']:.0f} %, margin {_margin(p)})")
+    else:
+        lines.append("No temporal stream (study.temporal_inputs = 0).")
+    lines += ["", "Figures: `occupation.png` (where the skyrmion is while each input is "
+              "held), `accuracy.png` (the 16 functions and the temporal tasks)."]
     if sweep:
-        text += f"\n## Accuracy against {sweep['parameter']}\n\n| value | XOR | std | mean of 16 |\n|---|---|---|---|\n"
-        text += "\n".join(f"| {r['value']:g} | {100 * r['xor_mean']:.1f} % | "
-                          f"{100 * r['xor_std']:.1f} % | {100 * r['mean_accuracy_mean']:.1f} % |"
-                          for r in sweep["rows"]) + "\n\nFigure: `sweep.png`.\n"
-    return text
+        lines += ["", f"## Accuracy against {sweep['parameter']}", "",
+                  f"{sweep['replicas']} replicas of {sweep['n_inputs']} inputs.", "",
+                  "| value | XOR | std | mean of 16 |", "|---|---|---|---|",
+                  *(f"| {r['value']:g} | {100 * r['xor_mean']:.1f} % | "
+                    f"{100 * r['xor_std']:.1f} % | {100 * r['mean_accuracy_mean']:.1f} % |"
+                    for r in sweep["rows"]), "", "Figure: `sweep.png`."]
+    return "\n".join(lines) + "\n"
 
 
 def _reservoir(args) -> int:

@@ -4,10 +4,11 @@ Defaults (docs/reservoir.md, "Choosing the defaults"): an equilateral triangle o
 (about 8 skyrmion diameters) whose corners are cut into 60 nm contacts A, B (bottom) and C (top);
 one skyrmion of S2 in a 2 nm film at 300 K; inputs on A and B (bit 0 → −V₀, bit 1 → +V₀), C at
 0 V; V₀ chosen so that the chamber-mean |j| of the unit pattern "A at V₀, others at 0 V" is
-4e9 A/m² (drift speed ξJ ≈ 0.7 m/s); every input held 20 µs; one disk sensor of radius 90 nm at each contact, read every
-10 ns. A skyrmion of S2 diffuses 4.4 nm²/ns at 300 K and crosses the triangle's accessible
-region (~150 nm) in a few µs, so a 20 µs hold averages over several explorations: the regime in
-which thermal motion, not the drive alone, sets where the skyrmion tends to be.
+4e9 A/m² (drift speed ξJ ≈ 0.7 m/s); every input held 20 µs; one disk sensor of radius 90 nm
+at each contact, read every 10 ns. A skyrmion of S2 diffuses 4.4 nm²/ns at 300 K and crosses
+the region the walls leave it (~150 nm) in a few µs, so a 20 µs hold averages over several
+explorations: the regime in which thermal motion, not the drive alone, sets where the skyrmion
+tends to be.
 
 Every configuration error is reported before any work, in one line naming the field.
 """

@@ -45,8 +45,9 @@ def plot_occupation(device, streams, path: Path) -> Path:
 def plot_accuracies(summary: dict, path: Path) -> Path:
     """Test accuracy of the 16 Boolean read-outs (chance level marked) and of the temporal
     tasks (recall against delay, parity of the last two inputs)."""
-    fig = Figure(figsize=(10, 3.8), dpi=110)
-    ax = fig.add_subplot(1, 2, 1)
+    t = summary["temporal"]
+    fig = Figure(figsize=(10 if t else 5.5, 3.8), dpi=110)
+    ax = fig.add_subplot(1, 2 if t else 1, 1)
     names = list(summary["boolean"])
     acc = [summary["boolean"][n]["accuracy"] for n in names]
     chance = [summary["boolean"][n]["chance"] for n in names]
@@ -59,7 +60,10 @@ def plot_accuracies(summary: dict, path: Path) -> Path:
     ax.legend(fontsize=7, loc="lower right")
     ax.set_title(f"Boolean functions of two inputs, hold {summary['hold_time_s'] * 1e6:g} µs",
                  fontsize=8)
-    t = summary["temporal"]
+    if not t:
+        fig.tight_layout()
+        fig.savefig(path)
+        return path
     ax2 = fig.add_subplot(1, 2, 2)
     delays = [int(k) for k in t["recall"]]
     ax2.plot(delays, [t["recall"][str(k)]["accuracy"] for k in delays], "o-",
