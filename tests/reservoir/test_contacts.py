@@ -60,3 +60,14 @@ def test_unit_solution_matches_the_source_sink_solver(triangle, basis):
 def test_equal_potentials_carry_no_current(triangle):
     flow = solve_contacts(triangle, {"A": 1e-3, "B": 1e-3}, cell_size=5e-9)
     assert flow.power == 0.0 and flow.mean_current_density() == 0.0
+
+
+@pytest.mark.parametrize("shape, contacts", [("triangle", "ABC"), ("square", "ABCD"),
+                                             ("disk", "ABC")])
+def test_chambers_have_their_contacts_on_the_outline(shape, contacts):
+    spec = ChamberSpec(shape=shape, size=300e-9, contact_width=60e-9)
+    outline = build_chamber(spec)
+    assert outline.port_names() == list(contacts)
+    for segment in outline.ports.values():
+        assert segment.length == pytest.approx(60.0, rel=1e-9)  # nm
+        assert outline.region.boundary.distance(segment.centroid) < 1e-6

@@ -62,37 +62,36 @@ def _cut_corners(vertices: np.ndarray, width: float) -> tuple[np.ndarray, list]:
     return np.array(points), cuts
 
 
-def _disk_with_flats(diameter: float, width: float, names: list[str]) -> geo.Outline:
+def _disk_with_flats(diameter: float, width: float) -> geo.Outline:
+    """A disk with straight flats of length ``width`` [m] centred at 210°, 330° and 90°: the
+    flats' ends lie exactly on the circle, the arcs between them are polygons whose chords stray
+    at most 0.05 nm from the circle (like :func:`skygas.geometry.disk`)."""
     radius = diameter / 2
     require(width < diameter, "chamber.contact_width", width,
             f"a width smaller than the disk's diameter ({diameter} m)")
-    region = geo.disk(radius).region
-    depth = math.sqrt(radius ** 2 - (width / 2) ** 2) * M_TO_NM
-    from shapely.geometry import LineString, box
-    from shapely import affinity
-
-    flats = []
-    for angle in (210.0, 330.0, 90.0):
-        # the half-plane beyond the flat, rotated into place
-        beyond = affinity.rotate(box(depth, -2 * radius * M_TO_NM, 4 * radius * M_TO_NM,
-                                     2 * radius * M_TO_NM), angle, origin=(0, 0))
-        region = region.difference(beyond)
-        chord = affinity.rotate(LineString([(depth, -radius * M_TO_NM),
-                                            (depth, radius * M_TO_NM)]), angle, origin=(0, 0))
-        flats.append(chord)
-    outline = geo.Outline(region)
-    for name, chord in zip(names, flats):
-        piece = region.boundary.intersection(chord)
-        (x1, y1), (x2, y2) = piece.coords[0], piece.coords[-1]
-        outline = outline.with_port(name, (x1 / M_TO_NM, y1 / M_TO_NM),
-                                    (x2 / M_TO_NM, y2 / M_TO_NM))
+    half = math.asin(width / diameter)  # half the angle a flat spans
+    step = 2 * math.sqrt(2 * 0.05 / (radius * M_TO_NM))  # chord error ≤ 0.05 nm
+    centres = np.radians([90.0, 210.0, 330.0])
+    points, cuts = [], []
+    for k, centre in enumerate(centres):
+        start, end = centre - half, centre + half
+        cuts.append((radius * np.array([math.cos(start), math.sin(start)]),
+                     radius * np.array([math.cos(end), math.sin(end)])))
+        following = centres[(k + 1) % 3] + (2 * math.pi if k == 2 else 0.0) - half
+        n = max(8, int(math.ceil((following - end) / step)))
+        arc = np.linspace(end, following, n + 1)[:-1]  # from the flat's end, not the next start
+        points.append(cuts[-1][0])
+        points += [radius * np.array([math.cos(t), math.sin(t)]) for t in arc]
+    outline = geo.polygon(np.array(points))
+    for name, k in (("A", 1), ("B", 2), ("C", 0)):  # the flats at 210°, 330°, 90°
+        outline = outline.with_port(name, *cuts[k])
     return outline
 
 
 def build_chamber(spec: ChamberSpec) -> geo.Outline:
     """The chamber outline with its contacts as ports (see the module docstring)."""
     if spec.shape == "disk":
-        outline = _disk_with_flats(spec.size, spec.contact_width, _names(3))
+        outline = _disk_with_flats(spec.size, spec.contact_width)
         corners = None
     else:
         if spec.shape == "triangle":
