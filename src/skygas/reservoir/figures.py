@@ -92,7 +92,10 @@ def plot_sweep(sweep: dict, path: Path) -> Path:
     ax.plot(v, [r["mean_accuracy_mean"] for r in sweep["rows"]], "s--",
             label="mean of the 16 functions")
     ax.axhline(0.5, color="k", lw=0.6, ls=":")
-    ax.set_xlabel(sweep["parameter"])
+    units = {"hold_time": "hold time (s)", "temperature": "temperature (K)",
+             "n_skyrmions": "number of skyrmions", "current_density": "current density (A/m²)",
+             "pinning_depth_kT": "depth of the pinning wells (k_BT)"}
+    ax.set_xlabel(units.get(sweep["parameter"], sweep["parameter"]))
     ax.set_ylabel("test accuracy")
     if sweep["parameter"] in ("hold_time", "current_density"):
         ax.set_xscale("log")
