@@ -62,6 +62,10 @@ def run_study(config: ReservoirConfig, device: ReservoirDevice | None = None,
         "energy_per_operation_J": device.drive.record(config.hold_time)[
             "energy_per_operation_J"],
         "boolean": boolean,
+        # mean sensor signal (covered fraction) while each input is held
+        "sensor_means": {"".join(map(str, sym)): dict(zip(device.sensor_names, map(float, m)))
+                         for sym, m in zip(device.drive.symbols,
+                                           sum(s.sensor_means for s in streams) / len(streams))},
         "temporal": scores["temporal"],
         "n_inputs": int(sum(len(s.bits) for s in streams)),
         "streams": len(streams),
