@@ -77,3 +77,16 @@ def test_truth_tables_and_the_xor_of_separated_states():
     scores = boolean_study(states, bits, train, test)
     assert list(scores)[0] == "XOR"
     assert all(s["accuracy"] == 1.0 for s in scores.values())
+
+
+def test_a_random_landscape_is_one_device_in_one_stream():
+    from skygas.reservoir.config import reservoir_config
+    from skygas.reservoir.device import run_streams
+
+    pinned = reservoir_config({
+        "hold_time": 1e-7, "sensors": {"sample_interval": 5e-9},
+        "study": {"n_inputs": 16, "temporal_inputs": 0, "workers": 2},
+        "potentials": [{"kind": "random_pinning", "density": 1.7e14, "sigma": 19e-9,
+                        "depth_kT": 2.0}]})
+    boolean, temporal = run_streams(pinned)
+    assert len(boolean) == 1 and len(boolean[0].bits) == 16 and temporal == []

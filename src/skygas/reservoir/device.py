@@ -28,6 +28,8 @@ from skygas.reservoir.drive import Drive
 from skygas.reservoir.sensors import coverage
 from skygas.units import M_TO_NM
 
+#: Landscape kinds drawn at random from the run's seed (see :func:`run_streams`).
+RANDOM_LANDSCAPES = ("random_pinning", "disorder")
 #: Occupation maps are histograms on this many bins along the chamber's longer side.
 MAP_BINS = 48
 
@@ -215,11 +217,17 @@ def run_streams(config: ReservoirConfig, n_inputs: int | None = None,
                 ) -> tuple[list[StreamResult], list[StreamResult]]:
     """The Boolean streams (``n_inputs`` held inputs in all) and the temporal streams
     (``n_temporal``), split into ``workers`` independent streams run in parallel processes
-    (one: in this process)."""
+    (one: in this process).
+
+    A landscape with random terms (pinning wells, disorder) is drawn from the run's seed, and
+    every stream has its own seed: streams would be different devices. Such a study runs as
+    one stream, so that one read-out is trained and tested on one device."""
     st = config.study
     n_inputs = st.n_inputs if n_inputs is None else n_inputs
     n_temporal = st.temporal_inputs if n_temporal is None else n_temporal
     workers = max(1, min(st.workers if workers is None else workers, n_inputs // 4))
+    if any(p.kind in RANDOM_LANDSCAPES for p in config.potentials):
+        workers = 1
     sizes = [len(a) for a in np.array_split(np.arange(n_inputs), workers)]
     temporal = [len(a) for a in np.array_split(np.arange(n_temporal), workers)]
     if workers == 1:
