@@ -17,7 +17,8 @@ import pytest
 
 
 @pytest.mark.parametrize("package", ["skygas", "skygas.reshuffler", "skygas.sweep",
-                                     "skygas.neuron", "skygas.sc", "skygas.micromag"])
+                                     "skygas.neuron", "skygas.sc", "skygas.micromag",
+                                     "skygas.reservoir"])
 def test_every_exported_name_resolves(package):
     module = importlib.import_module(package)
     assert module.__all__

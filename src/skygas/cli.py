@@ -20,6 +20,7 @@ _COMMAND_MODULES = [
     "skygas.commands.simulate",
     "skygas.commands.reshuffle",
     "skygas.commands.neuron",
+    "skygas.commands.reservoir",
     "skygas.commands.sweep",
     "skygas.commands.animate",
     "skygas.commands.report",

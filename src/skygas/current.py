@@ -186,11 +186,11 @@ class _PortFaces:
 
 
 def _port_faces(cells: _Cells, inside: np.ndarray, outline: Outline,
-                sources: tuple[str, ...], sinks: tuple[str, ...]) -> _PortFaces:
+                electrodes: Sequence[tuple[str, float, bool]]) -> _PortFaces:
+    """The boundary faces of the electrodes ``(port name, potential [V], is_source)``."""
     cx, cy = cells.centres()
     parts = {k: [] for k in ("cell_j", "cell_i", "direction", "conductance", "potential",
                              "is_source", "port")}
-    electrodes = [(n, 1.0, True) for n in sources] + [(n, 0.0, False) for n in sinks]
     for d, (di, dj) in enumerate(_DIRECTIONS):
         neighbour_inside = np.roll(inside, (-dj, -di), axis=(0, 1))
         jj, ii = np.nonzero(inside & ~neighbour_inside)  # the margin keeps rolls from wrapping
@@ -215,9 +215,10 @@ def _port_faces(cells: _Cells, inside: np.ndarray, outline: Outline,
     return _PortFaces(**{k: np.concatenate(v) for k, v in parts.items()})
 
 
-def _solve_unit_potential(cells: _Cells, inside: np.ndarray, ports: _PortFaces,
-                          cell_size: float):
-    """φ for 1 V between source and sink, in cells that reach an electrode (nan elsewhere)."""
+def _solve_potential(cells: _Cells, inside: np.ndarray, ports: _PortFaces, cell_size: float):
+    """φ [V] for the electrodes' potentials, in cells that reach an electrode (nan elsewhere).
+
+    The device must connect at least one source face to one sink face."""
     index = np.full(inside.shape, -1)
     n = int(inside.sum())
     index[inside] = np.arange(n)
@@ -301,15 +302,36 @@ def _unit_flow(outline: Outline, sources: tuple[str, ...], sinks: tuple[str, ...
     cells = _aligned_cells(outline, outline.ports[sources[0]], h_nm)
     cx, cy = cells.centres()
     inside = outline.contains_nm(cx, cy)
-    ports = _port_faces(cells, inside, outline, sources, sinks)
+    ports = _port_faces(cells, inside, outline, [(n, 1.0, True) for n in sources]
+                        + [(n, 0.0, False) for n in sinks])
     for side, names, mask in (("source", sources, ports.is_source),
                               ("sink", sinks, ~ports.is_source)):
         require(mask.any(), "cell_size", cell_size,
                 f"a cell size small enough that the {side} port(s) {list(names)} touch "
                 "at least one cell centre inside the outline")
-    phi = _solve_unit_potential(cells, inside, ports, cell_size)
+    phi = _solve_potential(cells, inside, ports, cell_size)
+    jx_unit, jy_unit, phi_unit, outward, live = _flow_fields(cells, inside, ports, phi)
 
-    # Unit-voltage flux densities across every face, in units of σ·(1 V)/h (φ is 0 … 1).
+    # Port currents in units of σ t (1 V): sum of outward face fluxes (h cancels).
+    port_current_unit = {}
+    for p, name in enumerate(sources + sinks):
+        port_current_unit[name] = float(np.sum(outward[ports.port == p]))
+    source_unit = -sum(port_current_unit[n] for n in sources)  # into the device
+    sink_unit = sum(port_current_unit[n] for n in sinks)  # out of it
+    return _UnitFlow(cells=cells, inside=inside, jx_unit=jx_unit, jy_unit=jy_unit,
+                     phi_unit=phi_unit, port_current_unit=tuple(port_current_unit.items()),
+                     source_unit=source_unit, cells_live=int(live.sum()),
+                     conservation_error=abs(sink_unit - source_unit) / source_unit,
+                     solve_seconds=time.perf_counter() - started)
+
+
+def _flow_fields(cells: _Cells, inside: np.ndarray, ports: _PortFaces, phi: np.ndarray):
+    """(jx, jy, φ extended to every cell, outward flux of each port face, live cells) from the
+    solved φ: flux densities in units of σ·V/h, face fluxes in units of σ t V (V the unit of φ).
+
+    Cells outside the outline (and cells cut off from the electrodes) take the nearest live
+    value, so that bilinear interpolation stays accurate up to the wall."""
+    # Flux densities across every face.
     face = []
     for di, dj in _DIRECTIONS:
         other = np.roll(phi, (-dj, -di), axis=(0, 1))
@@ -320,34 +342,58 @@ def _unit_flow(outline: Outline, sources: tuple[str, ...], sinks: tuple[str, ...
         on = ports.direction == d
         face[d][k[0][on], k[1][on]] = (ports.conductance[on]
                                        * (phi[k[0][on], k[1][on]] - ports.potential[on]))
-    jx_unit = 0.5 * (face[0] - face[1])
-    jy_unit = 0.5 * (face[2] - face[3])
-
-    # Port currents in units of σ t (1 V): sum of outward face fluxes (h cancels).
-    port_current_unit = {}
+    jx = 0.5 * (face[0] - face[1])
+    jy = 0.5 * (face[2] - face[3])
     outward = ports.conductance * (phi[k] - ports.potential)
-    for p, name in enumerate(sources + sinks):
-        port_current_unit[name] = float(np.sum(outward[ports.port == p]))
-    source_unit = -sum(port_current_unit[n] for n in sources)  # into the device
-    sink_unit = sum(port_current_unit[n] for n in sinks)  # out of it
-
-    # Outside cells (and cells cut off from the electrodes) take the nearest live value.
     live = inside & np.isfinite(phi)
     nearest = ndimage.distance_transform_edt(~live, return_distances=False, return_indices=True)
-    jx_unit = jx_unit[nearest[0], nearest[1]]
-    jy_unit = jy_unit[nearest[0], nearest[1]]
-    phi_unit = phi[nearest[0], nearest[1]]  # every nearest cell is live: no nan left
-    frozen(inside, jx_unit, jy_unit, phi_unit)
-    return _UnitFlow(cells=cells, inside=inside, jx_unit=jx_unit, jy_unit=jy_unit,
-                     phi_unit=phi_unit, port_current_unit=tuple(port_current_unit.items()),
-                     source_unit=source_unit, cells_live=int(live.sum()),
-                     conservation_error=abs(sink_unit - source_unit) / source_unit,
-                     solve_seconds=time.perf_counter() - started)
+    jx = jx[nearest[0], nearest[1]]
+    jy = jy[nearest[0], nearest[1]]
+    phi = phi[nearest[0], nearest[1]]  # every nearest cell is live: no nan left
+    frozen(inside, jx, jy, phi)
+    return jx, jy, phi, outward, live
+
 
 
 # -- the solution --------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class CurrentSolution:
+class _CellFlow:
+    """Cell-centred fields of a solved flow: j [A/m²], φ [V], and how to sample them."""
+
+    _cells: _Cells = field(repr=False)
+    _jx: np.ndarray = field(repr=False)
+    _jy: np.ndarray = field(repr=False)
+    _phi: np.ndarray = field(repr=False)
+    _inside: np.ndarray = field(repr=False)
+
+    def sample(self, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+        """(jx, jy) [A/m²] at the nodes of ``grid`` (nm), arrays of shape (ny, nx).
+
+        Nodes outside the device get the nearest inside value, so the engine's bilinear
+        interpolation is accurate up to the wall. Pass ``sim.wall_field.grid`` and hand
+        ξ·jx, ξ·jy to ``Simulation.set_drift_field``.
+        """
+        gx, gy = grid.nodes()
+        return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
+
+    def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
+        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (docs/physics.md §1)."""
+        xi = float(spin_drift_coefficient)
+        require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
+                "a finite number (m³/C)")
+        jx, jy = self.sample(grid)
+        return xi * jx, xi * jy
+
+    def current_density_at(self, x, y) -> tuple[np.ndarray, np.ndarray]:
+        """(jx, jy) [A/m²] at points (x, y) [m] (outside points: the nearest inside value)."""
+        x_nm = np.asarray(x, float) * M_TO_NM
+        y_nm = np.asarray(y, float) * M_TO_NM
+        return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(self._jy, x_nm,
+                                                                                  y_nm)
+
+
+@dataclass(frozen=True)
+class CurrentSolution(_CellFlow):
     """The current flow through one device, scaled to the user's J (SI at the interface).
 
     Attributes
@@ -374,41 +420,11 @@ class CurrentSolution:
     cells: int
     solve_seconds: float
     conservation_error: float
-    _cells: _Cells = field(repr=False)
-    _jx: np.ndarray = field(repr=False)
-    _jy: np.ndarray = field(repr=False)
-    _phi: np.ndarray = field(repr=False)
-    _inside: np.ndarray = field(repr=False)
     _outline: Outline = field(repr=False)
     _port_flux: dict = field(repr=False)
     _settings: Mapping = field(repr=False)  # solve_current's keyword arguments, as given
 
     # -- fields --------------------------------------------------------------------------------
-    def sample(self, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
-        """(jx, jy) [A/m²] at the nodes of ``grid`` (nm), arrays of shape (ny, nx).
-
-        Nodes outside the device get the nearest inside value, so the engine's bilinear
-        interpolation is accurate up to the wall. Pass ``sim.wall_field.grid`` and hand
-        ξ·jx, ξ·jy to ``Simulation.set_drift_field``.
-        """
-        gx, gy = grid.nodes()
-        return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
-
-    def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
-        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (docs/physics.md §1)."""
-        xi = float(spin_drift_coefficient)
-        require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
-                "a finite number (m³/C)")
-        jx, jy = self.sample(grid)
-        return xi * jx, xi * jy
-
-    def current_density_at(self, x, y) -> tuple[np.ndarray, np.ndarray]:
-        """(jx, jy) [A/m²] at points (x, y) [m] (outside points: the nearest inside value)."""
-        x_nm = np.asarray(x, float) * M_TO_NM
-        y_nm = np.asarray(y, float) * M_TO_NM
-        return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(self._jy, x_nm,
-                                                                                  y_nm)
-
     @property
     def cell_grid(self) -> _Cells:
         """The cells the fields live on (hashable; equal for every solve of one outline, set of
@@ -599,3 +615,154 @@ def solve_current(
         _settings=MappingProxyType({"source": sources, "sink": sinks, "cell_size": cell_size,
                                     "conductor_thickness": conductor_thickness,
                                     "resistivity": resistivity}))
+
+
+# -- contacts at arbitrary potentials ---------------------------------------------------------------
+@dataclass(frozen=True)
+class ContactFlow(_CellFlow):
+    """The current flow through a device whose contacts are held at given potentials.
+
+    Every port named in ``potentials`` is an electrode at that potential [V]; the rest of the
+    boundary (other ports included) is insulating. The problem is linear, so flows add:
+    ``a * f + b * g`` is the flow for the potentials a·V_f + b·V_g (:class:`ContactBasis`).
+
+    Attributes
+    ----------
+    potentials: contact → potential [V].
+    contact_currents: contact → current [A] flowing *into* the device through it (they sum to
+        zero up to round-off).
+    power: Joule power P = Σ_k V_k I_k = ∫ ρ j² dV [W].
+    conductor_thickness [m], resistivity [Ω·m], cell_size [m]: as in :func:`solve_current`.
+    """
+
+    potentials: Mapping[str, float]
+    contact_currents: Mapping[str, float]
+    conductor_thickness: float
+    resistivity: float
+    cell_size: float
+
+    @property
+    def power(self) -> float:
+        return float(sum(self.potentials[k] * self.contact_currents[k] for k in self.potentials))
+
+    def mean_current_density(self) -> float:
+        """Area mean of |j| [A/m²] over the cells inside the device."""
+        return float(np.mean(np.hypot(self._jx, self._jy)[self._inside]))
+
+    @property
+    def cell_fields(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(jx [A/m²], jy [A/m²], φ [V], inside) at the cell centres."""
+        return self._jx, self._jy, self._phi, self._inside
+
+
+def _superpose(flows: Sequence[ContactFlow], weights: Sequence[float]) -> ContactFlow:
+    """Σ_i w_i·flow_i: potentials, currents and fields all add (the problem is linear)."""
+    first = flows[0]
+    def mix(get):
+        return sum(w * get(f) for f, w in zip(flows, weights))
+    names = list(first.potentials)
+    return ContactFlow(
+        potentials={k: float(mix(lambda f: f.potentials[k])) for k in names},
+        contact_currents={k: float(mix(lambda f: f.contact_currents[k])) for k in names},
+        conductor_thickness=first.conductor_thickness, resistivity=first.resistivity,
+        cell_size=first.cell_size, _cells=first._cells, _jx=mix(lambda f: f._jx),
+        _jy=mix(lambda f: f._jy), _phi=mix(lambda f: f._phi), _inside=first._inside)
+
+
+def _contact_cells(outline: Outline, contacts: Sequence[str], h_nm: float):
+    """Cells aligned with the first contact (shared by every solve on these contacts, so that
+    flows can be added cell by cell) and the inside mask."""
+    cells = _aligned_cells(outline, outline.ports[contacts[0]], h_nm)
+    cx, cy = cells.centres()
+    return cells, outline.contains_nm(cx, cy)
+
+
+def _check_contacts(outline: Outline, potentials) -> dict[str, float]:
+    allowed = (f"a mapping of at least two port names of the outline "
+               f"({outline.port_names()}) to finite potentials in volts")
+    require(isinstance(potentials, Mapping) and len(potentials) >= 2, "potentials",
+            potentials, allowed)
+    out = {}
+    for name, v in potentials.items():
+        ok = isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool)
+        require(name in outline.ports and ok and math.isfinite(v), f"potentials.{name}", v,
+                allowed)
+        out[name] = float(v)
+    return out
+
+
+def solve_contacts(outline: Outline, potentials: Mapping[str, float], *,
+                   cell_size: float = DEFAULT_CELL_SIZE,
+                   conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
+                   resistivity: float = DEFAULT_RESISTIVITY) -> ContactFlow:
+    """Solve ∇·(σ∇φ) = 0 with every port in ``potentials`` held at its potential [V].
+
+    The direct solve for one set of potentials; :class:`ContactBasis` gives the same flow as a
+    superposition of unit solutions, which is cheaper when many sets are needed. Cells are
+    aligned with the first contact named, as in :class:`ContactBasis`.
+    """
+    require(isinstance(outline, Outline), "outline", type(outline).__name__,
+            "a skygas.geometry.Outline")
+    volts = _check_contacts(outline, potentials)
+    thickness = _positive_number("conductor_thickness", conductor_thickness, "metres")
+    rho = _positive_number("resistivity", resistivity, "Ω·m")
+    h_nm = _positive_number("cell_size", cell_size, "metres") * M_TO_NM
+    names = list(volts)
+    cells, inside = _contact_cells(outline, names, h_nm)
+    low = min(volts.values())
+    ports = _port_faces(cells, inside, outline, [(n, v, v > low) for n, v in volts.items()])
+    for n in range(len(names)):
+        require(np.any(ports.port == n), "cell_size", cell_size,
+                f"a cell size small enough that contact {names[n]!r} touches at least one "
+                "cell centre inside the outline")
+    h_m = cells.h / M_TO_NM
+    if np.all(ports.potential == low):  # one potential everywhere: no current
+        zero = np.zeros(inside.shape)
+        return ContactFlow(potentials=volts, contact_currents={n: 0.0 for n in names},
+                           conductor_thickness=thickness, resistivity=rho, cell_size=h_m,
+                           _cells=cells, _jx=zero, _jy=zero, _phi=np.full(inside.shape, low),
+                           _inside=inside)
+    phi = _solve_potential(cells, inside, ports, cell_size)
+    jx, jy, phi, outward, _ = _flow_fields(cells, inside, ports, phi)
+    # flux densities in σ·V/h → A/m²; face fluxes in σ t V → A (inward = −outward)
+    currents = {n: -float(np.sum(outward[ports.port == p])) * thickness / rho
+                for p, n in enumerate(names)}
+    scale = 1.0 / (rho * h_m)
+    return ContactFlow(potentials=volts, contact_currents=currents,
+                       conductor_thickness=thickness, resistivity=rho, cell_size=h_m,
+                       _cells=cells, _jx=jx * scale, _jy=jy * scale, _phi=phi, _inside=inside)
+
+
+class ContactBasis:
+    """Unit solutions of a set of contacts: contact k at 1 V, the others at 0 V.
+
+    By linearity the flow for potentials V is Σ_k V_k·(unit flow k) (:meth:`flow`), the contact
+    currents are I = G·V with the conductance matrix G_kl = current into contact k for 1 V on
+    contact l (:attr:`conductance`, [S]), and the Joule power is P = Vᵀ G V.
+    """
+
+    def __init__(self, outline: Outline, contacts: Sequence[str], *,
+                 cell_size: float = DEFAULT_CELL_SIZE,
+                 conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
+                 resistivity: float = DEFAULT_RESISTIVITY):
+        names = list(contacts)
+        require(len(set(names)) == len(names) and len(names) >= 2, "contacts", contacts,
+                "at least two different port names")
+        self.contacts = tuple(names)
+        self.units = [solve_contacts(outline, {n: float(n == k) for n in names},
+                                     cell_size=cell_size,
+                                     conductor_thickness=conductor_thickness,
+                                     resistivity=resistivity) for k in names]
+        self.conductance = np.array([[u.contact_currents[k] for u in self.units]
+                                     for k in names])
+
+    def flow(self, potentials: Mapping[str, float]) -> ContactFlow:
+        """The flow for ``potentials`` (every contact named, volts) by superposition."""
+        require(isinstance(potentials, Mapping) and set(potentials) == set(self.contacts),
+                "potentials", potentials, f"a potential [V] for each of {list(self.contacts)}")
+        return _superpose(self.units, [float(potentials[n]) for n in self.contacts])
+
+    def power(self, potentials: Mapping[str, float]) -> float:
+        """Joule power P = Vᵀ G V [W] for ``potentials`` [V]."""
+        v = np.array([float(potentials[n]) for n in self.contacts])
+        return float(v @ self.conductance @ v)
