@@ -105,7 +105,7 @@ def _reservoir(args) -> int:
 
     data = {}
     if args.config is not None:
-        from skygas.config import read_toml
+        from skygas.config_types import read_toml
 
         data = read_toml(args.config)
     for opt, path in OVERRIDES.items():

@@ -18,15 +18,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import Field, ValidationError
 
-from skygas.config import MaterialFields, PortSpec, _to_input_error, read_toml
+from skygas.config import MaterialFields, PortSpec
+from skygas.config_types import StrictModel as _Strict  # noqa: N814 (the name every config uses)
+from skygas.config_types import read_toml, to_input_error
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
 from skygas.errors import InputError
-
-
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class ChamberSpec(_Strict):
@@ -98,8 +96,6 @@ class SweepSpec(_Strict):
 class ReservoirConfig(MaterialFields):
     """Everything that defines a reservoir study (SI units)."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
-
     seed: int = Field(0, ge=0, lt=2**63)
     temperature: float = Field(300.0, ge=0)
     time_step: float | None = Field(None, gt=0)   # s; None: the engine's suggested step
@@ -130,7 +126,7 @@ def reservoir_config(data: dict | None = None, **overrides) -> ReservoirConfig:
     try:
         config = ReservoirConfig.model_validate(data)
     except ValidationError as err:
-        raise _to_input_error(err, "reservoir config: ") from None
+        raise to_input_error(err, "reservoir config: ") from None
     config.resolved_material()
     return config
 

@@ -45,7 +45,7 @@ def run_study(config: ReservoirConfig, device: ReservoirDevice | None = None,
     """The study of ``config`` (``temporal_tasks=False`` skips the temporal stream): (summary
     record, the Boolean streams)."""
     device = device or ReservoirDevice(config)
-    started, cpu = time.perf_counter(), time.process_time()
+    started = time.perf_counter()
     streams, temporal = run_streams(config, n_inputs=n_inputs,
                                     n_temporal=None if temporal_tasks else 0)
     scores = score_streams(config, streams, temporal)
