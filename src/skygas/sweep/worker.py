@@ -15,6 +15,7 @@ QUANTITIES = (
     "n_injected", "n_detected", "n_skipped", "n_present", "max_occupancy",
     "mean_transit_s", "power_W", "energy_per_bit_J", "simulated_time_s", "time_step_s",
     "wall_time_s", "correlation_best_lag", "median_transit_s", "p_out_low", "p_out_high",
+    "wall_escapes",
 )
 #: Curves stored for each run: the running correlation ρ and its times [s].
 RUNNING = ("running_rho", "running_time")

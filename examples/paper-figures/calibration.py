@@ -1,0 +1,118 @@
+"""Calibration of the `paper-figures` preset from its calibration sweeps.
+
+    python examples/paper-figures/calibration.py runs/calibration-high.zarr \
+        runs/calibration-s100.zarr --out docs/figures
+
+For each dynamics time scale s in the stores: ρ at J = 3.8×10¹¹ A/m² against ξ (replica mean
+± standard error), ξ(s) where ρ crosses the paper's 0.64 (linear interpolation between the two
+bracketing points; its uncertainty from ρ's standard errors through the local slope), and the
+low-current statements (ρ, fullest chamber, p_out against its 95 % interval) at 10¹⁰ A/m².
+Writes ``calibration.json`` and ``calibration.png`` (left: ρ(ξ) per s; right: the running ρ of
+each run at J = 3.8×10¹¹, which shows the ballistic state and its collapse).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+
+from skygas.sweep import open_sweep
+from skygas.sweep.analysis import point_table
+
+TARGET, HIGH, LOW = 0.64, 3.8e11, 1e10
+S_KEY, XI_KEY, J_KEY = "hypothesis_dynamics_time_scale", "spin_drift_coefficient", \
+    "current_density"
+
+
+def rows_of(stores: list[str], default_s: float) -> list[dict]:
+    rows = []
+    for store in stores:
+        for row in point_table(open_sweep(store)):
+            row.setdefault(S_KEY, default_s)
+            row.setdefault(J_KEY, HIGH)
+            row["store"] = store
+            rows.append(row)
+    return rows
+
+
+def crossing(xi: np.ndarray, rho: np.ndarray, sem: np.ndarray) -> dict:
+    """ξ where ρ(ξ) first crosses TARGET upwards, with the error ρ's s.e. gives it."""
+    order = np.argsort(xi)
+    xi, rho, sem = xi[order], rho[order], sem[order]
+    for i in range(len(xi) - 1):
+        if rho[i] < TARGET <= rho[i + 1]:
+            slope = (rho[i + 1] - rho[i]) / (xi[i + 1] - xi[i])
+            value = xi[i] + (TARGET - rho[i]) / slope
+            error = float(np.hypot(sem[i], sem[i + 1]) / slope)
+            return {"xi": float(value), "xi_error": error, "bracket": [xi[i], xi[i + 1]]}
+    return {"xi": float("nan"), "note": "rho does not cross 0.64 in the scanned xi",
+            "rho_range": [float(np.nanmin(rho)), float(np.nanmax(rho))]}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("stores", nargs="+")
+    parser.add_argument("--default-s", type=float, default=100.0,
+                        help="s of stores that do not sweep it (the preset's)")
+    parser.add_argument("--out", required=True)
+    args = parser.parse_args()
+    rows = rows_of(args.stores, args.default_s)
+    result = {"target_rho": TARGET, "per_s": {}}
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(11, 4.2), dpi=110)
+    left, right = fig.subplots(1, 2)
+    for s in sorted({r[S_KEY] for r in rows}):
+        high = [r for r in rows if r[S_KEY] == s and r[J_KEY] == HIGH]
+        low = [r for r in rows if r[S_KEY] == s and r[J_KEY] == LOW]
+        xi = np.array([r[XI_KEY] for r in high])
+        rho = np.array([r["rho"] for r in high])
+        sem = np.array([r["rho_sem"] for r in high])
+        entry = {"high_current": [{k: r[k] for k in (XI_KEY, "rho", "rho_sem",
+                                                     "correlation_max_lag", "max_occupancy",
+                                                     "mean_transit_s")} for r in high],
+                 "crossing": crossing(xi, rho, sem),
+                 "low_current": [{k: r[k] for k in (XI_KEY, "rho", "rho_sem", "max_occupancy",
+                                                    "p_in", "p_out", "p_out_worst_z",
+                                                    "mean_transit_s")} for r in low]}
+        result["per_s"][f"{s:g}"] = entry
+        order = np.argsort(xi)
+        left.errorbar(xi[order], rho[order], yerr=np.nan_to_num(sem[order]), fmt="o-",
+                      capsize=2, label=f"s = {s:g}")
+    left.axhline(TARGET, color="k", ls=":", label="paper: 0.64")
+    left.set_xscale("log")
+    left.set_xlabel("spin-drift coefficient ξ (m³/C)")
+    left.set_ylabel("ρ at J = 3.8×10¹¹ A/m²")
+    left.legend(fontsize=8)
+    for store in args.stores:
+        ds = open_sweep(store)
+        if "point" not in ds.dims:
+            continue
+        for i in range(ds.sizes["point"]):
+            pt = ds.isel(point=i)
+            if J_KEY in pt and float(pt[J_KEY]) != HIGH:
+                continue
+            s = float(pt[S_KEY]) if S_KEY in pt else args.default_s
+            xi = float(pt[XI_KEY])
+            for r in range(ds.sizes["replica"]):
+                t = pt["running_time"].isel(replica=r).values
+                y = pt["running_rho"].isel(replica=r).values
+                ok = np.isfinite(t) & np.isfinite(y)
+                right.plot(t[ok] * 1e6, y[ok], lw=0.8,
+                           label=f"s = {s:g}, ξ = {xi:.2g}" if r == 0 else None)
+    right.set_xlabel("time (µs)")
+    right.set_ylabel("running ρ at J = 3.8×10¹¹ A/m²")
+    right.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out / "calibration.png")
+    (out / "calibration.json").write_text(json.dumps(result, indent=2))
+    print(json.dumps({s: e["crossing"] for s, e in result["per_s"].items()}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
