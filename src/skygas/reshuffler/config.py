@@ -2,7 +2,7 @@
 
 Defaults describe the paper's device (two 1024 nm chambers, 100 nm × 50 nm conduits, one
 nucleation every 5 ns, material S2, 2 nm film, 300 K). Quantities the paper leaves open have
-documented defaults (PHYSICS.md §4) and are recorded with every result:
+documented defaults (docs/physics.md §4) and are recorded with every result:
 
 - ``spin_drift_coefficient`` ξ [m³/C] (v_s = ξ j): default the spin-transfer estimate
   ξ = P g μ_B/(2 e M_s) with spin polarisation P = ``spin_polarization`` (0.5) and g = 2. The

@@ -72,7 +72,8 @@ POINT_COLUMNS = (("correlation", "mean"), ("correlation_max_lag", "mean"),
                  ("correlation_best_lag", "median"), ("p_in", "mean"), ("p_out", "mean"),
                  ("p_out_low", "min"), ("p_out_high", "max"), ("max_occupancy", "max"),
                  ("mean_transit_s", "mean"), ("median_transit_s", "mean"),
-                 ("n_skipped", "mean"), ("simulated_time_s", "mean"), ("wall_time_s", "sum"))
+                 ("n_skipped", "mean"), ("wall_escapes", "sum"), ("simulated_time_s", "mean"),
+                 ("time_step_s", "mean"), ("wall_time_s", "sum"))
 
 
 def point_table(ds: xr.Dataset) -> list[dict]:
