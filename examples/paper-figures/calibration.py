@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from skygas.reshuffler.config import parse_reshuffler_config
 from skygas.sweep import open_sweep
 from skygas.sweep.analysis import point_table
 
@@ -27,12 +28,19 @@ S_KEY, XI_KEY, J_KEY = "hypothesis_dynamics_time_scale", "spin_drift_coefficient
     "current_density"
 
 
-def rows_of(stores: list[str], default_s: float) -> list[dict]:
+def base_config(ds):
+    """The store's ``[base]`` configuration, resolved (preset applied)."""
+    return parse_reshuffler_config(json.loads(ds.attrs["base_config_json"]))
+
+
+def rows_of(stores: list[str]) -> list[dict]:
     rows = []
     for store in stores:
-        for row in point_table(open_sweep(store)):
-            row.setdefault(S_KEY, default_s)
-            row.setdefault(J_KEY, HIGH)
+        ds = open_sweep(store)
+        base = base_config(ds)  # the values of the fields not swept
+        for row in point_table(ds):
+            row.setdefault(S_KEY, base.hypothesis.dynamics_time_scale)
+            row.setdefault(J_KEY, base.current_density)
             row["store"] = store
             rows.append(row)
     return rows
@@ -40,6 +48,8 @@ def rows_of(stores: list[str], default_s: float) -> list[dict]:
 
 def crossing(xi: np.ndarray, rho: np.ndarray, sem: np.ndarray) -> dict:
     """ξ where ρ(ξ) first crosses TARGET upwards, with the error ρ's s.e. gives it."""
+    if len(xi) == 0:
+        return {"xi": float("nan"), "note": "no run at 3.8e11 A/m^2"}
     order = np.argsort(xi)
     xi, rho, sem = xi[order], rho[order], sem[order]
     for i in range(len(xi) - 1):
@@ -55,11 +65,9 @@ def crossing(xi: np.ndarray, rho: np.ndarray, sem: np.ndarray) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("stores", nargs="+")
-    parser.add_argument("--default-s", type=float, default=100.0,
-                        help="s of stores that do not sweep it (the preset's)")
     parser.add_argument("--out", required=True)
     args = parser.parse_args()
-    rows = rows_of(args.stores, args.default_s)
+    rows = rows_of(args.stores)
     result = {"target_rho": TARGET, "per_s": {}}
     from matplotlib.figure import Figure
 
@@ -79,34 +87,43 @@ def main() -> None:
                                                     "p_in", "p_out", "p_out_worst_z",
                                                     "mean_transit_s")} for r in low]}
         result["per_s"][f"s={s:g}, dt={dt * 1e12:.3g} ps"] = entry
+        if not high:
+            continue
         order = np.argsort(xi)
         left.errorbar(xi[order], rho[order], yerr=np.nan_to_num(sem[order]), fmt="o-",
                       capsize=2, label=f"s = {s:g}, step {dt * 1e12:.3g} ps")
     left.axhline(TARGET, color="k", ls=":", label="paper: 0.64")
     left.set_xscale("log")
+    ticks = [1.5e-9, 3e-9, 6e-9, 1.2e-8]
+    left.set_xticks(ticks, labels=[f"{t:.2g}" for t in ticks])
+    left.minorticks_off()
     left.set_xlabel("spin-drift coefficient ξ (m³/C)")
     left.set_ylabel("ρ at J = 3.8×10¹¹ A/m²")
     left.legend(fontsize=8)
+    colours, labelled = {}, set()
     for store in args.stores:
         ds = open_sweep(store)
         if "point" not in ds.dims:
             continue
         for i in range(ds.sizes["point"]):
             pt = ds.isel(point=i)
-            if J_KEY in pt and float(pt[J_KEY]) != HIGH:
+            j = float(pt[J_KEY]) if J_KEY in pt else base_config(ds).current_density
+            if j != HIGH:
                 continue
-            s = float(pt[S_KEY]) if S_KEY in pt else args.default_s
+            s = float(pt[S_KEY]) if S_KEY in pt else base_config(ds).hypothesis.dynamics_time_scale
             xi = float(pt[XI_KEY])
             for r in range(ds.sizes["replica"]):
                 t = pt["running_time"].isel(replica=r).values
                 y = pt["running_rho"].isel(replica=r).values
                 ok = np.isfinite(t) & np.isfinite(y)
-                right.plot(t[ok] * 1e6, y[ok], lw=0.8,
-                           label=f"s = {s:g}, ξ = {xi:.2g}" if r == 0 else None)
+                colour = colours.setdefault(s, f"C{len(colours)}")
+                right.plot(t[ok] * 1e6, y[ok], lw=0.7, color=colour, alpha=0.8,
+                           label=None if s in labelled else f"s = {s:g} (each run, all ξ)")
+                labelled.add(s)
     right.set_xlabel("time (µs)")
     right.set_ylabel("running ρ at J = 3.8×10¹¹ A/m²")
     if right.get_legend_handles_labels()[0]:
-        right.legend(fontsize=6, ncol=2)
+        right.legend(fontsize=7)
     fig.tight_layout()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
