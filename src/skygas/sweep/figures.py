@@ -173,7 +173,8 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
                                     textcoords="offset points", xytext=(0, 4))
     ax_p.axhline(0, color="k", lw=0.8)
     ax_p.set_ylabel("p_out − p_in (bars: p_out's 95 % interval)")
-    ax_n.axhline(PAPER_MAX_OCCUPANCY, color="r", ls=":", label="paper: ≤ 51")
+    if x_dim == CURRENT:  # the paper's bound at its lowest current
+        ax_n.axhline(PAPER_MAX_OCCUPANCY, color="r", ls=":", label="paper: ≤ 51 at 10¹⁰")
     ax_n.set_ylabel("fullest chamber (skyrmions)")
     ax_t.set_ylabel("mean transit time (ns)")
     if any(np.nanmax(line.get_ydata(), initial=0) > 0 for line in ax_t.lines):
