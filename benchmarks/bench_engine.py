@@ -25,7 +25,7 @@ import numpy as np
 
 from machine_clock import clock_ghz
 from machine_steal import StealMeter
-from skygas import _kernels as K
+from pair_pass import repeated_pair_pass
 from skygas.engine import Simulation
 from skygas.geometry import disk, random_positions
 
@@ -40,7 +40,7 @@ def make_sim(n: int, seed: int = 1) -> Simulation:
     rng = np.random.default_rng(seed)
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(outline, n, 1.2 * d_sk, 0.6 * d_sk, rng)
-    sim._insert_nm(pts)
+    sim.state.insert_nm(pts)
     # Compile, then let the random start relax (≈ 0.2 µs): right after random placement the
     # skyrmions push each other apart fast and the neighbour list is rebuilt far more often
     # than in the steady gas whose cost is being measured.
@@ -60,16 +60,11 @@ def time_steps(sim: Simulation, n_steps: int, repeats: int) -> list[float]:
 def time_pairs(sim: Simulation, repeats: int, calls: int) -> tuple[float, float]:
     """Median seconds of one pass of the pair-force loop over one neighbour list (compiled,
     ``calls`` passes per timing), and the pairs inside the cutoff per pass."""
-    cap = len(sim._x)
-    fx, fy = np.empty(cap), np.empty(cap)
-    stats = np.zeros(K.ST_SIZE, dtype=np.int64)
-    args = (sim._x, sim._y, sim._alive, sim._fp, sim._ip, sim.forces.pair.values)
-    K.repeated_pair_pass(*args, 1, fx, fy, stats)
-    pairs = stats[K.ST_PAIRS]
+    _, _, pairs = repeated_pair_pass(sim, 1)
     times = []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        K.repeated_pair_pass(*args, calls, fx, fy, stats)
+        repeated_pair_pass(sim, calls)
         times.append((time.perf_counter() - t0) / calls)
     return statistics.median(times), pairs
 

@@ -1,6 +1,6 @@
 """Reshuffler speed on the reference workload, and how ρ moves when the time step is halved.
 
-Reference workload (issue "Skyrmion Reshuffler"): the ``paper`` preset at J = 1.7e11 A/m² for
+Reference workload: the ``paper`` preset at J = 1.7e11 A/m² for
 0.5 ms of simulated time (100 000 nucleations). Prints, for the preset's time step, the median
 wall time over ``--repeats`` runs (different seeds), the simulated time per wall second and ρ;
 then ρ at half the step (one run), so the step's effect on the result can be read off.

@@ -11,7 +11,9 @@ The public API:
 - errors: :class:`InputError`.
 
 Sub-packages: :mod:`skygas.sc` (stochastic computing), :mod:`skygas.micromag` (micromagnetic
-bridge). Everything else is private and may change.
+bridge), :mod:`skygas.analysis` (MSD and diffusion constant, g(r), Hall angle, maps),
+:mod:`skygas.outputs` (movies, HTML reports, GSD and extended-XYZ exports). Everything else is
+private and may change.
 """
 
 # The public names are imported on first use (SPEC 1 lazy loading; the names and their modules

@@ -1,8 +1,9 @@
 """Command-line interface: a thin layer over the Python API.
 
-Each command group lives beside the code it drives and exposes ``register(subparsers)``; this
-module only collects them. Every command is one call into the library, so anything the CLI does
-can be done from Python as well.
+Each command group is a module of :mod:`skygas.commands` that exposes
+``register(subparsers)``; this module only collects them. Every command is one call into the
+library (imported when the command runs, so building the parser imports no numerics), and
+anything the CLI does can be done from Python as well.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import importlib
 import sys
 
 from skygas._version import __version__
-from skygas.errors import InputError
+from skygas.errors import InputError, RunInterrupted
 
 # Modules that add sub-commands; each defines ``register(subparsers)``.
 _COMMAND_MODULES = [
@@ -20,8 +21,12 @@ _COMMAND_MODULES = [
     "skygas.commands.reshuffle",
     "skygas.commands.neuron",
     "skygas.commands.sweep",
-    "skygas.sc.cli",
-    "skygas.micromag.cli",
+    "skygas.commands.animate",
+    "skygas.commands.report",
+    "skygas.commands.export",
+    "skygas.commands.analyze",
+    "skygas.commands.sc",
+    "skygas.commands.micromag",
 ]
 
 
@@ -45,6 +50,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"skygas: error: {err}", file=sys.stderr)
         return 2
+    except RunInterrupted as err:
+        print(f"skygas: {err}", file=sys.stderr)
+        return err.exit_status
     except KeyboardInterrupt:
         print("skygas: interrupted", file=sys.stderr)
         return 130

@@ -7,16 +7,23 @@ seconds, kelvin, m/s). Every field is checked when the file is loaded; an invali
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import Field, ValidationError
 
 from skygas import geometry as geo
+from skygas.config_types import (
+    ChamberSize,
+    PositiveFloat,
+    StrictModel,
+    read_toml,
+    to_input_error,
+)
 from skygas.errors import InputError
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
+from skygas.landscape.kinds import Potential
 from skygas.materials import (
     Material,
     ThieleParameters,
@@ -25,15 +32,10 @@ from skygas.materials import (
     preset_names,
 )
 
-PositiveFloat = Annotated[float, Field(gt=0)]
 Point2 = tuple[float, float]
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class PortSpec(_Strict):
+class PortSpec(StrictModel):
     """An open boundary segment, from ``start`` to ``end`` [m]."""
 
     name: str
@@ -41,20 +43,20 @@ class PortSpec(_Strict):
     end: Point2
 
 
-class DiskSpec(_Strict):
+class DiskSpec(StrictModel):
     kind: Literal["disk"]
     radius: PositiveFloat
     center: Point2 = (0.0, 0.0)
 
 
-class RectangleSpec(_Strict):
+class RectangleSpec(StrictModel):
     kind: Literal["rectangle"]
     width: PositiveFloat
     height: PositiveFloat
     center: Point2 = (0.0, 0.0)
 
 
-class PolygonSpec(_Strict):
+class PolygonSpec(StrictModel):
     kind: Literal["polygon"]
     vertices: list[Point2] = Field(min_length=3)
 
@@ -62,13 +64,10 @@ class PolygonSpec(_Strict):
 ShapeSpec = Annotated[Union[DiskSpec, RectangleSpec, PolygonSpec], Field(discriminator="kind")]
 
 
-class ChamberGeometry(_Strict):
+class ChamberGeometry(ChamberSize):
     """The paper's chamber with input and output conduits (ports ``input``, ``output``)."""
 
     kind: Literal["chamber"] = "chamber"
-    chamber_diameter: PositiveFloat = 1024e-9
-    conduit_width: PositiveFloat = 100e-9
-    conduit_length: PositiveFloat = 50e-9
     closed: bool = Field(False, description="close both conduit ends (no ports)")
 
     def build(self) -> geo.Outline:
@@ -77,7 +76,7 @@ class ChamberGeometry(_Strict):
         return geo.Outline(outline.region) if self.closed else outline
 
 
-class ShapesGeometry(_Strict):
+class ShapesGeometry(StrictModel):
     """A union of shapes with optional ports."""
 
     kind: Literal["shapes"]
@@ -102,8 +101,8 @@ class ShapesGeometry(_Strict):
 GeometrySpec = Annotated[Union[ChamberGeometry, ShapesGeometry], Field(discriminator="kind")]
 
 
-class ThieleOverrides(_Strict):
-    """Optional overrides of the derived Thiele parameters (PHYSICS.md §4)."""
+class ThieleOverrides(StrictModel):
+    """Optional overrides of the derived Thiele parameters (docs/physics.md §4)."""
 
     dissipation: PositiveFloat | None = None
     force_scale: PositiveFloat | None = None        # F0 [N]
@@ -112,17 +111,17 @@ class ThieleOverrides(_Strict):
     mu: float = 1.0
 
 
-class ForcesSpec(_Strict):
+class ForcesSpec(StrictModel):
     pair_law: Literal["paper", "lin-reichhardt"] = "paper"
     pair_law_params: dict[str, float] = {}
     cutoff_fraction: float = Field(DEFAULT_CUTOFF_FRACTION, gt=0, lt=1)
 
 
-class DriftSpec(_Strict):
+class DriftSpec(StrictModel):
     velocity: Point2 = (0.0, 0.0)  # uniform v_s [m/s]
 
 
-class SkyrmionsSpec(_Strict):
+class SkyrmionsSpec(StrictModel):
     """Initial skyrmions: explicit ``positions`` [m] and/or ``random_count`` placed at random
     at least ``min_separation`` diameters apart and from walls."""
 
@@ -131,12 +130,14 @@ class SkyrmionsSpec(_Strict):
     min_separation: PositiveFloat = 1.0
 
 
-class MaterialFields(_Strict):
+class MaterialFields(StrictModel):
     """Fields every run configuration shares: the material, its film, Thiele overrides."""
 
     material: Union[str, dict[str, Any]] = "S2"
     film_thickness: PositiveFloat = 2e-9
     thiele: ThieleOverrides = ThieleOverrides()
+    #: the energy landscape: external potentials (``[[potentials]]``, skygas.landscape)
+    potentials: list[Potential] = []
 
     def resolved_material(self) -> Material:
         """The material: a preset name, a TOML file, or an inline table."""
@@ -192,7 +193,7 @@ class SimulationConfig(MaterialFields):
                          drift_velocity=self.drift.velocity, pair_law=self.forces.pair_law,
                          pair_law_params=self.forces.pair_law_params,
                          cutoff_fraction=self.forces.cutoff_fraction,
-                         integrator=self.integrator)
+                         integrator=self.integrator, landscape=self.potentials)
         s = self.skyrmions
         if s.positions:
             sim.add_skyrmions(np.asarray(s.positions), validate=True)
@@ -202,20 +203,27 @@ class SimulationConfig(MaterialFields):
             pts = geo.random_positions(sim.outline, s.random_count, s.min_separation * d_sk,
                                        s.min_separation * d_sk, rng)
             sim.validate_positions(pts, "skyrmions.random_count")
-            sim._insert_nm(pts)
+            sim.state.insert_nm(pts)
         return sim
 
 
-def _to_input_error(err: ValidationError, source: str) -> InputError:
-    first = err.errors()[0]
-    loc = ".".join(str(p) for p in first["loc"])
-    value = first.get("input") if first["type"] != "missing" else "(missing)"
-    msg = first["msg"]
-    if first["type"] == "missing":
-        msg = "this required field to be given"
-    elif first["type"] == "extra_forbidden":
-        msg = "no such field (check the spelling)"
-    return InputError(f"{source}{loc}", value, msg)
+def resolve_paths(data: dict, folder: Path) -> dict:
+    """``data`` (a parsed TOML configuration) with its relative file names, a material's
+    ``.toml`` and the ``path`` of ``grid`` potentials, taken relative to ``folder`` (the
+    configuration's folder), as a user who writes them next to the file means them."""
+    data = dict(data)
+    material = data.get("material")
+    if isinstance(material, str) and material.endswith(".toml") \
+            and not Path(material).is_absolute():
+        data["material"] = str(folder / material)
+    potentials = data.get("potentials")
+    if isinstance(potentials, list):
+        data["potentials"] = [
+            {**p, "path": str(folder / p["path"])}
+            if isinstance(p, dict) and isinstance(p.get("path"), str)
+            and not Path(p["path"]).is_absolute() else p
+            for p in potentials]
+    return data
 
 
 def parse_config(data: dict, source: str = "") -> SimulationConfig:
@@ -223,28 +231,10 @@ def parse_config(data: dict, source: str = "") -> SimulationConfig:
     try:
         return SimulationConfig(**data)
     except ValidationError as err:
-        raise _to_input_error(err, source) from None
-
-
-def read_toml(path: str | Path, field: str = "config") -> dict:
-    """Parse a TOML file, or raise :class:`InputError` naming ``field`` if it is missing or
-    malformed."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(field, str(path), "an existing TOML file")
-    try:
-        return tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(field, str(path), f"valid TOML ({err})") from None
+        raise to_input_error(err, source) from None
 
 
 def load_config(path: str | Path) -> SimulationConfig:
     """Read and validate a TOML configuration file."""
     path = Path(path)
-    data = read_toml(path)
-    # a material file named in the config is found relative to the config's folder
-    material = data.get("material")
-    if isinstance(material, str) and material.endswith(".toml") \
-            and not Path(material).is_absolute():
-        data["material"] = str(path.parent / material)
-    return parse_config(data, source=f"{path.name}: ")
+    return parse_config(resolve_paths(read_toml(path), path.parent), source=f"{path.name}: ")

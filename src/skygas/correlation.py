@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 from skygas.sc.metrics import PValueEstimate, p_value_interval, pearson, scc
 from skygas.signals import as_bits
 

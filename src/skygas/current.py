@@ -1,7 +1,7 @@
 """Current flow through a device: the drift field v_s = ξ·j, resistance, Joule power.
 
 The paper drives skyrmions with the current density j(x) obtained from a separate current-flow
-simulation (COMSOL; paper, Methods) and quotes J as the density *in the conduits* (PHYSICS.md §3).
+simulation (COMSOL; paper, Methods) and quotes J as the density *in the conduits* (docs/physics.md §3).
 :func:`solve_current` redoes that calculation for any :class:`~skygas.geometry.Outline`:
 
     ∇·(σ∇φ) = 0          in the device (uniform conductivity σ = 1/ρ),
@@ -55,7 +55,6 @@ import math
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
@@ -396,7 +395,7 @@ class CurrentSolution:
         return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
 
     def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
-        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (PHYSICS.md §1)."""
+        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (docs/physics.md §1)."""
         xi = float(spin_drift_coefficient)
         require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
                 "a finite number (m³/C)")
@@ -600,49 +599,3 @@ def solve_current(
         _settings=MappingProxyType({"source": sources, "sink": sinks, "cell_size": cell_size,
                                     "conductor_thickness": conductor_thickness,
                                     "resistivity": resistivity}))
-
-
-# -- figures -------------------------------------------------------------------------------------
-def draw_current(ax, solution: CurrentSolution, outline: Outline, scale: float = 1e-3,
-                 streamlines: bool = True):
-    """|j| map (A/m², log colour scale) with stream lines and the outline, in µm (``scale`` µm
-    per nm). Returns the image for a colour bar."""
-    from matplotlib.colors import LogNorm
-
-    from skygas.plotting import draw_outline
-
-    jx, jy, inside, (x0, x1, y0, y1) = solution.cell_current_density
-    magnitude = np.where(inside, np.hypot(jx, jy), np.nan)
-    positive = magnitude[np.isfinite(magnitude) & (magnitude > 0)]
-    norm = None
-    if positive.size:
-        top = float(positive.max())
-        norm = LogNorm(vmin=max(float(positive.min()), top * 1e-3), vmax=top)
-    image = ax.imshow(magnitude, origin="lower", extent=(x0 * scale, x1 * scale, y0 * scale,
-                                                         y1 * scale),
-                      cmap="viridis", norm=norm, interpolation="nearest")
-    if streamlines and positive.size:
-        c = solution._cells
-        xs = (c.x0 + c.h * (np.arange(c.nx) + 0.5)) * scale
-        ys = (c.y0 + c.h * (np.arange(c.ny) + 0.5)) * scale
-        ax.streamplot(xs, ys, np.where(inside, jx, np.nan), np.where(inside, jy, np.nan),
-                      color="white", linewidth=0.5, density=1.2, arrowsize=0.6)
-    draw_outline(ax, outline, scale)
-    return image
-
-
-def plot_current(solution: CurrentSolution, outline: Outline, path: str | Path,
-                 title: str | None = None) -> Path:
-    """Save a PNG of the current density map (:func:`draw_current`); returns the path."""
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(6.5, 5.5), dpi=120)
-    ax = fig.add_subplot()
-    image = draw_current(ax, solution, outline)
-    fig.colorbar(image, ax=ax, label="|j| (A/m²)")
-    ax.set_title(title or (f"J = {solution.current_density:.3g} A/m², "
-                           f"R = {solution.resistance:.3g} Ω, P = {solution.power:.3g} W"),
-                 fontsize=9)
-    path = Path(path)
-    fig.savefig(path)
-    return path

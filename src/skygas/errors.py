@@ -1,4 +1,4 @@
-"""The one exception type that user-facing validation raises.
+"""The exception that user-facing validation raises, and the one an interrupted run raises.
 
 Every check on user input (a config file, a CLI option, an array handed to the API) raises
 :class:`InputError` *before* any long computation starts. The message always names the field,
@@ -7,6 +7,8 @@ the offending value and what is allowed, so that a user can fix the input withou
 
 from __future__ import annotations
 
+import signal
+from pathlib import Path
 from typing import Any
 
 
@@ -34,3 +36,23 @@ def require(condition: bool, field: str, value: Any, allowed: str) -> None:
     """Raise :class:`InputError` unless ``condition`` holds."""
     if not condition:
         raise InputError(field, value, allowed)
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """A run stopped by SIGINT/SIGTERM after saving its checkpoint where its state was
+    consistent (:func:`skygas.run_driver.drive`). ``signum``: the signal received;
+    ``checkpoint``: the saved file. The command line prints the message and exits with
+    :attr:`exit_status`."""
+
+    def __init__(self, signum: int, checkpoint: Path | None):
+        self.signum = signum
+        self.checkpoint = checkpoint
+        where = (f"state saved in {checkpoint}; run the same command with --resume to continue"
+                 if checkpoint is not None else "no checkpoint was saved")
+        super().__init__(f"interrupted by {signal.Signals(signum).name}: {where}")
+
+    @property
+    def exit_status(self) -> int:
+        """The shell's convention for a process ended by a signal: 128 + its number (130 for
+        Ctrl-C)."""
+        return 128 + self.signum

@@ -1,7 +1,7 @@
 """Force laws: small pure functions of a distance, and their tabulation for the engine.
 
 All laws are dimensionless: they take a distance ``d`` in units of the skyrmion diameter d_sk
-and return the force magnitude in units of F₀ (PHYSICS.md §2). The engine multiplies by F₀.
+and return the force magnitude in units of F₀ (docs/physics.md §2). The engine multiplies by F₀.
 
 - :func:`paper_pair_force`: |F| = exp[−(a₂d² + a₁d + a₀)/(d + 1)] (paper eq. "interparticle",
   coefficient order of the Appendix C table), repulsive along the line of centres.
@@ -13,8 +13,8 @@ and return the force magnitude in units of F₀ (PHYSICS.md §2). The engine mul
 Cutoff
 ------
 A law is cut at the distance beyond which its force stays below ``cutoff_fraction`` × F₀
-(default 10⁻³: for set S2 the pair law reaches it at 5.2 d_sk ≈ 199 nm and the wall law at
-6.6 d_sk ≈ 252 nm). The force is set to zero beyond the cutoff; the jump there is at most
+(default 10⁻³: for set S2 the pair law reaches it at 5.07 d_sk ≈ 194 nm and the wall law at
+6.70 d_sk ≈ 256 nm). The force is set to zero beyond the cutoff; the jump there is at most
 ``cutoff_fraction`` × F₀, far below the thermal force scale at 300 K.
 
 Validity

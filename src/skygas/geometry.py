@@ -23,6 +23,7 @@ import shapely.validation
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
 from shapely.ops import unary_union
 
+from skygas.config_types import CHAMBER_DIAMETER, CONDUIT_LENGTH, CONDUIT_WIDTH
 from skygas.errors import InputError, require
 from skygas.units import M_TO_NM
 
@@ -179,9 +180,9 @@ def union(*outlines: Outline) -> Outline:
 
 
 def chamber_with_conduits(
-    chamber_diameter: float = 1024e-9,
-    conduit_width: float = 100e-9,
-    conduit_length: float = 50e-9,
+    chamber_diameter: float = CHAMBER_DIAMETER,
+    conduit_width: float = CONDUIT_WIDTH,
+    conduit_length: float = CONDUIT_LENGTH,
     center=(0.0, 0.0),
     corner_radius: float = 20e-9,
 ) -> Outline:

@@ -25,18 +25,17 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
+from skygas.config_types import StrictModel
 from skygas.materials import ThieleParameters
 
 
-class HypothesisSpec(BaseModel):
+class HypothesisSpec(StrictModel):
     """The hypothesis knobs of a run (both 1: the SI Thiele equation)."""
 
-    model_config = ConfigDict(extra="forbid")
-
-    dynamics_time_scale: float = Field(1.0, gt=0, allow_inf_nan=False)  # s: k → k/s
-    noise_scale: float = Field(1.0, gt=0, allow_inf_nan=False)          # n: T_noise = n T
+    dynamics_time_scale: float = Field(1.0, gt=0)  # s: k → k/s (finite: StrictModel)
+    noise_scale: float = Field(1.0, gt=0)          # n: T_noise = n T
 
     def record(self) -> dict[str, float]:
         """Flat dict for result summaries."""

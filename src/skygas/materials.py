@@ -4,7 +4,7 @@ derived from a material and a film thickness.
 Everything here is SI at the interface. The derived :class:`ThieleParameters` carry both SI values
 (for records) and the internal nm/ns/pN values the engine uses (see :mod:`skygas.units`).
 
-Derivations (PHYSICS.md §1, with the sign convention of ``docs/conventions.md``):
+Derivations (docs/physics.md §1, with its sign convention):
 
 - ``k = M_s t_F / γ`` [kg/s], γ = 1.7595e11 rad/(s·T).
 - ``G = −4π Q k`` with Q = (1/4π)∫ n·(∂x n × ∂y n) dA (−1 for the paper's skyrmion, so G > 0);
@@ -22,14 +22,14 @@ from dataclasses import asdict, dataclass
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
 
 from skygas import units
+from skygas.config_types import PositiveFloat
 from skygas.errors import InputError
 
-PositiveFloat = Annotated[float, Field(gt=0)]
 
 
 class Material(BaseModel):
@@ -45,7 +45,7 @@ class Material(BaseModel):
     applied_field: out-of-plane field B [T] (recorded only).
     skyrmion_radius: R_sk [m]; the laws' length unit is the diameter 2 R_sk.
     damping: Gilbert damping α.
-    pair_law: [a2, a1, a0] of the skyrmion–skyrmion law (PHYSICS.md §2).
+    pair_law: [a2, a1, a0] of the skyrmion–skyrmion law (docs/physics.md §2).
     wall_law: wall-law polynomial p(d), highest power first.
     topological_charge: Q = ±1 (standard micromagnetic sign).
     antiferromagnetic: if true, the gyrocoupling vanishes (G = 0).
@@ -190,7 +190,7 @@ class ThieleParameters:
         return self.damping * self.dissipation * self.k
 
     def diffusion_constant(self, temperature: float) -> float:
-        """Free diffusion constant D [m²/s]; ⟨|Δx|²⟩ = 4 D t in 2D (PHYSICS.md §1)."""
+        """Free diffusion constant D [m²/s]; ⟨|Δx|²⟩ = 4 D t in 2D (docs/physics.md §1)."""
         a, g = self.friction, self.gyrocoupling
         return units.BOLTZMANN * temperature * a / (a * a + g * g)
 
@@ -243,7 +243,7 @@ def derive_thiele(
 ) -> ThieleParameters:
     """Thiele coefficients of ``material`` in a film of ``film_thickness`` [m].
 
-    Arguments left ``None`` take the defaults of PHYSICS.md: 𝒟 from the material (or the
+    Arguments left ``None`` take the defaults of docs/physics.md §4: 𝒟 from the material (or the
     thin-wall estimate), F₀ = A_ex t_F / d_sk, d_sk = 2 R_sk, η = α.
     """
     if not film_thickness > 0:

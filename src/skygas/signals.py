@@ -30,7 +30,7 @@ times :math:`t_k = k\Delta` (:func:`injection_times`). Three sources are offered
     ``.txt``): 0/1 values separated by commas, whitespace or new lines. Lines starting with
     ``#`` are comments.
 
-The paper does not give the telegraph signal's correlation time (PHYSICS.md §4). The default,
+The paper does not give the telegraph signal's correlation time (docs/physics.md §4). The default,
 :data:`DEFAULT_CORRELATION_TIME` = 5 ns, equals one injection interval, so consecutive injected
 bits are correlated by :math:`e^{-1} \approx 0.37`; set ``correlation_time`` to study others.
 Units at this public edge are SI (seconds); only the ratio :math:`\tau_c/\Delta` enters.
@@ -47,7 +47,7 @@ from typing import Any, Literal
 import numpy as np
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 
 #: Time between injections [s] (paper: 0.2 nucleations per ns).

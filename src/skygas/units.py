@@ -28,7 +28,7 @@ M2_PER_S_TO_NM2_PER_NS = M_TO_NM**2 / S_TO_NS
 
 #: Boltzmann constant [J/K]
 BOLTZMANN = 1.380649e-23
-#: Gyromagnetic ratio of the electron, magnitude [rad/(s·T)] (PHYSICS.md §1)
+#: Gyromagnetic ratio of the electron, magnitude [rad/(s·T)] (docs/physics.md §1)
 GYROMAGNETIC_RATIO = 1.7595e11
 #: Vacuum permeability [T·m/A]
 MU_0 = 1.25663706212e-6

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from shapely.geometry import LineString, Polygon
 
-from skygas.current import (DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY, plot_current,
-                            solve_current)
+from skygas.current import DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY, solve_current
 from skygas.errors import InputError
 from skygas.geometry import Outline, chamber_with_conduits, rectangle
+from skygas.plotting import plot_current
 from skygas.wall_field import Grid
 
 J = 1.7e11  # A/m², a current density of the paper's sweep

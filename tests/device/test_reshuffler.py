@@ -90,8 +90,9 @@ def test_nucleation_never_lands_on_another_skyrmion():
 
     def checked(sim, chamber, k):
         site = run.injector.sites[chamber]
-        alive = sim._alive
-        d = np.hypot(sim._x[alive] - site[0], sim._y[alive] - site[1])
+        store = sim.state.arrays_nm()
+        alive = store.alive
+        d = np.hypot(store.x[alive] - site[0], store.y[alive] - site[1])
         seen.append(d.min() if len(d) else np.inf)
         original(sim, chamber, k)
 
@@ -261,10 +262,10 @@ def test_one_long_kernel_call_records_more_exits_than_the_storage_capacity():
     run = ReshufflerRun.build(config)
     calls = []
     advance = run.sim._advance
-    run.sim._advance = lambda *a, **k: (calls.append(1), advance(*a, **k))
+    run.sim._advance = lambda *a, **k: (calls.append(1), advance(*a, **k))[1]
     run.advance(pieces=1)
     counts = run.counts()  # raises unless injected = detected + present
-    assert counts["detected"] > 2 * len(run.sim._x) and len(calls) < 10
+    assert counts["detected"] > 2 * run.sim.store.capacity and len(calls) < 10
     assert len(np.unique(run.detections()["skyrmion"])) == counts["detected"]
 
 
@@ -274,16 +275,14 @@ def test_neighbour_list_edits_at_nucleation_and_read_out_miss_no_pair():
     evaluation (zero margins) must count the same pair forces and end in the same state (to
     rounding: pair sums may be added in another order; a missed pair would move a skyrmion
     by ≳ 1e-3 nm)."""
-    from skygas import _kernels as K
-
     runs = []
     for exact in (False, True):
         run = ReshufflerRun.build(parse_reshuffler_config({
             **FAST, "duration": 0.3e-6, "seed": 3,
             "output": {"trajectory_window": 0.0, "snapshot_interval": 1.0}}))
         if exact:
-            for index in (K.FP_SKIN, K.FP_MARGIN_STEPS, K.FP_MARGIN_MAX):
-                run.sim._fp[index] = 0.0
+            run.sim.neighbor_cells = run.sim.neighbor_cells._replace(
+                skin=0.0, margin_steps=0.0, margin_max=0.0)
         run.advance()
         runs.append(run)
     edited, exact = runs

@@ -1,4 +1,4 @@
-"""The reshuffler behind the stochastic-computing decorrelator interface (issue: decorrelators
+"""The reshuffler behind the stochastic-computing decorrelator interface (decorrelators
 compared, measured not assumed)."""
 
 import numpy as np

@@ -169,8 +169,9 @@ def test_force_tables_and_packed_wall_channels_are_shared_and_identical():
     sims = [uncached(lambda: Simulation(outline, "S2")), Simulation(outline, "S2"),
             Simulation(outline, "S2")]
     for sim in sims[1:]:
-        assert np.array_equal(sim._fields, sims[0]._fields) and sim._fields.flags.writeable
-    assert sims[1]._fields is not sims[2]._fields
+        fields = sim.force_terms.grid.fields
+        assert np.array_equal(fields, sims[0].force_terms.grid.fields) and fields.flags.writeable
+    assert sims[1].force_terms.grid.fields is not sims[2].force_terms.grid.fields
     assert memo_stats()["wall_channels"]["hits"] == 1
 
 

@@ -83,7 +83,7 @@ def test_invalid_top_level_values_are_named(update, field, no_stepping):
     ("skyrmions", {"positions": "here"}, "skyrmions.positions"),      # wrong type
     ("skyrmions", {"random_count": -2}, "skyrmions.random_count"),
     ("skyrmions", {"colour": "red"}, "skyrmions.colour"),             # unknown extra field
-    ("geometry", {"kind": "blob"}, "geometry"),
+    ("geometry", {"kind": "blob"}, "geometry.kind"),                   # unknown tag
     # pydantic puts the union tags in the path: geometry.<kind>.shapes.<i>.<kind>.radius
     ("geometry", {"shapes": [{"kind": "disk", "radius": -1e-7}]},
      "geometry.shapes.shapes.0.disk.radius"),

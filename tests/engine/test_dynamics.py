@@ -1,4 +1,4 @@
-"""Engine physics against exact results (PHYSICS.md §1), with stated statistical tolerances.
+"""Engine physics against exact results (docs/physics.md §1), with stated statistical tolerances.
 
 Statistical assertions use "4 standard errors" unless stated otherwise: for a correct engine a
 single check fails with probability ≈ 6×10⁻⁵; the seeds are fixed, so the suite is
@@ -14,7 +14,7 @@ import pytest
 from scipy import integrate, stats
 
 from skygas import units
-from skygas.engine import Simulation
+from skygas.engine import INTEGRATOR_ORDERS, Simulation
 from skygas.forces import wall_potential
 from skygas.geometry import disk, rectangle
 from skygas.materials import derive_thiele, preset
@@ -218,7 +218,7 @@ def final_positions(integrator, dt, temperature=0.0, substeps=1, seed=0):
 
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(sim.outline, 20, 1.05 * d_sk, 0.5 * d_sk, rng)
-    sim._insert_nm(pts)
+    sim.state.insert_nm(pts)
     sim.run(4e-9)
     return sim.positions()[1] * units.M_TO_NM
 
@@ -234,11 +234,15 @@ def convergence_slope(integrator, temperature, steps, ref_dt):
 
 
 def test_heun_is_second_order_without_noise_and_euler_first_order():
+    """The measured orders without noise against the ones the integrators declare
+    (skygas.engine.INTEGRATOR_ORDERS), within −0.2…+0.3 (slopes over a factor 8 in dt)."""
     steps = [8e-11, 4e-11, 2e-11, 1e-11]
     heun, err_h = convergence_slope("heun", 0.0, steps, 1.25e-12)
     euler, err_e = convergence_slope("euler-maruyama", 0.0, steps, 1.25e-12)
-    assert 1.8 < heun < 2.3, err_h
-    assert 0.85 < euler < 1.2, err_e
+    assert INTEGRATOR_ORDERS["heun"]["deterministic"] == 2.0
+    assert INTEGRATOR_ORDERS["euler-maruyama"]["deterministic"] == 1.0
+    assert -0.2 < heun - INTEGRATOR_ORDERS["heun"]["deterministic"] < 0.3, err_h
+    assert -0.15 < euler - INTEGRATOR_ORDERS["euler-maruyama"]["deterministic"] < 0.2, err_e
     assert err_h[-1] < err_e[-1] / 20
 
 
@@ -251,8 +255,9 @@ def test_strong_order_with_additive_noise():
     ref_dt = 2.5e-12 / 16
     heun, err_h = convergence_slope("heun", 300.0, steps, ref_dt)
     euler, err_e = convergence_slope("euler-maruyama", 300.0, steps, ref_dt)
-    assert 0.8 < heun < 1.4, err_h
-    assert 0.8 < euler < 1.3, err_e
+    assert INTEGRATOR_ORDERS["heun"]["strong"] == INTEGRATOR_ORDERS["euler-maruyama"]["strong"]
+    assert -0.2 < heun - INTEGRATOR_ORDERS["heun"]["strong"] < 0.4, err_h
+    assert -0.2 < euler - INTEGRATOR_ORDERS["euler-maruyama"]["strong"] < 0.3, err_e
     assert err_h[0] < err_e[0] / 4
 
 
@@ -264,7 +269,7 @@ def dense_chamber_run(seed: int, duration=30e-9):
     sim = Simulation(outline, S2, temperature=300.0, seed=seed)
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(outline, 90, 1.05 * d_sk, 0.5 * d_sk, np.random.default_rng(1))
-    sim._insert_nm(pts)
+    sim.state.insert_nm(pts)
     sim.run(duration, record_interval=1e-9)
     return sim
 
@@ -333,7 +338,7 @@ def test_exit_through_port_is_recorded_and_removes_the_skyrmion():
 
 
 def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypatch):
-    import skygas.engine as engine
+    import skygas.engine.simulation as engine
 
     def run(sort_above):
         monkeypatch.setattr(engine, "SORT_ABOVE", sort_above)
@@ -343,7 +348,7 @@ def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypat
         d_sk = sim.thiele.skyrmion_diameter_internal
         pts = random_positions(sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk,
                                np.random.default_rng(3))
-        sim._insert_nm(pts)
+        sim.state.insert_nm(pts)
         sim.run(2e-9)
         return sim.positions()
 

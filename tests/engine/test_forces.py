@@ -1,4 +1,4 @@
-"""Force laws (PHYSICS.md §2), their cutoff, their tabulation and the wall potential."""
+"""Force laws (docs/physics.md §2), their cutoff, their tabulation and the wall potential."""
 
 import math
 
@@ -97,7 +97,7 @@ def test_cutoff_distance_brackets_the_fraction(law_name, fraction):
 
 
 def test_default_cutoffs_for_s2_match_the_documented_values():
-    # forces.py: pair law ≈ 5.2 d_sk (≈ 199 nm), wall law ≈ 6.6 d_sk (≈ 252 nm) at 1e-3 F0.
+    # forces.py: pair law ≈ 5.07 d_sk (≈ 194 nm), wall law ≈ 6.7 d_sk (≈ 256 nm) at 1e-3 F0.
     # Solve law(d) = 1e-3 independently with a root finder.
     from scipy.optimize import brentq
 

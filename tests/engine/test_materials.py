@@ -1,7 +1,7 @@
 """Material presets and the Thiele parameters derived from them.
 
 Reference values come from the paper's Appendix C tables ("Material Parameters" and "Skx-Skx
-Repulsion"), transcribed below in SI units, and from the definitions in PHYSICS.md §1. Every
+Repulsion"), transcribed below in SI units, and from the definitions in docs/physics.md §1. Every
 derived quantity is recomputed here from those definitions, not taken from the code.
 """
 
@@ -20,7 +20,7 @@ from skygas.materials import (
     preset_names,
 )
 
-GAMMA = 1.7595e11  # rad/(s T), PHYSICS.md §1
+GAMMA = 1.7595e11  # rad/(s T), docs/physics.md §1
 K_B = 1.380649e-23  # J/K
 
 # Appendix C, "Material Parameters": M_s [MA/m], A_ex ["fJ/m" in the table header, but the
@@ -35,7 +35,7 @@ PAPER_TABLE = {
     "S6": (1.0, 5.0, 2.05, 0.9, 150, 11.9, (0.059, 10.757, -16.738)),
     "S7": (1.2, 8.0, 2.1, 0.9, 150, 14.9, (0.766, 5.452, -11.894)),
 }
-# Methods: the single wall-law fit, highest power first (PHYSICS.md §2).
+# Methods: the single wall-law fit, highest power first (docs/physics.md §2).
 PAPER_WALL_LAW = (0.001419, -0.02631, 0.24135, -1.1609, 3.3547, -2.1786)
 
 LEVI_CIVITA = np.array([[0.0, 1.0], [-1.0, 0.0]])
@@ -100,7 +100,7 @@ def test_derived_thiele_parameters_follow_the_definitions(name, film):
 
 
 def test_s2_force_scale_is_about_1p4_piconewton():
-    # PHYSICS.md §2: F0 = A_ex t_F / d_sk ≈ 1.4 pN for S2 with t_F = 2 nm.
+    # docs/physics.md §2: F0 = A_ex t_F / d_sk ≈ 1.4 pN for S2 with t_F = 2 nm.
     th = derive_thiele(preset("S2"), 2e-9)
     assert th.force_scale == pytest.approx(27.5e-12 * 2e-9 / 38.2e-9, rel=1e-12)
     assert abs(th.force_scale - 1.4e-12) < 0.05e-12
@@ -142,7 +142,7 @@ def test_invalid_derivation_arguments_are_refused(kwargs, field):
 @pytest.mark.parametrize("name", ["S2", "S6"])
 @pytest.mark.parametrize("temperature", [0.0, 4.2, 300.0])
 def test_diffusion_constant_formula(name, temperature):
-    # PHYSICS.md §1: D = k_B T α𝒟 / (k (G̃² + (α𝒟)²)), G̃ = 4πQ
+    # docs/physics.md §1: D = k_B T α𝒟 / (k (G̃² + (α𝒟)²)), G̃ = −4πQ (only G̃² enters)
     row = PAPER_TABLE[name]
     film = 2e-9
     k = row[0] * 1e6 * film / GAMMA
@@ -197,7 +197,7 @@ def test_hall_angle_vanishes_for_eta_equal_alpha():
     th = derive_thiele(preset("S2"), 2e-9)
     assert th.eta == th.damping
     assert th.hall_angle() == 0.0
-    # and the drift is exactly μ v_s (PHYSICS.md §1)
+    # and the drift is exactly μ v_s (docs/physics.md §1)
     th = derive_thiele(preset("S2"), 2e-9, mu=0.7)
     assert _drift_by_linear_solve(th, [3.0, -2.0]) == pytest.approx([2.1, -1.4], rel=1e-12)
 

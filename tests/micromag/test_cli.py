@@ -8,7 +8,7 @@ import pytest
 from skygas.cli import main
 from skygas.materials import load_material, preset
 from skygas.micromag import pair_law_magnitude, synthetic, write_ovf
-from skygas.micromag.forces import disk_from_mask
+from skygas.micromag.forces import disk_from_mask, law_problem
 from skygas.micromag.workflow import thiele_coefficients
 
 
@@ -34,27 +34,36 @@ def test_inspect_bad_file_is_a_clear_error(tmp_path, capsys):
     assert "bad.ovf:header" in capsys.readouterr().err
 
 
-def test_fit_from_ovf_snapshots(tmp_path, capsys):
-    """Snapshots drawn from a known pair-law trajectory are fitted back by the CLI."""
+def _pair_snapshots(folder, pair_law, duration, frames, cells):
+    """OVF snapshots (S2, 2 nm cells) of two skyrmions released 1.2 d_sk apart that relax by
+    ``pair_law`` (T = 0 Thiele dynamics); returns the material and the folder."""
     material, film, cell, wall_width = preset("S2"), 2e-9, 2e-9, 3e-9
     radius = material.skyrmion_radius
     dis = synthetic.ansatz_dissipation(radius, wall_width)  # what the detector will measure
     coeffs = thiele_coefficients(-1.0, dis, material, film)
     system = synthetic.ThieleSystem(coeffs["gyrocoupling"], coeffs["friction"],
                                     material.exchange_stiffness * film / (2 * radius), 2 * radius)
-    box = 256e-9
-    times = np.linspace(0.0, 40e-9, 121)
+    box = cells * cell
+    times = np.linspace(0.0, duration, frames)
     start = [(box / 2 - 0.6 * 2 * radius, box / 2), (box / 2 + 0.6 * 2 * radius, box / 2)]
     positions = synthetic.integrate_thiele(system, start, times,
-                                           synthetic.pair_forces(system, material.pair_law))
-    snaps = tmp_path / "snaps"
-    snaps.mkdir()
+                                           synthetic.pair_forces(system, pair_law))
+    folder.mkdir()
     for i, (t, p) in enumerate(zip(times, positions)):
-        field = synthetic.skyrmion_field((128, 128), cell, p, radius, wall_width, time=t)
-        write_ovf(snaps / f"m{i:06d}.ovf", field, fmt="bin4")
+        field = synthetic.skyrmion_field((cells, cells), cell, p, radius, wall_width, time=t)
+        write_ovf(folder / f"m{i:06d}.ovf", field, fmt="bin4")
+    return material, folder
+
+
+def test_fit_from_ovf_snapshots(tmp_path, capsys):
+    """Snapshots drawn from a known pair-law trajectory are fitted back by the CLI."""
+    material, snaps = _pair_snapshots(tmp_path / "snaps", preset("S2").pair_law, 40e-9, 121, 128)
+    radius = material.skyrmion_radius
     out = tmp_path / "fit"
     assert main(["micromag", "fit", str(snaps), "--out", str(out)]) == 0
-    assert "pair law" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "pair law" in printed and "d = 1.20–" in printed  # the range the data covered
+    assert "a₂ ≥" not in printed  # a law that passes the checks is not constrained
     fitted = load_material(out / "material.toml")
     # The first frames (d ≈ 1.2 d_sk, walls 8 nm apart) bias the drawn centres by ~0.15 cell and
     # a₁, a₀ are strongly correlated, so the check is on the force the fitted law gives, over
@@ -86,3 +95,34 @@ def test_disk_from_mask():
     # equal-area radius and centroid of a rasterised disk: within a small fraction of a cell
     assert disk.radius == pytest.approx(90e-9, abs=0.05e-9)
     assert disk.centre == pytest.approx((101e-9, 99e-9), abs=0.05e-9)
+
+
+def test_fit_constrains_a_pair_law_that_grows_outside_the_data(tmp_path, capsys):
+    """A pair that relaxes by a law with a₂ < 0 (decreasing over the 1.2–2.2 d_sk the pair
+    covers): the free fit grows without bound, so the CLI writes the constrained law and says
+    so on screen and in material.toml; the engine's loader takes it."""
+    _, snaps = _pair_snapshots(tmp_path / "snaps", (-0.3, 8.0, -9.0), 40e-9, 61, 96)
+    out = tmp_path / "fit"
+    assert main(["micromag", "fit", str(snaps), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "a₂ ≥ 0.01" in printed and "grows without bound" in printed
+    assert "the data covered 1.20–" in printed
+    fitted = load_material(out / "material.toml")
+    assert fitted.pair_law[0] >= 0.01 and law_problem("pair", fitted.pair_law) is None
+    assert "# pair law fitted with a₂ ≥ 0.01" in (out / "material.toml").read_text()
+    d = np.linspace(1.25, 2.1, 30)  # inside the data, the constrained law is still the data's
+    np.testing.assert_allclose(pair_law_magnitude(d, fitted.pair_law),
+                               pair_law_magnitude(d, (-0.3, 8.0, -9.0)), rtol=0.03)
+
+
+def test_fit_refuses_a_pair_law_that_cannot_decay(tmp_path, capsys):
+    """A nearly constant repulsion: no decaying law fits it, so the CLI stops with one line
+    and exit status 2 and writes nothing."""
+    _, snaps = _pair_snapshots(tmp_path / "snaps", (-0.02, 0.5, 0.0), 20e-9, 41, 96)
+    out = tmp_path / "fit"
+    assert main(["micromag", "fit", str(snaps), "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("skygas: error: pair_law = [")
+    assert "do not fix how the force decays" in lines[0]
+    assert not out.exists()

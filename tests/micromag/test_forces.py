@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from skygas.errors import InputError
-from skygas.materials import load_material, preset
+from skygas.materials import load_material, preset, preset_names
 from skygas.micromag import (
     DiskBoundary,
     Skyrmion,
@@ -18,6 +18,7 @@ from skygas.micromag import (
     velocities,
     wall_law_magnitude,
 )
+from skygas.micromag.forces import PAIR_A2_FLOOR, law_problem
 from skygas.micromag.workflow import thiele_coefficients
 
 FILM = 2e-9  # m
@@ -125,3 +126,62 @@ def test_fit_input_errors():
         velocities(np.arange(10.0), np.zeros((10, 2)), window=4)
     with pytest.raises(InputError, match="law"):
         fit_trajectories([], "S2", law="magic")
+
+
+# --- Fitted laws must be usable by the engine ---------------------------------------------------
+
+
+@pytest.mark.parametrize("name", preset_names())
+def test_the_papers_laws_pass_the_check(name):
+    """Every preset's pair law and the paper's wall law are bounded and decreasing where the
+    engine uses them (S2's pair force peaks at 0.85 d_sk, below the checked range)."""
+    material = preset(name)
+    assert law_problem("pair", material.pair_law) is None
+    assert law_problem("wall", material.wall_law) is None
+
+
+def test_law_problems_are_named():
+    assert "grows without bound" in law_problem("pair", (-0.05, 8.0, -1.0))
+    assert "does not decay to zero" in law_problem("pair", (0.0, 8.0, -1.0))
+    assert "grows without bound" in law_problem("wall", (-0.1, 3.0, 0.0))
+    # a₂ > 0 but p(d) = (d² − 6d + 9)/(d + 1) falls for d < 3: the force rises from 1 to 3 d_sk
+    assert "rises with distance at d = 1.00–3.00" in law_problem("pair", (1.0, -6.0, 9.0))
+    assert "beyond 50 d_sk" in law_problem("pair", (0.01, 0.5, 0.0))
+
+
+D_NARROW = np.linspace(1.2, 2.6, 40)  # d_sk: a narrow range, which fixes a₂ poorly
+
+
+def test_pair_law_growing_outside_the_data_is_refitted_with_constraints():
+    """Exact samples of a law with a₂ < 0 that decreases over the data: the free fit gives
+    a₂ < 0 back, the constrained law (a₂ ≥ floor) passes the check and matches the data."""
+    law = (-0.05, 8.0, -1.0)
+    force = 2e-12 * pair_law_magnitude(D_NARROW, law)
+    free = fit_pair_law(D_NARROW, force, 2e-12, check=False)
+    np.testing.assert_allclose(free.coefficients, law, rtol=1e-6)
+    fit = fit_pair_law(D_NARROW, force, 2e-12)
+    assert fit.coefficients[0] >= PAIR_A2_FLOOR
+    assert law_problem("pair", fit.coefficients) is None
+    assert "a₂ ≥ 0.01" in fit.note and "grows without bound" in fit.note
+    np.testing.assert_allclose(fit.magnitude(D_NARROW), force, rtol=0.01)
+    assert fit.distance_range == pytest.approx((1.2, 2.6))
+
+
+def test_pair_law_rising_inside_the_data_is_refused():
+    force = 2e-12 * pair_law_magnitude(D_NARROW, (-1.0, 0.0, 0.0))  # F grows with d
+    with pytest.raises(InputError, match="pair_law.*inside the data"):
+        fit_pair_law(D_NARROW, force, 2e-12)
+
+
+def test_pair_law_that_no_constraint_repairs_is_refused():
+    # decreasing over the data but so slowly that no decaying law falls to 10⁻³ F₀ in 50 d_sk
+    force = 2e-12 * pair_law_magnitude(D_NARROW, (-0.02, 0.5, 0.0))
+    with pytest.raises(InputError, match="pair_law.*do not fix how the force decays"):
+        fit_pair_law(D_NARROW, force, 2e-12)
+
+
+def test_wall_law_that_rises_is_refused():
+    d = np.linspace(0.6, 3.0, 40)
+    force = 2e-12 * wall_law_magnitude(d, (-0.2, 1.5, 0.0))  # leading coefficient < 0
+    with pytest.raises(InputError, match="wall_law.*lower --wall-degree"):
+        fit_wall_law(d, force, 2e-12, degree=2)

@@ -109,6 +109,7 @@ def test_cli_neuron_and_saturation(tmp_path, capsys):
         assert key in summary
     assert (tmp_path / "n" / "count_trace.png").exists()
     assert (tmp_path / "n" / "transfer_curve.png").exists()
+    assert (tmp_path / "n" / "device.png").exists()
     assert main(["saturation", "--diameters", "2e-7", "--repetitions", "1", "--out",
                  str(tmp_path / "s"), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["max_count"][0] > 0

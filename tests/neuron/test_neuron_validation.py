@@ -36,8 +36,10 @@ def test_config_refuses_bad_values(data, field):
 
 @pytest.mark.parametrize("data, field", [
     ({"device": {**SMALL, "conduit_length": 20e-9}}, "device.conduit_length"),
-    ({"gate": {"band_width": 1e-9}}, "gate.band_width"),
     ({"gate": {"band_width": 80e-9}}, "gate.band_width"),
+    ({"gate": {"edge_width": 1e-9}}, "gate.edge_width"),
+    ({"gate": {"band_width": 20e-9, "edge_width": 15e-9}}, "gate.edge_width"),
+    ({"gate": {"barrier_height": 100.0}}, "gate.barrier_height"),
     ({"rule": {"threshold": 4, "reset_level": 4}}, "rule.reset_level"),
     ({"rule": {"threshold": 500}}, "rule.threshold"),
 ])

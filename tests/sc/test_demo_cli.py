@@ -9,7 +9,7 @@ import pytest
 from skygas._version import __version__
 from skygas.cli import _COMMAND_MODULES
 from skygas.errors import InputError
-from skygas.sc.cli import register
+from skygas.commands.sc import register
 from skygas.sc import DelayIsolator, ShuffleBuffer, run_demo, squaring_curve
 
 
@@ -45,7 +45,7 @@ def _parser():
 
 
 def test_cli_is_registered_and_runs_the_demo(tmp_path):
-    assert "skygas.sc.cli" in _COMMAND_MODULES
+    assert "skygas.commands.sc" in _COMMAND_MODULES
     out = tmp_path / "demo"
     args = _parser().parse_args(["sc", "demo", "--out", str(out), "--seed", "3", "--n-bits", "256"])
     assert args.func(args) == 0

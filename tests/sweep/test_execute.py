@@ -116,6 +116,10 @@ def _sweep_cli(*args):
 
 
 def test_killed_sweep_resumes_without_recomputing(tiny_sweep_file, tmp_path):
+    # runs of 20 µs (not the tiny sweep's 1 µs): each takes a good fraction of a second, so the
+    # poll below sees the first finished run before the others finish, even on a busy machine
+    tiny_sweep_file.write_text(tiny_sweep_file.read_text().replace("duration = 1e-6",
+                                                                   "duration = 2e-5"))
     store = tmp_path / "killed.zarr"
     # the client (and with it its local Dask cluster) is killed after the first finished run
     proc = subprocess.Popen(_sweep_cli(tiny_sweep_file, "--out", store, "--workers", "1"),

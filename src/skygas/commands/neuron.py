@@ -7,45 +7,25 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
-
+from skygas.commands.run_options import add_run_options, run_options
 from skygas.errors import InputError
+from skygas.outputs.flags import add_output_flags
 
 
 def _neuron(args) -> int:
-    from skygas.neuron import analysis as A
-    from skygas.neuron import lif as L
     from skygas.neuron.config import load_neuron_config
-    from skygas.neuron.device import NeuronDevice
-    from skygas.neuron.figures import plot_trace, plot_transfer
+    from skygas.neuron.files import NeuronJob
+    from skygas.outputs.finish import finish_outputs, movie_record_interval
+    from skygas.run_driver import drive
 
     config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
-    device = NeuronDevice(config)          # validates everything before any run
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    run = device.build().run()
-    summary = run.summary()
-    lif = L.fit_lif(run)
-    summary["lif_fit"] = lif
-    tr = run.trace()
-    np.savez_compressed(out / "trace.npz", **tr, spikes=run.spike_times(),
-                        emissions=run.emission_times(), injections=run.injection_times())
-    plot_trace(run, out / "count_trace.png")
-    if not args.no_transfer:
-        rates = config.transfer.rates
-        if not rates:
-            # around the LIF's rheobase θ/τ (τ of the integrating, closed-gate phase)
-            tau = lif["tau_s"] if np.isfinite(lif["tau_s"]) else 1e-6
-            rates = list(np.array([0.25, 0.5, 1, 1.5, 2, 3]) * config.rule.threshold / tau)
-        curve = A.transfer_curve(device, rates, config.transfer.duration or config.duration,
-                                 seed=config.seed)
-        pred = L.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
-                          lif["reset"], lif["release_time_s"], lif["refractory_time_s"])
-        lif["predicted_Hz"] = pred.tolist()
-        lif["transfer_r_squared"] = A.r_squared(curve["firing_rate_Hz"], pred)
-        summary["transfer_curve"] = curve
-        plot_transfer(curve, out / "transfer_curve.png", lif)
-    (out / "summary.json").write_text(json.dumps(summary, indent=1, default=float))
+    job = NeuronJob(config, transfer=not args.no_transfer,
+                    record_interval=movie_record_interval(args.animate))
+    summary = drive(job, out, **run_options(args, progress=not args.json))
+    finish_outputs(out, animate=args.animate, report=not args.no_report, simulation=job.run.sim,
+                   config=config)
+    lif = summary["lif_fit"]
     if args.json:
         print(json.dumps(summary, default=float))
     else:
@@ -73,8 +53,7 @@ def _number(value) -> str:
 
 
 def _saturation(args) -> int:
-    from skygas.neuron.figures import plot_saturation
-    from skygas.neuron.saturation import saturation_curve
+    from skygas.neuron.files import run_saturation_to_files
 
     diameters = []
     for k, d in enumerate(args.diameters):
@@ -86,12 +65,11 @@ def _saturation(args) -> int:
     if args.repetitions < 1:
         raise InputError("repetitions", args.repetitions, "an integer >= 1")
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    result = saturation_curve(diameters, repetitions=args.repetitions, seed=args.seed,
-                              relax_time=args.relax_time, temperature=args.temperature)
+    result = run_saturation_to_files(diameters, out, repetitions=args.repetitions,
+                                     seed=args.seed, relax_time=args.relax_time,
+                                     temperature=args.temperature,
+                                     **run_options(args, progress=not args.json))
     summary = result.summary()
-    (out / "saturation.json").write_text(json.dumps(summary, indent=1))
-    plot_saturation(result, out / "max_density.png")
     if args.json:
         print(json.dumps(summary))
     else:
@@ -111,6 +89,8 @@ def register(subparsers) -> None:
     p.add_argument("--seed", type=int, help="random seed")
     p.add_argument("--duration", type=float, help="simulated time [s]")
     p.add_argument("--no-transfer", action="store_true", help="skip the transfer curve")
+    add_run_options(p)
+    add_output_flags(p)
     p.set_defaults(func=_neuron)
 
     s = subparsers.add_parser("saturation",
@@ -122,4 +102,5 @@ def register(subparsers) -> None:
     s.add_argument("--relax-time", type=float, default=2e-9, help="relaxation [s]")
     s.add_argument("--temperature", type=float, default=300.0, help="[K]")
     s.add_argument("--seed", type=int, default=0)
+    add_run_options(s)
     s.set_defaults(func=_saturation)

@@ -6,6 +6,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from skygas.commands.run_options import add_run_options, run_options
+from skygas.outputs.flags import add_output_flags
 from skygas.reshuffler.presets import PRESETS
 
 # command-line option → configuration field it overrides
@@ -53,12 +55,14 @@ def _format(summary: dict, out: Path) -> str:
 def _reshuffle(args) -> int:
     # imported here: building the command line (every skygas call) imports no numerics
     from skygas.reshuffler.config import load_reshuffler_config
+    from skygas.outputs.finish import finish_outputs, recording_overrides
     from skygas.reshuffler.files import run_reshuffler
 
     overrides = {field: getattr(args, opt) for opt, field in OVERRIDES.items()}
+    overrides.update(recording_overrides(args.animate))
     config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
-    result = run_reshuffler(config, args.out, progress=not (args.json or args.quiet),
-                            resume=args.resume)
+    result = run_reshuffler(config, args.out, **run_options(args, progress=not args.json))
+    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
     if args.json:
         print(json.dumps(result.summary))
     else:
@@ -74,8 +78,8 @@ def register(subparsers) -> None:
     p.add_argument("--preset", choices=PRESETS, default=None,
                    help="start from a preset (the config file's values override it)")
     p.add_argument("--json", action="store_true", help="print one JSON object, no progress bar")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.npz")
+    add_run_options(p, checkpoint_seconds=60.0)
+    add_output_flags(p)
     p.add_argument("--current-density", type=float, help="J in the conduits [A/m²]")
     p.add_argument("--chamber-diameter", type=float, help="chamber diameter [m]")
     p.add_argument("--conduit-width", type=float, help="conduit width [m]")

@@ -10,13 +10,19 @@ import json
 from importlib import resources
 from pathlib import Path
 
+from skygas.commands.run_options import add_run_options, run_options
+from skygas.outputs.flags import add_output_flags
+
 
 def _simulate(args) -> int:
     from skygas.config import load_config
     from skygas.runner import run_simulation
 
     config = load_config(args.config)
-    summary = run_simulation(config, args.out, progress=not args.quiet, resume=args.resume)
+    summary = run_simulation(config, args.out, **run_options(args))
+    from skygas.outputs.finish import finish_outputs
+
+    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
     _report(summary, args.out)
     return 0
 
@@ -45,7 +51,10 @@ def default_demo_config():
 def _demo(args) -> int:
     from skygas.runner import run_simulation
 
-    summary = run_simulation(default_demo_config(), args.out, progress=not args.quiet)
+    summary = run_simulation(default_demo_config(), args.out, **run_options(args))
+    from skygas.outputs.finish import finish_outputs
+
+    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
     _report(summary, args.out)
     return 0
 
@@ -60,8 +69,8 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("simulate", help="run a simulation described by a TOML file")
     p.add_argument("config", help="TOML configuration (see examples/)")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--resume", action="store_true", help="continue from OUT/checkpoint.npz")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_run_options(p)
+    add_output_flags(p)
     p.set_defaults(func=_simulate)
 
     c = subparsers.add_parser("check-timestep",
@@ -76,5 +85,6 @@ def register(subparsers) -> None:
 
     d = subparsers.add_parser("demo", help="run the default demonstration")
     d.add_argument("--out", default="demo-output", help="output directory")
-    d.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_run_options(d)
+    add_output_flags(d)
     d.set_defaults(func=_demo)

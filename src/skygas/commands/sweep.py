@@ -30,6 +30,11 @@ def _plot(args) -> int:
     from skygas.sweep import plot_sweep
 
     result = plot_sweep(args.store, args.out)
+    from pathlib import Path
+
+    from skygas.outputs.report import write_report
+    write_report(args.store, Path(args.out) / "report.html")
+    result["report"] = str(Path(args.out) / "report.html")
     if args.json:
         print(json.dumps(result))
         return 0

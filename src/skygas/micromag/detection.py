@@ -3,17 +3,37 @@
 1. **Cores.** The background polarity s is the sign of the median m_z over the magnetic cells;
    a core is a connected region (4-neighbour) with s·m_z < ``threshold`` (default 0, i.e.
    reversed magnetisation) of at least ``min_cells`` cells.
-2. **Regions.** Every magnetic cell is given to its nearest core (a discrete Voronoi partition
-   by the Euclidean distance transform), so a region's integrals pick up the skyrmion's tail and
-   nothing of its neighbours' cores.
-3. **Centre.** The topological-charge-weighted guiding centre, R = Σ x_p q_p / Σ q_p over the
-   region's plaquettes p (Berg–Lüscher density, :mod:`skygas.micromag.topology`). It is the
-   guiding centre of Thiele's theory and needs no model of the profile.
-4. **Radius.** The m_z = 0 contour, sampled along ``n_rays`` rays from the centre on a cubic
-   spline of m_z; the radius is that of the disk of equal area, √(⟨r(φ)²⟩). The ratio of the
-   shortest to the longest ray is reported as ``circularity`` (1 for a round skyrmion).
-5. **Charge and 𝒟** per region (:func:`~skygas.micromag.topology.topological_charge`,
-   :func:`~skygas.micromag.topology.dissipation`).
+2. **Film edge.** Magnetisation tilts at a film's edges (the DMI boundary condition), and a
+   tilted edge carries topological charge density of its own (a disk's tilted rim holds
+   (1 − cos θ_edge)/2 of a skyrmion's charge). The *edge band* is the strip along the film edge
+   (empty cells or the mesh border) where the background tilts: the cells closer to the edge
+   than the first distance at which the median tilt angle arccos(s·n_z) of the cells at that
+   distance is within ``EDGE_TILT_TOLERANCE`` of the film's typical (median) tilt. A film
+   without edge tilt has no band.
+3. **Neighbourhoods.** Every magnetic cell is first given to its nearest core (a discrete
+   Voronoi partition by the Euclidean distance transform), so nothing of a neighbour's core is
+   counted. A skyrmion's *neighbourhood* is the part of its Voronoi region outside the edge band
+   and within R + ``REACH_WALL_WIDTHS``·Δ of its core's centroid, R and Δ the radius and wall
+   width of its m_z profile (step 5). The ansatz's charge density falls as e^{−2(r−R)/Δ}, so the
+   neighbourhood holds all of a skyrmion's charge but e^{−12} ≈ 6·10⁻⁶ of it, and no charge of the
+   film's edges or of far textures.
+   A skyrmion whose tail reaches into the edge band loses the charge there: its |Q| drops below 1
+   and its centre moves away from the edge (on the ansatz, R = 10 nm, Δ = 3 nm, an edge tilted
+   by 30° with ξ = Δ, band 7 nm: 0.5 nm at 20 nm from the edge, < 0.05 nm from 25 nm on; the
+   whole-region centre of earlier versions was off by 0.4–0.6 nm at every distance).
+4. **Centre.** The topological-charge-weighted guiding centre, R = Σ x_p q_p / Σ q_p over the
+   neighbourhood's plaquettes p (Berg–Lüscher density, :mod:`skygas.micromag.topology`; a
+   plaquette counts a quarter for each of its corner cells' regions, so the border between two
+   touching skyrmions splits its charge evenly). It is the guiding centre of Thiele's theory
+   and needs no model of the profile.
+5. **Radius and wall width.** The m_z = 0 contour, sampled along ``n_rays`` rays from the
+   centre on a cubic spline of m_z; the radius is that of the disk of equal area, √(⟨r(φ)²⟩).
+   The ratio of the shortest to the longest ray is reported as ``circularity`` (1 for a round
+   skyrmion). The wall width is Δ = 1/|∂(s·m_z)/∂r| at the contour (the median over the rays):
+   for the 360° wall ansatz it is Δ·tanh(R/Δ).
+6. **Charge and 𝒟** per neighbourhood (:func:`~skygas.micromag.topology.topological_charge`,
+   :func:`~skygas.micromag.topology.dissipation`). ``Snapshot.labels`` holds the
+   neighbourhoods (0 elsewhere).
 """
 
 from __future__ import annotations
@@ -51,12 +71,20 @@ class Skyrmion:
 
 @dataclass(frozen=True)
 class Snapshot:
-    """The skyrmions of one field, its region labels (ny, nx), total charge and time [s]."""
+    """The skyrmions of one field, their neighbourhood labels (ny, nx), the total charge, the
+    time [s] and the width of the film-edge band [m] (0 without edge tilt)."""
 
     skyrmions: tuple[Skyrmion, ...]
     labels: np.ndarray
     total_charge: float
     time: float
+    edge_band_width: float = 0.0
+
+
+#: Neighbourhood radius beyond the m_z = 0 contour, in wall widths (see the module docstring).
+REACH_WALL_WIDTHS = 6.0
+#: Tilt angle [rad] above the film's typical tilt that marks the film-edge band (1°).
+EDGE_TILT_TOLERANCE = math.radians(1.0)
 
 
 def _regions(mz: np.ndarray, magnetic: np.ndarray, threshold: float, min_cells: int):
@@ -75,9 +103,33 @@ def _regions(mz: np.ndarray, magnetic: np.ndarray, threshold: float, min_cells: 
     return cores, regions, background
 
 
-def _contour_radius(mz, background, cx_cells, cy_cells, max_r, n_rays):
-    """Radius [cells] of the s·m_z = 0 contour around (cx, cy) in cell-index units."""
-    spline = ndimage.spline_filter(mz, order=3)
+def edge_band(mz: np.ndarray, magnetic: np.ndarray, background: float,
+              cores: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+    """The film-edge band (mask, ny × nx) and its width [cells] (see the module docstring).
+
+    Distances to the edge are counted from each cell centre to the nearest empty cell or the
+    mesh border (1 for a cell on the edge). ``cores`` (cells of reversed cores) are left out of
+    the tilt statistics, so that skyrmions near the edge do not widen the band.
+    """
+    depth = ndimage.distance_transform_edt(np.pad(magnetic, 1))[1:-1, 1:-1]
+    ring = np.floor(depth).astype(int)  # 1 on the edge, 2 next, ...
+    angle = np.arccos(np.clip(background * mz, -1.0, 1.0))
+    counted = magnetic & (True if cores is None else cores == 0)
+    if not counted.any():
+        return np.zeros_like(magnetic), 0
+    limit = float(np.median(angle[counted])) + EDGE_TILT_TOLERANCE
+    for width in range(int(ring.max()) + 1):
+        cells = counted & (ring == width + 1)
+        if cells.any() and np.median(angle[cells]) <= limit:
+            break
+    else:  # no ring as flat as the film: no edge tilt to tell apart
+        width = 0
+    return magnetic & (ring <= width), width
+
+
+def _contour_rays(spline, background, cx_cells, cy_cells, max_r, n_rays):
+    """Radius [cells] of the s·m_z = 0 contour along each ray around (cx, cy) (cell-index
+    units), and the slope ∂(s·m_z)/∂r [1/cell] there (NaN where a ray finds no crossing)."""
     steps = np.linspace(0.0, max_r, int(max_r * 20) + 2)
     angles = np.linspace(0.0, 2 * np.pi, n_rays, endpoint=False)
     rows = cy_cells + np.outer(np.sin(angles), steps)
@@ -86,13 +138,32 @@ def _contour_radius(mz, background, cx_cells, cy_cells, max_r, n_rays):
                                                   prefilter=False, mode="nearest")
     values = values.reshape(rows.shape)
     radii = np.full(n_rays, np.nan)
+    slopes = np.full(n_rays, np.nan)
     for k in range(n_rays):
         crossing = np.flatnonzero((values[k, :-1] < 0) & (values[k, 1:] >= 0))
         if crossing.size:
             j = crossing[0]
             v0, v1 = values[k, j], values[k, j + 1]
             radii[k] = steps[j] + (steps[j + 1] - steps[j]) * v0 / (v0 - v1)
-    return radii
+            slopes[k] = (v1 - v0) / (steps[j + 1] - steps[j])
+    return radii, slopes
+
+
+def _centres(density, labels, charges, cores) -> list[tuple[float, float]]:
+    """Charge-weighted centre [cell-index units] of every labelled region, plaquettes shared
+    between corner regions as for the charge; a topologically trivial bubble (|Q| < ½) falls
+    back on its reversed core's centroid."""
+    py, px = np.mgrid[0 : density.shape[0], 0 : density.shape[1]] + 0.5  # plaquette centres
+    sum_x = topology.plaquette_sums(density * px, labels)
+    sum_y = topology.plaquette_sums(density * py, labels)
+    centres = []
+    for k, charge in enumerate(charges):
+        if abs(charge) > 0.5:
+            centres.append((float(sum_x[k] / charge), float(sum_y[k] / charge)))
+        else:
+            cy, cx = ndimage.center_of_mass(cores == k + 1)
+            centres.append((float(cx), float(cy)))
+    return centres
 
 
 def detect_skyrmions(
@@ -110,24 +181,34 @@ def detect_skyrmions(
     count = int(regions.max(initial=0))
     if count == 0:
         return Snapshot((), regions, total, time)
-    charges = topology.topological_charge(field, regions)
-    dissipations = topology.dissipation(field, regions)
+    band, width = edge_band(mz, magnetic, background, cores)
+    spline = ndimage.spline_filter(mz, order=3)
     dx, dy = float(field.attrs["dx"]), float(field.attrs["dy"])
     x0, y0 = float(field.x.values[0]), float(field.y.values[0])
-    plaquette_labels = regions[:-1, :-1]
-    py, px = np.mgrid[0 : density.shape[0], 0 : density.shape[1]] + 0.5  # cell-index units
+    yy, xx = np.mgrid[0 : mz.shape[0], 0 : mz.shape[1]]  # cell-index units
     core_sizes = np.bincount(cores.ravel(), minlength=count + 1)
-    found = []
+    neighbourhoods = np.zeros_like(regions)
+    shapes = {}
     for label in range(1, count + 1):
-        in_region = plaquette_labels == label
-        weight = density[in_region]
-        if abs(weight.sum()) > 0.5:
-            cx = float((px[in_region] * weight).sum() / weight.sum())
-            cy = float((py[in_region] * weight).sum() / weight.sum())
-        else:  # a topologically trivial bubble: fall back on the reversed-core centroid
-            cy, cx = ndimage.center_of_mass(cores == label)
+        core = cores == label
+        cy, cx = ndimage.center_of_mass(core)
         max_r = 2.0 * math.sqrt(core_sizes[label] / math.pi) + 3.0
-        radii = _contour_radius(mz, background, cx, cy, max_r, n_rays) * math.sqrt(dx * dy)
+        radii, slopes = _contour_rays(spline, background, cx, cy, max_r, n_rays)
+        good = np.isfinite(radii)
+        if good.any():
+            reach = np.sqrt(np.mean(radii[good] ** 2)) + REACH_WALL_WIDTHS / np.median(slopes[good])
+        else:  # no contour (a core at the threshold only): keep the whole Voronoi region
+            reach = np.inf
+        near = np.hypot(xx - cx, yy - cy) <= reach
+        neighbourhoods[(regions == label) & near & ~band] = label
+    charges = topology.topological_charge(field, neighbourhoods)
+    dissipations = topology.dissipation(field, neighbourhoods)
+    found = []
+    centres = _centres(density, neighbourhoods, charges, cores)
+    for label, (cx, cy) in enumerate(centres, start=1):
+        max_r = 2.0 * math.sqrt(core_sizes[label] / math.pi) + 3.0
+        radii, _ = _contour_rays(spline, background, cx, cy, max_r, n_rays)
+        radii = radii * math.sqrt(dx * dy)
         good = radii[np.isfinite(radii)]
         radius = float(np.sqrt(np.mean(good**2))) if good.size else math.nan
         found.append(Skyrmion(
@@ -136,15 +217,17 @@ def detect_skyrmions(
             circularity=float(good.min() / good.max()) if good.size else math.nan,
             label=label,
         ))
-    return Snapshot(tuple(found), regions, total, time)
+    return Snapshot(tuple(found), neighbourhoods, total, time,
+                    width * math.sqrt(dx * dy))
 
 
 def inspect_field(field: xr.DataArray, **options) -> dict:
     """A JSON-ready summary of one snapshot: per-skyrmion charge, centre, radius and 𝒟.
 
     Keys: ``skyrmions`` (objects with ``charge``, ``x_m``, ``y_m``, ``radius_m``,
-    ``dissipation``, ``area_m2``, ``circularity``), ``total_charge``, ``time_s``, the mesh and
-    the detection options.
+    ``dissipation``, ``area_m2``, ``circularity``), ``total_charge``, ``time_s``,
+    ``edge_band_width_m`` (the film-edge strip left out of every skyrmion), the mesh and the
+    detection options.
     """
     snap = detect_skyrmions(field, **options)
     return {
@@ -155,6 +238,7 @@ def inspect_field(field: xr.DataArray, **options) -> dict:
         ],
         "total_charge": snap.total_charge,
         "time_s": None if math.isnan(snap.time) else snap.time,
+        "edge_band_width_m": snap.edge_band_width,
         "mesh": {"nx": field.sizes["x"], "ny": field.sizes["y"], "nz": field.sizes["z"],
                  "dx_m": field.attrs["dx"], "dy_m": field.attrs["dy"], "dz_m": field.attrs["dz"]},
         "options": options,

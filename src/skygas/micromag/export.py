@@ -39,7 +39,7 @@ def write_material_toml(path: str | Path, material: Material, notes: list[str] =
     """Write ``material`` as a ``[material]`` table; ``notes`` become header comments."""
     path = Path(path)
     lines = [f"# skygas {__version__} material preset fitted from micromagnetic snapshots."]
-    lines += [f"# {note}" for note in notes]
+    lines += [f"# {line}" for note in notes for line in str(note).splitlines()]
     lines.append("[material]")
     for key, value in material.model_dump().items():
         if value is not None:

@@ -9,7 +9,7 @@ G = −4πQk, the conventions of :func:`skygas.materials.derive_thiele`. Compone
 Velocities come from a local least-squares polynomial (Savitzky–Golay) derivative, which
 averages out the sub-cell jitter of detected centres; its window sets the smoothing.
 
-Laws (PHYSICS.md §2), d in units of the skyrmion diameter d_sk, F₀ the force scale:
+Laws (docs/physics.md §2), d in units of the skyrmion diameter d_sk, F₀ the force scale:
 
 - pair:  |F| = F₀ exp[−(a₂d² + a₁d + a₀)/(d + 1)], repulsive along the line of centres;
 - wall:  |F| = F₀ exp[−p(d)], p = polyval(b, d) (highest power first), along the inward normal.
@@ -17,17 +17,40 @@ Laws (PHYSICS.md §2), d in units of the skyrmion diameter d_sk, F₀ the force 
 Fits: ln(|F|/F₀) is linear in the coefficients (for the pair law after multiplying by d + 1), so
 a linear least-squares solution starts a nonlinear least-squares refinement on ln|F| (equal
 weight to every sample in relative terms), whose covariance gives the quoted 1σ uncertainties.
+
+Checks (:func:`law_problem`): the engine uses a law from the closest approach it allows
+(``MIN_PLACEMENT_SEPARATION`` = 0.5 d_sk) out to its cutoff, where |F| stays below 10⁻³ F₀
+(:func:`skygas.forces.cutoff_distance`). A fitted law must there be
+
+- bounded: it decays to zero far away (a₂ > 0; for the wall law a positive leading
+  coefficient), and falls below the cutoff fraction within 50 d_sk, as the engine requires;
+- decreasing from ``DECREASING_FROM`` = 1 d_sk to the cutoff. Closer than one diameter the laws
+  are not valid (paper, "Boundary Effects"), and the paper's own S2 law peaks at 0.85 d_sk, so
+  there it need only be finite and positive (which both forms always are).
+
+A pair fit that fails the checks only outside its data (an extrapolation: a narrow range of d
+fixes a₂ poorly, and a₂ < 0 makes the force grow without bound) is refitted with the
+constraints built in (:func:`fit_pair_law`): a₂ ≥ ``PAIR_A2_FLOOR`` and
+p'(1) ∝ 3a₂ + a₁ − a₀ ≥ 0, which with a₂ > 0 makes p(d) = (a₂d² + a₁d + a₀)/(d + 1) increase,
+and the force decrease, for all d ≥ 1. A law that rises inside its own data, or that no
+constrained law repairs, is refused (:class:`~skygas.errors.InputError`).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import optimize, signal
 
 from skygas.errors import InputError
+
+#: Smallest distance [d_sk] from which a fitted law must decrease (see the module docstring).
+DECREASING_FROM = 1.0
+#: Lower bound of a₂ in a constrained pair fit (a small positive number: the force decays).
+PAIR_A2_FLOOR = 0.01
 
 
 def pair_law_magnitude(d, pair_law) -> np.ndarray:
@@ -140,7 +163,8 @@ class LawFit:
     Attributes: ``law`` ("pair" or "wall"); ``coefficients`` ([a₂, a₁, a₀] or b, highest power
     first) and their 1σ ``uncertainties``; ``force_scale`` F₀ [N]; ``n_points`` used;
     ``distance_range`` (d_min, d_max) in diameters; ``rms_log_residual`` of ln|F|;
-    ``n_rejected`` samples left out because their force was not repulsive (F ≤ 0).
+    ``n_rejected`` samples left out because their force was not repulsive (F ≤ 0); ``note``
+    says why a constrained law replaced the unconstrained fit (empty if it did not).
     """
 
     law: str
@@ -152,6 +176,7 @@ class LawFit:
     rms_log_residual: float
     n_rejected: int = 0
     covariance: list = field(default_factory=list, repr=False)
+    note: str = ""
 
     def magnitude(self, d) -> np.ndarray:
         """The fitted |F| [N] at distances d (diameters)."""
@@ -163,7 +188,8 @@ class LawFit:
                 "uncertainties": list(self.uncertainties), "force_scale_N": self.force_scale,
                 "n_points": self.n_points, "distance_range": list(self.distance_range),
                 "rms_log_residual": self.rms_log_residual, "n_rejected": self.n_rejected,
-                "covariance": self.covariance}
+                "covariance": self.covariance, "note": self.note,
+                "engine_range": list(engine_range(self.law, self.coefficients))}
 
 
 def _clean(d, force, force_scale: float, need: int):
@@ -179,8 +205,10 @@ def _clean(d, force, force_scale: float, need: int):
 
 def _finish(law, model, d, y, start, force_scale, rejected) -> LawFit:
     try:
-        params, cov = optimize.curve_fit(model, d, y, p0=start, method="lm")
-    except (RuntimeError, optimize.OptimizeWarning):  # keep the linear solution
+        with warnings.catch_warnings():  # exact samples: no covariance, the fit is still right
+            warnings.simplefilter("ignore", optimize.OptimizeWarning)
+            params, cov = optimize.curve_fit(model, d, y, p0=start, method="lm")
+    except RuntimeError:  # keep the linear solution
         params, cov = start, np.full((len(start), len(start)), np.nan)
     residual = y - model(d, *params)
     return LawFit(law, tuple(map(float, params)), tuple(map(float, np.sqrt(np.diag(cov)))),
@@ -188,21 +216,75 @@ def _finish(law, model, d, y, start, force_scale, rejected) -> LawFit:
                   float(np.sqrt(np.mean(residual**2))), rejected, np.asarray(cov).tolist())
 
 
-def fit_pair_law(d, force, force_scale: float) -> LawFit:
-    """Fit [a₂, a₁, a₀] of |F| = F₀ exp[−(a₂d² + a₁d + a₀)/(d+1)] to samples (d, |F| [N])."""
+def _pair_model(x, a2, a1, a0):
+    return -(a2 * x * x + a1 * x + a0) / (x + 1.0)
+
+
+def fit_pair_law(d, force, force_scale: float, check: bool = True) -> LawFit:
+    """Fit [a₂, a₁, a₀] of |F| = F₀ exp[−(a₂d² + a₁d + a₀)/(d+1)] to samples (d, |F| [N]).
+
+    With ``check``, a law that fails :func:`law_problem` outside the data is refitted with the
+    constraints built in (``note`` says so); one that rises inside the data, or that no
+    constrained law repairs, raises :class:`InputError` (see the module docstring).
+    """
     d, y, rejected = _clean(d, force, force_scale, need=4)
     # (d + 1) ln(F/F₀) = −a₂d² − a₁d − a₀ is linear in the coefficients.
     design = -np.stack([d * d, d, np.ones_like(d)], axis=-1)
     start = np.linalg.lstsq(design, (d + 1.0) * y, rcond=None)[0]
+    fit = _finish("pair", _pair_model, d, y, start, force_scale, rejected)
+    reason = law_problem("pair", fit.coefficients) if check else None
+    if reason is None:
+        return fit
+    _refuse_if_rising_in_data(fit)
+    constrained = _constrained_pair_fit(d, y, fit, reason, rejected)
+    problem = law_problem("pair", constrained.coefficients)
+    if problem is not None:
+        raise _refusal(fit, f"this fit {reason} and even the best decaying law {problem}, so "
+                       "the data do not fix how the force decays",
+                       "record snapshots until the skyrmions are farther apart")
+    return constrained
 
-    def model(x, a2, a1, a0):
-        return -(a2 * x * x + a1 * x + a0) / (x + 1.0)
 
-    return _finish("pair", model, d, y, start, force_scale, rejected)
+def _constrained_pair_fit(d, y, free: LawFit, reason: str, rejected: int) -> LawFit:
+    """The least-squares pair law with a₂ ≥ PAIR_A2_FLOOR and c = 3a₂ + a₁ − a₀ ≥ 0.
+
+    Parameters x = (a₂, c, a₀), so that the constraints are simple bounds;
+    a = A·x with a₁ = c + a₀ − 3a₂.
+    """
+    to_law = np.array([[1.0, 0.0, 0.0], [-3.0, 1.0, 1.0], [0.0, 0.0, 1.0]])
+    a2, a1, a0 = free.coefficients
+    x0 = [max(a2, 2 * PAIR_A2_FLOOR), max(3 * a2 + a1 - a0, 1e-3), a0]
+
+    def residual(x):
+        return _pair_model(d, *(to_law @ x)) - y
+
+    solution = optimize.least_squares(residual, x0, bounds=([PAIR_A2_FLOOR, 0.0, -np.inf],
+                                                            np.inf), x_scale="jac")
+    coefficients = to_law @ solution.x
+    dof = max(d.size - 3, 1)
+    try:
+        cov_x = np.linalg.inv(solution.jac.T @ solution.jac) * (2 * solution.cost / dof)
+        cov = to_law @ cov_x @ to_law.T
+    except np.linalg.LinAlgError:
+        cov = np.full((3, 3), np.nan)
+    rms = float(np.sqrt(np.mean(residual(solution.x) ** 2)))
+    note = (f"pair law fitted with a₂ ≥ {PAIR_A2_FLOOR} and decreasing from "
+            f"{DECREASING_FROM:g} d_sk on: the unconstrained fit {_rounded(free.coefficients)} "
+            f"{reason} (outside the data, d = {free.distance_range[0]:.2f}–"
+            f"{free.distance_range[1]:.2f} d_sk); rms ln-residual "
+            f"{free.rms_log_residual:.3g} → {rms:.3g}")
+    return LawFit("pair", tuple(map(float, coefficients)),
+                  tuple(map(float, np.sqrt(np.abs(np.diag(cov))))), free.force_scale,
+                  int(d.size), free.distance_range, rms, rejected, np.asarray(cov).tolist(),
+                  note)
 
 
-def fit_wall_law(d, force, force_scale: float, degree: int = 5) -> LawFit:
-    """Fit b (degree ``degree``, highest power first) of |F| = F₀ exp[−polyval(b, d)]."""
+def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = True) -> LawFit:
+    """Fit b (degree ``degree``, highest power first) of |F| = F₀ exp[−polyval(b, d)].
+
+    With ``check``, a law that fails :func:`law_problem` raises :class:`InputError` (a
+    polynomial has no constrained refit here: a lower degree is the remedy).
+    """
     if not (isinstance(degree, int) and degree >= 1):
         raise InputError("degree", degree, "an integer >= 1")
     d, y, rejected = _clean(d, force, force_scale, need=degree + 3)
@@ -211,4 +293,87 @@ def fit_wall_law(d, force, force_scale: float, degree: int = 5) -> LawFit:
     def model(x, *b):
         return -np.polyval(b, x)
 
-    return _finish("wall", model, d, y, start, force_scale, rejected)
+    fit = _finish("wall", model, d, y, start, force_scale, rejected)
+    problem = law_problem("wall", fit.coefficients) if check else None
+    if problem is not None:
+        _refuse_if_rising_in_data(fit)
+        raise _refusal(fit, f"the fit {problem}, where the engine uses it",
+                       f"refit with a lower --wall-degree (now {degree}) or with snapshots "
+                       "that cover more of that range")
+    return fit
+
+
+def _rounded(coefficients) -> list[float]:
+    return [float(f"{c:.4g}") for c in coefficients]
+
+
+def _refusal(fit: LawFit, why: str, remedy: str) -> InputError:
+    """The one-line refusal of a fitted law: what is wrong, the data's range, what to do."""
+    lo, hi = fit.distance_range
+    return InputError(f"{fit.law}_law", _rounded(fit.coefficients),
+                      f"a force that decays with distance: {why} (data: d = {lo:.2f}–{hi:.2f} "
+                      f"d_sk); {remedy}")
+
+
+def _magnitude(law: str, coefficients):
+    shape = pair_law_magnitude if law == "pair" else wall_law_magnitude
+    return lambda d: shape(d, coefficients)
+
+
+def engine_range(law: str, coefficients) -> tuple[float, float]:
+    """(closest approach, cutoff) in d_sk: the distances at which the engine uses the law.
+
+    The cutoff is NaN where the law does not fall below the cutoff fraction within 50 d_sk.
+    """
+    from skygas.engine import MIN_PLACEMENT_SEPARATION  # imports numba: only when fitting
+    from skygas.forces import cutoff_distance
+
+    try:
+        cutoff = cutoff_distance(_magnitude(law, coefficients))
+    except InputError:
+        cutoff = math.nan
+    return float(MIN_PLACEMENT_SEPARATION), float(cutoff)
+
+
+def _rising(law: str, coefficients, lo: float, hi: float) -> tuple[float, float] | None:
+    """The first and last distance in [lo, hi] (d_sk) where the law's force rises, or None."""
+    if not hi > lo:
+        return None
+    d = np.linspace(lo, hi, 4001)
+    up = np.flatnonzero(np.diff(_magnitude(law, coefficients)(d)) > 0)
+    return None if up.size == 0 else (float(d[up[0]]), float(d[up[-1] + 1]))
+
+
+def law_problem(law: str, coefficients) -> str | None:
+    """Why the engine cannot use this law as a decaying force (None if it can).
+
+    Checks, in d_sk (see the module docstring): the leading coefficient is positive (the force
+    decays to zero far away); the force falls below the engine's cutoff fraction within 50 d_sk;
+    it decreases from ``DECREASING_FROM`` (or the closest approach, if larger) to the cutoff.
+    """
+    from skygas.forces import DEFAULT_CUTOFF_FRACTION
+
+    name = "a₂" if law == "pair" else "the leading coefficient"
+    if not coefficients[0] > 0:
+        if coefficients[0] < 0:
+            return f"grows without bound far away ({name} = {coefficients[0]:.4g} < 0)"
+        return f"does not decay to zero far away ({name} = 0)"
+    closest, cutoff = engine_range(law, coefficients)
+    if not math.isfinite(cutoff):
+        return f"stays above {DEFAULT_CUTOFF_FRACTION:g} F₀ beyond 50 d_sk"
+    rising = _rising(law, coefficients, max(closest, DECREASING_FROM), cutoff)
+    if rising is not None:
+        return f"rises with distance at d = {rising[0]:.2f}–{rising[1]:.2f} d_sk"
+    return None
+
+
+def _refuse_if_rising_in_data(fit: LawFit) -> None:
+    """Refuse a law whose force rises with distance inside the data's own range: there the
+    samples themselves do not show a decaying repulsion, and no constraint can repair that."""
+    lo, hi = fit.distance_range
+    rising = _rising(fit.law, fit.coefficients, max(lo, DECREASING_FROM), hi)
+    if rising is not None:
+        raise _refusal(fit, f"the fit rises at d = {rising[0]:.2f}–{rising[1]:.2f} d_sk, inside "
+                       "the data, so the samples do not show a decaying repulsion",
+                       "check that the snapshots hold one relaxing pair (no third skyrmion) "
+                       "or one skyrmion near the wall")

@@ -11,6 +11,13 @@ A field is returned as an :class:`xarray.DataArray` with dimensions ``(z, y, x, 
 Its attributes hold the cell size ``dx``, ``dy``, ``dz`` [m], the simulation ``time`` [s] (NaN
 when the file does not give one) and the header's ``title``.
 
+Header lines are read as real writers produce them (mumax3, OOMMF, spirit's ``ovf`` library,
+discretisedfield): keys in any order and any letter case, zero-padded numbers
+(``Segment count: 000001``), ``##`` comments on their own line or after a value
+(``valuedim: 3   ## field dimensionality``). The mesh unit may be any of :data:`MESH_UNITS`;
+lengths are converted to metres, with an :class:`OVFUnitWarning` when the unit is not the metre
+(the OVF format treats the unit as a label, so the conversion is this reader's reading of it).
+
 Every problem with a file (truncated, unknown header line, mesh and header disagreeing, NaN
 values, too few values) raises :class:`~skygas.errors.InputError` naming the file.
 """
@@ -19,6 +26,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -26,10 +34,16 @@ import xarray as xr
 
 from skygas.errors import InputError
 
-_MAGIC = {"# OOMMF: rectangular mesh v1.0": 1, "# OOMMF OVF 2.0": 2}
-_IRREGULAR_MAGIC = "# OOMMF: irregular mesh v1.0"
+# First lines, compared after lower-casing and collapsing white space.
+_MAGIC = {"# oommf: rectangular mesh v1.0": 1, "# oommf ovf 2.0": 2}
+_IRREGULAR_MAGIC = "# oommf: irregular mesh v1.0"
 _CHECK_VALUE = {4: 1234567.0, 8: 123456789012345.0}
-_MESH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "nm": 1e-9}
+#: Mesh units the reader converts to metres (factor to metres).
+MESH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6,
+              "nm": 1e-9, "angstrom": 1e-10, "å": 1e-10, "pm": 1e-12}
+_DATA_FORMATS = {"text": "text", "binary 4": 4, "binary 8": 8}
+# The line that closes a data block; searched case-insensitively, spacing as writers vary it.
+_END_DATA = re.compile(rb"#[ \t]*end:[ \t]*data", re.I)
 # Header keys of both OVF versions (lower case). Anything else is an error: a key we do not
 # know might change how the data must be read.
 _KNOWN_KEYS = {
@@ -43,50 +57,69 @@ _TIME_PATTERN = re.compile(r"total simulation time\s*:\s*([-+0-9.eE]+)\s*(\w*)",
 _TIME_UNITS = {"": 1.0, "s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
 
 
+class OVFUnitWarning(UserWarning):
+    """An OVF file's mesh unit is not the metre; its lengths were converted to metres."""
+
+
 def _bad(path: Path, what: str, value, allowed: str) -> InputError:
     return InputError(f"{path.name}:{what}", value, allowed)
+
+
+def _header_line(raw: bytes) -> str:
+    """One header line as text, its ``##`` comment (the rest of the line) removed.
+
+    Headers are ASCII in practice; a unit such as "µm" may come in UTF-8 or Latin-1.
+    """
+    try:
+        line = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        line = raw.decode("latin-1")
+    return line.partition("##")[0].strip()
 
 
 def _parse_header(path: Path, raw: bytes) -> tuple[dict, str, int]:
     """Header dict, data format ("text", 4, 8) and the byte offset where the data begin."""
     first_end = raw.find(b"\n")
-    magic = raw[: first_end if first_end >= 0 else len(raw)].decode("latin-1").strip()
+    first = raw[: first_end if first_end >= 0 else len(raw)].decode("latin-1").strip()
+    magic = " ".join(first.lower().split())
     if magic == _IRREGULAR_MAGIC:
         raise _bad(path, "meshtype", "irregular", "a rectangular mesh (irregular meshes are "
                    "not supported; resample onto a rectangular mesh)")
     if magic not in _MAGIC:
-        raise _bad(path, "header", magic[:60], "a first line '# OOMMF OVF 2.0' or "
+        raise _bad(path, "header", first[:60], "a first line '# OOMMF OVF 2.0' or "
                    "'# OOMMF: rectangular mesh v1.0'")
-    header: dict = {"version": _MAGIC[magic], "desc": []}
+    header: dict = {"version": _MAGIC[magic], "desc": [], "line": {}}
     pos = first_end + 1
+    number = 1
     while True:
+        number += 1
         end = raw.find(b"\n", pos)
         if end < 0:
             raise _bad(path, "data", "missing", "a '# Begin: Data ...' line (file truncated?)")
-        line = raw[pos:end].decode("latin-1").strip()
+        line = _header_line(raw[pos:end])
         pos = end + 1
-        if not line or line == "#" or line.startswith("##"):
-            continue  # blank lines and OVF 2.0 comments
+        if not line or line == "#":
+            continue  # blank lines and comment-only lines
         if not line.startswith("#"):
             raise _bad(path, "header", line[:60], "header lines that start with '#'")
-        body = line[1:].strip()
-        lower = body.lower()
-        if lower.startswith("begin: data"):
-            kind = lower.removeprefix("begin: data").strip()
-            fmt = {"text": "text", "binary 4": 4, "binary 8": 8}.get(kind)
+        key, sep, value = line[1:].partition(":")
+        key = " ".join(key.lower().split())
+        value = value.strip()
+        if key == "begin" and value.lower().startswith("data"):
+            kind = " ".join(value.lower().removeprefix("data").split())
+            fmt = _DATA_FORMATS.get(kind)
             if fmt is None:
                 raise _bad(path, "data format", kind, "Text, Binary 4 or Binary 8")
             return header, fmt, pos
-        if lower.startswith(("begin:", "end:")):
+        if key in ("begin", "end"):
             continue  # segment and header brackets
-        key, sep, value = body.partition(":")
-        key = key.strip().lower()
         if not sep or key not in _KNOWN_KEYS:
-            raise _bad(path, "header", body[:60], "a known OVF 1.0/2.0 header key")
+            raise _bad(path, "header", line[1:].strip()[:60], "a known OVF 1.0/2.0 header key")
         if key == "desc":
-            header["desc"].append(value.strip())
+            header["desc"].append(value)
         else:
-            header[key] = value.strip()
+            header[key] = value
+            header["line"][key] = number
 
 
 def _number(path: Path, header: dict, key: str, cast=float):
@@ -113,14 +146,12 @@ def read_ovf(path: str | Path) -> xr.DataArray:
         raise InputError("path", str(path), "an existing OVF file")
     raw = path.read_bytes()
     header, fmt, start = _parse_header(path, raw)
-    if header.get("segment count", "1").strip() != "1":
+    if "segment count" in header and _number(path, header, "segment count", int) != 1:
         raise _bad(path, "segment count", header["segment count"], "1 (one field per file)")
     if header.get("meshtype", "rectangular").lower() != "rectangular":
         raise _bad(path, "meshtype", header["meshtype"], "rectangular")
-    unit = header.get("meshunit", "m").lower()
-    if unit not in _MESH_UNITS:
-        raise _bad(path, "meshunit", unit, f"one of {', '.join(_MESH_UNITS)}")
-    scale = _MESH_UNITS[unit]
+    unit = header.get("meshunit", "m")
+    scale = _mesh_scale(path, unit, header["line"].get("meshunit", 1))
     nodes = [_number(path, header, f"{a}nodes", int) for a in "xyz"]
     steps = [_number(path, header, f"{a}stepsize") for a in "xyz"]
     bases = [_number(path, header, f"{a}base") for a in "xyz"]
@@ -142,7 +173,8 @@ def read_ovf(path: str | Path) -> xr.DataArray:
         raise _bad(path, "valuedim", dim, "3 (a vector field)")
     count = nodes[0] * nodes[1] * nodes[2] * dim
     values = _read_values(path, raw, start, fmt, count, header["version"])
-    values = values * float(header.get("valuemultiplier", 1.0))
+    if "valuemultiplier" in header:
+        values = values * _number(path, header, "valuemultiplier")
     if not np.all(np.isfinite(values)):
         bad = int(np.flatnonzero(~np.isfinite(values))[0]) // dim
         raise _bad(path, "data", "NaN/inf", f"finite values (first bad cell: index {bad})")
@@ -158,15 +190,37 @@ def read_ovf(path: str | Path) -> xr.DataArray:
         attrs={
             "dx": steps[0] * scale, "dy": steps[1] * scale, "dz": steps[2] * scale,
             "time": _time_from_header(header), "title": header.get("title", ""),
-            "source": str(path), "ovf_version": header["version"],
+            "source": str(path), "ovf_version": header["version"], "mesh_unit": unit,
         },
         name="m",
     )
 
 
+# Warnings already shown (the registry of warnings.warn_explicit): one per unit and header line,
+# not one per snapshot of a run.
+_SHOWN: dict = {}
+
+
+def _mesh_scale(path: Path, unit: str, line: int) -> float:
+    """Metres per mesh unit; warns (:class:`OVFUnitWarning`) when the unit is not the metre.
+
+    The warning points at the file and its ``meshunit`` line (``FILE:LINE: OVFUnitWarning: …``).
+    """
+    scale = MESH_UNITS.get(unit.lower())
+    if scale is None:
+        raise _bad(path, "meshunit", unit, f"one of {', '.join(MESH_UNITS)} (edit the header's "
+                   "'# meshunit:' line to the unit the mesh was written in)")
+    if scale != 1.0:
+        warnings.warn_explicit(f"mesh unit {unit!r}: lengths converted to metres (× {scale:g})",
+                               OVFUnitWarning, str(path), line, module=__name__,
+                               registry=_SHOWN)
+    return scale
+
+
 def _read_values(path: Path, raw: bytes, start: int, fmt, count: int, version: int):
     if fmt == "text":
-        end = raw.find(b"# End: Data", start)
+        closing = _END_DATA.search(raw, start)
+        end = -1 if closing is None else closing.start()
         if end < 0:
             raise _bad(path, "data", "no '# End: Data Text'", "a complete file (truncated?)")
         try:
@@ -183,7 +237,8 @@ def _read_values(path: Path, raw: bytes, start: int, fmt, count: int, version: i
     # The closing line must follow the values; where it comes earlier, the block is short.
     # (Searching binary data for the marker could in principle hit by chance, so it is only
     # used to explain an error, never to delimit the values.)
-    closing = raw.find(b"# End: Data", start)
+    found = _END_DATA.search(raw, start)
+    closing = -1 if found is None else found.start()
     if len(raw) - start < need or (0 <= closing < start + need):
         available = (closing if 0 <= closing < start + need else len(raw)) - start
         have = max(0, available // width - 1)
@@ -194,7 +249,7 @@ def _read_values(path: Path, raw: bytes, start: int, fmt, count: int, version: i
         raise _bad(path, "check value", float(check), f"{_CHECK_VALUE[width]} "
                    f"({'big' if version == 1 else 'little'}-endian OVF {version}.0)")
     values = np.frombuffer(raw, dtype=dtype, count=count, offset=start + width)
-    if not raw[start + need:].lstrip().startswith(b"# End: Data"):
+    if not _END_DATA.match(raw[start + need:].lstrip()):
         raise _bad(path, "data", "more values than the mesh, or no '# End: Data'",
                    f"exactly {count} values (xnodes·ynodes·znodes·valuedim) then '# End: Data'")
     return values.astype(np.float64)
@@ -257,10 +312,12 @@ def write_ovf(
     fmt: str = "bin4",
     version: int = 2,
     time: float | None = None,
+    notes: list[str] = (),
 ) -> Path:
     """Write a field DataArray as OVF ``version`` 1 or 2, ``fmt`` "text", "bin4" or "bin8".
 
-    The header follows what mumax3 writes (metre mesh unit, ``Desc: Total simulation time``).
+    The header follows what mumax3 writes (metre mesh unit, ``Desc: Total simulation time``);
+    each of ``notes`` becomes one more ``Desc`` line.
     """
     if fmt not in ("text", "bin4", "bin8"):
         raise InputError("fmt", fmt, "text, bin4 or bin8")
@@ -283,6 +340,7 @@ def write_ovf(
     else:
         lines += ["# valueunit: 1", "# valuemultiplier: 1",
                   "# ValueRangeMinMag: 1e-08", "# ValueRangeMaxMag: 1"]
+    lines += [f"# Desc: {note}" for note in notes]
     if when is not None and math.isfinite(when):
         lines.append(f"# Desc: Total simulation time:  {when!r}  s")
     for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz)):
@@ -292,7 +350,7 @@ def write_ovf(
     lines.append(f"# Begin: Data {label}")
     flat = array.reshape(-1, 3)
     with path.open("wb") as out:
-        out.write(("\n".join(lines) + "\n").encode("ascii"))
+        out.write(("\n".join(lines) + "\n").encode("utf-8"))
         if fmt == "text":
             np.savetxt(out, flat, fmt="%.17g")
         else:

@@ -10,6 +10,11 @@ exactly at r = R, so R is the radius of the m_z = 0 contour. Several skyrmions a
 every cell the profile of its nearest centre (faithful while the tails, ∝ e^{−r/Δ}, are small at
 the midlines).
 
+Edge tilt: at a film's edges the DMI boundary condition tilts the magnetisation towards (or away
+from) the edge normal; :func:`edge_tilt` rotates a field by θ(d) = θ_edge e^{−d/ξ} about ẑ × ν,
+d the distance to the edge and ν the outward normal, so the up background becomes
+(sin θ ν, cos θ). A disk's tilted rim then carries a charge of magnitude (1 − cos θ_edge)/2.
+
 Trajectories: the deterministic (T = 0) Thiele equation (G ε + α𝒟k I)·ẋᵢ = Fᵢ with the paper's
 pair and wall laws (:mod:`skygas.micromag.forces`), integrated by an adaptive Runge–Kutta method
 (scipy's DOP853, tight tolerances), independent of the main engine.
@@ -23,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
-from scipy import integrate
+from scipy import integrate, ndimage
 
 from skygas.errors import InputError
 from skygas.micromag.forces import LineBoundary, pair_law_magnitude, wall_law_magnitude
@@ -94,6 +99,35 @@ def skyrmion_field(
     return field_from_array(m[np.newaxis], cell_size, time=time)
 
 
+def edge_tilt(field: xr.DataArray, angle: float, decay_length: float) -> xr.DataArray:
+    """``field`` with its film edges tilted by θ(d) = ``angle`` e^{−d/ξ} (see the module).
+
+    ``angle`` [rad] > 0 tilts outward, < 0 inward; ``decay_length`` ξ [m]. The edge is the
+    boundary of the magnetic cells (|m| > ½) and the mesh border; d is measured from a cell
+    centre to the nearest empty cell centre less half a cell, and ν is the (normalised)
+    gradient of −d. Square cells only.
+    """
+    if not decay_length > 0:
+        raise InputError("decay_length", decay_length, "a length > 0 in metres")
+    cell = float(field.attrs["dx"])
+    if not math.isclose(cell, float(field.attrs["dy"]), rel_tol=1e-9):
+        raise InputError("field.dy", field.attrs["dy"], f"square cells (dx = {cell:g} m)")
+    m = np.asarray(field.transpose("z", "y", "x", "component").values, dtype=np.float64)
+    magnetic = np.linalg.norm(m, axis=-1).max(axis=0) > 0.5
+    depth = ndimage.distance_transform_edt(np.pad(magnetic, 1))[1:-1, 1:-1] - 0.5  # cells
+    gy, gx = np.gradient(depth)
+    size = np.hypot(gx, gy)
+    size[size == 0] = 1.0
+    axis = np.stack([gx / size, gy / size, np.zeros_like(gx)], axis=-1)  # ẑ × ν, ν = −∇d/|∇d|
+    theta = (angle * np.exp(-depth * cell / decay_length))[..., None]
+    # Rodrigues' rotation of every z layer about ``axis`` by θ
+    along = np.sum(axis * m, axis=-1, keepdims=True)
+    tilted = (m * np.cos(theta) + np.cross(axis, m) * np.sin(theta)
+              + axis * along * (1.0 - np.cos(theta)))
+    tilted = np.where(magnetic[..., None], tilted, 0.0)
+    return field.copy(data=tilted)
+
+
 @dataclass(frozen=True)
 class ThieleSystem:
     """Coefficients of (G ε + α𝒟k I)·ẋ = F in SI: ``gyrocoupling`` G and ``friction`` α𝒟k
@@ -137,8 +171,12 @@ def pair_forces(system: ThieleSystem, pair_law) -> Callable[[np.ndarray], np.nda
     def force(positions: np.ndarray) -> np.ndarray:
         sep = positions[:, None, :] - positions[None, :, :]
         dist = np.linalg.norm(sep, axis=-1)
-        np.fill_diagonal(dist, 1.0)  # self-pairs: sep = 0, so they add nothing
+        # self-pairs (sep = 0) add nothing: evaluated at one diameter, then zeroed, so that a
+        # law that grows with distance does not overflow there
+        self_pair = np.eye(len(positions), dtype=bool)
+        dist = np.where(self_pair, system.skyrmion_diameter, dist)
         size = system.force_scale * pair_law_magnitude(dist / system.skyrmion_diameter, pair_law)
+        size = np.where(self_pair, 0.0, size)
         return np.sum(size[..., None] * sep / dist[..., None], axis=1)
 
     return force

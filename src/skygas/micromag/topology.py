@@ -107,12 +107,25 @@ def topological_charge(field: xr.DataArray, labels: np.ndarray | None = None):
     """Q of the whole film, or an array of Q per region when ``labels`` (ny, nx) is given.
 
     ``labels`` holds integer region ids per cell (0 = no region); entry k−1 of the result is the
-    charge of region k. A plaquette belongs to the region of its lower-left cell.
+    charge of region k. A plaquette's charge is shared equally by the regions of its four corner
+    cells (:func:`plaquette_sums`).
     """
     density = charge_density(field).values
     if labels is None:
         return float(density.sum())
-    return _sum_by_label(density, _check_labels(labels, field)[:-1, :-1])
+    return plaquette_sums(density, _check_labels(labels, field))
+
+
+def plaquette_sums(values: np.ndarray, labels: np.ndarray) -> np.ndarray:
+    """Σ of per-plaquette ``values`` (ny−1, nx−1) by cell ``labels`` (ny, nx), entry k−1 for
+    region k: each plaquette gives a quarter of its value to the region of each corner.
+
+    Sharing, rather than giving a plaquette to one corner, keeps the split between two regions
+    symmetric: a plaquette on the border between two touching skyrmions counts half to each.
+    """
+    count = int(labels.max(initial=0))
+    corners = (labels[:-1, :-1], labels[:-1, 1:], labels[1:, :-1], labels[1:, 1:])
+    return sum(_sum_by_label(0.25 * values, corner, count) for corner in corners)
 
 
 def dissipation(field: xr.DataArray, labels: np.ndarray | None = None):
@@ -131,7 +144,7 @@ def _check_labels(labels, field: xr.DataArray) -> np.ndarray:
     return labels
 
 
-def _sum_by_label(density: np.ndarray, labels: np.ndarray) -> np.ndarray:
-    count = int(labels.max(initial=0))
+def _sum_by_label(density: np.ndarray, labels: np.ndarray, count: int | None = None) -> np.ndarray:
+    count = int(labels.max(initial=0)) if count is None else count
     sums = np.bincount(labels.ravel(), weights=density.ravel(), minlength=count + 1)
     return sums[1:]

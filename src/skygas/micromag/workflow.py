@@ -52,7 +52,7 @@ class FitResult:
         }
 
     def write(self, out_dir: str | Path) -> dict[str, Path]:
-        """Write ``fit.json``, ``forces.csv``, ``fit.png`` and ``material.toml`` (if valid)."""
+        """Write ``fit.json``, ``forces.csv``, ``fit.png`` and ``material.toml``."""
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         paths = {"json": out / "fit.json", "csv": out / "forces.csv", "plot": out / "fit.png"}
@@ -65,6 +65,10 @@ class FitResult:
             notes = [f"{k} = {v}" for k, v in self.parameters.items()]
             notes.append(f"force scale F0 = {self.thiele['force_scale_N']!r} N "
                          "(= A_ex t_F / d_sk unless overridden at fit time)")
+            notes += [f"{fit.law} law fitted to {fit.n_points} samples over d = "
+                      f"{fit.distance_range[0]:.3f}–{fit.distance_range[1]:.3f} d_sk"
+                      for fit in (self.pair, self.wall) if fit is not None]
+            notes += self.warnings
             paths["material"] = export.write_material_toml(out / "material.toml",
                                                            self.material, notes)
         paths["json"].write_text(json.dumps(self.as_record(), indent=2) + "\n")
@@ -159,18 +163,32 @@ def fit_trajectories(
     result = FitResult(fits.get("pair"), fits.get("wall"), samples, thiele, {
         "base_material": material.name, "film_thickness_m": film_thickness, "law": law,
         "window": window, "wall_degree": wall_degree, "skygas_version": __version__})
+    for fit in (result.pair, result.wall):
+        if fit is not None:
+            warnings.extend(_coverage_notes(fit))
     result.warnings.extend(warnings)
-    try:
-        result.material = export.material_preset(
-            material, name=f"{material.name}-fitted",
-            pair_law=None if result.pair is None else result.pair.coefficients,
-            wall_law=None if result.wall is None else result.wall.coefficients,
-            skyrmion_radius=diameter / 2.0, dissipation=dis,
-            damping=thiele["damping"],
-            topological_charge=-1 if q < 0 else 1)
-    except InputError as err:
-        result.warnings.append(f"material preset not written: {err}")
+    # A preset the material model refuses is an error here, before anything is written.
+    result.material = export.material_preset(
+        material, name=f"{material.name}-fitted",
+        pair_law=None if result.pair is None else result.pair.coefficients,
+        wall_law=None if result.wall is None else result.wall.coefficients,
+        skyrmion_radius=diameter / 2.0, dissipation=dis,
+        damping=thiele["damping"],
+        topological_charge=-1 if q < 0 else 1)
     return result
+
+
+def _coverage_notes(fit: forces.LawFit) -> list[str]:
+    """What a user must know about a fitted law: a constrained refit, and the distances at which
+    the engine will use it beyond those the data covered (an extrapolation)."""
+    notes = [fit.note] if fit.note else []
+    closest, cutoff = forces.engine_range(fit.law, fit.coefficients)
+    lo, hi = fit.distance_range
+    if lo > closest or hi < cutoff:
+        notes.append(f"{fit.law} law: the engine uses it from {closest:.2f} to {cutoff:.2f} d_sk "
+                     f"(its cutoff); the data covered {lo:.2f}–{hi:.2f} d_sk, beyond that the "
+                     "law is an extrapolation")
+    return notes
 
 
 def snapshot_paths(directory: str | Path, pattern: str = "*.ovf") -> list[Path]:

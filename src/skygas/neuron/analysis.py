@@ -67,7 +67,7 @@ def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> 
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x6C65616B)))
     pts = random_positions(run.sim.outline, initial_count, 2 * d_nm, 1.5 * d_nm, rng)
     # keep them in the chamber (not the conduits)
-    run.sim._insert_nm(pts)
+    run.sim.state.insert_nm(pts)
     run.controller.act(run.sim)              # first trace point at t = 0
     run.run()
     tr = run.trace()

@@ -1,4 +1,4 @@
-r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron"; PHYSICS.md §3-4).
+r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron"; docs/physics.md §3-4).
 
 The paper gives no annihilation rule; it says that skyrmions compressed by neighbours to length
 scales near their diameter collapse (thermal fluctuations, dipolar strain, defects), and that a
@@ -197,6 +197,22 @@ class Annihilator:
         if self.model.nucleation_rate > 0:
             self._nucleate(sim, dt)
 
+    def state_dict(self) -> dict:
+        """The mutable state (event logs, counters, schedule, both generators' states) as
+        JSON-able values; :meth:`load_state_dict` continues bit-identically."""
+        return {"annihilations": [list(map(float, e)) for e in self.annihilations],
+                "nucleations": [list(map(float, e)) for e in self.nucleations],
+                "nucleation_misses": int(self.nucleation_misses), "next": int(self._next),
+                "rng": self.rng.bit_generator.state, "nuc_rng": self.nuc_rng.bit_generator.state}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.annihilations = [tuple(e) for e in state["annihilations"]]
+        self.nucleations = [tuple(e) for e in state["nucleations"]]
+        self.nucleation_misses = int(state["nucleation_misses"])
+        self._next = int(state["next"])
+        self.rng.bit_generator.state = state["rng"]
+        self.nuc_rng.bit_generator.state = state["nuc_rng"]
+
     def _fixed_arguments(self, sim) -> tuple:
         """The kernels' arguments that stay fixed during a run (looked up once per model and
         simulation)."""
@@ -209,8 +225,9 @@ class Annihilator:
         return self._fixed[2]
 
     def _annihilate(self, sim, dt: float) -> None:
-        # the state arrays are re-read every time: the engine replaces them when it grows
-        args = (sim._x, sim._y, sim._alive, *self._fixed_arguments(sim))
+        # the store's arrays are re-read every time: the engine replaces them when it grows
+        store = sim.state.arrays_nm()
+        args = (store.x, store.y, store.alive, *self._fixed_arguments(sim))
         total, candidates = total_rate(*args)
         first_wait = -1.0
         if not candidates:
@@ -220,14 +237,14 @@ class Annihilator:
             first_wait = self.rng.exponential(1.0 / total)
             if first_wait > dt:
                 return
-        if len(self._victims) < len(sim._alive):
-            self._victims = np.empty(len(sim._alive), np.int64)
+        if len(self._victims) < len(store.alive):
+            self._victims = np.empty(len(store.alive), np.int64)
         n = annihilation_check(*args, dt, self.rng, first_wait, self._victims)
         victims = self._victims[:n]
         t = sim.time
         for s in victims:
-            self.annihilations.append((t, sim._x[s] / units.M_TO_NM, sim._y[s] / units.M_TO_NM))
-        sim._alive[victims] = False
+            self.annihilations.append((t, store.x[s] / units.M_TO_NM, store.y[s] / units.M_TO_NM))
+        sim.state.annihilate(store.ids[victims], "annihilation")
 
     def _nucleate(self, sim, dt: float) -> None:
         area_m2 = sim.outline.area_nm2() / units.M_TO_NM**2
@@ -239,11 +256,10 @@ class Annihilator:
             p = self._uniform_point(sim.outline)
             ok = self.region is None or bool(self.region(p[0], p[1]))
             ok = ok and float(sim.wall_field.interpolate(p[:1], p[1:])[0][0]) >= d_nm
-            alive = sim._alive
-            if ok and alive.any():
-                ok = float(np.min(np.hypot(sim._x[alive] - p[0], sim._y[alive] - p[1]))) >= d_nm
             if ok:
-                sim._insert_nm(p[None, :])
+                ok = sim.state.is_site_clear_nm(p[0], p[1], d_nm)
+            if ok:
+                sim.state.insert_nm(p[None, :])
                 self.nucleations.append((sim.time, p[0] / units.M_TO_NM, p[1] / units.M_TO_NM))
             else:
                 self.nucleation_misses += 1

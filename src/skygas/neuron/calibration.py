@@ -1,6 +1,6 @@
 """The calibrated annihilation model and the fit behind the quick saturation estimate.
 
-Fitted to ONE observation of the paper (PHYSICS.md §4): a 1024 nm chamber holds about 90
+Fitted to ONE observation of the paper (docs/physics.md §4): a 1024 nm chamber holds about 90
 skyrmions of ≈ 39 nm at 300 K (maximum-density figure), with the saturation protocol of
 :mod:`skygas.neuron.saturation`. Γ0 = 1e6 /s (the isolated skyrmion's leak, 1 µs) and
 d_min = one diameter are set, not fitted; with c = 8 the plateau survivor count (4 repetitions,

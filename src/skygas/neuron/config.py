@@ -2,10 +2,11 @@
 
 Defaults: the paper's chamber (1024 nm, 100 nm × 50 nm conduits), material S2 in a 2 nm film at
 300 K, the reshuffler's calibrated ξ = 1.84e-10 m³/C (data/reshuffler-paper.toml), the
-calibrated annihilation model (:mod:`skygas.neuron.calibration`), a 100 k_B T gate and a
-whole-chamber counting sensor. The paper gives no operating point for the neuron; the drive and
-the rule were chosen so that the default run integrates, fires and resets (docs/neuron.md,
-"Choosing the defaults"):
+calibrated annihilation model (:mod:`skygas.neuron.calibration`), a 20 k_B T gate (a potential
+band 30 nm wide with 10 nm edges: it holds the threshold's crowd of 12 at the holding current;
+docs/neuron.md, "The gate: the crowd it holds back") and a whole-chamber counting sensor. The
+paper gives no operating point for the neuron; the drive and the rule were chosen so that the
+default run integrates, fires and resets (docs/neuron.md, "Choosing the defaults"):
 
 - holding current J = 5e10 A/m² while the gate is closed: it carries injected skyrmions into
   the chamber without pressing them against the gate (at 1e11 A/m² and above the current packs
@@ -25,32 +26,32 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import ConfigDict, Field, ValidationError, model_validator
 
-from skygas.config import MaterialFields, _to_input_error, read_toml
+from skygas.config import MaterialFields, resolve_paths
+from skygas.config_types import ChamberSize, StrictModel, read_toml, to_input_error
 from skygas.errors import InputError
 from skygas.neuron.annihilation import AnnihilationModel
 from skygas.neuron.calibration import CALIBRATED
 from skygas.neuron.inputs import InputSpec
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+class DeviceSpec(ChamberSize):
+    """The neuron's chamber (the paper's by default)."""
 
 
-class DeviceSpec(_Strict):
-    chamber_diameter: float = Field(1024e-9, gt=0)
-    conduit_width: float = Field(100e-9, gt=0)
-    conduit_length: float = Field(50e-9, gt=0)
+class GateSpec(StrictModel):
+    """The closed gate, a potential band across the output conduit (skygas.neuron.gate):
+    the top of the barrier [k_BT], its width between the half-height points [m] and the width
+    of its tanh edges [m]."""
 
-
-class GateSpec(_Strict):
-    barrier_height: float = Field(100.0, ge=0)  # k_B T
-    band_width: float | None = Field(None, gt=0)  # m; default half the conduit length
+    barrier_height: float = Field(20.0, ge=0)   # k_B T
+    band_width: float = Field(30e-9, gt=0)      # m, inside the conduit
+    edge_width: float = Field(10e-9, gt=0)      # m
     initially_open: bool = False
 
 
-class SensorSpec(_Strict):
+class SensorSpec(StrictModel):
     center: tuple[float, float] = (0.0, 0.0)    # m
     radius: float | None = Field(None, gt=0)    # m; default the chamber's radius
     signal: Literal["count", "area"] = "count"
@@ -58,7 +59,7 @@ class SensorSpec(_Strict):
     read_interval: float = Field(1e-9, gt=0)    # s
 
 
-class RuleSpec(_Strict):
+class RuleSpec(StrictModel):
     # The release usually ends at the reset level (the release current empties the chamber in
     # ~150 ns); the release time only bounds an opening that cannot get there.
     threshold: float = Field(12.0, gt=0)
@@ -67,7 +68,7 @@ class RuleSpec(_Strict):
     refractory_time: float = Field(2e-8, ge=0)      # s
 
 
-class AnnihilationSpec(_Strict):
+class AnnihilationSpec(StrictModel):
     base_rate: float = Field(CALIBRATED.base_rate, ge=0)
     compression_sensitivity: float = Field(CALIBRATED.compression_sensitivity, ge=0)
     crowding_distance: float | None = Field(CALIBRATED.crowding_distance, gt=0)
@@ -77,7 +78,7 @@ class AnnihilationSpec(_Strict):
     enabled: bool = True
 
 
-class InputConfig(_Strict):
+class InputConfig(StrictModel):
     kind: Literal["poisson", "telegraph", "bernoulli", "regular", "bits"] = "poisson"
     rate: float = Field(0.0, ge=0)
     p: float = Field(0.5, ge=0, le=1)
@@ -95,13 +96,13 @@ class InputConfig(_Strict):
         return self
 
 
-class InjectionSpec(_Strict):
+class InjectionSpec(StrictModel):
     occupied_rule: Literal["delay", "skip"] = "delay"
     site_clearance: float = Field(1.0, gt=0)    # skyrmion diameters
     retry_interval: float = Field(0.5e-9, gt=0)
 
 
-class TransferSpec(_Strict):
+class TransferSpec(StrictModel):
     rates: list[Annotated[float, Field(ge=0)]] = []  # Hz; empty: a default sweep
     duration: float | None = Field(None, gt=0)  # s; default the run's duration
 
@@ -160,9 +161,9 @@ def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
     try:
         return NeuronConfig.model_validate(data)
     except ValidationError as err:
-        raise _to_input_error(err, "neuron config: ") from None
+        raise to_input_error(err, "neuron config: ") from None
 
 
 def load_neuron_config(path: str | Path | None = None, **overrides) -> NeuronConfig:
-    data = read_toml(path) if path is not None else {}
+    data = resolve_paths(read_toml(path), Path(path).parent) if path is not None else {}
     return neuron_config(data, **overrides)

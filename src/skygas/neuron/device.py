@@ -1,14 +1,16 @@
-"""The Skyrmion Neuron (paper, "Skyrmion Neuron"; PHYSICS.md §3): one chamber of the
+"""The Skyrmion Neuron (paper, "Skyrmion Neuron"; docs/physics.md §3): one chamber of the
 reshuffler whose output conduit is closed by a voltage gate, a read element inside the chamber,
 and a threshold rule that opens the gate (the neuron fires) and closes it again.
 
 Layout: :func:`~skygas.geometry.chamber_with_conduits`; the input conduit's end is a wall
 (nucleation site at its middle), the output conduit's end is the read-out line where emitted
 skyrmions are detected and removed. The current (conduit density J, v_s = ξ j) drives skyrmions
-from input to output; the gate (:class:`~skygas.neuron.gate.BarrierGate`) holds them back. The
-current switches with the gate: the holding density ``current_density`` while it is closed, the
-release density ``release_current_density`` while it is open (docs/neuron.md, "Choosing the
-defaults", says why).
+from input to output; the gate (:class:`~skygas.neuron.gate.PotentialGate`, a potential band
+across the output conduit) holds them back. The configuration's own ``potentials`` (a user
+landscape) act everywhere in the device, under the gate's band. The current switches with the
+gate: the holding density ``current_density`` while it is closed, the release density
+``release_current_density`` while it is open (docs/neuron.md, "Choosing the defaults", says
+why).
 
 Threshold rule, evaluated every ``read_interval``: a closed gate opens when the reading reaches
 ``threshold`` (and no refractory time is running); an open gate closes when the reading has
@@ -21,6 +23,7 @@ skyrmions emitted during each release are also recorded (``exits``, and per rele
 
 from __future__ import annotations
 
+import json
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -34,9 +37,13 @@ from skygas.errors import InputError, require
 from skygas.geometry import chamber_with_conduits
 from skygas.neuron.annihilation import Annihilator
 from skygas.neuron.config import NeuronConfig
-from skygas.neuron.gate import BarrierGate, ReadElement
+from skygas.neuron.gate import (PotentialGate, ReadElement, gate_band, gate_max_force,
+                                gate_relaxation_time)
 from skygas.neuron.inputs import SiteInjector, injection_schedule
 from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
+
+#: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
+PIECES = 100
 
 
 @dataclass
@@ -44,7 +51,7 @@ class NeuronController:
     """The read-and-threshold rule as an :class:`~skygas.engine.Operation`; it also records
     the count trace (time, chamber count, sensor reading, gate open)."""
 
-    gate: BarrierGate
+    gate: PotentialGate
     sensor: ReadElement
     interval_steps: int
     threshold: float
@@ -77,6 +84,20 @@ class NeuronController:
             self.openings.append(sim.step)
         self.trace.append((sim.time, sim.count, reading, bool(self.gate.is_open)))
 
+    def state_dict(self) -> dict:
+        """Trace, openings, closings and schedule as JSON-able values."""
+        return {"trace": [[float(t), int(n), float(r), bool(o)] for t, n, r, o in self.trace],
+                "openings": [int(k) for k in self.openings],
+                "closings": [int(k) for k in self.closings],
+                "next": int(self._next), "refractory_until": int(self._refractory_until)}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.trace = [tuple(e) for e in state["trace"]]
+        self.openings = list(state["openings"])
+        self.closings = list(state["closings"])
+        self._next = int(state["next"])
+        self._refractory_until = int(state["refractory_until"])
+
 
 class NeuronDevice:
     """A configured neuron, built and validated before anything runs."""
@@ -101,21 +122,39 @@ class NeuronDevice:
                 f"a length >= one skyrmion diameter ({d_sk:.3g} m)")
         length = dev.conduit_length * units.M_TO_NM
         self.site = np.array([-(self.x_meet + length / 2), 0.0])
-        band = (c.gate.band_width or dev.conduit_length / 2) * units.M_TO_NM
-        # the barrier lives on the field grid (spacing d_sk/16): a band thinner than two cells
-        # may hold no grid node and would not act at all
-        thinnest = d_sk / 8 * units.M_TO_NM
-        require(thinnest <= band <= length, "gate.band_width", c.gate.band_width,
-                f"a width in [{thinnest * 1e-9:.3g}, {dev.conduit_length:.3g}] m (inside the "
-                "output conduit, at least two cells of the field grid)")
-        mid = self.x_meet + length / 2
-        self.band_x = (mid - band / 2, mid + band / 2)
+        self.band = self._gate_band(d_sk)
         self._validate_sensor(r_nm)
         self._validate_threshold(d_sk)
         self.inputs = c.input_specs()      # refuses bad inputs now, not at the first event
         self.full_outline = full
 
     # -- validation ------------------------------------------------------------------------------
+    def _gate_band(self, d_sk: float):
+        """The closed gate's band, centred on the output conduit, checked against the conduit,
+        the field grid and the time step before anything is built."""
+        c, dev, g = self.config, self.config.device, self.config.gate
+        require(g.band_width <= dev.conduit_length, "gate.band_width", g.band_width,
+                f"a width <= the conduit length ({dev.conduit_length:.3g} m): the band between "
+                "its half-height points lies inside the output conduit")
+        # the band is sampled on the field grid (spacing d_sk/16): a thinner edge is a step
+        # that the interpolant does not resolve; an edge wider than half the band leaves no top
+        spacing = d_sk / 16
+        require(spacing <= g.edge_width <= g.band_width / 2, "gate.edge_width", g.edge_width,
+                f"an edge width in [{spacing:.3g}, {g.band_width / 2:.3g}] m (at least one "
+                "cell of the field grid, at most half the band's width)")
+        center = (self.x_meet + dev.conduit_length * units.M_TO_NM / 2) / units.M_TO_NM
+        band = gate_band(center, g.band_width, g.edge_width, dev.conduit_width,
+                         g.barrier_height, c.temperature)
+        tau = gate_relaxation_time(band, self.thiele)
+        if c.time_step is not None and g.barrier_height > 0 and c.time_step > tau:
+            raise InputError("gate.barrier_height", g.barrier_height,
+                             f"a barrier whose steepest edge the time step resolves: with "
+                             f"edge_width = {g.edge_width:.3g} m it relaxes skyrmions in "
+                             f"{tau:.3g} s < time_step = {c.time_step:.3g} s; lower the height, "
+                             "widen gate.edge_width (the stiffness goes as height/edge_width²) "
+                             "or shorten time_step")
+        return band
+
     def sensor_geometry_nm(self, r_nm: float) -> tuple[np.ndarray, float]:
         s = self.config.sensor
         center = np.asarray(s.center, float) * units.M_TO_NM
@@ -159,8 +198,10 @@ class NeuronDevice:
         seed = c.seed if seed is None else seed
         duration = c.duration if duration is None else duration
         inputs = self.inputs if inputs is None else inputs
+        # the gate's band is the last landscape term, after the user's own potentials
         sim = Simulation(self.outline, c.resolved_material(), temperature=c.temperature,
-                         time_step=c.time_step, seed=seed, thiele=self.thiele)
+                         time_step=c.time_step, seed=seed, thiele=self.thiele,
+                         landscape=[*c.potentials, self.band])
         grid = sim.wall_field.grid
         holding, release = c.current_density, c.release_current()
         if max(holding, release) > 0:
@@ -169,10 +210,8 @@ class NeuronDevice:
             unit_vx, unit_vy = current.drift_velocity(grid, c.spin_drift_coefficient)
         else:
             unit_vx = unit_vy = np.zeros((grid.ny, grid.nx))
-        diffusion = self.thiele.diffusion_constant(c.temperature) if c.temperature > 0 else 0.0
-        gate = BarrierGate(sim, holding * unit_vx, holding * unit_vy, self.band_x,
-                           c.device.conduit_width / 2 * units.M_TO_NM, c.gate.barrier_height,
-                           max(diffusion, 1e-12), release * unit_vx, release * unit_vy)
+        gate = PotentialGate(sim, len(c.potentials), self.band, holding * unit_vx,
+                             holding * unit_vy, release * unit_vx, release * unit_vy)
         gate.set(c.gate.initially_open)
         r_nm = c.device.chamber_diameter / 2 * units.M_TO_NM
         center, radius = self.sensor_geometry_nm(r_nm)
@@ -190,26 +229,78 @@ class NeuronDevice:
                                 c.injection.site_clearance * d_nm,
                                 steps(c.injection.retry_interval), c.injection.occupied_rule)
         sim.operations += [injector, annihilator, controller]
-        return NeuronRun(self, sim, gate, controller, annihilator, injector, inputs, duration)
+        return NeuronRun(self, sim, gate, controller, annihilator, injector, inputs, duration,
+                         record_interval=record_interval)
 
 
 @dataclass
 class NeuronRun:
     device: NeuronDevice
     sim: Simulation
-    gate: BarrierGate
+    gate: PotentialGate
     controller: NeuronController
     annihilator: Annihilator
     injector: SiteInjector
     inputs: list
     duration: float
     wall_time: float = 0.0
+    record_interval: float | None = None   # [s] between recorded frames (None: no frames)
 
-    def run(self) -> "NeuronRun":
+    @property
+    def total_steps(self) -> int:
+        return int(round(self.duration / self.sim.time_step))
+
+    @property
+    def piece_steps(self) -> int:
+        """Length [steps] of a piece (:data:`PIECES` per run)."""
+        return max(1, self.total_steps // PIECES)
+
+    def advance_piece(self) -> None:
+        """Run to the next multiple of :attr:`piece_steps` (or to the end), recording positions
+        every :attr:`record_interval` [s] if set (a movie asks for them). Pieces start at
+        fixed steps, so a run resumed from a checkpoint re-enters the compiled kernel at the
+        same steps as one left alone, and continues bit-identically."""
+        sim = self.sim
+        n = min(self.piece_steps - sim.step % self.piece_steps, self.total_steps - sim.step)
         t0 = _time.perf_counter()
-        self.sim.run(self.duration)
-        self.wall_time = _time.perf_counter() - t0
+        sim.run(n * sim.time_step, record_interval=self.record_interval)
+        self.wall_time += _time.perf_counter() - t0
+
+    def run(self, record_interval: float | None = None) -> "NeuronRun":
+        """Run to the end, piece by piece (the pieces the run driver runs, with progress,
+        checkpoints and interruption, in :mod:`skygas.neuron.files`), recording positions
+        every ``record_interval`` [s] if given."""
+        if record_interval is not None:
+            self.record_interval = record_interval
+        while self.sim.step < self.total_steps:
+            self.advance_piece()
         return self
+
+    # -- checkpoints -----------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The whole mutable state: the engine's arrays, and (as one JSON string) the
+        controller, the annihilator, the injector, the gate and the read element's generator.
+        With the same device and build arguments, :meth:`load_state_dict` continues the run
+        bit-identically."""
+        ops = {"controller": self.controller.state_dict(),
+               "annihilator": self.annihilator.state_dict(),
+               "injector": self.injector.state_dict(),
+               "gate_open": bool(self.gate.is_open),
+               "sensor_rng": self.controller.sensor.rng.bit_generator.state,
+               "wall_time": self.wall_time}
+        state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
+        state["operations_json"] = np.array(json.dumps(ops))
+        return state
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
+        ops = json.loads(str(state["operations_json"]))
+        self.controller.load_state_dict(ops["controller"])
+        self.annihilator.load_state_dict(ops["annihilator"])
+        self.injector.load_state_dict(ops["injector"])
+        self.gate.set(ops["gate_open"])
+        self.controller.sensor.rng.bit_generator.state = ops["sensor_rng"]
+        self.wall_time = ops["wall_time"]
 
     # -- results -------------------------------------------------------------------------------
     def trace(self) -> dict[str, np.ndarray]:
@@ -267,7 +358,7 @@ class NeuronRun:
             "n_skipped": self.injector.skipped,
             "n_pending": len(self.injector.pending),
             "isi": isi_statistics(spikes),
-            "gate_barrier_velocity_m_s": self.gate.barrier_velocity,
+            "gate_max_force_N": gate_max_force(self.gate.band),
             "config": self.device.config.model_dump(mode="json"),
         }
 

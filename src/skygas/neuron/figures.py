@@ -1,4 +1,5 @@
-"""Figures of the neuron: count trace, transfer curve, maximum density (matplotlib, Agg)."""
+"""Figures of the neuron: the device over its energy landscape, count trace, transfer curve,
+maximum density (matplotlib, Agg)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,55 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+
+
+def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
+    """The device over its energy landscape (the gate's band drawn closed, with the user's
+    potentials), the nucleation site, and the recorded trajectories (start ○, end ●) or, for a
+    run that recorded none, the skyrmions present at its end."""
+    from skygas.plotting import draw_landscape, draw_outline, draw_tracks
+
+    sim = run.sim
+    fig = Figure(figsize=(7, 5), dpi=120)
+    ax = fig.add_subplot()
+    draw_landscape(ax, sim.landscape, sim.outline)
+    draw_outline(ax, sim.outline)
+    ds = sim.trajectories()
+    # an inset magnifies the output conduit and its gate, a few skyrmion diameters wide
+    dev = run.device.config.device
+    d_um = sim.thiele.skyrmion_diameter * 1e6
+    x0 = run.device.x_meet * 1e-3 - 2 * d_um
+    x1 = run.device.x_meet * 1e-3 + dev.conduit_length * 1e6 + 0.5 * d_um
+    half = dev.conduit_width * 1e6 / 2 + 1.5 * d_um
+    height = 0.3 * 2 * half / (x1 - x0)
+    inset = ax.inset_axes([0.02, 0.98 - height, 0.3, height])   # the Hall drift keeps it clear
+    draw_landscape(inset, sim.landscape, sim.outline, colorbar=False)
+    draw_outline(inset, sim.outline)
+    for axis in (ax, inset):
+        if ds.sizes.get("skyrmion", 0):
+            draw_tracks(axis, ds, max_tracks)
+        else:
+            xy = sim.state.positions * 1e6
+            axis.plot(xy[:, 0], xy[:, 1], "o", color="tab:red", ms=3)
+    what = (f"{ds.sizes['skyrmion']} trajectories" if ds.sizes.get("skyrmion", 0)
+            else f"{sim.count} skyrmions at the end")
+    inset.set_xlim(x0, x1)
+    inset.set_ylim(-half, half)
+    inset.set_xticks([])
+    inset.set_yticks([])
+    inset.set_xlabel("")
+    inset.set_ylabel("")
+    ax.indicate_inset_zoom(inset, edgecolor="grey")
+    site = run.device.site * 1e-3
+    ax.plot(*site, "*", color="tab:red", ms=9)
+    ax.annotate("nucleation", site, color="tab:red", fontsize=7, ha="center", va="top",
+                xytext=(0, -6), textcoords="offset points")
+    g = run.device.config.gate
+    ax.set_title(f"gate {g.barrier_height:g} k_BT (drawn closed), {what}, "
+                 f"{sim.time * 1e9:.0f} ns", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
 
 
 def plot_trace(run, path: Path) -> Path:

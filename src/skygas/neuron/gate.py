@@ -1,21 +1,25 @@
-r"""The neuron's voltage gate (a switchable barrier across the output conduit) and its read
-element (a sensor region inside the chamber).
+r"""The neuron's voltage gate (a switchable potential barrier across the output conduit) and
+its read element (a sensor region inside the chamber).
 
-**Gate as a drift barrier.** The compiled kernels take no extra potential, but they do take a
-spatial drift field v_s(x) (:meth:`~skygas.engine.Simulation.set_drift_field`). A closed gate
-adds, in a band of width w across the output conduit, a drift pointing back into the chamber,
+**Gate as a potential.** A closed gate is a :class:`~skygas.landscape.Band` across the output
+conduit: an energy barrier U(x, y) = H g(s) f(n) whose profile along the conduit,
 
 .. math::
 
-    v_\mathrm{gate}(x, y) = -\Big(v_{s,x}^\mathrm{current}(x, y) + \frac{h\,D}{w}\Big)\,\hat x,
+    g(s) = \tfrac12\big[\tanh\big((s + w/2)/e\big) - \tanh\big((s - w/2)/e\big)\big],
 
-with D the free-diffusion constant (PHYSICS.md §1). It cancels the current's push across the
-band and adds a uniform backward drift whose Péclet integral ∫ v dx / D over the band is h: for
-motion along the conduit this is exactly the stationary (Boltzmann) effect of a potential step
-of height h k_B T (P ∝ exp(∫ v dx / D)), so ``barrier_height`` is in units of k_B T. The
-equivalence is exact for η = α (paper: the drift is then μ v_s with no Hall deflection); for
-η ≠ α the drift acquires a Hall component across the conduit, which the conduit walls absorb.
-The open gate restores the current's field. Switching is instantaneous, between kernel calls.
+rises over the edge width e on either side of a band of width w (between its half-height
+points), centred on the conduit's middle; across the conduit it is flat (the band's own side
+edges lie 3e outside the conduit's walls). The prefactor H = h k_BT / tanh(w/2e) makes the
+top of the barrier, g(0) H, exactly ``barrier_height`` h in units of k_BT at the run's
+temperature (k_B · 300 K at T = 0, where k_BT vanishes). Its force −∇U enters the Thiele
+equation like the pair and wall forces, so it has the gyrotropic (Hall) response and adds to
+the pair forces of a crowd pressing on it. The steepest slope, the largest force the closed
+gate can oppose, is about H/(2e); the largest curvature, 2H/(3√3 e²), is a stiffness that
+bounds the time step (:func:`gate_relaxation_time`).
+
+The controller switches the band off (open) and on (closed) with
+:meth:`~skygas.engine.Simulation.set_landscape_enabled`: the engine sees it at its next step.
 
 **Release drive.** The current that flows while the gate is open may differ from the holding
 current while it is closed (``release_current_density`` in the configuration): the same
@@ -31,46 +35,83 @@ Gaussian read noise of standard deviation ``read_noise`` (in the signal's units)
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from skygas import units
+from skygas.landscape import Band
 from skygas.neuron._compiled import count_in_disk, covered_fraction
 
+#: k_BT of the gate's height at T = 0, where the run's own k_BT is zero [K].
+REFERENCE_TEMPERATURE = 300.0
+#: Largest |d²/ds² ½ tanh(s/e)| · e²: the steepest curvature of a tanh edge, 2/(3√3).
+TANH_EDGE_CURVATURE = 2.0 / (3.0 * math.sqrt(3.0))
+#: The band's side edges lie this many edge widths outside the conduit's walls, so that the
+#: barrier is flat across the conduit (tanh(3) = 0.995).
+SIDE_MARGIN_EDGES = 3.0
 
-class BarrierGate:
-    """Switches the drift field between the release field (open) and the holding field with
-    the barrier band (closed).
 
-    base_vx, base_vy: holding drift field [m/s] on the simulation grid (the current while
-    closed); band_x: (x0, x1) [nm] of the barrier band across the output conduit;
-    band_half_width: half the conduit width [nm]; barrier_height: h [k_B T]; diffusion: D [m²/s];
-    open_vx, open_vy: drift field [m/s] while open (default: the holding field).
+def thermal_energy(temperature: float) -> float:
+    """k_BT [J] of the gate's height unit: at the run's temperature, k_B·300 K at T = 0."""
+    t = temperature if temperature > 0 else REFERENCE_TEMPERATURE
+    return units.BOLTZMANN * t
+
+
+def gate_band(center_x: float, band_width: float, edge_width: float, conduit_width: float,
+              barrier_height: float, temperature: float) -> Band:
+    """The closed gate's :class:`~skygas.landscape.Band` (all lengths in m): centred at
+    (``center_x``, 0) on a conduit along x of width ``conduit_width``, ``band_width`` w between
+    its half-height points, tanh edges of ``edge_width`` e, its top ``barrier_height`` [k_BT]."""
+    w, e = band_width, edge_width
+    height = barrier_height * thermal_energy(temperature) / math.tanh(w / (2 * e))
+    return Band(height=height, edge_width=e, start=(center_x - w / 2, 0.0),
+                end=(center_x + w / 2, 0.0), width=conduit_width + 2 * SIDE_MARGIN_EDGES * e,
+                name="gate")
+
+
+def gate_max_force(band: Band) -> float:
+    """The band's steepest slope [N] along the conduit (at its centre line): max |∂U/∂s|."""
+    w, e = float(np.hypot(*np.subtract(band.end, band.start))), band.edge_width
+    s = np.linspace(-w / 2 - 4 * e, 0.0, 4001)
+    slope = 0.5 * (1 / np.cosh((s + w / 2) / e) ** 2 - 1 / np.cosh((s - w / 2) / e) ** 2) / e
+    return float(band.height * np.abs(slope).max())
+
+
+def gate_relaxation_time(band: Band, thiele) -> float:
+    """τ [s] of a skyrmion on the band's steepest curvature κ = 2H/(3√3 e²): 1/(κ |M|), as the
+    engine's τ_min (:func:`~skygas.engine.relaxation_time`)."""
+    kappa = TANH_EDGE_CURVATURE * band.height * units.J_TO_PN_NM / \
+        (band.edge_width * units.M_TO_NM) ** 2  # pN/nm
+    rate = kappa / math.hypot(thiele.friction_internal, thiele.gyrocoupling_internal)  # 1/ns
+    return 1.0 / rate / units.S_TO_NS
+
+
+class PotentialGate:
+    """Switches the gate's landscape term and the current: closed, the band ``term`` (its index
+    in the simulation's landscape) is on and the holding drift field flows; open, the band is
+    off and the release field flows.
+
+    hold_vx, hold_vy: holding drift field [m/s] on the simulation grid; open_vx, open_vy: drift
+    field [m/s] while open (default: the holding field); band: the gate's
+    :class:`~skygas.landscape.Band` (for the record).
     """
 
-    def __init__(self, sim, base_vx, base_vy, band_x, band_half_width, barrier_height,
-                 diffusion, open_vx=None, open_vy=None):
+    def __init__(self, sim, term: int, band: Band, hold_vx, hold_vy, open_vx=None,
+                 open_vy=None):
         self.sim = sim
-        self.base = (np.asarray(base_vx, float), np.asarray(base_vy, float))
+        self.term = int(term)
+        self.band = band
+        self.base = (np.asarray(hold_vx, float), np.asarray(hold_vy, float))
         self.open_field = self.base if open_vx is None else (np.asarray(open_vx, float),
                                                              np.asarray(open_vy, float))
-        gx, gy = sim.wall_field.grid.nodes()
-        x0, x1 = band_x
-        band = (gx >= x0) & (gx <= x1) & (np.abs(gy) <= band_half_width + 1.0)
-        width_m = (x1 - x0) / units.M_TO_NM
-        push = barrier_height * diffusion / width_m  # m/s
-        self.closed_vx = np.where(band, -push, self.base[0])
-        self.closed_vy = self.base[1]
-        self.band = band
-        self.barrier_velocity = push
         self.is_open = None
 
     def set(self, is_open: bool) -> None:
         if is_open == self.is_open:
             return
-        if is_open:
-            self.sim.set_drift_field(*self.open_field)
-        else:
-            self.sim.set_drift_field(self.closed_vx, self.closed_vy)
+        self.sim.set_drift_field(*(self.open_field if is_open else self.base))
+        self.sim.set_landscape_enabled(self.term, not is_open)
         self.is_open = bool(is_open)
 
 
@@ -105,7 +146,8 @@ class ReadElement:
                                 self.r_sk, self.samples)
 
     def read(self, sim) -> float:
-        value = self.exact(sim._x, sim._y, sim._alive)
+        store = sim.state.arrays_nm()
+        value = self.exact(store.x, store.y, store.alive)
         if self.read_noise > 0:
             value += self.rng.normal(0.0, self.read_noise)
         return value

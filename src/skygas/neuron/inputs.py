@@ -128,16 +128,25 @@ class SiteInjector:
             self._inject(sim)
 
     def _clear(self, sim) -> bool:
-        alive = sim._alive
-        if not alive.any():
-            return True
-        d2 = (sim._x[alive] - self.site[0]) ** 2 + (sim._y[alive] - self.site[1]) ** 2
-        return bool(d2.min() >= self.clearance_nm**2)
+        return sim.state.is_site_clear_nm(self.site[0], self.site[1], self.clearance_nm)
 
     def _inject(self, sim) -> None:
-        ident = int(sim._insert_nm(self.site[None, :])[0])
+        ident = int(sim.state.insert_nm(self.site[None, :])[0])
         self.injected.append((sim.step, ident))
 
     @property
     def n_injected(self) -> int:
         return len(self.injected)
+
+    def state_dict(self) -> dict:
+        """Its position in the schedule (the schedule itself is rebuilt from the seed) and its
+        logs, as JSON-able values."""
+        return {"injected": [[int(s), int(i)] for s, i in self.injected],
+                "skipped": int(self.skipped), "delayed": int(self.delayed),
+                "pending": [int(k) for k in self.pending], "k": int(self._k)}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.injected = [tuple(e) for e in state["injected"]]
+        self.skipped, self.delayed = state["skipped"], state["delayed"]
+        self.pending = deque(state["pending"])
+        self._k = state["k"]

@@ -80,10 +80,81 @@ def relax_survivors(diameter: float, n: int, *, model: AnnihilationModel, seed: 
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x736174)))
     pts = random_positions(outline, n, MIN_PLACEMENT_SEPARATION * d_nm,
                            MIN_PLACEMENT_SEPARATION * d_nm, rng)
-    sim._insert_nm(pts)
+    sim.state.insert_nm(pts)
     sim.operations.append(Annihilator.for_simulation(model, sim))
     sim.run(relax_time)
     return sim.count
+
+
+class SaturationProtocol:
+    """The saturation protocol as a list of independent trials (one relaxation each), so that a
+    long protocol can run trial by trial (:class:`skygas.neuron.files.SaturationJob`
+    checkpoints after each); arguments as :func:`saturation_curve`."""
+
+    def __init__(self, diameters, *, trial_counts=None, repetitions: int = 10,
+                 relax_time: float = 2e-9, temperature: float = 300.0,
+                 model: AnnihilationModel = CALIBRATED, material="S2", seed: int = 0,
+                 time_step: float | None = None):
+        diameters = np.atleast_1d(np.asarray(diameters, dtype=float))
+        d_sk = derive_thiele(load_material(material), 2e-9).skyrmion_diameter
+        for d in diameters:
+            require(np.isfinite(d) and d > 2 * d_sk, "diameters", float(d),
+                    f"diameters > two skyrmion diameters ({2 * d_sk:.3g} m)")
+        require(isinstance(repetitions, int) and repetitions >= 1, "repetitions", repetitions,
+                "an integer >= 1")
+        require(math.isfinite(relax_time) and relax_time > 0, "relax_time", relax_time,
+                "a relaxation time > 0 in seconds")
+        require(math.isfinite(temperature) and temperature >= 0, "temperature", temperature,
+                "a temperature >= 0 in kelvin")
+        self.diameters, self.d_sk, self.repetitions = diameters, d_sk, repetitions
+        self.relax = {"model": model, "relax_time": relax_time, "temperature": temperature,
+                      "material": material, "time_step": time_step}
+        self.trial_counts, self.trial_seeds = [], []
+        for d, ss in zip(diameters, np.random.SeedSequence(seed).spawn(len(diameters))):
+            if trial_counts is None:
+                top = max(12, int(5 * saturation_estimate(d, d_sk, model)))
+                top = min(top, int(1.5 * close_packing_estimate(d, d_sk)))  # what placement fits
+                ns = np.unique(np.linspace(max(1, top // 20), top, 16).astype(int))
+            else:
+                ns = np.asarray(trial_counts(d), dtype=int)
+            self.trial_counts.append(ns)
+            self.trial_seeds.append(ss.generate_state(len(ns) * repetitions, dtype=np.uint32)
+                                    .reshape(len(ns), repetitions))
+        #: (diameter index, trial number N, seed) of every trial, in the order they run
+        self.trials = [(i, int(n), int(s)) for i, (ns, seeds) in
+                       enumerate(zip(self.trial_counts, self.trial_seeds))
+                       for n, row in zip(ns, seeds) for s in row]
+        self.parameters = {"repetitions": repetitions, "relax_time_s": relax_time,
+                           "temperature_K": temperature, "seed": seed,
+                           "material": str(material), "skyrmion_diameter_m": d_sk,
+                           "annihilation": model.record()}
+
+    def run_trial(self, k: int) -> int:
+        """Survivors of trial ``k``."""
+        i, n, s = self.trials[k]
+        return relax_survivors(self.diameters[i], n, seed=s, **self.relax)
+
+    def result(self, survivors) -> SaturationResult:
+        """The curve from the survivors of every trial (in :attr:`trials` order)."""
+        survivors = np.asarray(survivors, dtype=float)
+        counts, means, stds, best, best_err = [], [], [], [], []
+        first = 0
+        r = self.repetitions
+        for ns in self.trial_counts:
+            surv = survivors[first:first + len(ns) * r].reshape(len(ns), r)
+            first += len(ns) * r
+            mean, std = surv.mean(axis=1), surv.std(axis=1, ddof=1) if r > 1 \
+                else np.zeros(len(ns))
+            k = int(np.argmax(mean))
+            counts.append(ns)
+            means.append(mean)
+            stds.append(std)
+            best.append(mean[k])
+            best_err.append(std[k] / math.sqrt(r))
+        return SaturationResult(self.diameters, counts, means, stds, np.array(best),
+                                np.array(best_err),
+                                np.array([close_packing_estimate(d, self.d_sk)
+                                          for d in self.diameters]), self.parameters)
 
 
 def saturation_curve(diameters, *, trial_counts=None, repetitions: int = 10,
@@ -93,46 +164,14 @@ def saturation_curve(diameters, *, trial_counts=None, repetitions: int = 10,
     """Run the saturation protocol for each diameter [m].
 
     ``trial_counts``: a function diameter → the N to try, or ``None`` for 16 values from
-    0.05 to 5 times the model's :func:`saturation_estimate` (at least 1 … 12)."""
-    diameters = np.atleast_1d(np.asarray(diameters, dtype=float))
-    d_sk = derive_thiele(load_material(material), 2e-9).skyrmion_diameter
-    for d in diameters:
-        require(np.isfinite(d) and d > 2 * d_sk, "diameters", float(d),
-                f"diameters > two skyrmion diameters ({2 * d_sk:.3g} m)")
-    require(isinstance(repetitions, int) and repetitions >= 1, "repetitions", repetitions,
-            "an integer >= 1")
-    require(math.isfinite(relax_time) and relax_time > 0, "relax_time", relax_time,
-            "a relaxation time > 0 in seconds")
-    require(math.isfinite(temperature) and temperature >= 0, "temperature", temperature,
-            "a temperature >= 0 in kelvin")
-    seeds = np.random.SeedSequence(seed).spawn(len(diameters))
-    counts, means, stds, best, best_err = [], [], [], [], []
-    for d, ss in zip(diameters, seeds):
-        if trial_counts is None:
-            top = max(12, int(5 * saturation_estimate(d, d_sk, model)))
-            top = min(top, int(1.5 * close_packing_estimate(d, d_sk)))  # what placement fits
-            ns = np.unique(np.linspace(max(1, top // 20), top, 16).astype(int))
-        else:
-            ns = np.asarray(trial_counts(d), dtype=int)
-        run_seeds = ss.generate_state(len(ns) * repetitions, dtype=np.uint32).reshape(
-            len(ns), repetitions)
-        surv = np.array([[relax_survivors(d, int(n), model=model, seed=int(s),
-                                          relax_time=relax_time, temperature=temperature,
-                                          material=material, time_step=time_step)
-                          for s in row] for n, row in zip(ns, run_seeds)], dtype=float)
-        mean, std = surv.mean(axis=1), surv.std(axis=1, ddof=1) if repetitions > 1 \
-            else np.zeros(len(ns))
-        k = int(np.argmax(mean))
-        counts.append(ns)
-        means.append(mean)
-        stds.append(std)
-        best.append(mean[k])
-        best_err.append(std[k] / math.sqrt(repetitions))
+    0.05 to 5 times the model's :func:`saturation_estimate` (at least 1 … 12).
+    ``progress(k, n_trials)`` is called after each trial."""
+    protocol = SaturationProtocol(diameters, trial_counts=trial_counts, repetitions=repetitions,
+                                  relax_time=relax_time, temperature=temperature, model=model,
+                                  material=material, seed=seed, time_step=time_step)
+    survivors = []
+    for k in range(len(protocol.trials)):
+        survivors.append(protocol.run_trial(k))
         if progress is not None:
-            progress(d, mean[k])
-    params = {"repetitions": repetitions, "relax_time_s": relax_time,
-              "temperature_K": temperature, "seed": seed, "material": str(material),
-              "skyrmion_diameter_m": d_sk, "annihilation": model.record()}
-    return SaturationResult(diameters, counts, means, stds, np.array(best), np.array(best_err),
-                            np.array([close_packing_estimate(d, d_sk) for d in diameters]),
-                            params)
+            progress(k + 1, len(protocol.trials))
+    return protocol.result(survivors)

@@ -1,6 +1,6 @@
 """Results of a reshuffler run: events, correlation figures of merit, power, and the dataset.
 
-Signals compared (PHYSICS.md §3, :mod:`skygas.correlation`):
+Signals compared (docs/physics.md §3, :mod:`skygas.correlation`):
 
 - input: the bits of the nucleated skyrmions in nucleation order. With the default ``delay``
   rule this is the input signal itself (delays only reorder events that waited at an occupied

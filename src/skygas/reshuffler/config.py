@@ -19,32 +19,33 @@ scale n (noise temperature nT). Both default to 1; the ``paper-figures`` preset 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import Field, ValidationError
 
 from skygas import units
-from skygas.config import MaterialFields, _to_input_error, read_toml
+from skygas.config import MaterialFields, resolve_paths
+from skygas.config_types import (
+    CHAMBER_GAP,
+    ChamberSize,
+    Length,
+    PositiveFloat,
+    StrictModel,
+    read_toml,
+    to_input_error,
+)
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
+from skygas.errors import require
 from skygas.hypothesis import HypothesisSpec, noise_temperature, scale_dynamics
 from skygas.materials import ThieleParameters
 from skygas.reshuffler.presets import preset_data
 
-PositiveFloat = Annotated[float, Field(gt=0)]
+
+class DeviceSpec(ChamberSize):
+    chamber_gap: Length = CHAMBER_GAP
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class DeviceSpec(_Strict):
-    chamber_diameter: PositiveFloat = 1024e-9
-    conduit_width: PositiveFloat = 100e-9
-    conduit_length: PositiveFloat = 50e-9
-    chamber_gap: PositiveFloat = 400e-9
-
-
-class SignalConfig(_Strict):
+class SignalConfig(StrictModel):
     """The input signal (see :mod:`skygas.signals`)."""
 
     kind: Literal["telegraph", "bernoulli", "file"] = "telegraph"
@@ -53,7 +54,7 @@ class SignalConfig(_Strict):
     path: str | None = None
 
 
-class InjectionSpec(_Strict):
+class InjectionSpec(StrictModel):
     interval: PositiveFloat = 5e-9
     occupied_rule: Literal["delay", "skip"] = "delay"
     site_clearance: PositiveFloat = 1.0   # skyrmion diameters
@@ -61,13 +62,13 @@ class InjectionSpec(_Strict):
     max_pending: int = Field(1000, ge=1)
 
 
-class CurrentSpec(_Strict):
+class CurrentSpec(StrictModel):
     cell_size: PositiveFloat = DEFAULT_CELL_SIZE
     conductor_thickness: PositiveFloat = DEFAULT_CONDUCTOR_THICKNESS
     resistivity: PositiveFloat = DEFAULT_RESISTIVITY
 
 
-class OutputSpec(_Strict):
+class OutputSpec(StrictModel):
     snapshot_interval: PositiveFloat = 100e-9   # positions of all skyrmions, stored sparsely
     trajectory_window: float = Field(300e-9, ge=0)  # dense 1 ns frames for the figure
     running_points: int = Field(200, ge=2)
@@ -119,8 +120,19 @@ def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
         node = data
         parts = key.split(".")
         for part in parts[:-1]:
-            node = node.setdefault(part, {})
-        node[parts[-1]] = value
+            if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")
+                require(part.isdigit() and int(part) < len(node), key, value,
+                        f"an index below {len(node)} into the list of {parts[0]}")
+                node = node[int(part)]
+                continue
+            child = node.get(part, {})
+            node[part] = child = ([dict(t) for t in child] if isinstance(child, list)
+                                  else dict(child) if isinstance(child, dict) else child)
+            node = child
+        if isinstance(node, list):
+            node[int(parts[-1])] = value
+        else:
+            node[parts[-1]] = value
     return data
 
 
@@ -134,7 +146,7 @@ def parse_reshuffler_config(data: dict, source: str = "",
     try:
         return ReshufflerConfig(**data)
     except ValidationError as err:
-        raise _to_input_error(err, source) from None
+        raise to_input_error(err, source) from None
 
 
 def _flatten(data: dict, prefix: str = "") -> dict:
@@ -155,7 +167,7 @@ def load_reshuffler_config(path: str | Path | None = None, *, preset: str | None
         source = f"preset {preset or 'default'}: "
     else:
         path = Path(path)
-        data = read_toml(path)
+        data = resolve_paths(read_toml(path), path.parent)
         if preset is not None:
             data["preset"] = preset
         source = f"{path.name}: "

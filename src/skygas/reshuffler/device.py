@@ -1,5 +1,5 @@
 """The reshuffler's hardware: two identical chambers, their nucleation sites and read-outs,
-and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler"; PHYSICS.md §3).
+and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler"; docs/physics.md §3).
 
 Layout: the UP chamber sits above the DOWN chamber, each the paper's disk with an input conduit
 on the left and an output conduit on the right (:func:`~skygas.geometry.chamber_with_conduits`).
@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from shapely.geometry import MultiPolygon
 
+from skygas.config_types import CHAMBER_DIAMETER, CHAMBER_GAP, CONDUIT_LENGTH, CONDUIT_WIDTH
 from skygas.errors import require
 from skygas.geometry import Outline, chamber_with_conduits
 from skygas.memo import Memo, frozen
@@ -31,10 +32,10 @@ CHAMBERS = ("up", "down")
 class ReshufflerGeometry:
     """Dimensions of one chamber [m] and the spacing between the two chambers [m]."""
 
-    chamber_diameter: float = 1024e-9
-    conduit_width: float = 100e-9
-    conduit_length: float = 50e-9
-    chamber_gap: float = 400e-9
+    chamber_diameter: float = CHAMBER_DIAMETER
+    conduit_width: float = CONDUIT_WIDTH
+    conduit_length: float = CONDUIT_LENGTH
+    chamber_gap: float = CHAMBER_GAP
 
     def chamber(self) -> Outline:
         """One chamber centred at the origin, ports ``input`` and ``output`` (electrodes)."""

@@ -7,12 +7,13 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas.plotting import draw_outline
+from skygas.plotting import draw_landscape, draw_outline, landscape_energy
 from skygas.reshuffler.device import drift_field_on_grid
 
 
 def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
-    """|j| in both chambers (colour), walls, read-out lines and the first trajectories."""
+    """|j| in both chambers (colour), walls, read-out lines and the first trajectories; with an
+    energy landscape, the landscape is the background and |j| its contour lines."""
     grid = run.sim.wall_field.grid
     jx, jy = drift_field_on_grid(run.geometry, run.current, grid, 1.0)
     magnitude = np.hypot(jx, jy)
@@ -21,13 +22,32 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
     magnitude = np.where(inside, magnitude, np.nan)
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(6.5, 9), dpi=110)
+    fig = Figure(figsize=(6.5, 9.2), dpi=110)
     ax = fig.add_subplot()
     extent = np.array([grid.x0, grid.x0 + grid.spacing * (grid.nx - 1),
                        grid.y0, grid.y0 + grid.spacing * (grid.ny - 1)]) * 1e-3
-    image = ax.imshow(magnitude, origin="lower", extent=extent, cmap="viridis",
-                      norm=_log_norm(magnitude))
-    fig.colorbar(image, ax=ax, label="current density |j| (A/m²)", shrink=0.6)
+    landscape_image = draw_landscape(ax, run.sim.landscape, run.sim.outline, colorbar=False)
+    if landscape_image is None:
+        image = ax.imshow(magnitude, origin="lower", extent=extent, cmap="viridis",
+                          norm=_log_norm(magnitude))
+        # the colour bar below the device: beside it, it would meet the read-out labels
+        bar = fig.colorbar(image, ax=ax, label="current density |j| (A/m²)",
+                           orientation="horizontal", shrink=0.7, pad=0.08)
+        from matplotlib.ticker import NullFormatter
+
+        bar.ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels collide
+        track_colour = "white"
+    else:
+        fig.colorbar(landscape_image, ax=ax, orientation="horizontal", shrink=0.7, pad=0.08,
+                     label=landscape_energy(run.sim.landscape)[1])
+        norm = _log_norm(magnitude)
+        if norm is not None:
+            levels = np.geomspace(norm.vmin, norm.vmax, 7)
+            lines = ax.contour(np.linspace(extent[0], extent[1], grid.nx),
+                               np.linspace(extent[2], extent[3], grid.ny), magnitude,
+                               levels=levels, colors="white", linewidths=0.5, alpha=0.6)
+            ax.clabel(lines, fmt="%.1e", fontsize=5)
+        track_colour = "tab:red"
     draw_outline(ax, run.sim.outline)
     ds = run.sim.trajectories()
     if ds.sizes.get("skyrmion", 0):
@@ -35,11 +55,18 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
         for k in range(min(x.shape[1], max_tracks)):
             ok = np.isfinite(x[:, k])
             if ok.sum() > 1:
-                ax.plot(x[ok, k], y[ok, k], lw=0.8, color="white", alpha=0.8)
+                ax.plot(x[ok, k], y[ok, k], lw=0.8, color=track_colour, alpha=0.8)
     for name, site in run.geometry.nucleation_sites().items():
         ax.plot(site[0] * 1e-3, site[1] * 1e-3, "r*", ms=8)
-        ax.annotate(name.upper(), (site[0] * 1e-3, site[1] * 1e-3 + 0.08), color="tab:red")
-    ax.set_title(f"J = {run.config.current_density:.2g} A/m² in the conduits, "
+        # the chamber's name left of its nucleation site, outside the device
+        ax.annotate(f"{name.upper()} input", (site[0] * 1e-3, site[1] * 1e-3),
+                    xytext=(-10, 0), textcoords="offset points", ha="right", va="center",
+                    color="tab:red", fontsize=8,
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"})
+    x0, y0, x1, y1 = run.sim.outline.bounds_nm
+    ax.set_xlim(x0 * 1e-3 - 0.35 * (x1 - x0) * 1e-3, x1 * 1e-3 + 0.3 * (x1 - x0) * 1e-3)
+    contours = ", |j| contours (A/m²)" if run.sim.landscape.terms else ""
+    ax.set_title(f"J = {run.config.current_density:.2g} A/m² in the conduits{contours}, "
                  f"first {run.config.output.trajectory_window * 1e9:.0f} ns of trajectories",
                  fontsize=9)
     fig.tight_layout()
@@ -85,9 +112,16 @@ def plot_occupancy(ds, path: Path) -> Path:
     ax.set_xlabel("time (µs)")
     ax.set_ylabel("skyrmions in chamber")
     ax.legend()
-    if ds.sizes.get("detection", 0):
-        hx.hist(ds.transit_time.values * 1e9, bins=60, color="tab:gray")
-    hx.set_xlabel("transit time (ns)")
+    transit = ds.transit_time.values * 1e9 if ds.sizes.get("detection", 0) else np.empty(0)
+    transit = transit[np.isfinite(transit) & (transit > 0)]
+    if transit.size:
+        # logarithmic bins: the distribution has a long tail (to tens of µs at low currents),
+        # over which linear bins would put nearly every skyrmion into one bar
+        lo, hi = transit.min(), transit.max()
+        edges = np.geomspace(lo, hi * 1.0001, 40) if hi > lo * 1.01 else [lo * 0.9, hi * 1.1]
+        hx.hist(transit, bins=edges, color="tab:gray")
+        hx.set_xscale("log")
+    hx.set_xlabel("transit time (ns, log scale)")
     hx.set_ylabel("skyrmions")
     fig.tight_layout()
     fig.savefig(path)

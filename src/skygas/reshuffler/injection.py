@@ -23,18 +23,9 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 
-from skygas._kernels import _free_slot_if_clear
 from skygas.reshuffler.device import CHAMBERS
-
-
-@numba.njit(cache=True)
-def _site_occupied(x, y, alive, sx, sy, clearance2):
-    """True if an alive skyrmion lies closer than √clearance2 [nm] to (sx, sy): the same test
-    the kernel applies to the nucleations planned into it."""
-    return _free_slot_if_clear(x, y, alive, sx, sy, clearance2) == -1
 
 
 @dataclass
@@ -133,12 +124,12 @@ class Injector:
 
     # -- helpers ------------------------------------------------------------------------------
     def _site_clear(self, sim, chamber: str) -> bool:
+        # the test the kernel applies to the nucleations planned into it
         site = self.sites[chamber]
-        return not _site_occupied(sim._x, sim._y, sim._alive, site[0], site[1],
-                                  self.clearance_nm**2)
+        return sim.state.is_site_clear_nm(site[0], site[1], self.clearance_nm)
 
     def _nucleate(self, sim, chamber: str, k: int) -> None:
-        ident = sim._insert_nm(self.sites[chamber][None, :])[0]
+        ident = sim.state.insert_nm(self.sites[chamber][None, :])[0]
         self.log.skyrmion[k] = ident
         self.log.injection_step[k] = sim.step
 

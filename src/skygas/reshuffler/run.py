@@ -19,7 +19,6 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -31,7 +30,8 @@ from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
 from skygas.signals import SignalSpec, as_bits, generate_bits
 
-CHECKPOINT = "checkpoint.npz"
+#: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
+PIECES = 200
 #: Shortest piece [steps] of a run between two returns to Python (progress, checkpoints): each
 #: return costs ~0.5 ms, which 200 pieces of a 2 µs run (8 000 steps) would spend 200 times.
 MIN_PIECE_STEPS = 5_000
@@ -107,7 +107,8 @@ class ReshufflerRun:
             time_step = default_time_step(thiele, ForceModel.build(material, thiele), interval)
         sim = Simulation(geometry.device_outline(), material,
                          temperature=config.noise_temperature(),
-                         time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64)
+                         time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64,
+                         landscape=config.potentials)
         vx, vy = drift_field_on_grid(geometry, current, sim.wall_field.grid,
                                      config.drift_coefficient())
         sim.set_drift_field(vx, vy)
@@ -127,31 +128,35 @@ class ReshufflerRun:
     def total_steps(self) -> int:
         return int(round(self.config.duration / self.sim.time_step))
 
-    def advance(self, progress: Callable[[float], None] | None = None,
-                checkpoint: Callable[["ReshufflerRun"], None] | None = None,
-                checkpoint_seconds: float = 60.0, pieces: int = 200,
-                stop_after_step: int | None = None) -> None:
-        """Run to the configured duration (or to ``stop_after_step``) in ``pieces`` of at least
-        :data:`MIN_PIECE_STEPS` steps, reporting progress and saving periodic checkpoints after
-        each piece.
+    def piece_steps(self, pieces: int = PIECES) -> int:
+        """Length [steps] of the pieces of a run cut into ``pieces`` (at least
+        :data:`MIN_PIECE_STEPS`)."""
+        return max(MIN_PIECE_STEPS, self.total_steps // pieces)
+
+    def advance_piece(self, end: int | None = None, pieces: int = PIECES) -> None:
+        """Run to the next multiple of :meth:`piece_steps` (or to ``end`` [steps], default the
+        configured duration, if that comes first).
 
         Pieces start at multiples of the piece length, so a run resumed from a checkpoint
         returns to Python at the same steps as one that was never stopped, and continues
         bit-identically (where the compiled kernel is re-entered matters to rounding: the
         neighbour list is rebuilt there)."""
+        end = self.total_steps if end is None else min(end, self.total_steps)
+        if self.sim.step >= end:
+            return
+        start = time.perf_counter()
+        piece = self.piece_steps(pieces)
+        self._run_steps(min(piece - self.sim.step % piece, end - self.sim.step))
+        self.wall_time += time.perf_counter() - start
+
+    def advance(self, pieces: int = PIECES, stop_after_step: int | None = None) -> None:
+        """Run to the configured duration (or to ``stop_after_step``), in ``pieces`` pieces
+        (:meth:`advance_piece`). :func:`~skygas.reshuffler.files.run_reshuffler` runs the same
+        pieces through the run driver, with progress, checkpoints and interruption."""
         end = self.total_steps if stop_after_step is None else min(stop_after_step,
                                                                       self.total_steps)
-        piece = max(MIN_PIECE_STEPS, self.total_steps // pieces)
-        last_save = time.perf_counter()
         while self.sim.step < end:
-            start = time.perf_counter()
-            self._run_steps(min(piece - self.sim.step % piece, end - self.sim.step))
-            self.wall_time += time.perf_counter() - start
-            if progress is not None:
-                progress(self.sim.time)
-            if checkpoint is not None and time.perf_counter() - last_save > checkpoint_seconds:
-                checkpoint(self)
-                last_save = time.perf_counter()
+            self.advance_piece(end, pieces)
 
     def drain(self, max_duration: float = 1e-4) -> bool:
         """Keep running after the configured duration, without new input, until every event

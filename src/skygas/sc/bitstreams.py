@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 
 # Maximal-length Fibonacci LFSR taps, 1-indexed bit positions, from Xilinx application note
 # XAPP 052 (P. Alfke, "Efficient Shift Registers, LFSR Counters, and Long Pseudo-Random

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 
 PAPER_CMOS_RESHUFFLER_SOURCE = (
     "order-of-magnitude estimate for CMOS reshufflers of clocked stochastic bitstreams "

@@ -25,7 +25,7 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 from skygas.sc.decorrelators import Decorrelator, DelayIsolator, Regenerator, ShuffleBuffer
 from skygas.sc.metrics import binomial_std, p_value, scc
@@ -255,12 +255,17 @@ def _plot_comparison(rows: list[dict[str, Any]], path: Path) -> None:
     axes[3].bar(pos, [e if e is not None else np.nan for e in energy], color="tab:green")
     for i, e in enumerate(energy):
         if e is None:
-            axes[3].text(i, 0.5, "unknown", rotation=90, ha="center", va="center",
-                         transform=axes[3].get_xaxis_transform(), fontsize=7)
+            # inside the axes, above the bottom spine, clear of the tick labels
+            # upright inside the axes, from just above the bottom spine: clear of the axis
+            # and of the tick labels whatever the number of bars
+            axes[3].text(i, 0.03, "no figure", rotation=90, ha="center", va="bottom",
+                         color="0.35", transform=axes[3].get_xaxis_transform(), fontsize=7)
     axes[3].set_yscale("log")
     axes[3].set_ylabel("energy per bit (J)")
     for ax in axes:
         ax.set_xticks(pos, names, rotation=60, ha="right", fontsize=7)
+        # every slot shown, also those whose bar is missing (autoscaling skips NaN bars)
+        ax.set_xlim(-0.6, len(rows) - 0.4)
     fig.tight_layout()
     fig.savefig(path, dpi=150)
 

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 
 
 def _two(a: Any, b: Any) -> tuple[np.ndarray, np.ndarray]:

@@ -22,7 +22,7 @@ import numpy as np
 from scipy import special
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 
 
 def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

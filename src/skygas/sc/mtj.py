@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from skygas.errors import InputError
-from skygas.sc import _validate as v
+from skygas import validate as v
 from skygas.sc.bitstreams import _refreshed_chain
 
 

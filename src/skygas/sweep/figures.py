@@ -48,6 +48,22 @@ def _fmt(fit: dict, key: str) -> str:
         fit.get(key + "_error", np.nan)) else f"{fit[key]:.2f}"
 
 
+def fit_label(name: str, model_at_points, mean, sem) -> tuple[str, str]:
+    """Legend text and line style of a fitted curve, saying how well it meets the points it
+    is drawn over: χ²/dof of the replica means (errors = their standard errors), with
+    "misses the data" and a dashed line when χ²/dof > 3 (a miss far beyond the scatter)."""
+    model_at_points, mean, sem = (np.ravel(np.asarray(a, float)) for a in
+                                  (model_at_points, mean, sem))
+    ok = np.isfinite(model_at_points) & np.isfinite(mean) & np.isfinite(sem) & (sem > 0)
+    dof = int(ok.sum()) - 2
+    if dof < 1:
+        return f"{name} (too few points to judge the fit)", "--"
+    chi2 = float(np.sum(((mean[ok] - model_at_points[ok]) / sem[ok]) ** 2)) / dof
+    if chi2 > 3:
+        return f"{name}: misses the data (χ²/dof = {chi2:.3g})", "--"
+    return f"{name} (χ²/dof = {chi2:.2g})", "-"
+
+
 def _grid_only(ds: xr.Dataset, keep: tuple[str, ...]) -> xr.Dataset:
     """The first value of any other swept dimension (averaging over it would mix physics)."""
     extra = [d for d in ds["done"].dims if d not in (*keep, "replica")]
@@ -69,9 +85,15 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
                       ms=4, capsize=2, label=f"p = {p:g}" if p is not None else "ρ")
     paper = fits["paper_fit"]
     if np.isfinite(paper["c_A"]):
+        def model(current):
+            return paper["c_A"] / (paper["c_B"] + (current / CURRENT_UNIT) ** -1.5)
+
         grid = np.geomspace(j.min(), j.max(), 200)
-        left.plot(grid, paper["c_A"] / (paper["c_B"] + (grid / CURRENT_UNIT) ** -1.5), "b-",
-                  label="c_A/(c_B + J^(−3/2))")
+        at_points = model(stats[CURRENT]).broadcast_like(stats["mean"]).transpose(
+            *stats["mean"].dims)
+        label, style = fit_label("paper's fit c_A/(c_B + J^(−3/2))", at_points,
+                                 stats["mean"].values, stats["sem"].values)
+        left.plot(grid, model(grid), color="b", ls=style, label=label)
     beta = fits["beta"]
     if np.isfinite(beta["exponent"]):
         grid = np.geomspace(j.min(), j.max(), 200)
@@ -92,7 +114,7 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
         if curve.sizes["time"] == 0:
             continue
         t = curve["time"].values * 1e6
-        right.plot(t, curve["mean"].values, label=f"J = {value:.2g}")
+        right.plot(t, curve["mean"].values, label=f"J = {value:.2g} A/m²")
         if np.isfinite(curve["sem"].values).any():
             right.fill_between(t, curve["mean"] - curve["sem"], curve["mean"] + curve["sem"],
                                alpha=0.2)
@@ -119,8 +141,11 @@ def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     paper = fits["paper_fit"]
     if np.isfinite(paper["c_A"]):
         grid = np.linspace(length.min(), length.max(), 200)
-        ax.plot(grid * 1e3, paper["c_A"] + paper["c_B"] / np.sqrt(grid), "b-",
-                label="c_A + c_B/√L")
+        label, style = fit_label("paper's fit c_A + c_B/√L",
+                                 paper["c_A"] + paper["c_B"] / np.sqrt(length),
+                                 stats["mean"].values, stats["sem"].values)
+        ax.plot(grid * 1e3, paper["c_A"] + paper["c_B"] / np.sqrt(grid), color="b", ls=style,
+                label=label)
     gamma = fits["gamma"]
     if np.isfinite(gamma["exponent"]):
         grid = np.linspace(length.min(), length.max(), 200)

@@ -19,7 +19,7 @@ setting the same fields (``[[points]]`` with ``current_density = 1e11`` and ``"s
 and so on). ``[sweep] config = "file.toml"`` may name the base configuration instead of
 ``[base]`` (relative to the sweep file).
 
-Seeds (STYLE.md, "Randomness"): ``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]``
+Seeds (counter-based noise, docs/engine.md): ``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]``
 gives run (point ``i`` in C order of the grid, replica ``r``); its 63-bit ``seed`` is the
 first word of that sequence's state. A run's result therefore depends only on the sweep file,
 never on which worker ran it or when.
@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 from pydantic import BaseModel
 
-from skygas.config import read_toml
+from skygas.config import read_toml, resolve_paths
 from skygas.errors import InputError, require
 from skygas.reshuffler.config import ReshufflerConfig, parse_reshuffler_config
 from skygas.reshuffler.device import ReshufflerGeometry
@@ -123,6 +123,11 @@ def _field_exists(model: type[BaseModel], dotted: str) -> bool:
         return True
     if head in _LEAF_FIELDS:
         return False
+    if head == "potentials":  # "potentials.<index>.<field of a potential kind>"
+        from skygas.landscape import KINDS
+
+        index, _, name = rest.partition(".")
+        return index.isdigit() and any(name in kind.model_fields for kind in KINDS.values())
     sub = info.annotation
     return isinstance(sub, type) and issubclass(sub, BaseModel) and _field_exists(sub, rest)
 
@@ -232,10 +237,12 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         path = Path(head["config"])
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
-        base = read_toml(path, "sweep.config")
+        base = resolve_paths(read_toml(path, "sweep.config"), path.parent)
     else:
         base = data.get("base", {"preset": "default"})
         require(isinstance(base, dict), "base", base, "a reshuffler configuration table")
+        if base_dir is not None:  # file names in [base] are relative to the sweep file
+            base = resolve_paths(base, base_dir)
     require("seed" not in base, "base.seed", base.get("seed"),
             "no seed in [base]: runs get seeds derived from [sweep] seed")
 

@@ -1,6 +1,7 @@
-"""Input checks shared by the stochastic-computing modules.
+"""Input checks for values handed to the API: seeds, integers, probabilities, bit arrays.
 
-Every public function validates its arguments here, before any work, and raises
+Any module may use them (the stochastic-computing package, the signals, the correlation
+analyses); a public function validates its arguments with them before any work. Each raises
 :class:`skygas.errors.InputError` naming the field, the value and what is allowed.
 """
 

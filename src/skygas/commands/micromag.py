@@ -54,6 +54,17 @@ def register(subparsers) -> None:
                      help="largest displacement between snapshots [m] (default: one radius)")
     fit.set_defaults(func=_fit)
 
+    samples = commands.add_parser(
+        "samples", help="print where the sample OVF files are and how to try them",
+        description="The synthetic OVF samples shipped with skygas, for inspect and fit.")
+    samples.set_defaults(func=lambda args: print(_samples_usage()))
+
+
+def _samples_usage() -> str:
+    from skygas.micromag.samples import usage
+
+    return usage()
+
 
 def _inspect(args: argparse.Namespace) -> int:
     from skygas.micromag.detection import inspect_field

@@ -1,0 +1,58 @@
+"""``skygas analyze RUN [--json]``: the standard observables of a run (MSD and D, g(r),
+velocity and Hall angle, occupancy, density and velocity maps; :mod:`skygas.analysis`)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+
+def _pm(value, error, scale=1.0) -> str:
+    if value is None or not math.isfinite(value):
+        return "n/a"
+    return f"{value * scale:.4g} ± {error * scale:.2g}" if error is not None and \
+        math.isfinite(error) else f"{value * scale:.4g}"
+
+
+def _analyze(args) -> int:
+    from skygas.outputs.records import find_result_file
+
+    find_result_file(args.run)
+    from skygas.analysis import analyze
+    from skygas.outputs.records import load_run
+
+    result = analyze(load_run(args.run), maps=not args.no_maps)
+    if args.json:
+        print(json.dumps(result))
+        return 0
+    print(f"{result['kind']} run, {result['frames']} frames, {result['entries']} positions")
+    msd = result.get("msd")
+    if msd:
+        free = result.get("free_diffusion_constant_m2_s")
+        print(f"  diffusion constant D = "
+              f"{_pm(msd['diffusion_constant_m2_s'], msd['diffusion_constant_error_m2_s'])} "
+              f"m²/s" + (f" (free skyrmion: {free:.4g} m²/s)" if free else ""))
+    v = result.get("velocity")
+    if v:
+        print(f"  mean velocity = ({_pm(v['velocity_m_s'][0], v['velocity_error_m_s'][0])}, "
+              f"{_pm(v['velocity_m_s'][1], v['velocity_error_m_s'][1])}) m/s")
+        if "hall_angle_rad" in v:
+            angle = _pm(v["hall_angle_rad"], v["hall_angle_error_rad"], 180 / math.pi)
+            print(f"  Hall angle = {angle}°")
+    occ = result["occupancy"]
+    print(f"  skyrmions present: mean {occ['mean_total']:.3g}, largest {occ['max_total']}")
+    g = result.get("pair_correlation")
+    if g:
+        k = max(range(len(g["g"])), key=lambda i: g["g"][i] if math.isfinite(g["g"][i]) else -1)
+        print(f"  g(r): first peak {g['g'][k]:.3g} at r = {g['r_m'][k] * 1e9:.0f} nm")
+    print("  (--json prints every number, with the maps and curves)")
+    return 0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("analyze", help="standard observables of a run (MSD, g(r), ...)")
+    p.add_argument("run", help="run directory or result file")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--no-maps", action="store_true", help="leave out the density and "
+                                                          "velocity maps")
+    p.set_defaults(func=_analyze)

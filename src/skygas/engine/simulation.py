@@ -1,0 +1,479 @@
+"""The :class:`Simulation` façade: one run of a skyrmion gas in a device outline.
+
+It owns the parts that each do one job and wires them together:
+
+- the parameters: Thiele coefficients, the tabulated force laws (:class:`ForceModel`) and the
+  kernel's typed records (:mod:`skygas.engine.terms`);
+- the skyrmion store (:class:`~skygas.engine.store.SkyrmionStore`) and its public view
+  ``sim.state`` (:class:`~skygas.engine.state.StateView`);
+- the operations and their planning (:mod:`skygas.engine.scheduler`);
+- the recorder of frames and exits (:class:`~skygas.engine.recorder.Recorder`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+from skygas import units
+from skygas._field_lookup import empty_fields
+from skygas._version import __version__
+from skygas.engine import terms as T
+from skygas.engine.force_model import (
+    MAX_STEP_FRACTION,
+    MIN_PLACEMENT_SEPARATION,
+    SUGGESTED_STEP_FRACTION,
+    ForceModel,
+    relaxation_time,
+)
+from skygas.engine.kernel import advance
+from skygas.engine.recorder import FrameBlock, Recorder
+from skygas.engine.scheduler import NO_PLAN, Operation, first_plan
+from skygas.engine.state import StateView
+from skygas.engine.store import SkyrmionStore
+from skygas.errors import InputError, require
+from skygas.forces import DEFAULT_CUTOFF_FRACTION
+from skygas.geometry import Outline
+from skygas.landscape import LandscapeField, parse_potentials
+from skygas.materials import Material, ThieleParameters, derive_thiele, load_material
+from skygas.memo import Memo, frozen
+from skygas.wall_field import WallField
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+#: Neighbour-list skin in skyrmion diameters (the list is rebuilt after a skyrmion moves
+#: half of it; larger skins rebuild less often but carry more pairs beyond the cutoff). At
+#: 300 K a skyrmion of S2 diffuses ~1 nm per suggested step: with 0.25 the list of 100
+#: skyrmions was rebuilt every 3 steps, with 1.0 every 25, and the step was 15-20 % faster
+#: (benchmarks/bench_engine.py, 100 and 1000 skyrmions).
+NEIGHBOR_SKIN = 1.0
+#: A skyrmion that drifts fast gets a wider margin in the neighbour list, room for this many
+#: steps of its motion (a current pushes skyrmions along a conduit by several nm per step,
+#: which would otherwise force a rebuild at every step) ...
+NEIGHBOR_MARGIN_STEPS = 8.0
+#: ... up to this many skyrmion diameters (wider margins make larger cells and longer lists).
+NEIGHBOR_MARGIN_MAX = 1.25
+
+INTEGRATORS = {"heun": 0, "euler-maruyama": 1}
+#: Free slots beyond the last occupied one that a kernel call with planned insertions sees.
+PLAN_SLOTS = 4
+#: Systems with more skyrmions than this are sorted spatially before each kernel call.
+SORT_ABOVE = 256
+
+# The wall channels of the kernels' packed grid, per wall field (WallField.key; see
+# skygas.memo): each run of a device copies them instead of re-packing four float64 fields.
+_WALL_CHANNELS = Memo("wall_channels", maxsize=4)
+
+
+def _packed_wall_channels(wall_field: WallField) -> np.ndarray:
+    """The packed float32 grid (:func:`~skygas._field_lookup.empty_fields`) with the wall
+    channels filled in and no drift (read-only)."""
+    packed = empty_fields(wall_field.grid.ny, wall_field.grid.nx)
+    packed[..., T.CH_WALL_DIST] = wall_field.wall_distance
+    packed[..., T.CH_NORMAL_X] = wall_field.normal_x
+    packed[..., T.CH_NORMAL_Y] = wall_field.normal_y
+    packed[..., T.CH_DOMAIN] = wall_field.domain_distance
+    frozen(packed)
+    return packed
+
+
+class Simulation:
+    """A skyrmion gas in a device outline.
+
+    Parameters
+    ----------
+    outline: the device (:mod:`skygas.geometry`).
+    material: a :class:`~skygas.materials.Material`, preset name or TOML path.
+    temperature: T [K] (0 for deterministic dynamics).
+    time_step: dt [s]; refused above :meth:`max_time_step`; ``None`` takes
+        :meth:`suggested_time_step`.
+    seed: non-negative integer; with the same seed a run is bit-identical.
+    film_thickness: t_F [m] (default 2 nm, as in the paper).
+    thiele: explicit Thiele parameters (otherwise derived from the material and film).
+    drift_velocity: uniform spin-drift velocity v_s [m/s] (x, y).
+    pair_law, pair_law_params, cutoff_fraction: see :mod:`skygas.forces`.
+    grid_spacing: wall-field grid spacing [m] (default d_sk/16).
+    integrator: ``"heun"`` (default) or ``"euler-maruyama"`` (for comparison only).
+    brownian_substeps: draw each step's noise as the sum of this many sub-increments, so that
+        runs with steps dt and dt/m share one Brownian path (strong-convergence studies).
+    capacity: initial room in the store (it grows on demand).
+    landscape: external potentials (:mod:`skygas.landscape`: objects or their TOML tables),
+        added up on the field grid; their force −∇U enters like the pair and wall forces.
+
+    Operations (:attr:`operations`) act on the run at the steps they ask for and read and
+    change skyrmions through :attr:`state`.
+    """
+
+    def __init__(self, outline: Outline, material: Material | str = "S2", *,
+                 temperature: float = 300.0, time_step: float | None = None, seed: int = 0,
+                 film_thickness: float = 2e-9, thiele: ThieleParameters | None = None,
+                 drift_velocity=(0.0, 0.0), pair_law: str = "paper",
+                 pair_law_params: dict | None = None,
+                 cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
+                 grid_spacing: float | None = None, integrator: str = "heun",
+                 brownian_substeps: int = 1, capacity: int = 64, landscape=()):
+        require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
+        require(np.isfinite(temperature) and temperature >= 0, "temperature", temperature,
+                "a temperature >= 0 in kelvin")
+        require(isinstance(seed, (int, np.integer)) and 0 <= seed < 2**63, "seed", seed,
+                "an integer in [0, 2^63)")
+        require(integrator in INTEGRATORS, "integrator", integrator, f"one of {list(INTEGRATORS)}")
+        require(isinstance(brownian_substeps, (int, np.integer)) and brownian_substeps >= 1,
+                "brownian_substeps", brownian_substeps, "an integer >= 1")
+        self.outline = outline
+        self.material = load_material(material)
+        self.thiele = thiele or derive_thiele(self.material, film_thickness)
+        self.temperature = float(temperature)
+        self.seed = int(seed)
+        self.integrator = integrator
+        self.brownian_substeps = int(brownian_substeps)
+        self.forces = ForceModel.build(self.material, self.thiele, pair_law, pair_law_params,
+                                       cutoff_fraction)
+        d_sk = self.thiele.skyrmion_diameter_internal
+        spacing = d_sk / 16 if grid_spacing is None else grid_spacing * units.M_TO_NM
+        require(spacing > 0 and spacing <= d_sk, "grid_spacing", grid_spacing,
+                f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)")
+        band = self.forces.wall.cutoff + 2 * spacing
+        self.wall_field = WallField.build(outline, spacing, band)
+        self.landscape = LandscapeField(parse_potentials(landscape), self.wall_field.grid,
+                                        self.temperature, self.seed)
+        limit = self.max_time_step()
+        if time_step is None:
+            time_step = self.suggested_time_step()
+        require(np.isfinite(time_step) and 0 < time_step <= limit, "time_step", time_step,
+                f"a step in (0, {limit:.3g}] s: longer steps do not resolve the fastest force "
+                f"relaxation τ_min = {limit:.3g} s (suggested ≤ {self.suggested_time_step():.3g} s)")
+        self.time_step = float(time_step)
+
+        # -- the parts ------------------------------------------------------------------------
+        self.store = SkyrmionStore(capacity)
+        self.recorder = Recorder(outline.ports)
+        self.operations: list[Operation] = []
+        self.state = StateView(self)
+        self.step = 0
+        self.wall_escapes = 0
+        self.pair_evaluations = 0
+        self.neighbor_rebuilds = 0
+
+        # -- the kernel's records -------------------------------------------------------------
+        self._dt_ns = self.time_step * units.S_TO_NS
+        self._mobility = T.mobility(self.thiele)
+        self._noise = T.noise_term(self.thiele, self.temperature, self._dt_ns, self.seed,
+                                   self.brownian_substeps)
+        # Every per-node field in one interleaved float32 array: a bilinear lookup then reads
+        # four 32-byte nodes (one vector load each, skygas._field_lookup) instead of twenty
+        # scattered values.
+        grid = self.wall_field.grid
+        fields = empty_fields(grid.ny, grid.nx)
+        fields[...] = _WALL_CHANNELS.get(WallField.key(outline, spacing, band),
+                                         lambda: _packed_wall_channels(self.wall_field))
+        self._terms = T.ForceTerms(T.pair_term(self.forces.pair), T.wall_term(self.forces.wall),
+                                   T.drift_term(self.thiele), T.landscape_term(self.landscape),
+                                   T.field_grid(fields, grid))
+        self._grid_drift_max = 0.0  # largest |v_s| on the grid [nm/ns] (set_drift_field)
+        ports = list(outline.ports.values())
+        self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
+        self._counters = np.zeros(1, T.COUNTERS)
+        self._neighbor_cells = None
+        self.set_uniform_drift(drift_velocity)
+
+    def _configure_neighbor_cells(self) -> None:
+        """Largest neighbour-list margin and the cell list that goes with it.
+
+        The margin cap covers NEIGHBOR_MARGIN_STEPS steps of the fastest free drift the
+        current field can cause (at most NEIGHBOR_MARGIN_MAX diameters); without a drift it is
+        the base half-skin. Cells are no smaller than cutoff + 2·cap and cover the field grid
+        (skyrmions outside it are clamped into edge cells). Called whenever the drift changes.
+        """
+        drift, mob = self._terms.drift, self._mobility
+        vs = self._grid_drift_max if drift.from_grid else math.hypot(drift.vs_x, drift.vs_y)
+        # |v| of a free skyrmion = |mobility|·|drive|·|v_s| (both matrices are scaled rotations)
+        speed = vs * math.hypot(drift.drive_g, drift.drive_b) * math.hypot(mob.a, mob.g)
+        skin = NEIGHBOR_SKIN * self.thiele.skyrmion_diameter_internal
+        base = 0.5 * skin
+        cap = NEIGHBOR_MARGIN_MAX * self.thiele.skyrmion_diameter_internal
+        margin_max = max(base, min(base + NEIGHBOR_MARGIN_STEPS * self._dt_ns * speed, cap))
+        reach = self.forces.pair.cutoff + 2.0 * margin_max
+        grid = self.wall_field.grid
+        width = grid.spacing * (grid.nx - 1)
+        height = grid.spacing * (grid.ny - 1)
+        ncx = max(1, int(width // reach))
+        ncy = max(1, int(height // reach))
+        self._neighbor_cells = T.NeighborCells(skin, NEIGHBOR_MARGIN_STEPS, margin_max, grid.x0, grid.y0,
+                                      max(width / ncx, height / ncy), ncx, ncy)
+
+    @property
+    def neighbor_cells(self) -> T.NeighborCells:
+        """The neighbour list's margins and cells (:class:`~skygas.engine.terms.NeighborCells`).
+        Assigning one (e.g. with zero margins, for a test against an exact list) replaces them
+        until the drift changes."""
+        return self._neighbor_cells
+
+    @neighbor_cells.setter
+    def neighbor_cells(self, cells: T.NeighborCells) -> None:
+        require(isinstance(cells, T.NeighborCells), "neighbor_cells", cells,
+                "a skygas.engine.terms.NeighborCells record")
+        self._neighbor_cells = cells
+
+    @property
+    def force_terms(self) -> T.ForceTerms:
+        """The force terms as the kernel sees them (:mod:`skygas.engine.terms`; read-only)."""
+        return self._terms
+
+    # -- time step -----------------------------------------------------------------------------
+    def relaxation_time(self) -> float:
+        """τ_min [s] of this simulation (see :func:`relaxation_time`), the landscape's
+        largest curvature counted as a stiffness like the force laws' slopes."""
+        return relaxation_time(self.thiele, self.forces, self.landscape.max_curvature())
+
+    def max_time_step(self) -> float:
+        """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""
+        return MAX_STEP_FRACTION * self.relaxation_time()
+
+    def suggested_time_step(self) -> float:
+        """A safe default [s]: SUGGESTED_STEP_FRACTION · τ_min. Check it with
+        :func:`skygas.timestep.check_time_step`."""
+        return SUGGESTED_STEP_FRACTION * self.relaxation_time()
+
+    # -- landscape -----------------------------------------------------------------------------
+    def set_landscape_enabled(self, term, on: bool) -> None:
+        """Switch a landscape term (index, or the ``name`` of a band) off or on; the change
+        acts from the next step (no recompilation)."""
+        self.landscape.set_enabled(term, on)
+
+    # -- drift ---------------------------------------------------------------------------------
+    def set_uniform_drift(self, velocity) -> None:
+        """Uniform spin-drift velocity v_s = (vx, vy) [m/s] (1 m/s = 1 nm/ns)."""
+        v = np.asarray(velocity, dtype=float)
+        require(v.shape == (2,) and np.all(np.isfinite(v)), "drift_velocity", velocity,
+                "two finite numbers (vx, vy) in m/s")
+        self._terms = self._terms._replace(drift=T.drift_term(self.thiele, v))
+        self._configure_neighbor_cells()
+
+    def set_drift_field(self, vx: np.ndarray, vy: np.ndarray) -> None:
+        """Spatial v_s [m/s] sampled on ``self.wall_field.grid`` (arrays of shape (ny, nx))."""
+        shape = (self.wall_field.grid.ny, self.wall_field.grid.nx)
+        for name, arr in (("vx", vx), ("vy", vy)):
+            require(np.shape(arr) == shape and np.all(np.isfinite(arr)), f"drift_field.{name}",
+                    np.shape(arr), f"a finite array of shape {shape} (the wall-field grid)")
+        fields = self._terms.grid.fields
+        fields[..., T.CH_DRIFT_X] = vx
+        fields[..., T.CH_DRIFT_Y] = vy
+        vx, vy = np.asarray(vx, dtype=float), np.asarray(vy, dtype=float)
+        self._grid_drift_max = math.sqrt(float(np.max(vx * vx + vy * vy)))
+        self._terms = self._terms._replace(drift=T.drift_term(self.thiele, from_grid=True))
+        self._configure_neighbor_cells()
+
+    # -- skyrmions -----------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.step * self.time_step
+
+    @property
+    def count(self) -> int:
+        """Number of skyrmions present."""
+        return self.store.count
+
+    @property
+    def ids_issued(self) -> int:
+        """Number of skyrmions created so far (ids are 0, 1, … in order of creation)."""
+        return self.store.next_id
+
+    @property
+    def annihilations(self):
+        """Skyrmions removed by operations (:class:`~skygas.engine.store.AnnihilationLog`)."""
+        return self.store.annihilations
+
+    @property
+    def exits(self):
+        """Skyrmions that left through a port (:class:`~skygas.exit_log.ExitLog`)."""
+        return self.recorder.exits
+
+    def positions(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
+        return self.store.positions()
+
+    def validate_positions(self, positions_nm: np.ndarray, field_name: str = "skyrmions",
+                           check_existing: bool = True) -> None:
+        """Refuse positions [nm] outside the device or on top of another skyrmion."""
+        p = np.asarray(positions_nm, dtype=float).reshape(-1, 2)
+        inside = self.outline.contains_nm(p[:, 0], p[:, 1])
+        for n in np.nonzero(~inside | ~np.all(np.isfinite(p), axis=1))[0]:
+            raise InputError(f"{field_name}[{n}]", (p[n] / units.M_TO_NM).tolist(),
+                             "a position (m) inside the device outline")
+        min_sep = MIN_PLACEMENT_SEPARATION * self.thiele.skyrmion_diameter_internal
+        others = self.store.present_nm() if check_existing else np.empty((0, 2))
+        for n in range(len(p)):
+            ref = np.vstack([p[:n], others])
+            if len(ref) and np.min(np.hypot(*(ref - p[n]).T)) < min_sep:
+                raise InputError(f"{field_name}[{n}]", (p[n] / units.M_TO_NM).tolist(),
+                                 f"a position at least {min_sep * 1e-9:.3g} m "
+                                 f"({MIN_PLACEMENT_SEPARATION} diameters) from other skyrmions")
+
+    def add_skyrmions(self, positions, *, validate: bool = True) -> np.ndarray:
+        """Insert skyrmions at ``positions`` [m] (shape (n, 2)); returns their new ids."""
+        p = np.asarray(positions, dtype=float).reshape(-1, 2) * units.M_TO_NM
+        if validate:
+            self.validate_positions(p)
+        return self.store.insert(p)
+
+    def remove_skyrmions(self, ids, reason: str = "removed") -> None:
+        """Remove the skyrmions with the given ids (unknown ids raise); see
+        :meth:`StateView.annihilate`."""
+        self.state.annihilate(ids, reason)
+
+    # -- running -------------------------------------------------------------------------------
+    def run(self, duration: float, record_interval: float | None = None,
+            progress: Callable[[float], None] | None = None, chunk_steps: int = 20_000) -> None:
+        """Advance by ``duration`` [s], recording positions every ``record_interval`` [s].
+
+        Operations in :attr:`operations` act at the steps they ask for (see
+        :class:`~skygas.engine.scheduler.Operation`). ``progress(t)`` is called with the
+        simulated time after each chunk.
+        """
+        require(np.isfinite(duration) and duration >= 0, "duration", duration,
+                "a duration >= 0 in seconds")
+        n_total = int(round(duration / self.time_step))
+        record_every = 0
+        if record_interval is not None:
+            require(record_interval >= self.time_step, "record_interval", record_interval,
+                    f"an interval >= the time step ({self.time_step:.3g} s)")
+            record_every = max(1, int(round(record_interval / self.time_step)))
+        end = self.step + n_total
+        while self.step < end:
+            due = [op.next_step(self.step) for op in self.operations]
+            planner, plan = first_plan(self.operations, due, self.step,
+                                       min(end, self.step + chunk_steps))
+            target = max(self.step, min([end, self.step + chunk_steps, *due]))
+            made = 0
+            if target > self.step:
+                made = self._advance(target - self.step, record_every, plan)
+            if planner is not None:  # the index of the planning operation
+                op = self.operations[planner]
+                op.planned_insertions_made(self, plan.ids[:made])
+                due[planner] = op.next_step(self.step)
+            for op, when in zip(self.operations, due):
+                if when <= self.step:
+                    op.act(self)
+            if progress is not None:
+                progress(self.time)
+
+    def _advance(self, n_steps: int, record_every: int, plan=None) -> int:
+        """One kernel call of up to ``n_steps`` steps; returns the planned insertions made."""
+        store = self.store
+        if store.count > SORT_ABOVE:
+            cells = self._neighbor_cells
+            store.sort_into_cells(cells.x0, cells.y0, cells.size)
+        # The kernel sees the slots up to the last occupied one: new skyrmions fill the lowest
+        # free slot, so this range stays compact and loops skip the empty tail of the arrays.
+        # Planned insertions get a few free slots more (the kernel stops if it runs out).
+        used = store.used_slots()
+        if plan is not None and len(plan.steps):
+            store.grow(used + PLAN_SLOTS)
+            used += PLAN_SLOTS
+        else:
+            plan = NO_PLAN
+        # frames fall on the global steps that are multiples of record_every
+        n_frames = ((self.step + n_steps) // record_every - self.step // record_every
+                    if record_every else 0)
+        frames = self.recorder.frame_buffer(n_frames, used, store.capacity)
+        # each exit removes a skyrmion present at the start of the call or inserted during it
+        exits = self.recorder.exit_buffer(used + len(plan.steps))
+        counters = self._counters
+        counters.fill(0)
+        counters[0]["next_id"] = store.next_id
+        stepper = T.Stepper(self._dt_ns, self.integrator == "heun", record_every)
+        n_exit = advance(store.x[:used], store.y[:used], store.alive[:used], store.ids[:used],
+                         self.step, n_steps, stepper, self._noise, self._mobility, self._terms,
+                         self._neighbor_cells, self._ports, frames, exits, plan, counters)
+        c = counters[0]
+        store.next_id = int(c["next_id"])
+        self.recorder.add_exits(exits, n_exit, self.time_step)
+        if record_every:
+            # fewer than n_frames if the call stopped early
+            self.recorder.add_frames(frames, int(c["frames"]),
+                                     (self.step // record_every + 1) * record_every,
+                                     record_every, self.time_step)
+        self.step += int(c["steps"])
+        self.wall_escapes += int(c["wall_escapes"])
+        self.pair_evaluations += int(c["pair_evaluations"])
+        self.neighbor_rebuilds += int(c["neighbor_rebuilds"])
+        return int(c["inserted"])
+
+    # -- checkpoints ---------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The mutable state as plain arrays (positions in nm, exactly as stored). With the same
+        construction arguments, :meth:`load_state_dict` continues the run bit-identically,
+        because the noise depends only on (seed, id, step)."""
+        return {
+            **{f"store_{k}": v for k, v in self.store.state_dict().items()},
+            **{f"record_{k}": v for k, v in self.recorder.state_dict().items()},
+            "counters": np.array([self.step, self.wall_escapes, self.pair_evaluations,
+                                  self.neighbor_rebuilds], dtype=np.int64),
+            "drift": self._drift_state(),
+        }
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore a state saved by :meth:`state_dict`."""
+        self.store.load_state_dict({k[6:]: v for k, v in state.items()
+                                    if k.startswith("store_")})
+        self.recorder.load_state_dict({k[7:]: v for k, v in state.items()
+                                       if k.startswith("record_")})
+        self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = \
+            (int(v) for v in state["counters"])
+
+    def _drift_state(self) -> np.ndarray:
+        """The uniform drift (or NaN when it comes from the grid), to check a resume."""
+        drift = self._terms.drift
+        return np.array([np.nan, np.nan] if drift.from_grid else [drift.vs_x, drift.vs_y])
+
+    # -- results -------------------------------------------------------------------------------
+    def parameters(self) -> dict:
+        """Every parameter needed to reproduce the run (JSON-able, SI units)."""
+        drift = self._terms.drift
+        return {
+            "skygas_version": __version__,
+            "seed": self.seed,
+            "temperature_K": self.temperature,
+            "time_step_s": self.time_step,
+            "integrator": self.integrator,
+            "brownian_substeps": self.brownian_substeps,
+            "material": self.material.model_dump(mode="json"),
+            "thiele": self.thiele.as_record(),
+            "pair_law": self.forces.pair_law,
+            "pair_law_params": self.forces.pair_law_params,
+            "cutoff_fraction": self.forces.cutoff_fraction,
+            "pair_cutoff_m": self.forces.pair.cutoff / units.M_TO_NM,
+            "wall_cutoff_m": self.forces.wall.cutoff / units.M_TO_NM,
+            "grid_spacing_m": self.wall_field.grid.spacing / units.M_TO_NM,
+            "drift": "field" if drift.from_grid else [drift.vs_x, drift.vs_y],
+            "landscape": self.landscape.describe(),
+            "geometry": self.outline.describe(),
+        }
+
+    @property
+    def frame_blocks(self) -> tuple[FrameBlock, ...]:
+        """The recorded frames, one :class:`FrameBlock` per kernel call, in time order."""
+        return tuple(self.recorder.blocks)
+
+    def take_frames(self, first_block: int = 0) -> list[FrameBlock]:
+        """Remove and return the frame blocks from index ``first_block`` on (a long run that
+        keeps its own sparse record of positions takes them after each piece, so that the
+        simulation does not hold them all)."""
+        return self.recorder.take_frames(first_block)
+
+    def trajectories(self) -> "xr.Dataset":
+        """Recorded positions as a Dataset: ``x``, ``y`` [m] with dims (time, skyrmion), NaN
+        where a skyrmion does not exist, ``time`` [s]; the ``skyrmion`` coordinate holds the
+        ids of the skyrmions present in at least one frame. Exits as variables on dim
+        ``exit``; attributes hold every parameter (``parameters_json``), the seed and the
+        version."""
+        return self.recorder.trajectories(
+            {"seed": self.seed, "temperature_K": self.temperature,
+             "time_step_s": self.time_step, "simulated_time_s": self.time,
+             "wall_escapes": self.wall_escapes},
+            self.parameters())

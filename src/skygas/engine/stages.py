@@ -1,0 +1,298 @@
+"""The stages of one time step, as the compiled kernel (:mod:`skygas.engine.kernel`) runs them
+(internal units nm, ns, pN; private).
+
+One step: :func:`insert_planned` → :func:`draw_noise` → force passes (:func:`force_pass`:
+:func:`pair_forces`, then :func:`add_one_body_forces`, which also turns forces into
+velocities) in the integrator's stages → :func:`accept_or_exit` → :func:`record_frame`.
+
+Velocity of a skyrmion under a total force F (pN), with a = α𝒟k, g = G (pN·ns/nm):
+    (g ε + a I)·v = F   ⇒   v = (a F − g εF)/(a² + g²),   εF = (F_y, −F_x)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from skygas._field_lookup import field_at
+from skygas._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
+from skygas.engine._jit import U
+from skygas.engine.terms import (
+    CH_DOMAIN,
+    CH_DRIFT_X,
+    CH_DRIFT_Y,
+    CH_NORMAL_X,
+    CH_NORMAL_Y,
+    CH_WALL_DIST,
+)
+from skygas.landscape.hermite import hermite_gradient
+
+# Neighbour lists longer than this are run through without a branch on the cutoff: every
+# entry gets the full force arithmetic, with the force set to zero beyond the cutoff. About a
+# third of the entries lie beyond it, at random. A short list is run through the same way at
+# every step until it is rebuilt, and the branch predictor learns its pattern; a long one it
+# cannot learn, and the mispredictions cost more than the extra arithmetic. Measured in whole
+# runs of the benchmark gas (benchmarks/bench_engine.py; ~4 entries per skyrmion), branch-free
+# against branching: 1.09 at 100 skyrmions, 1.03 at 400, 0.83 at 1 000, 0.73 at 2 000, 0.80
+# at 10 000 (time ratios).
+BRANCH_FREE_ENTRIES = 2048
+
+
+@numba.njit(inline="always")
+def _lerp(values, coordinate):
+    """Linear interpolation of ``values`` at fractional index ``coordinate`` ≥ 0."""
+    i = U(coordinate)
+    t = coordinate - i
+    return (1.0 - t) * values[i] + t * values[i + U(1)]
+
+
+# -- insertions ----------------------------------------------------------------------------------
+@numba.njit(inline="always")
+def free_slot_if_clear(x, y, alive, sx, sy, clearance2):
+    """The lowest free slot if no alive skyrmion lies closer than √clearance2 to (sx, sy);
+    −1 if one does (the site is occupied), −2 if the site is clear but no slot is free."""
+    free = -2
+    for i in range(x.shape[0]):
+        if alive[i]:
+            dx = x[i] - sx
+            dy = y[i] - sy
+            if dx * dx + dy * dy < clearance2:
+                return -1
+        elif free == -2:
+            free = i
+    return free
+
+
+@numba.njit(inline="always")
+def insert_planned(x, y, alive, ids, plan, cursor, counters):
+    """Make planned insertion ``cursor`` if its site is clear: the slot it went into, or a
+    negative number if it cannot be made now (see :func:`free_slot_if_clear`)."""
+    slot = free_slot_if_clear(x, y, alive, plan.x[cursor], plan.y[cursor], plan.clearance2)
+    if slot >= 0:
+        x[slot] = plan.x[cursor]
+        y[slot] = plan.y[cursor]
+        alive[slot] = True
+        ids[slot] = counters.next_id
+        plan.ids[cursor] = counters.next_id
+        counters.next_id += 1
+    return slot
+
+
+# -- noise ---------------------------------------------------------------------------------------
+@numba.njit(inline="always")
+def draw_noise(noise, ids, alive, step, cand, nx_, ny_):
+    """The step's noise increments ξ = √(2D dt)·z [nm] into ``nx_, ny_``, z standard normal
+    keyed on (seed, id, step): with sub-steps, z is the normalised sum of ``substeps``
+    normals keyed on (seed, id, step·substeps + b)."""
+    n = ids.shape[0]
+    amplitude = noise.amplitude
+    if noise.substeps == 1:
+        fill_gaussian_pairs(noise.seed, ids, alive, step, STREAM_THERMAL, cand, nx_, ny_)
+        for i in range(n):
+            nx_[i] *= amplitude
+            ny_[i] *= amplitude
+    else:
+        substeps = noise.substeps
+        inv_sqrt_sub = 1.0 / math.sqrt(substeps)
+        for i in range(n):
+            if alive[i]:
+                sx = 0.0
+                sy = 0.0
+                for b in range(substeps):
+                    zx, zy = gaussian_pair(noise.seed, ids[i], step * substeps + b,
+                                           STREAM_THERMAL)
+                    sx += zx
+                    sy += zy
+                nx_[i] = amplitude * sx * inv_sqrt_sub
+                ny_[i] = amplitude * sy * inv_sqrt_sub
+
+
+# -- forces --------------------------------------------------------------------------------------
+@numba.njit(inline="always")
+def interior_floor(xi, yi, margin_i, terms, wall_cutoff):
+    """A lower bound on a skyrmion's distance to the device boundary [nm] that holds while it
+    stays within its margin s_i of (xi, yi), if it is also certain to stay beyond the
+    wall-force cutoff there; −1 otherwise (and always when a term reads the grid everywhere:
+    the drift from the grid).
+
+    The interpolated fields change by at most √2 per nm (bilinear interpolation of values that
+    differ by at most one spacing h between neighbouring nodes), with one spacing more for
+    safety where exact values meet the distance transform. A skyrmion with
+        d_wall − √2 s_i − h ≥ wall cutoff   and   d_boundary − √2 s_i − h > 0
+    feels no wall force and cannot leave while the neighbour list stays valid, and with a
+    uniform drift nothing else in the grid concerns it: the force passes skip its lookup."""
+    if terms.drift.from_grid:
+        return -1.0
+    grid = terms.grid
+    gh = grid.spacing
+    field = field_at(grid.fields, (xi - grid.x0) / gh, (yi - grid.y0) / gh)
+    slack = math.sqrt(2.0) * margin_i + gh
+    if field[CH_WALL_DIST] - slack >= wall_cutoff and field[CH_DOMAIN] - slack > 0.0:
+        return field[CH_DOMAIN] - slack
+    return -1.0
+
+
+@numba.njit(inline="always")
+def interior_floors(x, y, alive, terms, margin, floor):
+    """:func:`interior_floor` of every skyrmion (−1 for empty slots)."""
+    wall_cutoff = terms.wall.cutoff
+    for i in range(x.shape[0]):
+        floor[i] = interior_floor(x[i], y[i], margin[i], terms, wall_cutoff) if alive[i] \
+            else -1.0
+
+
+@numba.njit(inline="always")
+def pair_forces(x, y, pair, owner, start, pair_j, n_owners, fx, fy, counters):
+    """Pair forces (pN) of the neighbour list into ``fx, fy`` (overwritten). The table holds
+    |F|/r in r², so F = (|F|/r)(dx, dy) needs no square root or division."""
+    for i in range(x.shape[0]):
+        fx[i] = 0.0
+        fy[i] = 0.0
+    table = pair.table
+    cut2 = pair.cutoff * pair.cutoff
+    inv_h2 = 1.0 / pair.spacing_r2
+    evaluated = 0
+    branch_free = start[n_owners] > BRANCH_FREE_ENTRIES
+    for e in range(n_owners):
+        i = U(owner[e])
+        xi = x[i]
+        yi = y[i]
+        fxi = 0.0  # accumulate in registers: one store per owner, not one per pair
+        fyi = 0.0
+        for p in range(start[e], start[e + 1]):
+            j = U(pair_j[U(p)])
+            dx = xi - x[j]
+            dy = yi - y[j]
+            r2 = dx * dx + dy * dy
+            inside = r2 < cut2
+            if branch_free or inside:  # the compiler makes two loops, one without the branch
+                f = _lerp(table, min(r2, cut2) * inv_h2)
+                f = f if inside else 0.0
+                fxi += f * dx
+                fyi += f * dy
+                fx[j] -= f * dx
+                fy[j] -= f * dy
+                evaluated += inside
+        fx[i] += fxi
+        fy[i] += fyi
+    counters.pair_evaluations += evaluated
+
+
+@numba.njit(inline="always")
+def wall_force(wall, field):
+    """The wall term's force [pN] at a grid lookup ``field``: |F|(d) along the inward normal
+    within the cutoff, zero beyond it."""
+    d = field[CH_WALL_DIST]
+    if d < wall.cutoff:
+        fw = _lerp(wall.table, max(d, 0.0) / wall.spacing)
+        return fw * field[CH_NORMAL_X], fw * field[CH_NORMAL_Y]
+    return 0.0, 0.0
+
+
+@numba.njit(inline="always")
+def drive_force(drift, vsx, vsy):
+    """The drift term's force [pN] for a spin-drift velocity v_s [nm/ns]: μ(g ε + b I)·v_s."""
+    return drift.drive_g * vsy + drift.drive_b * vsx, -drift.drive_g * vsx + drift.drive_b * vsy
+
+
+@numba.njit(inline="always")
+def landscape_force(landscape, xi, yi):
+    """The landscape term's force −∇U [pN] at (xi, yi) [nm]."""
+    inv_h = 1.0 / landscape.spacing
+    gx, gy = hermite_gradient(landscape.coefficients, (xi - landscape.x0) * inv_h,
+                              (yi - landscape.y0) * inv_h, inv_h)
+    return -gx, -gy
+
+
+@numba.njit(inline="always")
+def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
+    """Add the one-body terms (wall, drive, landscape) to the pair forces in ``vx, vy`` and turn the
+    totals into velocities in place, v = M·F. The signed boundary distance at each position
+    goes into ``domain`` (it shares the cache lines of the wall lookup, and lets the step's
+    acceptance skip a lookup); a skyrmion with ``floor[i] > 0`` (:func:`interior_floor`)
+    skips the lookup and gets that lower bound."""
+    grid = terms.grid
+    inv_gh = 1.0 / grid.spacing
+    drift = terms.drift
+    vsx = drift.vs_x
+    vsy = drift.vs_y
+    for i in range(x.shape[0]):
+        if not alive[i]:
+            continue
+        fx = vx[i]
+        fy = vy[i]
+        if floor[i] > 0.0:
+            domain[i] = floor[i]
+        else:
+            field = field_at(grid.fields, (x[i] - grid.x0) * inv_gh, (y[i] - grid.y0) * inv_gh)
+            domain[i] = field[CH_DOMAIN]
+            wx, wy = wall_force(terms.wall, field)
+            fx += wx
+            fy += wy
+            if drift.from_grid:
+                vsx = field[CH_DRIFT_X]
+                vsy = field[CH_DRIFT_Y]
+        dx, dy = drive_force(drift, vsx, vsy)
+        fx += dx
+        fy += dy
+        if terms.landscape.active:
+            lx, ly = landscape_force(terms.landscape, x[i], y[i])
+            fx += lx
+            fy += ly
+        # v = (a F − g εF)/(a² + g²)
+        vx[i] = mobility.a * fx - mobility.g * fy
+        vy[i] = mobility.a * fy + mobility.g * fx
+
+
+@numba.njit(inline="always")
+def force_pass(x, y, alive, terms, mobility, owner, start, pair_j, n_owners, vx, vy, counters,
+               domain, floor):
+    """Deterministic velocity [nm/ns] of every alive skyrmion from the sum of all force
+    terms (see :func:`add_one_body_forces` for ``domain`` and ``floor``)."""
+    pair_forces(x, y, terms.pair, owner, start, pair_j, n_owners, vx, vy, counters)
+    add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor)
+
+
+# -- exits and walls -----------------------------------------------------------------------------
+@numba.njit(inline="always")
+def segments_cross(px, py, qx, qy, ax, ay, bx, by):
+    """True if segment p→q crosses segment a→b (proper or touching)."""
+    d1 = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+    d2 = (bx - ax) * (qy - ay) - (by - ay) * (qx - ax)
+    d3 = (qx - px) * (ay - py) - (qy - py) * (ax - px)
+    d4 = (qx - px) * (by - py) - (qy - py) * (bx - px)
+    return d1 * d2 <= 0.0 and d3 * d4 <= 0.0
+
+
+@numba.njit(inline="always")
+def crossed_port(x0, y0, x1, y1, ports):
+    """Index of the port the move (x0, y0) → (x1, y1) crosses, or −1."""
+    for p in range(ports.shape[0]):
+        if segments_cross(x0, y0, x1, y1, ports[p, 0], ports[p, 1], ports[p, 2], ports[p, 3]):
+            return p
+    return -1
+
+
+@numba.njit(inline="always")
+def is_inside(grid, px, py):
+    """True if (px, py) [nm] lies inside the device boundary (walls and ports)."""
+    inv_gh = 1.0 / grid.spacing
+    return field_at(grid.fields, (px - grid.x0) * inv_gh,
+                    (py - grid.y0) * inv_gh)[CH_DOMAIN] >= 0.0
+
+
+# -- recording -----------------------------------------------------------------------------------
+@numba.njit(inline="always")
+def record_frame(x, y, alive, ids, f, frames_x, frames_y, frames_id):
+    """Frame ``f``: positions [nm] (NaN where a slot is empty) and ids (−1 where empty)."""
+    for i in range(x.shape[0]):
+        if alive[i]:
+            frames_x[f, i] = x[i]
+            frames_y[f, i] = y[i]
+            frames_id[f, i] = ids[i]
+        else:
+            frames_x[f, i] = np.nan
+            frames_y[f, i] = np.nan
+            frames_id[f, i] = -1

@@ -1,0 +1,191 @@
+"""The skyrmion store: where the skyrmions of a run live (internal units, nm).
+
+A fixed-capacity structure of arrays (``x``, ``y`` [nm], an ``alive`` mask, a persistent integer
+id per skyrmion) that grows on demand, so skyrmions can be inserted and removed during a run.
+Ids are issued 0, 1, 2, … in order of creation and never reused; slots carry no meaning (the
+noise is keyed on ids), so the store may reorder them (:meth:`sort_into_cells`). Every
+annihilation is recorded with its reason (:class:`AnnihilationLog`).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from skygas import units
+from skygas.engine.stages import free_slot_if_clear
+from skygas.errors import require
+
+
+@numba.njit(cache=True)
+def _site_occupied(x, y, alive, sx, sy, clearance2):
+    """True if an alive skyrmion lies closer than √clearance2 [nm] to (sx, sy): the test the
+    kernel applies to the insertions planned into it."""
+    return free_slot_if_clear(x, y, alive, sx, sy, clearance2) == -1
+
+
+def by_id(ids: np.ndarray, x_nm: np.ndarray, y_nm: np.ndarray):
+    """(ids in increasing order, positions [m] of shape (n, 2)) of the given skyrmions."""
+    order = np.argsort(ids)
+    return ids[order].copy(), np.column_stack([x_nm[order], y_nm[order]]) / units.M_TO_NM
+
+
+class AnnihilationLog:
+    """Skyrmions removed by an operation (not through a port): id, time [s], position [m],
+    reason, in the order they happened."""
+
+    def __init__(self):
+        self.rows: list[tuple[int, float, float, float, str]] = []
+
+    def append(self, ids, time: float, x_nm, y_nm, reason: str) -> None:
+        for ident, xi, yi in zip(ids, x_nm, y_nm):
+            self.rows.append((int(ident), float(time), float(xi) / units.M_TO_NM,
+                              float(yi) / units.M_TO_NM, str(reason)))
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """``skyrmion``, ``time`` [s], ``x``, ``y`` [m] and ``reason`` as arrays."""
+        columns = list(zip(*self.rows)) if self.rows else [[], [], [], [], []]
+        return {"skyrmion": np.array(columns[0], dtype=np.int64),
+                "time": np.array(columns[1], dtype=float),
+                "x": np.array(columns[2], dtype=float), "y": np.array(columns[3], dtype=float),
+                "reason": np.array(columns[4], dtype=str)}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict[str, np.ndarray]) -> "AnnihilationLog":
+        log = cls()
+        log.rows = [(int(i), float(t), float(x), float(y), str(r)) for i, t, x, y, r in
+                    zip(arrays["skyrmion"], arrays["time"], arrays["x"], arrays["y"],
+                        arrays["reason"])]
+        return log
+
+
+class SkyrmionStore:
+    """Positions [nm], alive mask and ids of a run's skyrmions, with room to grow."""
+
+    def __init__(self, capacity: int = 64):
+        self.x = np.zeros(capacity)
+        self.y = np.zeros(capacity)
+        self.alive = np.zeros(capacity, dtype=np.bool_)
+        self.ids = np.full(capacity, -1, dtype=np.int64)
+        self.next_id = 0
+        self.annihilations = AnnihilationLog()
+
+    # -- queries -----------------------------------------------------------------------------
+    @property
+    def capacity(self) -> int:
+        return len(self.x)
+
+    @property
+    def count(self) -> int:
+        return int(self.alive.sum())
+
+    def used_slots(self) -> int:
+        """One past the last occupied slot (0 if the store is empty)."""
+        occupied = np.flatnonzero(self.alive)
+        return int(occupied[-1]) + 1 if len(occupied) else 0
+
+    def positions(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
+        alive = self.alive
+        return by_id(self.ids[alive], self.x[alive], self.y[alive])
+
+    def present_nm(self) -> np.ndarray:
+        """Positions [nm] (n, 2) of the skyrmions present, in slot order."""
+        return np.column_stack([self.x[self.alive], self.y[self.alive]])
+
+    def is_site_clear(self, x_nm: float, y_nm: float, clearance_nm: float) -> bool:
+        """True if no skyrmion's centre lies closer than ``clearance_nm`` to (x, y) [nm]."""
+        return not _site_occupied(self.x, self.y, self.alive, float(x_nm), float(y_nm),
+                                  float(clearance_nm) ** 2)
+
+    def slots_of(self, ids) -> np.ndarray:
+        """The slots of the present skyrmions with ``ids`` (an unknown id raises)."""
+        ids = np.atleast_1d(np.asarray(ids, dtype=np.int64))
+        slots = np.empty(len(ids), dtype=np.int64)
+        for k, ident in enumerate(ids):
+            match = np.flatnonzero(self.alive & (self.ids == ident))
+            require(len(match) == 1, "skyrmion id", int(ident), "the id of a present skyrmion")
+            slots[k] = match[0]
+        return slots
+
+    # -- changes -----------------------------------------------------------------------------
+    def grow(self, needed: int) -> None:
+        """Make room for at least ``needed`` slots (doubling)."""
+        cap = len(self.x)
+        if needed <= cap:
+            return
+        new = max(needed, 2 * cap)
+        for name, fill in (("x", 0.0), ("y", 0.0), ("alive", False), ("ids", -1)):
+            old = getattr(self, name)
+            arr = np.full(new, fill, dtype=old.dtype)
+            arr[:cap] = old
+            setattr(self, name, arr)
+
+    def insert(self, p_nm: np.ndarray) -> np.ndarray:
+        """Put skyrmions at positions ``p_nm`` (k, 2) [nm] into the lowest free slots; returns
+        their new ids."""
+        if len(p_nm) == 1:  # the common case of an injector: one skyrmion, first free slot
+            slot = int(np.argmin(self.alive))
+            if not self.alive[slot]:
+                ident = self.next_id
+                self.next_id += 1
+                self.x[slot], self.y[slot] = p_nm[0]
+                self.alive[slot] = True
+                self.ids[slot] = ident
+                return np.array([ident], dtype=np.int64)
+        free = np.nonzero(~self.alive)[0]
+        if len(free) < len(p_nm):
+            self.grow(len(self.x) + len(p_nm) - len(free))
+            free = np.nonzero(~self.alive)[0]
+        slots = free[: len(p_nm)]
+        new_ids = np.arange(self.next_id, self.next_id + len(p_nm), dtype=np.int64)
+        self.next_id += len(p_nm)
+        self.x[slots], self.y[slots] = p_nm[:, 0], p_nm[:, 1]
+        self.alive[slots] = True
+        self.ids[slots] = new_ids
+        return new_ids
+
+    def annihilate_slots(self, slots: np.ndarray, time: float, reason: str) -> None:
+        """Remove the skyrmions in ``slots`` and record why."""
+        slots = np.asarray(slots, dtype=np.int64)
+        self.annihilations.append(self.ids[slots], time, self.x[slots], self.y[slots], reason)
+        self.alive[slots] = False
+
+    def sort_into_cells(self, x0: float, y0: float, size: float) -> None:
+        """Store skyrmions in row-major order of the square cells of side ``size`` [nm] from
+        (x0, y0) they sit in, packed at the front of the arrays. Neighbours then sit close in
+        memory and consecutive skyrmions read nearby rows of the field grid, which keeps large
+        systems in cache. Only the order in which pair forces are summed changes, which moves
+        results by floating-point rounding; runs stay bit-reproducible."""
+        slots = np.flatnonzero(self.alive)
+        cx = ((self.x[slots] - x0) // size).astype(np.int64)
+        cy = ((self.y[slots] - y0) // size).astype(np.int64)
+        order = slots[np.lexsort((cx, cy))]
+        n = len(order)
+        for name in ("x", "y", "ids"):
+            arr = getattr(self, name)
+            arr[:n] = arr[order]
+        self.alive[:] = False
+        self.alive[:n] = True
+        self.ids[n:] = -1
+
+    # -- checkpoints -------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        log = self.annihilations.arrays()
+        return {"x": self.x.copy(), "y": self.y.copy(), "alive": self.alive.copy(),
+                "ids": self.ids.copy(), "next_id": np.array(self.next_id),
+                **{f"annihilation_{k}": v for k, v in log.items()}}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.x, self.y = state["x"].copy(), state["y"].copy()
+        self.alive, self.ids = state["alive"].copy(), state["ids"].copy()
+        self.next_id = int(state["next_id"])
+        if "annihilation_skyrmion" in state:
+            self.annihilations = AnnihilationLog.from_arrays(
+                {k[len("annihilation_"):]: v for k, v in state.items()
+                 if k.startswith("annihilation_")})
+        else:
+            self.annihilations = AnnihilationLog()

@@ -1,0 +1,40 @@
+"""Energy landscapes: external potentials U(x, y) whose force −∇U enters the Thiele equation.
+
+Kinds (:mod:`skygas.landscape.kinds`): :class:`Gaussian`, :class:`Periodic`, :class:`Band`
+(a gate), :class:`RandomPinning`, :class:`Disorder` and :class:`GridFile` (``kind = "grid"``).
+Pass them to :class:`~skygas.engine.Simulation` as ``landscape=[...]``, or list them in a TOML
+configuration as ``[[potentials]]``. Several terms add. See ``docs/landscapes.md``.
+"""
+
+from skygas.landscape.field import LandscapeField
+from skygas.landscape.kinds import (
+    KINDS,
+    Band,
+    Disorder,
+    Gaussian,
+    GridFile,
+    Periodic,
+    Potential,
+    RandomPinning,
+)
+
+__all__ = ["KINDS", "Band", "Disorder", "Gaussian", "GridFile", "LandscapeField", "Periodic",
+           "Potential", "RandomPinning", "parse_potentials"]
+
+
+def parse_potentials(potentials) -> list:
+    """Potentials given as objects or as mappings with a ``kind`` (TOML tables), validated;
+    a bad one raises :class:`~skygas.errors.InputError` naming its field."""
+    from pydantic import TypeAdapter, ValidationError
+
+    from skygas.config_types import to_input_error
+    from skygas.errors import require
+
+    potentials = [] if potentials is None else list(potentials)
+    for k, p in enumerate(potentials):
+        require(isinstance(p, (dict, *KINDS.values())), f"potentials.{k}", p,
+                f"a table with kind = one of {sorted(KINDS)}")
+    try:
+        return TypeAdapter(list[Potential]).validate_python(potentials)
+    except ValidationError as err:
+        raise to_input_error(err, "", prefix="potentials") from None

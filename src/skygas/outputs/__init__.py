@@ -1,0 +1,9 @@
+"""What a finished run leaves to look at and to take elsewhere.
+
+- :mod:`~skygas.outputs.records`: any run's result file read back as one :class:`RunRecord`
+  (frames, device outline, skyrmion size, provenance);
+- :mod:`~skygas.outputs.movie`: MP4 (or GIF) movies of the gas;
+- :mod:`~skygas.outputs.report`: one self-contained HTML report;
+- :mod:`~skygas.outputs.export`: GSD and extended-XYZ trajectories for particle viewers;
+- :mod:`~skygas.outputs.finish`: what every run command calls once its results are written.
+"""

@@ -1,0 +1,14 @@
+"""The output options every run command shares (no numerics imported: building the command
+line stays fast)."""
+
+from __future__ import annotations
+
+
+def add_output_flags(parser) -> None:
+    """``--animate`` (write OUT/movie.mp4, recording frames often enough for it) and
+    ``--no-report`` (skip OUT/report.html)."""
+    parser.add_argument("--animate", action="store_true",
+                        help="record frames often enough for a smooth movie and write "
+                             "OUT/movie.mp4 (see `skygas animate` for other choices)")
+    parser.add_argument("--no-report", action="store_true",
+                        help="do not write OUT/report.html")

@@ -1,0 +1,77 @@
+"""GSD and extended-XYZ exports hold exactly the recorded frames, in nm."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from skygas.cli import main
+from skygas.outputs.records import load_run
+
+
+def recorded_frames(nc_path):
+    """(time, ids, positions [m]) of each recorded frame, read straight from the netCDF."""
+    with xr.open_dataset(nc_path) as ds:
+        if "snapshot_count" in ds:
+            edges = np.concatenate([[0], np.cumsum(ds.snapshot_count.values)])
+            return [(t, ds.snapshot_skyrmion.values[a:b],
+                     np.column_stack([ds.snapshot_x.values[a:b], ds.snapshot_y.values[a:b]]))
+                    for t, a, b in zip(ds.snapshot_time.values, edges[:-1], edges[1:])]
+        out = []
+        for f, t in enumerate(ds.time.values):
+            ok = np.isfinite(ds.x.values[f])
+            out.append((t, ds.skyrmion.values[ok],
+                        np.column_stack([ds.x.values[f, ok], ds.y.values[f, ok]])))
+        return out
+
+
+@pytest.mark.parametrize("run", ["simulation_run", "reshuffler_run"])
+def test_gsd_frames_equal_the_netcdf_record(run, request, tmp_path):
+    import gsd.hoomd
+
+    directory = request.getfixturevalue(run)
+    nc = load_run(directory).path
+    out = tmp_path / "run.gsd"
+    assert main(["export", str(directory), "--format", "gsd", "--out", str(out)]) == 0
+    expected = recorded_frames(nc)
+    with gsd.hoomd.open(out) as traj:
+        assert len(traj) == len(expected)
+        for frame, (t, ids, xy) in zip(traj, expected):
+            assert frame.particles.N == len(ids)
+            assert frame.configuration.dimensions == 2
+            assert frame.log["skygas/time_s"][0] == t
+            assert frame.log["skygas/length_unit_m"][0] == 1e-9
+            np.testing.assert_array_equal(frame.log["particles/skygas_id"], ids)
+            # float32 positions: 1e-7 relative of ~1000 nm
+            np.testing.assert_allclose(frame.particles.position[:, :2], xy * 1e9, atol=1e-3)
+            assert np.all(frame.particles.position[:, 2] == 0)
+            half = np.array(frame.configuration.box[:2]) / 2
+            assert np.all(np.abs(frame.particles.position[:, :2]) < half)
+
+
+def test_extxyz_frames_equal_the_netcdf_record(reshuffler_run, tmp_path):
+    out = tmp_path / "run.xyz"
+    assert main(["export", str(reshuffler_run), "--format", "extxyz", "--out", str(out)]) == 0
+    expected = recorded_frames(load_run(reshuffler_run).path)
+    lines = out.read_text().splitlines()
+    k = 0
+    for t, ids, xy in expected:
+        n = int(lines[k])
+        header = lines[k + 1]
+        assert "length_unit=nm" in header and "time_unit=s" in header and "Lattice=" in header
+        assert float(header.split("Time=")[1].split()[0]) == pytest.approx(t, rel=1e-9)
+        rows = [line.split() for line in lines[k + 2:k + 2 + n]]
+        assert n == len(ids)
+        np.testing.assert_array_equal([int(r[4]) for r in rows], ids)
+        np.testing.assert_allclose([[float(r[1]), float(r[2])] for r in rows], xy * 1e9,
+                                   atol=1e-6)
+        k += 2 + n
+    assert k == len(lines)
+
+
+def test_export_refuses_a_missing_run_before_any_work(tmp_path, capsys):
+    assert main(["export", str(tmp_path / "none"), "--format", "gsd",
+                 "--out", str(tmp_path / "x.gsd")]) == 2
+    assert "skygas: error: RUN" in capsys.readouterr().err
+    assert not (tmp_path / "x.gsd").exists()
