@@ -138,7 +138,8 @@ def test_report_of_a_sweep_store_holds_the_fits(tmp_path):
     parser = _Resources()
     parser.feed(text)
     assert all(url.startswith("data:") for _, url in parser.urls)
-    assert sum(url.startswith("data:image/png") for _, url in parser.urls) == 1
+    # the paper's figure and its details figure (p_out, occupancy, transit, lag scan)
+    assert sum(url.startswith("data:image/png") for _, url in parser.urls) == 2
     fits = json.loads(parser.json_blocks["fits"].replace("<\\/", "</"))
     assert fits["current"]["beta"]["exponent"] == pytest.approx(1.5, abs=1e-6)
     assert "beta (ρ/(1−ρ) power law)" in html.unescape(text)

@@ -53,7 +53,16 @@ def test_current_fit_recovers_three_halves(tmp_path):
     assert (tmp_path / "figs" / "reshuffler.png").stat().st_size > 10_000
     assert json.loads((tmp_path / "figs" / "fits.json").read_text())["current"]["beta"][
         "exponent"] == pytest.approx(1.5)
-    assert result["figures"] == [str(tmp_path / "figs" / "reshuffler.png")]
+    assert result["figures"] == [str(tmp_path / "figs" / name)
+                                 for name in ("reshuffler.png", "reshuffler_details.png")]
+    # one row per point, ρ the replica mean of the two replicas (±0.01 around the law)
+    rows = (tmp_path / "figs" / "points.csv").read_text().splitlines()
+    assert len(rows) == 1 + 5 * 2
+    header = rows[0].split(",")
+    first = dict(zip(header, rows[1].split(",")))
+    assert float(first["rho"]) == pytest.approx(1 / (1 + (float(first["current_density"])
+                                                           / 1e11) ** -1.5), rel=1e-5)
+    assert float(first["rho_sem"]) == pytest.approx(0.01, rel=1e-5)
 
 
 def test_chamber_fit_and_plot_command(tmp_path, capsys):

@@ -100,3 +100,20 @@ def test_load_sweep_relative_config(tmp_path):
     s = load_sweep(tmp_path / "s.toml")
     assert [r.config.temperature for r in s.runs] == [100.0, 300.0]
     assert "temperature" in s.source_text
+
+
+def test_set_changes_the_file_and_is_recorded(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('[sweep]\nreplicas = 3\n[base]\npreset = "paper"\nduration = 4e-5\n'
+                    '[grid]\n"signal.p" = [0.2, 0.5]\n')
+    sweep = load_sweep(path, ["sweep.replicas=2", "base.duration=1e-6",
+                              "base.output.trajectory_window=0.0", "grid.signal.p=[0.8]"])
+    assert sweep.replicas == 2 and sweep.n_points == 1
+    config = sweep.runs[0].config
+    assert config.duration == 1e-6 and config.output.trajectory_window == 0.0
+    assert config.signal.p == 0.8
+    assert load_sweep(path).fingerprint() != sweep.fingerprint()
+    with pytest.raises(InputError, match="--set"):
+        load_sweep(path, ["duration=1e-6"])
+    with pytest.raises(InputError, match="--set"):
+        load_sweep(path, ["base.duration=1e-6 s"])

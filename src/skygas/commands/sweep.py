@@ -11,7 +11,7 @@ import sys
 def _sweep(args) -> int:
     from skygas.sweep import load_sweep, run_sweep  # Dask and zarr load only when used
 
-    sweep = load_sweep(args.sweep)  # every point is validated before anything runs
+    sweep = load_sweep(args.sweep, args.set)  # every point is validated before anything runs
     report = run_sweep(sweep, args.out, scheduler=args.scheduler, workers=args.workers,
                        serial=args.serial, progress=not args.quiet)
     print(f"{len(report.computed)} runs computed, {report.skipped} already done, "
@@ -60,6 +60,9 @@ def register(subparsers) -> None:
                    help="worker processes of the local cluster (default: one per core)")
     p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--set", action="append", default=[], metavar="TABLE.KEY=VALUE",
+                   help="change the sweep file before it runs (TOML value; repeatable), e.g. "
+                        "--set base.duration=1e-5 --set sweep.replicas=2")
     p.set_defaults(func=_sweep)
 
     q = subparsers.add_parser("plot", help="figures and fits of a sweep store")

@@ -10,6 +10,10 @@ documented defaults (docs/physics.md §4) and are recorded with every result:
 - the input's correlation time (``signal.correlation_time``, default one injection interval);
 - the occupied-site rule (:mod:`skygas.reshuffler.injection`);
 - the conductor's thickness and resistivity for the power (:mod:`skygas.current`).
+
+``[hypothesis]`` holds knobs that are not physics (:mod:`skygas.hypothesis`): a dynamics time
+scale s (k → k/s: forces and thermal noise s times faster, drift from v_s unchanged) and a noise
+scale n (noise temperature nT). Both default to 1; the ``paper-figures`` preset sets s.
 """
 
 from __future__ import annotations
@@ -32,6 +36,8 @@ from skygas.config_types import (
 )
 from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
 from skygas.errors import require
+from skygas.hypothesis import HypothesisSpec, noise_temperature, scale_dynamics
+from skygas.materials import ThieleParameters
 from skygas.reshuffler.presets import preset_data
 
 
@@ -84,6 +90,17 @@ class ReshufflerConfig(MaterialFields):
     injection: InjectionSpec = InjectionSpec()
     current: CurrentSpec = CurrentSpec()
     output: OutputSpec = OutputSpec()
+    hypothesis: HypothesisSpec = HypothesisSpec()
+
+    def thiele_parameters(self) -> ThieleParameters:
+        """The material's Thiele coefficients with the overrides, then the dynamics time scale
+        (``hypothesis.dynamics_time_scale``, :func:`skygas.hypothesis.scale_dynamics`)."""
+        return scale_dynamics(super().thiele_parameters(), self.hypothesis.dynamics_time_scale)
+
+    def noise_temperature(self) -> float:
+        """The temperature [K] given to the thermal noise: ``temperature`` ×
+        ``hypothesis.noise_scale`` (the engine uses the temperature for nothing else)."""
+        return noise_temperature(self.temperature, self.hypothesis.noise_scale)
 
     def drift_coefficient(self) -> float:
         """ξ [m³/C]: the configured value or the spin-transfer estimate P g μ_B/(2 e M_s)."""

@@ -11,11 +11,11 @@ from importlib import resources
 
 from skygas.errors import InputError
 
-PRESETS = ("default", "paper")
+PRESETS = ("default", "paper", "paper-figures")
 
 
 def preset_data(name: str) -> dict:
-    """The mapping of a named reshuffler preset (``default`` or ``paper``)."""
+    """The mapping of a named reshuffler preset (one of :data:`PRESETS`)."""
     if name not in PRESETS:
         raise InputError("preset", name, f"one of {', '.join(PRESETS)}")
     text = resources.files("skygas").joinpath(f"data/reshuffler-{name}.toml").read_text()

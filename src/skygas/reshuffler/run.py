@@ -105,7 +105,8 @@ class ReshufflerRun:
                     f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s")
         if time_step is None:
             time_step = default_time_step(thiele, ForceModel.build(material, thiele), interval)
-        sim = Simulation(geometry.device_outline(), material, temperature=config.temperature,
+        sim = Simulation(geometry.device_outline(), material,
+                         temperature=config.noise_temperature(),
                          time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64,
                          landscape=config.potentials)
         vx, vy = drift_field_on_grid(geometry, current, sim.wall_field.grid,

@@ -67,6 +67,52 @@ def _linear_fit(x, y, sigma) -> tuple[np.ndarray, np.ndarray]:
     return coef, np.sqrt(np.diag(cov))
 
 
+#: Per-point columns of :func:`point_table`: (stored quantity, how replicas are combined).
+POINT_COLUMNS = (("correlation", "mean"), ("correlation_max_lag", "mean"),
+                 ("correlation_best_lag", "median"), ("p_in", "mean"), ("p_out", "mean"),
+                 ("p_out_low", "min"), ("p_out_high", "max"), ("max_occupancy", "max"),
+                 ("mean_transit_s", "mean"), ("median_transit_s", "mean"),
+                 ("n_skipped", "mean"), ("wall_escapes", "sum"), ("simulated_time_s", "mean"),
+                 ("time_step_s", "mean"), ("wall_time_s", "sum"))
+
+
+def point_table(ds: xr.Dataset) -> list[dict]:
+    """One row per swept point: its coordinates, ρ's replica mean and standard error, and the
+    other figures of :data:`POINT_COLUMNS` combined over the finished replicas (``max`` for the
+    occupancy: the fullest chamber seen; ``min``/``max`` for the ends of p_out's 95 % intervals;
+    the largest |p_out − p_in| relative to its interval as ``p_out_worst_z``)."""
+    done = ds["done"] == 1
+    rows = []
+    stats = _table(ds)
+    combined = {}
+    for name, how in POINT_COLUMNS:
+        if name not in ds:
+            continue
+        values = ds[name].where(done)
+        combined[name] = getattr(values, how)("replica", skipna=True) if how != "median" \
+            else values.median("replica", skipna=True)
+        combined[name] = np.asarray(combined[name].stack(_row=list(combined[name].dims)).values) \
+            if combined[name].dims else np.atleast_1d(combined[name].values)
+    if {"p_in", "p_out", "p_out_low", "p_out_high"} <= set(ds.data_vars):
+        half = (ds["p_out_high"] - ds["p_out_low"]) / 2
+        z = (abs(ds["p_out"] - ds["p_in"]) / half).where(done).max("replica", skipna=True)
+        combined["p_out_worst_z"] = np.asarray(z.stack(_row=list(z.dims)).values) \
+            if z.dims else np.atleast_1d(z.values)
+    for i in range(len(stats["mean"])):
+        row = {k: float(v[i]) for k, v in stats.items() if k not in ("mean", "sem", "n")}
+        row.update(rho=float(stats["mean"][i]), rho_sem=float(stats["sem"][i]),
+                   replicas=int(stats["n"][i]))
+        row.update({k: float(v[i]) for k, v in combined.items()})
+        rows.append(row)
+    return rows
+
+
+def odds_power_law(x: np.ndarray, fit: dict) -> np.ndarray:
+    """ρ of the fitted ρ/(1 − ρ) = exp(prefactor_log) x^exponent (:func:`power_law_exponent`)."""
+    odds = np.exp(fit["prefactor_log"]) * np.asarray(x, float) ** fit["exponent"]
+    return odds / (1 + odds)
+
+
 def power_law_exponent(x: np.ndarray, rho: np.ndarray, rho_sem: np.ndarray) -> dict:
     """Free exponent in ρ/(1 − ρ) ∝ x^e from the points with 0 < ρ < 1."""
     ok = np.isfinite(rho) & (rho > 0) & (rho < 1) & np.isfinite(x) & (x > 0)

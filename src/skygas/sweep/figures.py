@@ -5,11 +5,18 @@
   p-value nearest 0.62 at each J;
 - ``chamber_size.png`` (paper, chamber-size figure): ρ against the chamber diameter L with the
   fit ρ = c_A + c_B/√L;
-- ``fits.json``: every fitted constant and exponent with its uncertainty.
+- ``reshuffler_details.png`` / ``chamber_size_details.png``: per point, p_out − p_in with
+  p_out's 95 % interval, the fullest chamber (the paper's 51 marked), the mean transit time and
+  the lag scan (ρ at lag 0 beside its largest value over lags, with that lag);
+- ``fits.json``: every fitted constant and exponent with its uncertainty; ``points.csv``: one
+  row per point (:func:`~skygas.sweep.analysis.point_table`).
+
+Both ρ figures draw the paper's fit law and the free-exponent fit ρ/(1 − ρ) ∝ x^e.
 """
 
 from __future__ import annotations
 
+import csv
 import json
 from pathlib import Path
 
@@ -25,12 +32,15 @@ from skygas.sweep.analysis import (
     P_VALUE,
     fit_chamber_scaling,
     fit_current_scaling,
+    odds_power_law,
+    point_table,
     replica_mean,
     running_mean,
 )
 from skygas.sweep.store import open_sweep
 
 RUNNING_P = 0.62  # the paper's running-correlation panel
+PAPER_MAX_OCCUPANCY = 51  # the paper's fullest chamber at its lowest current
 
 
 def _fmt(fit: dict, key: str) -> str:
@@ -85,6 +95,10 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
                                  stats["mean"].values, stats["sem"].values)
         left.plot(grid, model(grid), color="b", ls=style, label=label)
     beta = fits["beta"]
+    if np.isfinite(beta["exponent"]):
+        grid = np.geomspace(j.min(), j.max(), 200)
+        left.plot(grid, odds_power_law(grid / CURRENT_UNIT, beta), "k--", lw=1,
+                  label=f"free fit ρ/(1−ρ) ∝ J^{beta['exponent']:.2f}")
     left.set_title(f"ρ/(1−ρ) ∝ J^β: β = {_fmt(beta, 'exponent')} (paper 3/2)", fontsize=9)
     left.set_xscale("log")
     left.set_xlabel("current density J in the conduits (A/m²)")
@@ -132,6 +146,11 @@ def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
                                  stats["mean"].values, stats["sem"].values)
         ax.plot(grid * 1e3, paper["c_A"] + paper["c_B"] / np.sqrt(grid), color="b", ls=style,
                 label=label)
+    gamma = fits["gamma"]
+    if np.isfinite(gamma["exponent"]):
+        grid = np.linspace(length.min(), length.max(), 200)
+        ax.plot(grid * 1e3, odds_power_law(grid, gamma), "k--", lw=1,
+                label=f"free fit ρ/(1−ρ) ∝ L^{gamma['exponent']:.2f}")
     ax.set_title(f"ρ/(1−ρ) ∝ L^γ: γ = {_fmt(fits['gamma'], 'exponent')} (paper −1/2)",
                  fontsize=9)
     ax.set_xlabel("chamber diameter L (nm)")
@@ -139,6 +158,70 @@ def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path)
+    return path
+
+
+def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
+    """p_out − p_in, the fullest chamber, the transit time and the lag scan against ``x_dim``
+    (one series per p-value when p is swept)."""
+    from matplotlib.figure import Figure
+
+    done = ds["done"] == 1
+    series = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
+    scale, label, log = ((1.0, "current density J (A/m²)", True) if x_dim == CURRENT
+                         else (1e9, "chamber diameter L (nm)", False))
+    fig = Figure(figsize=(11, 7.5), dpi=110)
+    (ax_p, ax_n), (ax_t, ax_lag) = fig.subplots(2, 2)
+    for p in series:
+        sub = ds.sel({P_VALUE: p}) if p is not None else ds
+        ok = (sub["done"] == 1)
+        x = sub[x_dim].values * scale
+        diff = (sub["p_out"] - sub["p_in"]).where(ok).mean("replica")
+        half = ((sub["p_out_high"] - sub["p_out_low"]) / 2).where(ok).mean("replica")
+        tag = f"p = {p:g}" if p is not None else None
+        ax_p.errorbar(x, diff.values, yerr=np.nan_to_num(half.values), fmt="o", ms=3,
+                      capsize=2, label=tag)
+        ax_n.plot(x, sub["max_occupancy"].where(ok).max("replica").values, "o-", ms=3,
+                  label=tag)
+        ax_t.plot(x, sub["mean_transit_s"].where(ok).mean("replica").values * 1e9, "o-",
+                  ms=3, label=tag)
+        if p is None or p == series[int(np.argmin(np.abs(np.asarray(series, float)
+                                                          - RUNNING_P)))]:
+            rho0 = replica_mean(sub)["mean"].values
+            best = replica_mean(sub, "correlation_max_lag")["mean"].values
+            lag = sub["correlation_best_lag"].where(ok).median("replica").values
+            ax_lag.plot(x, rho0, "o-", ms=3, label="ρ at lag 0")
+            ax_lag.plot(x, best, "s--", ms=3, label="largest ρ over lags")
+            for xi, yi, li in zip(x, best, lag):
+                if np.isfinite(yi) and np.isfinite(li):
+                    ax_lag.annotate(f"{li:+.0f}", (xi, yi), fontsize=7,
+                                    textcoords="offset points", xytext=(0, 4))
+    ax_p.axhline(0, color="k", lw=0.8)
+    ax_p.set_ylabel("p_out − p_in (bars: p_out's 95 % interval)")
+    if x_dim == CURRENT:  # the paper's bound at its lowest current
+        ax_n.axhline(PAPER_MAX_OCCUPANCY, color="r", ls=":", label="paper: ≤ 51 at 10¹⁰")
+    ax_n.set_ylabel("fullest chamber (skyrmions)")
+    ax_t.set_ylabel("mean transit time (ns)")
+    if any(np.nanmax(line.get_ydata(), initial=0) > 0 for line in ax_t.lines):
+        ax_t.set_yscale("log")
+    ax_lag.set_ylabel("correlation (lag in events)")
+    for ax in (ax_p, ax_n, ax_t, ax_lag):
+        ax.set_xlabel(label)
+        if log:
+            ax.set_xscale("log")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def write_point_table(ds: xr.Dataset, path: Path) -> Path:
+    rows = point_table(ds)
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows({k: f"{v:.6g}" for k, v in row.items()} for row in rows)
     return path
 
 
@@ -154,12 +237,19 @@ def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
         result["current"] = fit_current_scaling(_grid_only(ds, (CURRENT, P_VALUE)))
         result["figures"].append(str(plot_current_figure(ds, out / "reshuffler.png",
                                                          result["current"])))
+        if "p_out_low" in ds:
+            result["figures"].append(str(plot_details(_grid_only(ds, (CURRENT, P_VALUE)),
+                                                      CURRENT, out / "reshuffler_details.png")))
     if CHAMBER in dims:
         result["chamber"] = fit_chamber_scaling(_grid_only(ds, (CHAMBER,)))
         result["figures"].append(str(plot_chamber_figure(ds, out / "chamber_size.png",
                                                          result["chamber"])))
+        if "p_out_low" in ds:
+            result["figures"].append(str(plot_details(_grid_only(ds, (CHAMBER,)), CHAMBER,
+                                                      out / "chamber_size_details.png")))
     if not result["figures"]:
         raise InputError("STORE", str(store), "a grid sweep over current_density (and "
                          "signal.p) or device.chamber_diameter")
     (out / "fits.json").write_text(json.dumps(result, indent=2))
+    write_point_table(ds, out / "points.csv")
     return result

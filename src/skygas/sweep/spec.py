@@ -35,6 +35,7 @@ import hashlib
 import itertools
 import json
 import math
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -279,8 +280,37 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
                  source_text, tuple(runs))
 
 
-def load_sweep(path: str | Path) -> Sweep:
-    """Read and validate a sweep file (see the module docstring)."""
+def load_sweep(path: str | Path, settings: list[str] | None = None) -> Sweep:
+    """Read and validate a sweep file (see the module docstring).
+
+    ``settings`` (``skygas sweep --set``) change the file before it is validated, each
+    ``TABLE.KEY=VALUE`` with a TOML value: ``sweep.replicas=2``, ``base.duration=1e-5``,
+    ``base.output.trajectory_window=0.0``, ``grid.signal.p=[0.2, 0.8]`` (after ``grid.``
+    the rest is the swept field). They are appended to the recorded file text as comments, so
+    a store records them and a store written without them is not resumed with them."""
     path = Path(path)
     data = read_toml(path, "sweep file")
-    return parse_sweep(data, path.read_text(), path.parent)
+    text = path.read_text()
+    for setting in settings or []:
+        _apply_setting(data, setting)
+        text += f"\n# --set {setting}"
+    return parse_sweep(data, text, path.parent)
+
+
+def _apply_setting(data: dict, setting: str) -> None:
+    key, sep, raw = setting.partition("=")
+    key = key.strip()
+    table, _, rest = key.partition(".")
+    require(sep and table in ("sweep", "base", "grid") and rest, "--set", setting,
+            "TABLE.KEY=VALUE with TABLE one of sweep, base, grid (e.g. base.duration=1e-5)")
+    try:
+        value = tomllib.loads(f"v = {raw.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        raise InputError("--set", setting, "a TOML value after = (a number, a quoted string, "
+                         "a list [...] or an inline table {...})") from None
+    node = data.setdefault(table, {})
+    parts = [rest] if table == "grid" else rest.split(".")
+    for part in parts[:-1]:
+        node = node.setdefault(part, {})
+        require(isinstance(node, dict), "--set", setting, f"{part} to be a table")
+    node[parts[-1]] = value

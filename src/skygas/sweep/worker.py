@@ -14,7 +14,8 @@ QUANTITIES = (
     "correlation", "correlation_max_lag", "scc", "p_in", "p_out",
     "n_injected", "n_detected", "n_skipped", "n_present", "max_occupancy",
     "mean_transit_s", "power_W", "energy_per_bit_J", "simulated_time_s", "time_step_s",
-    "wall_time_s",
+    "wall_time_s", "correlation_best_lag", "median_transit_s", "p_out_low", "p_out_high",
+    "wall_escapes",
 )
 #: Curves stored for each run: the running correlation ρ and its times [s].
 RUNNING = ("running_rho", "running_time")
@@ -32,7 +33,10 @@ def run_one(config_json: str) -> dict:
     run = ReshufflerRun.build(config)
     run.advance()
     result = summarize(run, dataset=False)
-    out = {name: float(result.summary[name]) for name in QUANTITIES}
+    summary = dict(result.summary)
+    # the 95 % interval of p_out (Clopper-Pearson), NaN without read-outs
+    summary["p_out_low"], summary["p_out_high"] = summary["p_out_interval"] or (np.nan, np.nan)
+    out = {name: float(summary[name]) for name in QUANTITIES}
     running = result.running
     out["running_rho"] = np.asarray(running.rho if running else [], dtype=np.float64)
     out["running_time"] = np.asarray(running.times if running else [], dtype=np.float64)
