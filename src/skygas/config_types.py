@@ -3,7 +3,7 @@ chamber dimensions, defined once.
 
 - :class:`StrictModel`: the pydantic base of every configuration section: unknown fields
   (spelling mistakes) and non-finite numbers (``inf``, ``nan``) are refused;
-- :data:`PositiveFloat` and :data:`Length` (metres, > 0);
+- :data:`PositiveFloat` and :data:`Length` (metres, from 1 pm to 1 m);
 - :data:`CHAMBER_DIAMETER`, :data:`CONDUIT_WIDTH`, :data:`CONDUIT_LENGTH`,
   :data:`CHAMBER_GAP`: the paper's device (a 1024 nm chamber with 100 nm × 50 nm conduits;
   two such chambers 400 nm apart in the reshuffler), and :class:`ChamberSize`, the section that
@@ -21,7 +21,7 @@ import tomllib
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
 
 from skygas.errors import InputError
 
@@ -34,9 +34,26 @@ CONDUIT_LENGTH = 50e-9
 #: Spacing [m] between the reshuffler's two chambers.
 CHAMBER_GAP = 400e-9
 
+#: The lengths a configuration accepts [m]: outside, the number was almost surely given in
+#: another unit (``chamber_diameter = 1024`` for 1024 nm). A device larger than a metre could
+#: not be held in memory anyway (its wall field is sampled on a nanometre grid), and nothing
+#: in the model is smaller than a picometre.
+MIN_LENGTH = 1e-12
+MAX_LENGTH = 1.0
+
+
+def _metres(value: float) -> float:
+    if not MIN_LENGTH <= value <= MAX_LENGTH:
+        hint = f"did you mean {value:g}e-9 (nanometres)?" if value > MAX_LENGTH else \
+            "did you mean nanometres (e.g. 2e-9)?"
+        raise ValueError(f"a length between {MIN_LENGTH:g} m and {MAX_LENGTH:g} m; lengths are "
+                         f"in metres: {hint}")
+    return value
+
+
 PositiveFloat = Annotated[float, Field(gt=0)]
-#: A length in metres, > 0.
-Length = Annotated[float, Field(gt=0, description="metres")]
+#: A length in metres, between :data:`MIN_LENGTH` and :data:`MAX_LENGTH`.
+Length = Annotated[float, Field(gt=0, description="metres"), AfterValidator(_metres)]
 
 
 class StrictModel(BaseModel):
@@ -53,18 +70,50 @@ class ChamberSize(StrictModel):
     conduit_length: Length = CONDUIT_LENGTH
 
 
+#: pydantic's error types, in skygas's words (``{gt}`` etc. are the error's context)
+_ALLOWED = {
+    "missing": "this required field to be given",
+    "extra_forbidden": "no such field (check the spelling)",
+    "finite_number": "a finite number (not inf or nan)",
+    "greater_than": "a number > {gt}",
+    "greater_than_equal": "a number >= {ge}",
+    "less_than": "a number < {lt}",
+    "less_than_equal": "a number <= {le}",
+    "float_parsing": "a number",
+    "float_type": "a number",
+    "int_parsing": "an integer",
+    "int_type": "an integer",
+    "int_from_float": "an integer",
+    "bool_parsing": "true or false",
+    "string_type": "a string",
+    "too_short": "at least {min_length} entries",
+}
+
+
+def _allowed(error: dict) -> str:
+    template = _ALLOWED.get(error["type"])
+    if template is not None:
+        try:
+            return template.format(**error.get("ctx", {}))
+        except (KeyError, IndexError):
+            pass
+    msg = error["msg"]
+    for prefix in ("Value error, ", "Input should be "):
+        msg = msg.removeprefix(prefix)
+    return msg
+
+
 def to_input_error(err: ValidationError, source: str = "") -> InputError:
     """The first error of a pydantic validation as an :class:`InputError` naming the field
-    (prefixed by ``source``, e.g. the file name), the value and what is allowed."""
+    (prefixed by ``source``, e.g. the file name), the value and what is allowed, in skygas's
+    words rather than pydantic's. The field's dotted path without ``source`` is kept as the
+    error's ``loc`` (a command names the option instead when it came from one)."""
     first = err.errors()[0]
     loc = ".".join(str(p) for p in first["loc"])
     value = first.get("input") if first["type"] != "missing" else "(missing)"
-    msg = first["msg"]
-    if first["type"] == "missing":
-        msg = "this required field to be given"
-    elif first["type"] == "extra_forbidden":
-        msg = "no such field (check the spelling)"
-    return InputError(f"{source}{loc}", value, msg)
+    error = InputError(f"{source}{loc}", value, _allowed(first))
+    error.loc = loc
+    return error
 
 
 def read_toml(path: str | Path, field: str = "config") -> dict:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from skygas.commands.run_options import add_run_options, run_options
+from skygas.commands.run_options import add_run_options, named_by_flags, run_options
 from skygas.errors import InputError
 from skygas.outputs.flags import add_output_flags
 
@@ -18,7 +18,8 @@ def _neuron(args) -> int:
     from skygas.outputs.finish import finish_outputs, movie_record_interval
     from skygas.run_driver import drive
 
-    config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
+    with named_by_flags(args, {"seed": "seed", "duration": "duration"}):
+        config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
     out = Path(args.out)
     job = NeuronJob(config, transfer=not args.no_transfer,
                     record_interval=movie_record_interval(args.animate))
