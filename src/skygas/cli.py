@@ -242,6 +242,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("skygas: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # stdout closed early (``skygas ... | head``): nothing to say
+        sys.stderr.close()
+        return 1
     except Exception as err:
         if out is not None:
             _remove_if_empty(created, out)

@@ -291,7 +291,7 @@ def _prepare_folder(job: Job, out: Path, resume: bool, overwrite: bool) -> Path 
 
 
 def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool = True,
-          checkpoint_seconds: float = 30.0, overwrite: bool = False) -> Any:
+          checkpoint_seconds: float = 30.0, overwrite: bool = False, strict: bool = False) -> Any:
     """Run ``job`` to its end and return ``job.finish(out_dir)`` (see the module docstring).
 
     ``resume``: continue from ``OUT/checkpoint.npz`` when there is one. Without it, an existing
@@ -300,11 +300,14 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
     ``overwrite``: replace the job's finished results (or its interrupted run, without
     ``resume``) instead of refusing them.
     ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece).
+    ``strict``: the sanity checks (:mod:`skygas.sanity`) refuse the run (before it starts; wall
+    escapes once its results are written) instead of warning.
     Raises :class:`RunInterrupted` after saving the checkpoint when SIGINT/SIGTERM arrives."""
-    from skygas import manifest
+    from skygas import manifest, sanity
 
     if not (checkpoint_seconds >= 0):
         raise InputError("checkpoint_seconds", checkpoint_seconds, "a wall time >= 0 in seconds")
+    sanity.before_run(job, strict)
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a folder (this is an existing file)",
@@ -337,4 +340,5 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
     manifest.write(out, command, config_hash, started_at=started, finished_at=time.time())
     ckpt.unlink(missing_ok=True)
     partial_path(ckpt).unlink(missing_ok=True)  # left by a process killed while saving
+    sanity.after_run(job, strict)
     return result

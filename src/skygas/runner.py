@@ -111,7 +111,7 @@ class SimulationJob:
 
 def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: bool = True,
                    resume: bool = False, checkpoint_seconds: float = 30.0,
-                   overwrite: bool = False) -> dict:
+                   overwrite: bool = False, strict: bool = False) -> dict:
     """Build, run and save the simulation described by ``config``; returns the summary."""
     return drive(SimulationJob(config), out_dir, resume=resume, progress=progress,
-                 checkpoint_seconds=checkpoint_seconds, overwrite=overwrite)
+                 checkpoint_seconds=checkpoint_seconds, overwrite=overwrite, strict=strict)

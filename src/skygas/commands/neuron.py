@@ -4,12 +4,12 @@ density of skyrmions in circular chambers."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from skygas.commands.run_options import add_run_options, named_by_flags, run_options
 from skygas.errors import InputError
 from skygas.outputs.flags import add_output_flags
+from skygas.commands.json_output import print_json
 
 
 def _neuron(args) -> int:
@@ -28,7 +28,7 @@ def _neuron(args) -> int:
                    config=config)
     lif = summary["lif_fit"]
     if args.json:
-        print(json.dumps(summary, default=float))
+        print_json(summary)
     else:
         s = summary
         print(f"Skyrmion Neuron: {s['n_output_spikes']} output spikes in "
@@ -72,7 +72,7 @@ def _saturation(args) -> int:
                                      **run_options(args, progress=not args.json))
     summary = result.summary()
     if args.json:
-        print(json.dumps(summary))
+        print_json(summary)
     else:
         for d, n, e, cp in zip(result.diameters, result.max_count, result.max_count_error,
                                result.close_packing):

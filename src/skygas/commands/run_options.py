@@ -32,7 +32,8 @@ def run_options(args, progress: bool = True) -> dict:
     ``progress=False`` when the command prints machine-readable output instead."""
     seconds = args.checkpoint_seconds
     require(seconds >= 0, "--checkpoint-seconds", seconds, "a wall time >= 0 in seconds")
-    return {"resume": args.resume, "overwrite": args.overwrite, "checkpoint_seconds": seconds,
+    return {"resume": args.resume, "overwrite": args.overwrite, "strict": args.strict,
+            "checkpoint_seconds": seconds,
             "progress": progress and not getattr(args, "quiet", False)}
 
 
