@@ -201,13 +201,15 @@ def describe_error(err: BaseException, args: argparse.Namespace | None = None) -
     if isinstance(err, InputError):
         return f"error: {err}", EXIT_INPUT
     if isinstance(err, OSError) and err.errno is not None:
-        name = err.filename if err.filename is not None else ""
-        field = "--out" if args is not None and getattr(args, "out", None) is not None and \
-            str(name).startswith(str(getattr(args, "out"))) else "path"
-        what = "cannot write or read here" if isinstance(err, PermissionError) else \
-            "cannot use this path"
-        return (f"error: {field} = {str(name)!r}: {what} ({err.strerror}); choose a path in "
-                "a folder that exists and that you can write to"), EXIT_INPUT
+        name = str(err.filename) if err.filename is not None else ""
+        out = str(getattr(args, "out", None) or "")
+        if out and name and (name.startswith(out) or out.startswith(name)):
+            field, value = "--out", out  # the folder itself, or one of its parents
+        else:
+            field, value = "path", name
+        return (f"error: {field} = {value!r}: expected a path that can be used ({name} gives: "
+                f"{err.strerror}); choose a path in a folder that exists and that you can "
+                "write to"), EXIT_INPUT
     if isinstance(err, (OverflowError, MemoryError)):
         return (f"error: input = (too large): the job asks for more than this machine can "
                 f"compute ({type(err).__name__}: {err}); use a shorter duration, fewer "
