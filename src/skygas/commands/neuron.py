@@ -66,10 +66,12 @@ def _saturation(args) -> int:
     if args.repetitions < 1:
         raise InputError("repetitions", args.repetitions, "an integer >= 1")
     out = Path(args.out)
-    result = run_saturation_to_files(diameters, out, repetitions=args.repetitions,
-                                     seed=args.seed, relax_time=args.relax_time,
-                                     temperature=args.temperature,
-                                     **run_options(args, progress=not args.json))
+    with named_by_flags(args, {name: name for name in ("repetitions", "seed", "relax_time",
+                                                       "temperature")}):
+        result = run_saturation_to_files(diameters, out, repetitions=args.repetitions,
+                                         seed=args.seed, relax_time=args.relax_time,
+                                         temperature=args.temperature,
+                                         **run_options(args, progress=not args.json))
     summary = result.summary()
     if args.json:
         print_json(summary)
