@@ -72,7 +72,8 @@ def test_sigint_waits_for_the_end_of_the_piece_then_resume_finishes(tmp_path):
     assert not (tmp_path / "result.json").exists()
     assert drive(CountingJob(), tmp_path, resume=True, progress=False) == 0 + 1 + 2 + 3 + 4
     assert not (tmp_path / CHECKPOINT).exists()
-    assert [p.name for p in tmp_path.iterdir()] == ["result.json"]  # no temporary file left
+    # the results and the manifest, no temporary file left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["manifest.json", "result.json"]
     for resume in (False, True):  # finished results are never overwritten
         with pytest.raises(InputError, match="without finished results"):
             drive(CountingJob(), tmp_path, resume=resume, progress=False)

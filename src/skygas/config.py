@@ -16,6 +16,7 @@ from pydantic import Field, ValidationError
 from skygas import geometry as geo
 from skygas.config_types import (
     ChamberSize,
+    Length,
     PositiveFloat,
     StrictModel,
     read_toml,
@@ -45,14 +46,14 @@ class PortSpec(StrictModel):
 
 class DiskSpec(StrictModel):
     kind: Literal["disk"]
-    radius: PositiveFloat
+    radius: Length
     center: Point2 = (0.0, 0.0)
 
 
 class RectangleSpec(StrictModel):
     kind: Literal["rectangle"]
-    width: PositiveFloat
-    height: PositiveFloat
+    width: Length
+    height: Length
     center: Point2 = (0.0, 0.0)
 
 
@@ -106,7 +107,7 @@ class ThieleOverrides(StrictModel):
 
     dissipation: PositiveFloat | None = None
     force_scale: PositiveFloat | None = None        # F0 [N]
-    skyrmion_diameter: PositiveFloat | None = None  # d_sk [m]
+    skyrmion_diameter: Length | None = None  # d_sk [m]
     eta: float | None = None
     mu: float = 1.0
 
@@ -134,7 +135,7 @@ class MaterialFields(StrictModel):
     """Fields every run configuration shares: the material, its film, Thiele overrides."""
 
     material: Union[str, dict[str, Any]] = "S2"
-    film_thickness: PositiveFloat = 2e-9
+    film_thickness: Length = 2e-9
     thiele: ThieleOverrides = ThieleOverrides()
     #: the energy landscape: external potentials (``[[potentials]]``, skygas.landscape)
     potentials: list[Potential] = []
@@ -162,7 +163,7 @@ class SimulationConfig(MaterialFields):
     temperature: float = Field(300.0, ge=0)
     # default: the engine's suggested step, shortened to divide record_interval exactly
     time_step: PositiveFloat | None = None
-    duration: float = Field(ge=0)
+    duration: PositiveFloat  # [s]; 0 is refused, as by every command
     record_interval: PositiveFloat = 1e-9
     integrator: Literal["heun", "euler-maruyama"] = "heun"
     forces: ForcesSpec = ForcesSpec()

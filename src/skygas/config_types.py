@@ -3,7 +3,7 @@ chamber dimensions, defined once.
 
 - :class:`StrictModel`: the pydantic base of every configuration section: unknown fields
   (spelling mistakes) and non-finite numbers (``inf``, ``nan``) are refused;
-- :data:`PositiveFloat` and :data:`Length` (metres, > 0);
+- :data:`PositiveFloat` and :data:`Length` (metres, from 1 pm to 1 m);
 - :data:`CHAMBER_DIAMETER`, :data:`CONDUIT_WIDTH`, :data:`CONDUIT_LENGTH`,
   :data:`CHAMBER_GAP`: the paper's device (a 1024 nm chamber with 100 nm × 50 nm conduits;
   two such chambers 400 nm apart in the reshuffler), and :class:`ChamberSize`, the section that
@@ -21,7 +21,7 @@ import tomllib
 from pathlib import Path
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
 
 from skygas.errors import InputError
 
@@ -34,9 +34,26 @@ CONDUIT_LENGTH = 50e-9
 #: Spacing [m] between the reshuffler's two chambers.
 CHAMBER_GAP = 400e-9
 
+#: The lengths a configuration accepts [m]: outside, the number was almost surely given in
+#: another unit (``chamber_diameter = 1024`` for 1024 nm). A device larger than a metre could
+#: not be held in memory anyway (its wall field is sampled on a nanometre grid), and nothing
+#: in the model is smaller than a picometre.
+MIN_LENGTH = 1e-12
+MAX_LENGTH = 1.0
+
+
+def _metres(value: float) -> float:
+    if not MIN_LENGTH <= value <= MAX_LENGTH:
+        hint = f"did you mean {value:g}e-9 (nanometres)?" if value > MAX_LENGTH else \
+            "did you mean nanometres (e.g. 2e-9)?"
+        raise ValueError(f"a length between {MIN_LENGTH:g} m and {MAX_LENGTH:g} m; lengths are "
+                         f"in metres: {hint}")
+    return value
+
+
 PositiveFloat = Annotated[float, Field(gt=0)]
-#: A length in metres, > 0.
-Length = Annotated[float, Field(gt=0, description="metres")]
+#: A length in metres, between :data:`MIN_LENGTH` and :data:`MAX_LENGTH`.
+Length = Annotated[float, Field(gt=0, description="metres"), AfterValidator(_metres)]
 
 
 class StrictModel(BaseModel):
@@ -53,35 +70,40 @@ class ChamberSize(StrictModel):
     conduit_length: Length = CONDUIT_LENGTH
 
 
-def to_input_error(err: ValidationError, source: str = "", prefix: str = "") -> InputError:
-    """The first error of a pydantic validation as one :class:`InputError` line: the dotted
-    field (``source`` + ``prefix`` + location), the value and what is allowed.
-
-    A tagged union's tag (``potentials.0.gaussian.sigma``) is left out of the name
-    (``potentials.0.sigma``), and an unknown or missing tag is reported as the ``kind`` field
-    with the allowed kinds."""
-    first = err.errors()[0]
-    loc = [p for i, p in enumerate(first["loc"]) if not _is_tag(first["loc"], i)]
-    value = first.get("input") if first["type"] != "missing" else "(missing)"
-    msg = first["msg"].removeprefix("Value error, ")
-    if msg.startswith("Input should be "):  # "… is not allowed: expected a finite number"
-        msg = msg.removeprefix("Input should be ")
-        msg = f"a value {msg}" if msg.startswith(("greater", "less")) else msg
-    if first["type"] == "missing":
-        msg = "this required field to be given"
-    elif first["type"] == "extra_forbidden":
-        msg = "no such field (check the spelling)"
-    elif first["type"] in _TAG_ERRORS:
-        tags = first.get("ctx", {}).get("expected_tags", "")
-        loc.append(first.get("ctx", {}).get("discriminator", "kind").strip("'"))
-        value = first.get("ctx", {}).get("tag", "(missing)")
-        msg = f"one of {tags}"
-    field = ".".join(str(p) for p in [*prefix.split("."), *loc] if p != "")
-    return InputError(f"{source}{field}", value, msg)
-
+#: pydantic's error types, in skygas's words (``{gt}`` etc. are the error's context)
+_ALLOWED = {
+    "missing": "this required field to be given",
+    "extra_forbidden": "no such field (check the spelling)",
+    "finite_number": "a finite number (not inf or nan)",
+    "greater_than": "a number > {gt}",
+    "greater_than_equal": "a number >= {ge}",
+    "less_than": "a number < {lt}",
+    "less_than_equal": "a number <= {le}",
+    "float_parsing": "a number",
+    "float_type": "a number",
+    "int_parsing": "an integer",
+    "int_type": "an integer",
+    "int_from_float": "an integer",
+    "bool_parsing": "true or false",
+    "string_type": "a string",
+    "too_short": "at least {min_length} entries",
+}
 
 #: pydantic's error types for a tagged union whose tag is unknown or missing
 _TAG_ERRORS = ("union_tag_invalid", "union_tag_not_found")
+
+
+def _allowed(error: dict) -> str:
+    template = _ALLOWED.get(error["type"])
+    if template is not None:
+        try:
+            return template.format(**error.get("ctx", {}))
+        except (KeyError, IndexError):
+            pass
+    msg = error["msg"]
+    for prefix in ("Value error, ", "Input should be "):
+        msg = msg.removeprefix(prefix)
+    return msg
 
 
 def _is_tag(loc: tuple, i: int) -> bool:
@@ -90,6 +112,30 @@ def _is_tag(loc: tuple, i: int) -> bool:
     from skygas.landscape.kinds import KINDS  # imported here: the kinds import this module
 
     return i >= 1 and isinstance(loc[i - 1], int) and loc[i] in KINDS
+
+
+def to_input_error(err: ValidationError, source: str = "", prefix: str = "") -> InputError:
+    """The first error of a pydantic validation as one :class:`InputError` line naming the
+    field (``source``, e.g. the file name, then ``prefix`` and the dotted location), the value
+    and what is allowed, in skygas's words rather than pydantic's. The field's dotted path
+    without ``source`` is kept as the error's ``loc`` (a command names the option instead when
+    it came from one).
+
+    A tagged union's tag (``potentials.0.gaussian.sigma``) is left out of the name
+    (``potentials.0.sigma``), and an unknown or missing tag is reported as the ``kind`` field
+    with the allowed kinds."""
+    first = err.errors()[0]
+    parts = [p for i, p in enumerate(first["loc"]) if not _is_tag(first["loc"], i)]
+    value = first.get("input") if first["type"] != "missing" else "(missing)"
+    allowed = _allowed(first)
+    if first["type"] in _TAG_ERRORS:
+        parts.append(first.get("ctx", {}).get("discriminator", "kind").strip("'"))
+        value = first.get("ctx", {}).get("tag", "(missing)")
+        allowed = f"one of {first.get('ctx', {}).get('expected_tags', '')}"
+    loc = ".".join(str(p) for p in [*prefix.split("."), *parts] if p != "")
+    error = InputError(f"{source}{loc}", value, allowed)
+    error.loc = loc
+    return error
 
 
 def read_toml(path: str | Path, field: str = "config") -> dict:

@@ -2,7 +2,9 @@
 
 Every check on user input (a config file, a CLI option, an array handed to the API) raises
 :class:`InputError` *before* any long computation starts. The message always names the field,
-the offending value and what is allowed, so that a user can fix the input without reading code.
+the offending value and what is allowed, so that a user can fix the input without reading code;
+the command line prints it as one line, ``skygas: error: <field> = <value>: <why>; <what to
+do>``, and exits with status 2 (see :mod:`skygas.cli`).
 """
 
 from __future__ import annotations
@@ -23,19 +25,24 @@ class InputError(ValueError):
         The value that was given.
     allowed:
         A short phrase saying what would be accepted (``"a number >= 0 (kelvin)"``).
+    hint:
+        Optional: what to do about it (``"choose another --out"``).
     """
 
-    def __init__(self, field: str, value: Any, allowed: str):
+    def __init__(self, field: str, value: Any, allowed: str, hint: str | None = None):
         self.field = field
         self.value = value
         self.allowed = allowed
-        super().__init__(f"{field} = {value!r} is not allowed: expected {allowed}")
+        self.hint = hint
+        text = f"{field} = {value!r}: expected {allowed}"
+        super().__init__(text if hint is None else f"{text}; {hint}")
 
 
-def require(condition: bool, field: str, value: Any, allowed: str) -> None:
+def require(condition: bool, field: str, value: Any, allowed: str,
+            hint: str | None = None) -> None:
     """Raise :class:`InputError` unless ``condition`` holds."""
     if not condition:
-        raise InputError(field, value, allowed)
+        raise InputError(field, value, allowed, hint)
 
 
 class RunInterrupted(KeyboardInterrupt):

@@ -20,7 +20,12 @@ around them:
   resumed from a checkpoint is bit-identical to one left alone, because pieces start at fixed
   steps and every random stream is part of the state;
 - results: the job's :meth:`Job.finish` is the one place where result files are written (each
-  through :func:`write_atomic`); the checkpoint is removed only after it has returned.
+  through :func:`write_atomic`); the checkpoint is removed only after it has returned;
+- the output folder: finished results, an interrupted run (a checkpoint) or another command's
+  results (``OUT/manifest.json``, :mod:`skygas.manifest`) are never replaced silently:
+  ``resume=True`` continues an interrupted run, ``overwrite=True`` starts again in place of the
+  job's own result files and checkpoint (nothing else in the folder is deleted). The manifest
+  is written when the run starts and completed when its results are written.
 
 The checkpoint records the configuration, the seed and the skygas version besides the state.
 """
@@ -257,30 +262,65 @@ def _progress_bar(job: Job, enabled: bool):
 
 
 # -- the driver ---------------------------------------------------------------------------------
+def _prepare_folder(job: Job, out: Path, resume: bool, overwrite: bool) -> Path | None:
+    """Check what ``out`` holds before anything is written (see the module docstring);
+    return the checkpoint to resume from, if any. With ``overwrite``, the job's own result
+    files and checkpoint are removed (after every check has passed)."""
+    from skygas import manifest
+
+    command = manifest.current_command(type(job).__name__)
+    manifest.claim(out, command, fingerprint(job.config_json()), overwrite=overwrite,
+                   resume=resume)
+    ckpt = out / CHECKPOINT
+    finished = [name for name in job.result_files if (out / name).exists()]
+    if overwrite and not (resume and ckpt.exists()):
+        for name in finished:
+            (out / name).unlink()
+        ckpt.unlink(missing_ok=True)
+        return None
+    if finished and not ckpt.exists():
+        raise InputError("--out", str(out), f"a folder without finished results ({finished[0]} "
+                         "is there)", "add --overwrite to replace them, or choose another --out")
+    if ckpt.exists():
+        if not resume:
+            raise InputError("--out", str(out), "a folder without an interrupted run "
+                             f"({ckpt.name} is there)", "add --resume to continue it, "
+                             "--overwrite to start again, or choose another --out")
+        return ckpt
+    return None
+
+
 def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool = True,
-          checkpoint_seconds: float = 30.0) -> Any:
+          checkpoint_seconds: float = 30.0, overwrite: bool = False, strict: bool = False) -> Any:
     """Run ``job`` to its end and return ``job.finish(out_dir)`` (see the module docstring).
 
     ``resume``: continue from ``OUT/checkpoint.npz`` when there is one. Without it, an existing
     checkpoint is refused (it holds an interrupted run that a fresh start would overwrite), and
-    so are finished results (``job.result_files``) in any case.
+    so are finished results (``job.result_files``) and another command's folder.
+    ``overwrite``: replace the job's finished results (or its interrupted run, without
+    ``resume``) instead of refusing them.
     ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece).
+    ``strict``: the sanity checks (:mod:`skygas.sanity`) refuse the run (before it starts; wall
+    escapes once its results are written) instead of warning.
     Raises :class:`RunInterrupted` after saving the checkpoint when SIGINT/SIGTERM arrives."""
+    from skygas import manifest, sanity
+
     if not (checkpoint_seconds >= 0):
         raise InputError("checkpoint_seconds", checkpoint_seconds, "a wall time >= 0 in seconds")
+    sanity.before_run(job, strict)
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "a folder (this is an existing file)",
+                         "choose another --out")
+    resume_from = _prepare_folder(job, out, resume, overwrite) if out.is_dir() else None
     out.mkdir(parents=True, exist_ok=True)
     ckpt = out / CHECKPOINT
-    finished = [name for name in job.result_files if (out / name).exists()]
-    if finished and not ckpt.exists():
-        raise InputError("--out", str(out), f"a directory without finished results ({finished[0]} "
-                         "is there: choose another --out, or delete the results to run again)")
-    if ckpt.exists():
-        if not resume:
-            raise InputError("--out", str(out), "a directory without an interrupted run "
-                             f"({ckpt.name} is there: add --resume to continue it, or choose "
-                             "another --out)")
-        load_checkpoint(job, ckpt)
+    command = manifest.current_command(type(job).__name__)
+    config_hash = fingerprint(job.config_json())
+    started = time.time()
+    manifest.write(out, command, config_hash, started_at=started)
+    if resume_from is not None:
+        load_checkpoint(job, resume_from)
     last_save = time.perf_counter()
     with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
         while job.work_done() < job.work_total:
@@ -297,6 +337,8 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
             save_checkpoint(job, ckpt)
             raise RunInterrupted(signals.received, ckpt)
     result = job.finish(out)
+    manifest.write(out, command, config_hash, started_at=started, finished_at=time.time())
     ckpt.unlink(missing_ok=True)
     partial_path(ckpt).unlink(missing_ok=True)  # left by a process killed while saving
+    sanity.after_run(job, strict)
     return result

@@ -20,6 +20,7 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.config import SimulationConfig
+from skygas.resources import require_memory, step_count
 from skygas.run_driver import drive, run_record, write_figure, write_json, write_netcdf
 
 #: Pieces per run: each returns to Python once (progress, checkpoints, interruption).
@@ -37,7 +38,12 @@ class SimulationJob:
     def __init__(self, config: SimulationConfig):
         self.config = config
         self.sim = config.build()  # validates everything before any stepping
-        self.total_steps = int(round(config.duration / self.sim.time_step))
+        self.total_steps = step_count(config.duration, self.sim.time_step)
+        # recorded frames: per skyrmion, x and y (float64) and its id (int64)
+        frames = self.total_steps * self.sim.time_step / config.record_interval
+        require_memory("record_interval", config.record_interval,
+                       24.0 * (frames + 1) * max(1, self.sim.count), "the recorded frames",
+                       "record less often, or run for a shorter duration")
         self.piece_steps = max(1, self.total_steps // PIECES)
         self.work_total = self._ns(self.total_steps)
         self.wall_time = 0.0
@@ -104,7 +110,8 @@ class SimulationJob:
 
 
 def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: bool = True,
-                   resume: bool = False, checkpoint_seconds: float = 30.0) -> dict:
+                   resume: bool = False, checkpoint_seconds: float = 30.0,
+                   overwrite: bool = False, strict: bool = False) -> dict:
     """Build, run and save the simulation described by ``config``; returns the summary."""
     return drive(SimulationJob(config), out_dir, resume=resume, progress=progress,
-                 checkpoint_seconds=checkpoint_seconds)
+                 checkpoint_seconds=checkpoint_seconds, overwrite=overwrite, strict=strict)

@@ -25,6 +25,7 @@ from typing import Callable
 import numpy as np
 
 from skygas.engine import Simulation
+from skygas.resources import step_count
 
 
 @dataclass(frozen=True)
@@ -65,7 +66,7 @@ def check_time_step(build: Callable[[float | None, int], Simulation], duration: 
     coarse = build(time_step, 2)
     dt = coarse.time_step
     fine = build(dt / 2, 1)
-    n_steps = max(1, int(round(duration / dt)))
+    n_steps = max(1, step_count(duration, dt))
     coarse.run(n_steps * dt)  # n steps of dt and 2n of dt/2 end at the same instant
     fine.run(n_steps * dt)
     assert fine.step == 2 * coarse.step

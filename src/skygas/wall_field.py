@@ -43,6 +43,7 @@ import shapely
 from scipy import ndimage
 
 from skygas.geometry import Outline
+from skygas.resources import require_memory
 from skygas.memo import Memo, frozen, outline_key
 from skygas.nearest_segment import nearest_segment
 
@@ -156,6 +157,11 @@ class WallField:
         margin = 3 * spacing
         nx = int(np.ceil((x1 - x0 + 2 * margin) / spacing)) + 1
         ny = int(np.ceil((y1 - y0 + 2 * margin) / spacing)) + 1
+        # the distances, the normals and the scratch of the distance transform: about ten
+        # float64 values per node
+        require_memory("geometry", f"an outline of {x1 - x0:.3g} nm × {y1 - y0:.3g} nm",
+                       80.0 * nx * ny, f"its wall grid of {nx} × {ny} nodes at {spacing:g} nm",
+                       "lengths are in metres: did you mean nanometres?")
         grid = Grid(x0 - margin, y0 - margin, float(spacing), nx, ny)
         gx, gy = grid.nodes()
         inside = outline.contains_nm(gx, gy)

@@ -59,7 +59,7 @@ def test_cli_reports_bad_input_and_writes_nothing(tmp_path, capsys):
     assert "diameters[1] = 'abc'" in capsys.readouterr().err
     assert main(["saturation", "--diameters", "5e-7", "--relax-time", "0",
                  "--out", str(tmp_path / "s")]) == 2
-    assert "relax_time" in capsys.readouterr().err
+    assert "--relax-time = 0.0" in capsys.readouterr().err
 
 
 def test_analyses_refuse_bad_arguments_before_running():

@@ -53,7 +53,7 @@ def test_cli_is_registered_and_runs_the_demo(tmp_path):
     bad = _parser().parse_args(["sc", "demo", "--out", str(out), "--n-bits", "10"])
     with pytest.raises(InputError) as err:
         bad.func(bad)
-    assert err.value.field == "n_bits"
+    assert err.value.field == "--n-bits"
 
 
 def test_squaring_error_after_a_deep_shuffle_matches_the_ideal_reshuffle_limit():

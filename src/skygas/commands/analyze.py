@@ -3,8 +3,8 @@ velocity and Hall angle, occupancy, density and velocity maps; :mod:`skygas.anal
 
 from __future__ import annotations
 
-import json
 import math
+from skygas.commands.json_output import print_json
 
 
 def _pm(value, error, scale=1.0) -> str:
@@ -23,7 +23,7 @@ def _analyze(args) -> int:
 
     result = analyze(load_run(args.run), maps=not args.no_maps)
     if args.json:
-        print(json.dumps(result))
+        print_json(result)
         return 0
     print(f"{result['kind']} run, {result['frames']} frames, {result['entries']} positions")
     msd = result.get("msd")

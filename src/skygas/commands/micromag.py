@@ -7,8 +7,8 @@ Each sub-command is one call into :mod:`skygas.micromag`, imported when the sub-
 from __future__ import annotations
 
 import argparse
-import json
 import math
+from skygas.commands.json_output import print_json
 
 
 def register(subparsers) -> None:
@@ -73,7 +73,7 @@ def _inspect(args: argparse.Namespace) -> int:
     report = inspect_field(load_field(args.file, cell_size=args.cell_size),
                            threshold=args.threshold)
     if args.json:
-        print(json.dumps(report, indent=2))
+        print_json(report)
         return 0
     print(f"{args.file}: {len(report['skyrmions'])} skyrmion(s), total Q = "
           f"{report['total_charge']:+.4f}")

@@ -4,12 +4,12 @@ density of skyrmions in circular chambers."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from skygas.commands.run_options import add_run_options, run_options
+from skygas.commands.run_options import add_run_options, named_by_flags, run_options
 from skygas.errors import InputError
 from skygas.outputs.flags import add_output_flags
+from skygas.commands.json_output import print_json
 
 
 def _neuron(args) -> int:
@@ -18,7 +18,8 @@ def _neuron(args) -> int:
     from skygas.outputs.finish import finish_outputs, movie_record_interval
     from skygas.run_driver import drive
 
-    config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
+    with named_by_flags(args, {"seed": "seed", "duration": "duration"}):
+        config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
     out = Path(args.out)
     job = NeuronJob(config, transfer=not args.no_transfer,
                     record_interval=movie_record_interval(args.animate))
@@ -27,7 +28,7 @@ def _neuron(args) -> int:
                    config=config)
     lif = summary["lif_fit"]
     if args.json:
-        print(json.dumps(summary, default=float))
+        print_json(summary)
     else:
         s = summary
         print(f"Skyrmion Neuron: {s['n_output_spikes']} output spikes in "
@@ -65,13 +66,15 @@ def _saturation(args) -> int:
     if args.repetitions < 1:
         raise InputError("repetitions", args.repetitions, "an integer >= 1")
     out = Path(args.out)
-    result = run_saturation_to_files(diameters, out, repetitions=args.repetitions,
-                                     seed=args.seed, relax_time=args.relax_time,
-                                     temperature=args.temperature,
-                                     **run_options(args, progress=not args.json))
+    with named_by_flags(args, {name: name for name in ("repetitions", "seed", "relax_time",
+                                                       "temperature")}):
+        result = run_saturation_to_files(diameters, out, repetitions=args.repetitions,
+                                         seed=args.seed, relax_time=args.relax_time,
+                                         temperature=args.temperature,
+                                         **run_options(args, progress=not args.json))
     summary = result.summary()
     if args.json:
-        print(json.dumps(summary))
+        print_json(summary)
     else:
         for d, n, e, cp in zip(result.diameters, result.max_count, result.max_count_error,
                                result.close_packing):

@@ -3,12 +3,12 @@ Reshuffler and print a readable summary (or one JSON object)."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from skygas.commands.run_options import add_run_options, run_options
+from skygas.commands.run_options import add_run_options, named_by_flags, run_options
 from skygas.outputs.flags import add_output_flags
 from skygas.reshuffler.presets import PRESETS
+from skygas.commands.json_output import print_json
 
 # command-line option → configuration field it overrides
 OVERRIDES = {
@@ -60,11 +60,12 @@ def _reshuffle(args) -> int:
 
     overrides = {field: getattr(args, opt) for opt, field in OVERRIDES.items()}
     overrides.update(recording_overrides(args.animate))
-    config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
-    result = run_reshuffler(config, args.out, **run_options(args, progress=not args.json))
+    with named_by_flags(args, OVERRIDES):  # the sanity checks name the option too
+        config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
+        result = run_reshuffler(config, args.out, **run_options(args, progress=not args.json))
     finish_outputs(args.out, animate=args.animate, report=not args.no_report)
     if args.json:
-        print(json.dumps(result.summary))
+        print_json(result.summary)
     else:
         print(_format(result.summary, Path(args.out)))
     return 0

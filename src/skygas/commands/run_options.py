@@ -1,15 +1,25 @@
-"""The options every long-running command shares (``--resume``, ``--quiet``,
-``--checkpoint-seconds``), handed to :func:`skygas.run_driver.drive`."""
+"""The options every long-running command shares (``--resume``, ``--overwrite``, ``--strict``,
+``--quiet``, ``--checkpoint-seconds``), handed to :func:`skygas.run_driver.drive` and to the
+sanity checks (:mod:`skygas.sanity`)."""
 
 from __future__ import annotations
 
-from skygas.errors import require
+from contextlib import contextmanager
+
+from skygas.errors import InputError, require
 
 
 def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True) -> None:
     """Add the run driver's options to a sub-command's parser."""
     parser.add_argument("--resume", action="store_true",
                         help="continue the interrupted run saved in OUT/checkpoint.npz")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace the finished results (or the interrupted run) of the same "
+                        "command in OUT; other files in OUT are kept")
+    parser.add_argument("--strict", action="store_true",
+                        help="refuse a run that the sanity checks only warn about (a "
+                        "temperature or current outside the model's range, a large drift per "
+                        "time step, wall escapes; docs/physics.md §5)")
     if quiet:
         parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.add_argument("--checkpoint-seconds", type=float, default=checkpoint_seconds,
@@ -22,5 +32,22 @@ def run_options(args, progress: bool = True) -> dict:
     ``progress=False`` when the command prints machine-readable output instead."""
     seconds = args.checkpoint_seconds
     require(seconds >= 0, "--checkpoint-seconds", seconds, "a wall time >= 0 in seconds")
-    return {"resume": args.resume, "checkpoint_seconds": seconds,
+    return {"resume": args.resume, "overwrite": args.overwrite, "strict": args.strict,
+            "checkpoint_seconds": seconds,
             "progress": progress and not getattr(args, "quiet", False)}
+
+
+@contextmanager
+def named_by_flags(args, flags: dict[str, str]):
+    """Name a configuration error after the command-line option that set the field:
+    ``flags`` maps an option's attribute (``"current_density"``) to the configuration field it
+    sets (``"current_density"``, ``"device.chamber_diameter"``); only options given count."""
+    given = {field: "--" + option.replace("_", "-") for option, field in flags.items()
+             if getattr(args, option, None) is not None}
+    try:
+        yield
+    except InputError as err:
+        flag = given.get(getattr(err, "loc", err.field))
+        if flag is None:
+            raise
+        raise InputError(flag, err.value, err.allowed, err.hint) from None

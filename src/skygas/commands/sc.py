@@ -6,9 +6,11 @@ import argparse
 
 
 def _demo(args: argparse.Namespace) -> int:
+    from skygas.commands.run_options import named_by_flags
     from skygas.sc.demo import run_demo
 
-    run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
+    with named_by_flags(args, {"n_bits": "n_bits", "seed": "seed"}):
+        run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
     if args.reshuffler:
         from skygas.reshuffler.decorrelator import reshuffler_demo
 

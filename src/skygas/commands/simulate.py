@@ -6,12 +6,12 @@ call, ``--help`` included) then imports no numerics.
 
 from __future__ import annotations
 
-import json
 from importlib import resources
 from pathlib import Path
 
 from skygas.commands.run_options import add_run_options, run_options
 from skygas.outputs.flags import add_output_flags
+from skygas.commands.json_output import print_json
 
 
 def _simulate(args) -> int:
@@ -34,7 +34,10 @@ def _check_timestep(args) -> int:
     report = check_config_time_step(load_config(args.config), duration=args.duration,
                                     time_step=args.time_step,
                                     tolerance_diameters=args.tolerance)
-    print(json.dumps(report.as_dict(), indent=2) if args.json else report.summary())
+    if args.json:
+        print_json(report.as_dict())
+    else:
+        print(report.summary())
     return 0 if report.passed else 1
 
 
@@ -61,7 +64,7 @@ def _demo(args) -> int:
 
 def _report(summary: dict, out) -> None:
     brief = {k: v for k, v in summary.items() if k != "config"}
-    print(json.dumps(brief, indent=2))
+    print_json(brief)
     print(f"results in {Path(out).resolve()}")
 
 

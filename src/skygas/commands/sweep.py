@@ -4,8 +4,8 @@ reshuffler figures from it and prints the fitted exponents."""
 
 from __future__ import annotations
 
-import json
 import sys
+from skygas.commands.json_output import print_json
 
 
 def _sweep(args) -> int:
@@ -36,7 +36,7 @@ def _plot(args) -> int:
     write_report(args.store, Path(args.out) / "report.html")
     result["report"] = str(Path(args.out) / "report.html")
     if args.json:
-        print(json.dumps(result))
+        print_json(result)
         return 0
     if "current" in result:
         b = result["current"]["beta"]

@@ -116,8 +116,9 @@ class Simulation:
                  grid_spacing: float | None = None, integrator: str = "heun",
                  brownian_substeps: int = 1, capacity: int = 64, landscape=()):
         require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
-        require(np.isfinite(temperature) and temperature >= 0, "temperature", temperature,
-                "a temperature >= 0 in kelvin")
+        require(np.isfinite(temperature), "temperature", temperature,
+                "a finite number (not inf or nan)")
+        require(temperature >= 0, "temperature", temperature, "a temperature >= 0 in kelvin")
         require(isinstance(seed, (int, np.integer)) and 0 <= seed < 2**63, "seed", seed,
                 "an integer in [0, 2^63)")
         require(integrator in INTEGRATORS, "integrator", integrator, f"one of {list(INTEGRATORS)}")

@@ -248,7 +248,9 @@ class NeuronRun:
 
     @property
     def total_steps(self) -> int:
-        return int(round(self.duration / self.sim.time_step))
+        from skygas.resources import step_count
+
+        return step_count(self.duration, self.sim.time_step)
 
     @property
     def piece_steps(self) -> int:

@@ -62,6 +62,15 @@ class InputSpec:
 
     def event_times(self, duration: float, rng: np.random.Generator) -> np.ndarray:
         """Event times [s] in [0, duration) (weight not applied)."""
+        from skygas.resources import require_memory
+
+        # the times, their sort and the draws: about three float64 arrays of the expected count
+        expected = self.mean_rate() * duration if self.kind in ("poisson", "regular") \
+            else duration / self.interval
+        require_memory("inputs.rate" if self.kind in ("poisson", "regular") else
+                       "inputs.interval", self.rate if self.kind in ("poisson", "regular")
+                       else self.interval, 24.0 * expected,
+                       f"{expected:.3g} input events", "use a lower rate or a shorter duration")
         if self.kind == "poisson":
             n = rng.poisson(self.rate * duration)
             return np.sort(rng.uniform(0, duration, n))

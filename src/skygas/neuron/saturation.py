@@ -102,10 +102,10 @@ class SaturationProtocol:
                     f"diameters > two skyrmion diameters ({2 * d_sk:.3g} m)")
         require(isinstance(repetitions, int) and repetitions >= 1, "repetitions", repetitions,
                 "an integer >= 1")
-        require(math.isfinite(relax_time) and relax_time > 0, "relax_time", relax_time,
-                "a relaxation time > 0 in seconds")
-        require(math.isfinite(temperature) and temperature >= 0, "temperature", temperature,
-                "a temperature >= 0 in kelvin")
+        for name, value in (("relax_time", relax_time), ("temperature", temperature)):
+            require(math.isfinite(value), name, value, "a finite number (not inf or nan)")
+        require(relax_time > 0, "relax_time", relax_time, "a relaxation time > 0 in seconds")
+        require(temperature >= 0, "temperature", temperature, "a temperature >= 0 in kelvin")
         self.diameters, self.d_sk, self.repetitions = diameters, d_sk, repetitions
         self.relax = {"model": model, "relax_time": relax_time, "temperature": temperature,
                       "material": material, "time_step": time_step}

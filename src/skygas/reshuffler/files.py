@@ -61,7 +61,8 @@ class ReshufflerJob(PiecewiseRunJob):
 
 def run_reshuffler(config: ReshufflerConfig, out_dir: str | Path | None = None, *,
                    progress: bool = True, resume: bool = False,
-                   checkpoint_seconds: float = 60.0, figures: bool = True) -> ReshufflerResult:
+                   checkpoint_seconds: float = 60.0, figures: bool = True,
+                   overwrite: bool = False, strict: bool = False) -> ReshufflerResult:
     """Run ``config``; with ``out_dir``, write the dataset, summary, figures (and checkpoints).
     Without ``out_dir`` the run is only analysed (nothing is written, nothing to resume)."""
     job = ReshufflerJob(config, figures)
@@ -69,4 +70,4 @@ def run_reshuffler(config: ReshufflerConfig, out_dir: str | Path | None = None, 
         job.run.advance()
         return job.finish(None)
     return drive(job, out_dir, resume=resume, progress=progress,
-                 checkpoint_seconds=checkpoint_seconds)
+                 checkpoint_seconds=checkpoint_seconds, overwrite=overwrite, strict=strict)

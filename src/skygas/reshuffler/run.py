@@ -126,7 +126,9 @@ class ReshufflerRun:
     # -- running ------------------------------------------------------------------------------
     @property
     def total_steps(self) -> int:
-        return int(round(self.config.duration / self.sim.time_step))
+        from skygas.resources import step_count
+
+        return step_count(self.config.duration, self.sim.time_step)
 
     def piece_steps(self, pieces: int = PIECES) -> int:
         """Length [steps] of the pieces of a run cut into ``pieces`` (at least

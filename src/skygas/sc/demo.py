@@ -26,6 +26,7 @@ import numpy as np
 from skygas._version import __version__
 from skygas.errors import InputError
 from skygas import validate as v
+from skygas.resources import require_memory
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 from skygas.sc.decorrelators import Decorrelator, DelayIsolator, Regenerator, ShuffleBuffer
 from skygas.sc.metrics import binomial_std, p_value, scc
@@ -305,6 +306,10 @@ def run_demo(
     items = _check_decorrelators(decorrelators)
     seed = v.positive_int(seed, "seed", minimum=0)
     n_bits = v.positive_int(n_bits, "n_bits", minimum=256)
+    # the largest batch: 11 p-values × 16 trials of 8-byte random numbers, with three boolean
+    # streams of the same shape (input, copy, AND)
+    require_memory("n_bits", n_bits, 11 * 16 * (8 + 3) * n_bits, "the streams",
+                   "use fewer bits (--n-bits)")
     prob = float(v.probability(p, "p"))
     tau = v.positive_float(correlation_bits, "correlation_bits", "clock cycles")
     out = Path(out_dir)

@@ -110,6 +110,10 @@ def _create(path: Path, sweep: Sweep) -> None:
                            dimension_names=[*dims, *extra], attributes=attrs)
 
 
+#: suffix of a store being created (renamed to its name once complete)
+CREATING = ".creating"
+
+
 class SweepStore:
     """A sweep's zarr store, opened for writing by the (single) client process."""
 
@@ -117,15 +121,25 @@ class SweepStore:
         self.path = Path(path)
         self.sweep = sweep
         if not self.exists(self.path):
+            if self.path.exists() and (not self.path.is_dir() or any(self.path.iterdir())):
+                raise InputError("--out", str(self.path), "a new store or an existing sweep "
+                                 "store (this is a file or a folder of other files)",
+                                 "choose another --out")
             # written under a temporary name and moved into place, so a store either exists
-            # complete or not at all
-            tmp = self.path.with_name(self.path.name + ".creating")
-            if tmp.exists():
-                import shutil
+            # complete or not at all; a failure removes the temporary store
+            import shutil
 
+            tmp = self.path.with_name(self.path.name + CREATING)
+            if tmp.exists():
                 shutil.rmtree(tmp)
-            _create(tmp, sweep)
-            tmp.rename(self.path)
+            try:
+                _create(tmp, sweep)
+                if self.path.is_dir():
+                    self.path.rmdir()  # an empty folder given as --out
+                tmp.rename(self.path)
+            finally:
+                if tmp.exists():
+                    shutil.rmtree(tmp)
         self.group = zarr.open_group(self.path, mode="r+")
         found = self.group.attrs.get("fingerprint")
         if found != sweep.fingerprint():
@@ -192,8 +206,10 @@ def open_sweep(path: str | Path) -> xr.Dataset:
     (``correlation``, …, ``running_rho``, ``running_time``), with ``seed``, ``done``,
     ``session`` and ``finished_at`` (datetime64; NaT until done). Runs not yet done are NaN."""
     path = Path(path)
-    if not (path / "zarr.json").exists():
-        raise InputError("STORE", str(path), "a sweep store written by `skygas sweep`")
+    if not (path / "zarr.json").exists() or path.name.endswith(CREATING):
+        raise InputError("STORE", str(path), "a sweep store written by `skygas sweep`",
+                         "a name ending in .creating is a store left unfinished: run the sweep "
+                         "again" if path.name.endswith(CREATING) else None)
     raw = xr.open_zarr(path, consolidated=False, decode_times=False).load()
     if "summary" in raw:  # layout 2: unpack the per-run arrays
         ds = raw.drop_vars(["summary", "running_curves"])

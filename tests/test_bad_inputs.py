@@ -1,0 +1,241 @@
+"""A catalogue of bad inputs, each run through the real command line in a subprocess.
+
+Every case must end with exit status 2, exactly one line on stderr starting with
+``skygas: error:`` (no traceback, no pydantic wording), and leave the folder it ran in exactly
+as it was: no ``--out`` folder created, no file written, changed or removed. Most cases fail
+before any numerics, so each takes about the start-up time of the command line.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from skygas import cli
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+CHAMBER = (EXAMPLES / "closed-chamber.toml").read_text()
+NEURON = (EXAMPLES / "neuron.toml").read_text()
+RESHUFFLER_TOML = "[device]\nchamber_diameter = 1024\n"
+
+
+def _replace_line(text: str, key: str, line: str) -> str:
+    lines = text.splitlines()
+    hits = [i for i, old in enumerate(lines) if old.startswith(f"{key} =")]
+    assert hits, key
+    lines[hits[0]] = line
+    return "\n".join(lines) + "\n"
+
+
+def _manifest(command: str, finished: bool = True) -> str:
+    return json.dumps({"command": command, "skygas_version": "0", "config_hash": "x",
+                       "started_at": "2026-01-01T00:00:00Z",
+                       "finished_at": "2026-01-01T00:01:00Z" if finished else None})
+
+
+#: the files each case finds in its working folder
+FILES = {
+    "afile": "not a folder\n",
+    "big.toml": _replace_line(CHAMBER, "duration", "duration = 1e300"),
+    "zero.toml": _replace_line(CHAMBER, "duration", "duration = 0"),
+    "hot.toml": _replace_line(CHAMBER, "temperature", "temperature = 1e9"),
+    "typo.toml": CHAMBER.replace("temperature =", "tempreature ="),
+    "nan.toml": _replace_line(CHAMBER, "temperature", "temperature = nan"),
+    "tiny-length.toml": _replace_line(CHAMBER, "chamber_diameter", "chamber_diameter = 1e-15"),
+    "rate.toml": _replace_line(NEURON, "rate", "rate = 1e20"),
+    "reshuffler.toml": RESHUFFLER_TOML,
+    "quick.toml": (EXAMPLES / "sweeps" / "quick-current.toml").read_text(),
+    "x.creating/zarr.json": "{}",
+    # a finished reshuffler run
+    "done/manifest.json": _manifest("reshuffle"),
+    "done/summary.json": '{"p_out": 0.5}\n',
+    # an interrupted simulation
+    "stopped/manifest.json": _manifest("simulate", finished=False),
+    "stopped/checkpoint.npz": "state\n",
+}
+
+# (arguments, text the error line must contain); "OUT" is a folder that does not exist yet
+CASES = {
+    # tracebacks before
+    "duration inf flag": (["reshuffle", "--duration", "inf", "--out", "OUT"], "--duration = inf"),
+    "duration 1e300 toml": (["simulate", "big.toml", "--out", "OUT"], "duration = 1e+300"),
+    "check-timestep inf": (["check-timestep", "big.toml", "--duration", "inf"], "duration = inf"),
+    "out under /proc": (["reshuffle", "--out", "/proc/skygas-test/x"],
+                        "--out = '/proc/skygas-test/x'"),
+    "out is a file": (["reshuffle", "--out", "afile"], "--out = 'afile'"),
+    "out under a file": (["sc", "demo", "--out", "afile/sub"], "--out = 'afile/sub'"),
+    "sc demo out is a file": (["sc", "demo", "--out", "afile"], "--out = 'afile'"),
+    "sweep out is a file": (["sweep", "quick.toml", "--out", "afile", "--serial"], "--out"),
+    "plot an unfinished store": (["plot", "x.creating", "--out", "OUT"], "STORE = "),
+    "neuron rate 1e20": (["neuron", "rate.toml", "--out", "OUT"], "inputs.rate = 1e+20"),
+    "sc demo 1e10 bits": (["sc", "demo", "--n-bits", "10000000000", "--out", "OUT"],
+                          "--n-bits = 10000000000"),
+    # results overwritten or lost
+    "another command's folder": (["neuron", "--out", "done"], "results of `skygas reshuffle`"),
+    "finished results": (["reshuffle", "--out", "done"], "--overwrite"),
+    "interrupted run without --resume": (
+        ["simulate", str(EXAMPLES / "closed-chamber.toml"), "--out", "stopped"], "--resume"),
+    # nonsense accepted (refused under --strict)
+    "temperature 1e9 strict": (["simulate", "hot.toml", "--out", "OUT", "--strict"],
+                               "temperature = 1000000000.0"),
+    "current 1e20 strict": (["reshuffle", "--current-density", "1e20", "--strict", "--out",
+                             "OUT"], "--current-density = 1e+20"),
+    # unclear messages before
+    "chamber 1024 flag": (["reshuffle", "--chamber-diameter", "1024", "--out", "OUT"],
+                          "did you mean 1024e-9"),
+    "chamber 1024 toml": (["reshuffle", "reshuffler.toml", "--out", "OUT"],
+                          "device.chamber_diameter = 1024"),
+    "negative temperature flag": (["reshuffle", "--temperature", "-5", "--out", "OUT"],
+                                  "--temperature = -5.0: expected a number >= 0"),
+    "nan temperature flag": (["reshuffle", "--temperature", "nan", "--out", "OUT"],
+                             "--temperature = nan: expected a finite number"),
+    "nan temperature toml": (["simulate", "nan.toml", "--out", "OUT"], "a finite number"),
+    "negative current is a value": (["reshuffle", "--current-density", "-1e11", "--out", "OUT"],
+                                    "--current-density = -1"),
+    "duration 0 simulate": (["simulate", "zero.toml", "--out", "OUT"], "duration = 0"),
+    "duration 0 reshuffle": (["reshuffle", "--duration", "0", "--out", "OUT"], "--duration = 0"),
+    "duration 0 neuron": (["neuron", "--duration", "0", "--out", "OUT"], "--duration = 0"),
+    # more of our own
+    "length below a picometre": (["simulate", "tiny-length.toml", "--out", "OUT"], "metres"),
+    "misspelt field": (["simulate", "typo.toml", "--out", "OUT"], "check the spelling"),
+    "missing config": (["simulate", "nope.toml", "--out", "OUT"], "config = 'nope.toml'"),
+    "negative seed": (["reshuffle", "--seed", "-1", "--out", "OUT"], "--seed = -1"),
+    "p above one": (["reshuffle", "--p", "1.5", "--out", "OUT"], "--p = 1.5"),
+    "unknown material": (["reshuffle", "--material", "unobtainium", "--out", "OUT"],
+                         "material = 'unobtainium'"),
+    "negative checkpoint interval": (["reshuffle", "--checkpoint-seconds", "-1e3", "--out",
+                                      "OUT"], "--checkpoint-seconds = -1000.0"),
+    "negative bit count": (["sc", "demo", "--n-bits", "-5", "--out", "OUT"], "--n-bits = -5"),
+    "diameters not numbers": (["saturation", "--diameters", "big", "--out", "OUT"],
+                              "diameters[0] = 'big'"),
+    "saturation inf temperature": (["saturation", "--diameters", "300e-9", "--temperature",
+                                    "inf", "--out", "OUT"],
+                                   "--temperature = inf: expected a finite number"),
+    "export of nothing": (["export", "OUT", "--format", "gsd", "--out", "OUT.gsd"], "OUT"),
+    "inspect a missing file": (["micromag", "inspect", "missing.ovf"], "missing.ovf"),
+    "memory limit": (["sc", "demo", "--out", "OUT"], "fits in memory"),
+}
+
+
+def _snapshot(folder: Path) -> dict[str, bytes | None]:
+    """Every path under ``folder`` with the bytes of the files (None for folders)."""
+    return {str(p.relative_to(folder)): (p.read_bytes() if p.is_file() else None)
+            for p in sorted(folder.rglob("*"))}
+
+
+def _run(args: list[str], cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
+    environment = {**os.environ, "PYTHONWARNINGS": "ignore", **(env or {})}
+    return subprocess.run([sys.executable, "-m", "skygas.cli", *args], cwd=cwd, env=environment,
+                          capture_output=True, text=True, timeout=300)
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_bad_input_exits_2_with_one_line_and_writes_nothing(name, tmp_path):
+    args, expected = CASES[name]
+    for relative, text in FILES.items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_text(text)
+    if name == "out under /proc" and not Path("/proc").is_dir():
+        pytest.skip("no /proc on this system")
+    env = {"SKYGAS_MEMORY_LIMIT": "1e6"} if name == "memory limit" else None
+    before = _snapshot(tmp_path)
+    proc = _run(args, tmp_path, env)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: "), lines[0]
+    assert expected in lines[0], lines[0]
+    for leak in ("Traceback", "Input should", "pydantic", "Value error"):
+        assert leak not in proc.stderr
+    assert _snapshot(tmp_path) == before  # nothing created, written, changed or removed
+    assert proc.stdout == ""
+
+
+def test_every_subparser_takes_negative_numbers_with_exponents():
+    parser = cli.build_parser()
+    for value in ("-1e11", "-2.5E-9", "-.5", "-3", "-inf"):
+        args = parser.parse_args(["reshuffle", "--out", "o", "--current-density", value])
+        assert args.current_density == float(value) or value == "-inf" and \
+            args.current_density == float("-inf")
+    args = parser.parse_args(["sc", "demo", "--out", "o", "--n-bits", "-5"])
+    assert args.n_bits == -5
+    args = parser.parse_args(["micromag", "inspect", "f.ovf", "--threshold", "-1e-1"])
+    assert args.threshold == -0.1
+    with pytest.raises(SystemExit):  # an option that does not exist is still an option
+        parser.parse_args(["reshuffle", "--out", "o", "-x"])
+
+
+def _subparsers(parser, prefix=""):
+    for action in parser._actions:
+        if hasattr(action, "choices") and isinstance(action.choices, dict):
+            for name, sub in action.choices.items():
+                yield f"{prefix}{name}", sub
+                yield from _subparsers(sub, f"{prefix}{name} ")
+
+
+def test_help_shows_defaults_and_one_example_per_command():
+    parser = cli.build_parser()
+    commands = dict(_subparsers(parser))
+    assert {"simulate", "reshuffle", "neuron", "sweep", "sc demo", "micromag fit"} <= set(commands)
+    for name, sub in commands.items():
+        text = sub.format_help()
+        assert "example:\n  skygas " in text, name
+    reshuffle = commands["reshuffle"].format_help()
+    assert "(default: 300.0)" in commands["saturation"].format_help()  # --temperature
+    assert "--overwrite" in reshuffle and "--strict" in reshuffle
+    assert "(default: 4096)" in commands["sc demo"].format_help() or \
+        "default 4096" in commands["sc demo"].format_help()
+
+
+def test_an_internal_error_is_one_line_with_status_70_and_debug_shows_the_traceback(
+        tmp_path, monkeypatch, capsys):
+    def broken(args):
+        raise RuntimeError("something skygas did not foresee")
+
+    import skygas.commands.report as report
+
+    monkeypatch.setattr(report, "_report", broken)
+    assert cli.main(["report", str(tmp_path)]) == cli.EXIT_INTERNAL
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("skygas: internal error: RuntimeError")
+    assert "--debug" in err[0]
+    with pytest.raises(RuntimeError):
+        cli.main(["--debug", "report", str(tmp_path)])
+
+
+def test_a_run_folder_is_refused_twice_then_replaced_with_overwrite(tmp_path, capsys):
+    out = tmp_path / "run"
+    args = ["reshuffle", "--duration", "1e-8", "--out", str(out), "--json", "--no-report",
+            "--quiet"]
+    assert cli.main(args) == 0
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["command"] == "reshuffle" and manifest["finished_at"] is not None
+    assert manifest["command_line"] == args and len(manifest["config_hash"]) == 16
+    (out / "notes.txt").write_text("mine")
+    before = _snapshot(out)
+    capsys.readouterr()
+    assert cli.main(args) == 2
+    assert "--overwrite" in capsys.readouterr().err
+    assert _snapshot(out) == before
+    assert cli.main([*args, "--seed", "5", "--overwrite"]) == 0
+    summary = json.loads(capsys.readouterr().out)  # one JSON object, standard JSON
+    assert summary["seed"] == 5
+    assert (out / "notes.txt").read_text() == "mine"  # nothing else in the folder is deleted
+    assert json.loads((out / "manifest.json").read_text())["config_hash"] != \
+        manifest["config_hash"]
+
+
+def test_a_sanity_finding_is_a_warning_without_strict(tmp_path):
+    proc = _run(["reshuffle", "--temperature", "1e9", "--duration", "1e-8", "--out", "run",
+                 "--json", "--no-report", "--quiet"], tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    warnings = proc.stderr.strip().splitlines()
+    assert warnings and all(w.startswith("skygas: warning: ") for w in warnings)
+    assert any("temperature = 1000000000.0" in w and "600 K" in w for w in warnings)
+    json.loads(proc.stdout)
