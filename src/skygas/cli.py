@@ -78,6 +78,7 @@ EXAMPLES = {
     "micromag inspect": "skygas micromag inspect m000000.ovf",
     "micromag fit": "skygas micromag fit snapshots/ --out out/fit",
     "micromag samples": "skygas micromag samples",
+    "reservoir": "skygas reservoir --out out/reservoir --json",
 }
 
 # A number as a flag's value: argparse's own pattern (``^-\d+$|^-\d*\.\d+$``) has no exponent

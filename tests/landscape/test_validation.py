@@ -56,14 +56,14 @@ def write_grids(folder):
 
 
 @pytest.mark.parametrize("table, field, hint", [
-    (GAUSSIAN + "amplitude_kT = -3.0\nsigma = -1e-8", "potentials.1.sigma", "greater than 0"),
+    (GAUSSIAN + "amplitude_kT = -3.0\nsigma = -1e-8", "potentials.1.sigma", "a number > 0"),
     (GAUSSIAN + "amplitude_kT = nan\nsigma = 1e-8", "potentials.1.amplitude_kT", "finite"),
     (GAUSSIAN + "sigma = 1e-8", "potentials.1", "amplitude"),
     ('kind = "gausian"\namplitude_kT = 1.0', "potentials.1.kind", "'gaussian'"),
     ('kind = "disorder"\nrms_kT = -1.0\ncorrelation_length = 4e-8', "potentials.1.rms_kT",
-     "greater than or equal to 0"),
+     "a number >= 0"),
     ('kind = "periodic"\namplitude_kT = 1.0\nwavelength = 0.0', "potentials.1.wavelength",
-     "greater than 0"),
+     "a number > 0"),
     ('kind = "band"\nheight_kT = 3.0\nedge_width = 5e-9\nstart = [0.0, 0.0]\nend = [0.0, 0.0]'
      '\nwidth = 1e-7', "potentials.1", "start and end must differ"),
     (GRID.format(file="flat.npy") + "spacing = 1e-8", "potentials.1.path", "2-D array"),

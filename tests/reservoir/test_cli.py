@@ -63,4 +63,4 @@ def test_short_run_writes_json_figures_and_report(tmp_path, capsys):
         assert (tmp_path / "out" / name).is_file()
     # a finished study is never overwritten
     code, out, err, _ = _run(tmp_path, capsys, FAST)
-    assert code == 2 and err.startswith("skygas: error: out = ")
+    assert code == 2 and err.startswith("skygas: error: --out = ")
