@@ -75,14 +75,19 @@ def _energy(value_j, value_kt, kt: float, name: str) -> float:
     return float(value_j) * units.J_TO_PN_NM
 
 
+def _exactly_one(model, name: str) -> None:
+    """Refuse a model that gives both or neither of ``name`` (J) and ``name_kT`` (k_BT)."""
+    if (getattr(model, name) is None) == (getattr(model, f"{name}_kT") is None):
+        raise ValueError(f"give exactly one of {name} (J) or {name}_kT (units of k_BT)")
+
+
 class _Amplitude(_Kind):
     amplitude: Energy | None = None       # [J]
     amplitude_kT: Energy | None = None    # [k_BT]
 
     @model_validator(mode="after")
     def _one_amplitude(self):
-        if (self.amplitude is None) == (self.amplitude_kT is None):
-            raise ValueError("give exactly one of amplitude (J) or amplitude_kT (units of k_BT)")
+        _exactly_one(self, "amplitude")
         return self
 
     def energy_scale(self, kt: float) -> float:
@@ -154,8 +159,7 @@ class Band(_Kind):
 
     @model_validator(mode="after")
     def _shape(self):
-        if (self.height is None) == (self.height_kT is None):
-            raise ValueError("give exactly one of height (J) or height_kT (units of k_BT)")
+        _exactly_one(self, "height")
         segment = self.start is not None and self.end is not None and self.width is not None
         if segment == (self.polygon is not None):
             raise ValueError("give either start, end and width, or polygon")
@@ -216,8 +220,7 @@ class RandomPinning(_Kind):
 
     @model_validator(mode="after")
     def _one_depth(self):
-        if (self.depth is None) == (self.depth_kT is None):
-            raise ValueError("give exactly one of depth (J) or depth_kT (units of k_BT)")
+        _exactly_one(self, "depth")
         return self
 
     def wells(self, ctx: SampleContext) -> tuple[np.ndarray, np.ndarray]:
@@ -273,8 +276,7 @@ class Disorder(_Kind):
 
     @model_validator(mode="after")
     def _one_rms(self):
-        if (self.rms is None) == (self.rms_kT is None):
-            raise ValueError("give exactly one of rms (J) or rms_kT (units of k_BT)")
+        _exactly_one(self, "rms")
         return self
 
     def sample(self, ctx: SampleContext) -> Samples:
