@@ -12,11 +12,13 @@ def _report(args) -> int:
     source = Path(args.source)
     out = check_report_path(args.out or (source if source.is_dir() else source.parent)
                             / "report.html")
-    if not (source / "zarr.json").exists():
+    from skygas.outputs.report import SUMMARY_FILES, write_report
+
+    summary_only = source.is_dir() and any((source / n).exists() for n in SUMMARY_FILES)
+    if not (source / "zarr.json").exists() and not summary_only:
         from skygas.outputs.records import find_result_file
 
         find_result_file(source)  # a clear error before any work
-    from skygas.outputs.report import write_report
 
     path = write_report(source, out)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")

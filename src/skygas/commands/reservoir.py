@@ -143,6 +143,10 @@ def _reservoir(args) -> int:
         plot_sweep(sweep, out / "sweep.png")
         summary["sweep"] = sweep
     (out / "report.md").write_text(_report(summary, sweep))
+    if not args.no_report:
+        from skygas.outputs.report import write_report
+
+        write_report(out, out / "report.html")
     print(json.dumps(summary) if args.json else _format(summary, out))
     return 0
 
@@ -153,6 +157,8 @@ def register(subparsers) -> None:
     p.add_argument("config", nargs="?", default=None, help="TOML configuration")
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--no-report", action="store_true",
+                   help="do not write report.html (a self-contained page of the results)")
     p.add_argument("--sweep", action="store_true",
                    help="also run the configuration's [sweep] (resumable)")
     p.add_argument("--seed", type=int, help="random seed")

@@ -157,7 +157,7 @@ def write_report(source: str | Path, out: str | Path, *, analysis: dict | None =
     from skygas.outputs.records import RESULT_FILES, load_run
 
     if source.is_dir() and not any((source / n).exists() for n in RESULT_FILES) \
-            and (source / "summary.json").exists():
+            and any((source / n).exists() for n in SUMMARY_FILES):
         return _write(directory_report(source), out)  # a run that kept no positions
     return _write(run_report(load_run(source), analysis=analysis), out)
 
@@ -177,15 +177,21 @@ def _figures(page: _Page, directory: Path) -> None:
             page.image(path.read_bytes(), path.name)
 
 
+#: the summary files of runs that keep no positions, in the order a directory is searched
+SUMMARY_FILES = ("summary.json", "reservoir.json", "saturation.json")
+
+
 def directory_report(directory: Path) -> str:
     """The report of a run directory that holds a summary and figures but no positions (a
-    neuron run without ``--animate``)."""
-    summary = json.loads((directory / "summary.json").read_text())
+    neuron run without ``--animate``, a reservoir study, a saturation curve)."""
+    name = next(n for n in SUMMARY_FILES if (directory / n).exists())
+    summary = json.loads((directory / name).read_text())
+    provenance = summary.get("device", summary)  # the reservoir keeps it with its device
     page = _Page(f"skygas run — {directory.name}")
-    page.paragraph(f"Report written by skygas {__version__} from {directory}.")
+    page.paragraph(f"Report written by skygas {__version__} from {directory / name}.")
     page.heading("Provenance")
-    page.table([("skygas version of the run", summary.get("skygas_version", "?")),
-                ("seed", summary.get("seed", "?"))])
+    page.table([("skygas version of the run", provenance.get("skygas_version", "?")),
+                ("seed", provenance.get("seed", "?"))])
     _movie(page, directory)
     page.heading("Summary")
     page.table(_summary_rows(summary))
