@@ -73,6 +73,10 @@ def _saturation(args) -> int:
                                          temperature=args.temperature,
                                          **run_options(args, progress=not args.json))
     summary = result.summary()
+    if not args.no_report:
+        from skygas.outputs.report import write_report
+
+        write_report(out, out / "report.html")
     if args.json:
         print_json(summary)
     else:
@@ -106,4 +110,5 @@ def register(subparsers) -> None:
     s.add_argument("--temperature", type=float, default=300.0, help="[K]")
     s.add_argument("--seed", type=int, default=0)
     add_run_options(s)
+    s.add_argument("--no-report", action="store_true", help="do not write OUT/report.html")
     s.set_defaults(func=_saturation)
