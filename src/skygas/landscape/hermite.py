@@ -38,6 +38,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from skygas._field_lookup import _prefetch
+
 #: The cubic Hermite matrix: the coefficients (a₀…a₃) of p(t) = Σ aᵢ tⁱ from
 #: (p(0), p(1), p'(0), p'(1)).
 HERMITE = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [-3.0, 3.0, -2.0, -1.0],
@@ -74,6 +76,14 @@ def _cell(coefficients, fx, fy):
     i = np.int64(fx)
     j = np.int64(fy)
     return i, j, fx - i, fy - j
+
+
+@numba.njit(inline="always")
+def prefetch_cell(coefficients, fx, fy):
+    """Start loading the cache line of the cell holding fractional node indices (fx, fy)
+    (:func:`hermite_gradient` will read it)."""
+    i, j, _, _ = _cell(coefficients, fx, fy)
+    _prefetch(coefficients, (j * coefficients.shape[1] + i) * 16)
 
 
 @numba.njit(inline="always")
