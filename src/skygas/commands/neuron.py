@@ -14,18 +14,16 @@ from skygas.commands.json_output import print_json
 
 def _neuron(args) -> int:
     from skygas.neuron.config import load_neuron_config
-    from skygas.neuron.files import NeuronJob
+    from skygas.neuron.files import run_neuron_to_files
     from skygas.outputs.finish import finish_outputs, movie_record_interval
-    from skygas.run_driver import drive
 
     with named_by_flags(args, {"seed": "seed", "duration": "duration"}):
         config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
     out = Path(args.out)
-    job = NeuronJob(config, transfer=not args.no_transfer,
-                    record_interval=movie_record_interval(args.animate))
-    summary = drive(job, out, **run_options(args, progress=not args.json))
-    finish_outputs(out, animate=args.animate, report=not args.no_report, simulation=job.run.sim,
-                   config=config)
+    summary = run_neuron_to_files(config, out, transfer=not args.no_transfer,
+                                  record_interval=movie_record_interval(args.animate),
+                                  **run_options(args, progress=not args.json))
+    finish_outputs(out, animate=args.animate, report=not args.no_report)
     lif = summary["lif_fit"]
     if args.json:
         print_json(summary)

@@ -2,7 +2,8 @@
 
 :func:`run_neuron_to_files` (``skygas neuron``) writes into ``out_dir``: ``trace.npz`` (count
 trace, spikes, emissions, injections; with the configuration, the seed and the version),
-``count_trace.png``, ``device.png`` (the device over its energy landscape), ``summary.json`` (with the LIF fit) and, unless ``transfer=False``,
+``count_trace.png``, ``device.png`` (the device over its energy landscape), ``summary.json``
+(with the LIF fit), ``frames.nc`` when positions were recorded and, unless ``transfer=False``,
 ``transfer_curve.png`` and the transfer curve in the summary (its runs are pieces of the job
 too: they show progress and resume).
 
@@ -43,7 +44,7 @@ class NeuronJob(PiecewiseRunJob):
     """One neuron run as a job of the run driver, work in ns of simulated time: the main run
     piece by piece, then (``transfer=True``) one piece per point of the transfer curve."""
 
-    result_files = ("trace.npz", "summary.json")
+    result_files = ("trace.npz", "summary.json", "frames.nc")
 
     def __init__(self, config: NeuronConfig, transfer: bool = True,
                  record_interval: float | None = None):
@@ -124,6 +125,10 @@ class NeuronJob(PiecewiseRunJob):
         record = run_record(self)
         write_figure(out / "count_trace.png", lambda tmp: plot_trace(run, tmp), record)
         write_figure(out / "device.png", lambda tmp: plot_device(run, tmp), record)
+        if run.record_interval is not None:  # positions recorded for a movie
+            from skygas.outputs.finish import write_frames
+
+            write_frames(run.sim, config, out / "frames.nc", "neuron")
         if self.n_rates:
             curve = self.transfer_curve()
             pred = L.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
@@ -138,11 +143,11 @@ class NeuronJob(PiecewiseRunJob):
 
 
 def run_neuron_to_files(config: NeuronConfig, out_dir: str | Path, *, transfer: bool = True,
-                        **drive_options) -> dict:
-    """Run the neuron of ``config`` and write its files; returns the summary.
-    ``drive_options``: ``resume``, ``progress``, ``checkpoint_seconds`` of
-    :func:`~skygas.run_driver.drive`."""
-    return drive(NeuronJob(config, transfer), out_dir, **drive_options)
+                        record_interval: float | None = None, **drive_options) -> dict:
+    """Run the neuron of ``config`` and write its files; returns the summary. With
+    ``record_interval`` [s] it records positions and writes them as ``frames.nc`` (a movie's
+    input). ``drive_options``: those of :func:`~skygas.run_driver.drive`."""
+    return drive(NeuronJob(config, transfer, record_interval), out_dir, **drive_options)
 
 
 class SaturationJob:

@@ -43,16 +43,13 @@ def write_frames(simulation, config, path: Path, kind: str) -> Path:
     return path
 
 
-def finish_outputs(out_dir: str | Path, *, animate: bool = False, report: bool = True,
-                   simulation=None, config=None, kind: str = "neuron") -> dict:
+def finish_outputs(out_dir: str | Path, *, animate: bool = False, report: bool = True) -> dict:
     """Write ``movie.mp4`` (with ``animate``) and ``report.html`` (with ``report``) into
-    ``out_dir``, from the result file already there. A run that keeps no positions of its own
-    (the neuron) passes its ``simulation`` and ``config``: with ``animate`` they are saved
-    first as ``frames.nc``. Returns what was written and how long each took [s]."""
+    ``out_dir``, from the result file already there (a neuron run recorded for a movie writes
+    its positions as ``frames.nc`` when it finishes). Returns what was written and how long
+    each took [s]."""
     out = Path(out_dir)
     done: dict = {}
-    if simulation is not None and animate:
-        done["frames"] = str(write_frames(simulation, config, out / "frames.nc", kind))
     if not (animate or report):
         return done
     from skygas.outputs.records import RESULT_FILES, load_run
