@@ -415,7 +415,8 @@ class Simulation:
             **{f"record_{k}": v for k, v in self.recorder.state_dict().items()},
             "counters": np.array([self.step, self.wall_escapes, self.pair_evaluations,
                                   self.neighbor_rebuilds], dtype=np.int64),
-            "drift": self._drift_state(),
+            # which landscape terms are switched on (a gate can be open or closed)
+            "landscape_enabled": np.array(self.landscape.enabled, dtype=bool),
         }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -426,11 +427,8 @@ class Simulation:
                                        if k.startswith("record_")})
         self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = \
             (int(v) for v in state["counters"])
-
-    def _drift_state(self) -> np.ndarray:
-        """The uniform drift (or NaN when it comes from the grid), to check a resume."""
-        drift = self._terms.drift
-        return np.array([np.nan, np.nan] if drift.from_grid else [drift.vs_x, drift.vs_y])
+        for term, on in enumerate(state.get("landscape_enabled", ())):
+            self.landscape.set_enabled(term, bool(on))
 
     # -- results -------------------------------------------------------------------------------
     def parameters(self) -> dict:
