@@ -65,7 +65,9 @@ WORKLOADS = {
 
 def timed(src: str, code: str, clock: str = "perf_counter") -> float:
     code = code.replace("time.CLOCK", f"time.{clock}")
-    env = {**os.environ, "PYTHONPATH": src}
+    # the version's source first, then whatever the caller's path holds (its dependencies)
+    env = {**os.environ,
+           "PYTHONPATH": os.pathsep.join(p for p in (src, os.environ.get("PYTHONPATH")) if p)}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                          text=True)
     if out.returncode:

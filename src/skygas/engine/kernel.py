@@ -133,18 +133,19 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
             # often on grid rows not read for a while: start loading them now, so that the
             # wait overlaps with the first force pass. Skyrmions far from every wall (see
             # stages.interior_floor) will not look their fields up.
+            land = terms.landscape
+            inv_lh = 1.0 / land.spacing
             for i in range(n):
-                if alive[i] and floor[i] <= 0.0:
-                    prefetch_at(grid.fields, (x[i] + vx1[i] * dt + nx_[i] - grid.x0) * inv_gh,
-                                (y[i] + vy1[i] * dt + ny_[i] - grid.y0) * inv_gh)
-            if terms.landscape.active:  # and the landscape cells there (measured: the
-                land = terms.landscape  # landscape term's cost falls by a fifth)
-                inv_lh = 1.0 / land.spacing
-                for i in range(n):
-                    if alive[i]:
-                        prefetch_cell(land.coefficients,
-                                      (x[i] + vx1[i] * dt + nx_[i] - land.x0) * inv_lh,
-                                      (y[i] + vy1[i] * dt + ny_[i] - land.y0) * inv_lh)
+                if not alive[i]:
+                    continue
+                ax = x[i] + vx1[i] * dt + nx_[i]
+                ay = y[i] + vy1[i] * dt + ny_[i]
+                if floor[i] <= 0.0:
+                    prefetch_at(grid.fields, (ax - grid.x0) * inv_gh, (ay - grid.y0) * inv_gh)
+                if land.active:  # and the landscape's cells there (measured: the landscape
+                    # term's cost falls by a fifth)
+                    prefetch_cell(land.coefficients, (ax - land.x0) * inv_lh,
+                                  (ay - land.y0) * inv_lh)
         # -- force passes: Heun's predictor and corrector (Euler: the first only) -------------
         for stage in range(2 if heun else 1):
             px = x if stage == 0 else xp

@@ -94,7 +94,7 @@ class DriftTerm(NamedTuple):
 
 class LandscapeTerm(NamedTuple):
     """An external potential: the polynomial coefficients of its interpolant in every cell of
-    a grid of origin (x0, y0) and spacing h [nm], ``coefficients[j, i, 4a + b]`` of tᵃuᵇ
+    a grid of origin (x0, y0) and spacing h [nm], ``coefficients[j, i, 4b + a]`` of tᵃuᵇ
     [pN·nm] (:mod:`skygas.landscape.hermite`)."""
 
     coefficients: np.ndarray
@@ -207,7 +207,7 @@ def drift_term(thiele, velocity=(0.0, 0.0), from_grid: bool = False) -> DriftTer
 def landscape_term(field=None) -> LandscapeTerm:
     """:class:`LandscapeTerm` of a :class:`~skygas.landscape.LandscapeField` (or none)."""
     if field is None or not field.terms:
-        return LandscapeTerm(np.zeros((1, 1, 16)), 0.0, 0.0, 1.0, False)
+        return LandscapeTerm(np.zeros((1, 1, 16), dtype=np.float32), 0.0, 0.0, 1.0, False)
     return LandscapeTerm(field.coefficients, field.grid.x0, field.grid.y0, field.grid.spacing, True)
 
 
