@@ -63,6 +63,8 @@ from skygas.neuron._compiled import annihilation_check, total_rate
 #: SeedSequence stream tags (the second entry of the entropy tuple).
 ANNIHILATION_STREAM = 0x616E6E
 NUCLEATION_STREAM = 0x6E7563
+#: The reason under which the simulation logs this model's annihilations.
+REASON = "annihilation"
 
 
 @dataclass(frozen=True)
@@ -154,17 +156,19 @@ class Annihilator:
     """An :class:`~skygas.engine.Operation` applying an :class:`AnnihilationModel`.
 
     ``region`` (optional, a callable (x_nm, y_nm) → bool mask) restricts nucleation to part of
-    the outline (e.g. the chamber, not the conduits). Logs every event as (time [s], x [m], y [m]).
+    the outline (e.g. the chamber, not the conduits). Nucleations are logged here as (time [s],
+    x [m], y [m]); annihilations go to the simulation's own log, ``sim.annihilations``, under
+    the reason :data:`REASON` (read back through :attr:`annihilation_times`).
     """
 
     model: AnnihilationModel
     seed: int
     interval_steps: int
     region: object = None
-    annihilations: list = field(default_factory=list)
     nucleations: list = field(default_factory=list)
     nucleation_misses: int = 0
     _next: int = 0
+    _sim: object = field(default=None, repr=False)
 
     def __post_init__(self):
         self._victims = np.empty(0, np.int64)
@@ -177,11 +181,17 @@ class Annihilator:
         steps = max(1, int(round(model.check_interval / sim.time_step)))
         op = cls(model, sim.seed, steps, region)
         op._next = sim.step
+        op._sim = sim
         return op
 
     @property
+    def annihilation_times(self) -> np.ndarray:
+        """Times [s] of this model's annihilations, in order (from ``sim.annihilations``)."""
+        return self._sim.annihilations.times(REASON)
+
+    @property
     def n_annihilated(self) -> int:
-        return len(self.annihilations)
+        return self._sim.annihilations.count(REASON) if self._sim is not None else 0
 
     @property
     def n_nucleated(self) -> int:
@@ -191,6 +201,7 @@ class Annihilator:
         return self._next if self.model.enabled else np.iinfo(np.int64).max
 
     def act(self, sim) -> None:
+        self._sim = sim
         self._next = sim.step + self.interval_steps
         dt = self.interval_steps * sim.time_step
         self._annihilate(sim, dt)
@@ -198,15 +209,14 @@ class Annihilator:
             self._nucleate(sim, dt)
 
     def state_dict(self) -> dict:
-        """The mutable state (event logs, counters, schedule, both generators' states) as
-        JSON-able values; :meth:`load_state_dict` continues bit-identically."""
-        return {"annihilations": [list(map(float, e)) for e in self.annihilations],
-                "nucleations": [list(map(float, e)) for e in self.nucleations],
+        """The mutable state (nucleation log, counters, schedule, both generators' states) as
+        JSON-able values; :meth:`load_state_dict` continues bit-identically. (The
+        annihilations are in the simulation's checkpoint, with its log.)"""
+        return {"nucleations": [list(map(float, e)) for e in self.nucleations],
                 "nucleation_misses": int(self.nucleation_misses), "next": int(self._next),
                 "rng": self.rng.bit_generator.state, "nuc_rng": self.nuc_rng.bit_generator.state}
 
     def load_state_dict(self, state: dict) -> None:
-        self.annihilations = [tuple(e) for e in state["annihilations"]]
         self.nucleations = [tuple(e) for e in state["nucleations"]]
         self.nucleation_misses = int(state["nucleation_misses"])
         self._next = int(state["next"])
@@ -241,10 +251,7 @@ class Annihilator:
             self._victims = np.empty(len(store.alive), np.int64)
         n = annihilation_check(*args, dt, self.rng, first_wait, self._victims)
         victims = self._victims[:n]
-        t = sim.time
-        for s in victims:
-            self.annihilations.append((t, store.x[s] / units.M_TO_NM, store.y[s] / units.M_TO_NM))
-        sim.state.annihilate(store.ids[victims], "annihilation")
+        sim.state.annihilate(store.ids[victims], REASON)
 
     def _nucleate(self, sim, dt: float) -> None:
         area_m2 = sim.outline.area_nm2() / units.M_TO_NM**2

@@ -149,7 +149,7 @@ def release_statistics(run) -> list[dict]:
     closings = np.array(run.controller.closings) * dt
     tr = run.trace()
     exits = run.emission_times()
-    deaths = np.array([a[0] for a in run.annihilator.annihilations], float)
+    deaths = run.annihilator.annihilation_times
     cap = run.device.config.rule.release_time
     out = []
     for k, t_open in enumerate(openings):
