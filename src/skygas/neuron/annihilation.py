@@ -168,7 +168,7 @@ class Annihilator:
     nucleations: list = field(default_factory=list)
     nucleation_misses: int = 0
     _next: int = 0
-    _sim: object = field(default=None, repr=False)
+    simulation: object = field(default=None, repr=False)  # set by for_simulation, act
 
     def __post_init__(self):
         self._victims = np.empty(0, np.int64)
@@ -181,17 +181,17 @@ class Annihilator:
         steps = max(1, int(round(model.check_interval / sim.time_step)))
         op = cls(model, sim.seed, steps, region)
         op._next = sim.step
-        op._sim = sim
+        op.simulation = sim
         return op
 
     @property
     def annihilation_times(self) -> np.ndarray:
         """Times [s] of this model's annihilations, in order (from ``sim.annihilations``)."""
-        return self._sim.annihilations.times(REASON)
+        return self.simulation.annihilations.times(REASON)
 
     @property
     def n_annihilated(self) -> int:
-        return self._sim.annihilations.count(REASON) if self._sim is not None else 0
+        return self.simulation.annihilations.count(REASON) if self.simulation is not None else 0
 
     @property
     def n_nucleated(self) -> int:
@@ -201,7 +201,7 @@ class Annihilator:
         return self._next if self.model.enabled else np.iinfo(np.int64).max
 
     def act(self, sim) -> None:
-        self._sim = sim
+        self.simulation = sim
         self._next = sim.step + self.interval_steps
         dt = self.interval_steps * sim.time_step
         self._annihilate(sim, dt)
