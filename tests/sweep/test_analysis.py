@@ -83,3 +83,36 @@ def test_free_exponent_of_exact_power_law():
     rho = odds / (1 + odds)
     fit = power_law_exponent(length, rho, np.full(5, 0.01))
     assert fit["exponent"] == pytest.approx(-0.5, abs=1e-9) and fit["n_points"] == 5
+
+
+def test_stores_over_different_points_are_fitted_together(tmp_path, capsys):
+    # one grid at p = 0.62, a second at other p-values and some of the same currents: the
+    # combined fit sees all 2 × 3 + 2 × 2 points of the exact law ρ/(1 − ρ) = x^(3/2)
+    def law(c):
+        return 1 / (1 + (c.current_density / 1e11) ** -1.5)
+
+    a = fake_store(tmp_path / "a.zarr", {"current_density": [1e11, 1.5e11, 2e11],
+                                         "signal.p": [0.62]}, law)
+    b = fake_store(tmp_path / "b.zarr", {"current_density": [1.5e11, 3.8e11],
+                                         "signal.p": [0.3, 0.8]}, law)
+    from skygas.sweep import open_sweeps
+
+    ds = open_sweeps([a, b])
+    assert int(ds["done"].sum()) == 2 * (3 + 4)
+    fits = fit_current_scaling(ds)
+    assert fits["beta"]["exponent"] == pytest.approx(1.5, abs=1e-9)
+    assert fits["beta"]["n_points"] == 7
+    assert main(["plot", str(a), str(b), "--out", str(tmp_path / "figs")]) == 0
+    rows = (tmp_path / "figs" / "points.csv").read_text().splitlines()
+    assert len(rows) == 1 + 7  # the points no store holds are left out
+    capsys.readouterr()
+    # a point done in both stores, or stores over different fields: one line, nothing drawn
+    c = fake_store(tmp_path / "c.zarr", {"current_density": [2e11], "signal.p": [0.62]}, law)
+    d = fake_store(tmp_path / "d.zarr", {"device.chamber_diameter": [4e-7, 8e-7]},
+                   lambda c: 0.1)
+    for pair, expected in (((a, c), "current_density = 2e+11, signal_p = 0.62 is done in"),
+                           ((a, d), "a sweep over the same fields")):
+        assert main(["plot", *map(str, pair), "--out", str(tmp_path / "bad")]) == 2
+        err = capsys.readouterr().err
+        assert expected in err and len(err.strip().splitlines()) == 1
+        assert not (tmp_path / "bad").exists()

@@ -27,13 +27,15 @@ def _sweep(args) -> int:
 
 
 def _plot(args) -> int:
-    from skygas.sweep import plot_sweep
-
-    result = plot_sweep(args.store, args.out)
     from pathlib import Path
 
     from skygas.outputs.report import write_report
-    write_report(args.store, Path(args.out) / "report.html")
+    from skygas.sweep import open_sweeps, plot_sweep
+
+    stores = open_sweeps(args.store)  # one store, or several over the same fields, combined
+    result = plot_sweep(stores, args.out)
+    write_report(args.store if len(args.store) > 1 else args.store[0],
+                 Path(args.out) / "report.html")
     result["report"] = str(Path(args.out) / "report.html")
     if args.json:
         print_json(result)
@@ -66,7 +68,9 @@ def register(subparsers) -> None:
     p.set_defaults(func=_sweep)
 
     q = subparsers.add_parser("plot", help="figures and fits of a sweep store")
-    q.add_argument("store", help="zarr store written by `skygas sweep`")
+    q.add_argument("store", nargs="+",
+                   help="zarr store written by `skygas sweep`; several stores over the same "
+                        "swept fields but different points are drawn and fitted together")
     q.add_argument("--out", required=True, help="directory for the PNG figures and fits.json")
     q.add_argument("--json", action="store_true", help="print the fits as one JSON object")
     q.set_defaults(func=_plot)

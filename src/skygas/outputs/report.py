@@ -151,6 +151,8 @@ def check_report_path(path: str | Path) -> Path:
 def write_report(source: str | Path, out: str | Path, *, analysis: dict | None = None) -> Path:
     """Write the report of the run or sweep store at ``source`` to ``out`` (.html)."""
     out = check_report_path(out)
+    if isinstance(source, (list, tuple)):  # sweep stores drawn together
+        return _write(sweep_report([Path(s) for s in source]), out)
     source = Path(source)
     if (source / "zarr.json").exists():
         return _write(sweep_report(source), out)
@@ -333,15 +335,18 @@ def _analysis_figures(a: dict):
 
 
 # -- sweeps -----------------------------------------------------------------------------------
-def sweep_report(store: Path) -> str:
-    """The HTML text of a sweep store's report: provenance, scaling fits and figures."""
+def sweep_report(store: Path | list[Path]) -> str:
+    """The HTML text of a sweep store's report (or of several stores drawn together):
+    provenance, scaling fits and figures."""
     import tempfile
 
-    from skygas.sweep import open_sweep, plot_sweep
+    from skygas.sweep import open_sweeps, plot_sweep
 
-    ds = open_sweep(store)
-    page = _Page(f"skygas sweep — {store.name}")
-    page.paragraph(f"Report written by skygas {__version__} from {store}.")
+    stores = store if isinstance(store, list) else [store]
+    ds = open_sweeps(stores)
+    page = _Page(f"skygas sweep — {' + '.join(s.name for s in stores)}")
+    page.paragraph(f"Report written by skygas {__version__} from "
+                   f"{', '.join(str(s) for s in stores)}.")
     page.heading("Provenance")
     done = ds["done"].values
     page.table([("skygas version of the sweep", ds.attrs.get("skygas_version", "?")),

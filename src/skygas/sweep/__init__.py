@@ -5,7 +5,8 @@
 - :func:`run_sweep`: run what is not yet done (local Dask cluster, an existing scheduler, or
   serially) and stream each finished run into the store; :func:`start_local_cluster` starts a
   local cluster with the settings a sweep uses;
-- :func:`open_sweep`: the store as an :class:`xarray.Dataset`;
+- :func:`open_sweep`: the store as an :class:`xarray.Dataset`; :func:`open_sweeps`: several
+  stores over the same fields as one;
 - :func:`fit_current_scaling`, :func:`fit_chamber_scaling`: the paper's scaling fits;
 - :func:`plot_sweep`: the paper's reshuffler and chamber-size figures from a store.
 

@@ -9,7 +9,7 @@ from .analysis import (
 from .execute import SweepReport, run_sweep, start_local_cluster
 from .figures import plot_sweep
 from .spec import Run, Sweep, load_sweep, parse_sweep
-from .store import open_sweep
+from .store import open_sweep, open_sweeps
 from .worker import run_one
 
 __all__ = [
@@ -20,6 +20,7 @@ __all__ = [
     "fit_current_scaling",
     "load_sweep",
     "open_sweep",
+    "open_sweeps",
     "parse_sweep",
     "plot_sweep",
     "replica_mean",

@@ -217,9 +217,11 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
 
 
 def write_point_table(ds: xr.Dataset, path: Path) -> Path:
-    rows = point_table(ds)
+    """``points.csv``: one row per point with at least one run done."""
+    table = point_table(ds)
+    rows = [row for row in table if row["replicas"] > 0]
     with open(path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer = csv.DictWriter(f, fieldnames=list(table[0]))
         writer.writeheader()
         writer.writerows({k: f"{v:.6g}" for k, v in row.items()} for row in rows)
     return path

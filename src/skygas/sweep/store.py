@@ -226,3 +226,47 @@ def open_sweep(path: str | Path) -> xr.Dataset:
                       (np.nan_to_num(seconds) * 1e9).astype(np.int64).astype("datetime64[ns]"))
     ds["finished_at"] = (ds["finished_at"].dims, stamps)
     return ds
+
+
+def open_sweeps(paths) -> xr.Dataset:
+    """Several sweep stores over the same swept fields as one :class:`xarray.Dataset` on the
+    union of their grids (points no store holds are NaN, not done), for figures and fits that
+    span them: say, a grid at one p-value and a second grid of other p-values at some of its
+    currents. A point done in two stores is refused (the stores would disagree on its runs).
+
+    One path: :func:`open_sweep`. The attributes keep each store's sweep file
+    (``sweep_text``, one after the other) and its root seed (``root_seed``, listed)."""
+    paths = [Path(p) for p in ([paths] if isinstance(paths, (str, Path)) else paths)]
+    if len(paths) == 1:
+        return open_sweep(paths[0])
+    parts = [open_sweep(p) for p in paths]
+    fields = [tuple(sorted(json.loads(ds.attrs.get("fields_json", "{}")))) for ds in parts]
+    for path, own in zip(paths[1:], fields[1:]):
+        if own != fields[0]:
+            raise InputError("STORE", str(path), f"a sweep over the same fields as {paths[0]} "
+                             f"({', '.join(fields[0])}; this one sweeps {', '.join(own)})")
+    points = [ds["done"].fillna(0).astype(bool).any("replica") for ds in parts]
+    for a in range(len(parts)):
+        for b in range(a + 1, len(parts)):
+            both = points[a] & points[b]  # aligned on the points the two grids share
+            if bool(both.any()):
+                point = both.where(both, drop=True).isel({d: 0 for d in both.dims})
+                where = ", ".join(f"{d} = {float(point[d]):g}" for d in both.dims)
+                raise InputError("STORE", str(paths[b]),
+                                 f"stores of different points ({where} is done in "
+                                 f"{paths[a]} too)")
+    masked = []
+    for ds in parts:  # runs not done are NaN, so that the grids merge without conflicts
+        done = ds["done"].fillna(0) == 1
+        masked.append(ds.assign({name: ds[name].where(done) for name in ds.data_vars
+                                 if "replica" in ds[name].dims}))
+    merged = xr.merge(masked, join="outer", compat="no_conflicts",
+                      combine_attrs="drop_conflicts")
+    merged["done"] = merged["done"].fillna(0)
+    merged.attrs["fields_json"] = parts[0].attrs.get("fields_json", "{}")
+    merged.attrs["sweep_text"] = "\n".join(
+        f"# {path}\n{ds.attrs.get('sweep_text', ds.attrs.get('sweep_toml', ''))}"
+        for path, ds in zip(paths, parts))
+    merged.attrs["root_seed"] = [ds.attrs.get("root_seed", ds.attrs.get("seed")) for ds in parts]
+    merged.attrs["stores"] = [str(p) for p in paths]
+    return merged
