@@ -166,7 +166,6 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
     (one series per p-value when p is swept)."""
     from matplotlib.figure import Figure
 
-    done = ds["done"] == 1
     series = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
     scale, label, log = ((1.0, "current density J (A/m²)", True) if x_dim == CURRENT
                          else (1e9, "chamber diameter L (nm)", False))
