@@ -34,8 +34,7 @@ def _plot(args) -> int:
 
     stores = open_sweeps(args.store)  # one store, or several over the same fields, combined
     result = plot_sweep(stores, args.out)
-    write_report(args.store if len(args.store) > 1 else args.store[0],
-                 Path(args.out) / "report.html")
+    write_report(args.store, Path(args.out) / "report.html")
     result["report"] = str(Path(args.out) / "report.html")
     if args.json:
         print_json(result)

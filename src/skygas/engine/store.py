@@ -54,11 +54,6 @@ class AnnihilationLog:
         return np.array([row[1] for row in self.rows if reason is None or row[4] == reason],
                         dtype=float)
 
-    def positions(self, reason: str | None = None) -> np.ndarray:
-        """Positions [m] (n, 2) of the removals for ``reason`` (all when None), in order."""
-        return np.array([row[2:4] for row in self.rows if reason is None or row[4] == reason],
-                        dtype=float).reshape(-1, 2)
-
     def arrays(self) -> dict[str, np.ndarray]:
         """``skyrmion``, ``time`` [s], ``x``, ``y`` [m] and ``reason`` as arrays."""
         columns = list(zip(*self.rows)) if self.rows else [[], [], [], [], []]

@@ -71,7 +71,7 @@ def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> 
     run.controller.act(run.sim)              # first trace point at t = 0
     run.run()
     tr = run.trace()
-    deaths = list(run.annihilator.annihilation_times)
+    deaths = run.annihilator.annihilation_times
     tau, err = leak_from_log(tr["time"], tr["count"], deaths)
     return {"time": tr["time"], "count": tr["count"], "leak_time_s": tau,
             "leak_time_error_s": err, "n_annihilated": len(deaths), "run": run}

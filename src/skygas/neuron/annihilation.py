@@ -187,6 +187,8 @@ class Annihilator:
     @property
     def annihilation_times(self) -> np.ndarray:
         """Times [s] of this model's annihilations, in order (from ``sim.annihilations``)."""
+        if self.simulation is None:  # not attached to a simulation yet
+            return np.empty(0)
         return self.simulation.annihilations.times(REASON)
 
     @property

@@ -333,7 +333,7 @@ class NeuronRun:
         tr = self.trace()
         spikes = self.spike_times()
         leak, leak_err = leak_from_log(tr["time"], tr["count"],
-                                       list(self.annihilator.annihilation_times))
+                                       self.annihilator.annihilation_times)
         rule = self.device.config.rule
         return {
             "skygas_version": __version__,

@@ -145,7 +145,7 @@ def simulate_lif(injection_times, tau: float, threshold: float, reset: float,
 def fit_lif(run, window: float | None = None) -> dict:
     """Fit τ, θ, V_r of an LIF to a device run and say how well it reproduces it."""
     tr = run.trace()
-    deaths = list(run.annihilator.annihilation_times)
+    deaths = run.annihilator.annihilation_times
     tau, tau_err = closed_gate_leak(tr, deaths)
     dt = run.sim.time_step
     t_open = np.array(run.controller.openings, dtype=int)
