@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
 import numpy as np
-from pydantic import Field, ValidationError
+from pydantic import Field, ValidationError, ValidationInfo, field_validator, model_validator
 
 from skygas import geometry as geo
 from skygas.config_types import (
@@ -26,9 +26,11 @@ from skygas.errors import InputError
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
 from skygas.landscape.kinds import Potential
 from skygas.materials import (
+    DEFAULT_FILM_THICKNESS,
     Material,
     ThieleParameters,
     derive_thiele,
+    film_mismatch,
     load_material,
     preset_names,
 )
@@ -113,9 +115,20 @@ class ThieleOverrides(StrictModel):
 
 
 class ForcesSpec(StrictModel):
-    pair_law: Literal["paper", "lin-reichhardt"] = "paper"
+    """The force laws (docs/physics.md §2). ``pair_law`` / ``wall_law`` left out take the
+    material's own: ``"table"`` when it has a ``pair_table`` / ``wall_table`` (a calibrated
+    model), else ``"paper"``; results record the law used."""
+
+    pair_law: Literal["paper", "lin-reichhardt", "table"] | None = None
+    wall_law: Literal["paper", "table"] | None = None
     pair_law_params: dict[str, float] = {}
     cutoff_fraction: float = Field(DEFAULT_CUTOFF_FRACTION, gt=0, lt=1)
+
+    def simulation_arguments(self) -> dict:
+        """The keyword arguments of :class:`~skygas.engine.Simulation` these choices give."""
+        return {"pair_law": self.pair_law, "wall_law": self.wall_law,
+                "pair_law_params": self.pair_law_params,
+                "cutoff_fraction": self.cutoff_fraction}
 
 
 class DriftSpec(StrictModel):
@@ -131,22 +144,58 @@ class SkyrmionsSpec(StrictModel):
     min_separation: PositiveFloat = 1.0
 
 
+def _material(material: str | dict[str, Any]) -> Material:
+    """The material a configuration names: a preset name, a TOML file, or an inline table."""
+    if isinstance(material, str) and not material.endswith(".toml") \
+            and material not in preset_names():
+        raise InputError("material", material,
+                         f"a preset ({', '.join(preset_names())}), a .toml file or a table")
+    return load_material(material)
+
+
+def _material_or_none(material) -> Material | None:
+    """The material, or ``None`` if it does not load: its error is reported where the
+    material is used, as for any configuration."""
+    try:
+        return None if material is None else _material(material)
+    except InputError:
+        return None
+
+
 class MaterialFields(StrictModel):
-    """Fields every run configuration shares: the material, its film, Thiele overrides."""
+    """Fields every run configuration shares: the material, its film, Thiele overrides, the
+    force laws and the landscape.
+
+    ``film_thickness`` left out takes the material's own when it has one (a calibrated model,
+    measured for one film); a different explicit value is then refused."""
 
     material: Union[str, dict[str, Any]] = "S2"
-    film_thickness: Length = 2e-9
+    film_thickness: Length = DEFAULT_FILM_THICKNESS
     thiele: ThieleOverrides = ThieleOverrides()
+    forces: ForcesSpec = ForcesSpec()
     #: the energy landscape: external potentials (``[[potentials]]``, skygas.landscape)
     potentials: list[Potential] = []
 
+    @field_validator("film_thickness")
+    @classmethod
+    def _film_of_the_model(cls, value: float, info: ValidationInfo) -> float:
+        material = _material_or_none(info.data.get("material"))
+        mismatch = None if material is None else film_mismatch(material, value)
+        if mismatch is not None:
+            raise ValueError(mismatch)
+        return value
+
+    @model_validator(mode="after")
+    def _adopt_film_thickness(self):
+        if "film_thickness" not in self.model_fields_set:
+            material = _material_or_none(self.material)
+            if material is not None and material.film_thickness is not None:
+                self.film_thickness = material.film_thickness
+        return self
+
     def resolved_material(self) -> Material:
         """The material: a preset name, a TOML file, or an inline table."""
-        if isinstance(self.material, str) and not self.material.endswith(".toml") \
-                and self.material not in preset_names():
-            raise InputError("material", self.material,
-                             f"a preset ({', '.join(preset_names())}), a .toml file or a table")
-        return load_material(self.material)
+        return _material(self.material)
 
     def thiele_parameters(self) -> ThieleParameters:
         """Thiele coefficients of the material in the film, with the overrides applied."""
@@ -166,7 +215,6 @@ class SimulationConfig(MaterialFields):
     duration: PositiveFloat  # [s]; 0 is refused, as by every command
     record_interval: PositiveFloat = 1e-9
     integrator: Literal["heun", "euler-maruyama"] = "heun"
-    forces: ForcesSpec = ForcesSpec()
     drift: DriftSpec = DriftSpec()
     geometry: GeometrySpec = ChamberGeometry(closed=True)
     skyrmions: SkyrmionsSpec
@@ -176,25 +224,22 @@ class SimulationConfig(MaterialFields):
 
         ``time_step`` and ``brownian_substeps`` override the configuration (time-step checks).
         """
-        from skygas.engine import ForceModel, Simulation, default_time_step
+        from skygas.engine import Simulation
 
         material = self.resolved_material()
         thiele = self.thiele_parameters()
         outline = self.geometry.build()
         if time_step is None:
             time_step = self.time_step
-        if time_step is None:
-            forces = ForceModel.build(material, thiele, self.forces.pair_law,
-                                      self.forces.pair_law_params, self.forces.cutoff_fraction)
-            time_step = default_time_step(thiele, forces, self.record_interval)
+        # time_step None: the suggested step, shortened to divide record_interval exactly
         sim = Simulation(outline, material, time_step=time_step,
+                         step_interval=self.record_interval,
                          brownian_substeps=brownian_substeps,
                          temperature=self.temperature, seed=self.seed,
                          film_thickness=self.film_thickness, thiele=thiele,
-                         drift_velocity=self.drift.velocity, pair_law=self.forces.pair_law,
-                         pair_law_params=self.forces.pair_law_params,
-                         cutoff_fraction=self.forces.cutoff_fraction,
-                         integrator=self.integrator, landscape=self.potentials)
+                         drift_velocity=self.drift.velocity,
+                         integrator=self.integrator, landscape=self.potentials,
+                         **self.forces.simulation_arguments())
         s = self.skyrmions
         if s.positions:
             sim.add_skyrmions(np.asarray(s.positions), validate=True)

@@ -9,6 +9,13 @@ and return the force magnitude in units of F₀ (docs/physics.md §2). The engin
   (paper eq. "boundary", Methods' b vector), along the inward wall normal.
 - :func:`lin_reichhardt_pair_force`: |F| = A·K₁(d/λ) (Lin, Reichhardt, Batista & Saxena,
   PRB 87, 214419 (2013)), an alternative pair law.
+- :func:`tabulated_force` / :func:`tabulated_law`: a calibrated model's table of |F| [N] against
+  the distance [m] (centre–centre for the pair law, centre to the nearest wall for the wall law;
+  :class:`skygas.materials.ForceTableSpec`). The law is the PCHIP interpolant
+  (``scipy.interpolate.PchipInterpolator``: monotone between nodes, no overshoot, so a table of
+  non-negative forces stays non-negative) of the table at the physical distance d·d_sk, divided
+  by F₀. Below the first distance it is held at the first force; beyond the last distance it is
+  exactly 0. The table is in SI, so changing d_sk or F₀ does not change the physical law.
 
 Cutoff
 ------
@@ -30,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import special
+from scipy.interpolate import PchipInterpolator
 
 from skygas.errors import InputError
 
@@ -63,6 +71,39 @@ def lin_reichhardt_pair_force(d, amplitude: float = 1.0, decay_length: float = 0
     """
     d = np.maximum(np.asarray(d, dtype=float), 0.05 * decay_length)
     return amplitude * special.k1(d / decay_length)
+
+
+def tabulated_law(distance, force, skyrmion_diameter: float, force_scale: float):
+    """A tabulated force as a law: a one-argument callable of d (skyrmion diameters) returning
+    |F|/F₀.
+
+    ``distance`` [m] (strictly increasing, ≥ 0) and ``force`` [N] are the table; the law is the
+    PCHIP interpolant of the table at r = d·``skyrmion_diameter`` [m], divided by
+    ``force_scale`` F₀ [N]; held at ``force[0]`` for r below ``distance[0]`` and 0 for r beyond
+    ``distance[-1]``. The interpolation runs in nm and pN, where the numbers are of order one.
+    """
+    r_nm = np.asarray(distance, dtype=float) * 1e9
+    f_pn = np.asarray(force, dtype=float) * 1e12
+    if r_nm.ndim != 1 or len(r_nm) < 2 or r_nm.shape != f_pn.shape \
+            or np.any(np.diff(r_nm) <= 0):
+        raise InputError("force table", list(distance),
+                         "at least two strictly increasing distances with one force each")
+    interpolant = PchipInterpolator(r_nm, f_pn, extrapolate=False)
+    d_sk_nm, f0_pn = skyrmion_diameter * 1e9, force_scale * 1e12
+    first, last = r_nm[0], r_nm[-1]
+
+    def law(d):
+        r = np.asarray(d, dtype=float) * d_sk_nm
+        inside = interpolant(np.clip(r, first, last))
+        out = np.where(r < first, f_pn[0], np.where(r > last, 0.0, inside))
+        return out / f0_pn
+
+    return law
+
+
+def tabulated_force(d, distance, force, skyrmion_diameter: float, force_scale: float):
+    """|F|/F₀ of a tabulated law at ``d`` skyrmion diameters (see :func:`tabulated_law`)."""
+    return tabulated_law(distance, force, skyrmion_diameter, force_scale)(d)
 
 
 def cutoff_distance(law, fraction: float = DEFAULT_CUTOFF_FRACTION, d_max: float = 50.0) -> float:
@@ -103,9 +144,11 @@ class ForceTable:
 
     @classmethod
     def from_law(cls, law, force_scale: float, length_unit: float, cutoff_fraction: float,
-                 n_points: int = 4096, squared: bool = False) -> "ForceTable":
-        """Tabulate ``force_scale · law(r / length_unit)`` up to the law's cutoff (nm, pN)."""
-        cutoff = cutoff_distance(law, cutoff_fraction) * length_unit
+                 n_points: int = 4096, squared: bool = False,
+                 d_max: float = 50.0) -> "ForceTable":
+        """Tabulate ``force_scale · law(r / length_unit)`` up to the law's cutoff (nm, pN);
+        the cutoff is searched up to ``d_max`` diameters (:func:`cutoff_distance`)."""
+        cutoff = cutoff_distance(law, cutoff_fraction, d_max) * length_unit
         extent = cutoff * cutoff if squared else cutoff
         spacing = extent / (n_points - 1) if cutoff > 0 else 1.0
         nodes = np.arange(n_points + 1) * spacing  # one extra node so the cutoff interpolates
@@ -147,7 +190,9 @@ def pair_law(name: str, pair_coefficients, **params):
         return lambda d: paper_pair_force(d, a2, a1, a0)
     if name == "lin-reichhardt":
         return lambda d: lin_reichhardt_pair_force(d, **params)
-    raise InputError("forces.pair_law", name, "'paper' or 'lin-reichhardt'")
+    raise InputError("forces.pair_law", name,
+                     "'paper' or 'lin-reichhardt' ('table' is built from the material's "
+                     "pair_table by tabulated_law)")
 
 
 def wall_law(coefficients):

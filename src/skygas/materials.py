@@ -12,6 +12,11 @@ Derivations (docs/physics.md §1, with its sign convention):
 - ``𝒟 ≈ 2π (R/Δ + Δ/R)`` (thin-wall estimate) with wall width Δ = √(A_ex/K_u), unless given.
 - ``F₀ = A_ex t_F / d_sk`` (exchange force scale), unless given.
 - free diffusion ``D = k_B T α𝒟 / (k (G̃² + (α𝒟)²))`` with G̃ = G/k.
+
+A calibrated material (``skygas calibrate``'s ``model.toml``) may carry more: the film thickness
+its laws were measured for (any other thickness is refused), its own γ, tabulated pair and wall
+laws (:class:`ForceTableSpec`) and the profile of its skyrmion for the edge stray field
+(:class:`StrayFieldSpec`; docs/physics.md §2, "Tabulated laws and the edge stray field").
 """
 
 from __future__ import annotations
@@ -22,14 +27,124 @@ from dataclasses import asdict, dataclass
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from skygas import units
 from skygas.config_types import PositiveFloat
 from skygas.errors import InputError
 
+#: The film thickness [m] of a material that does not name its own (the paper's 2 nm).
+DEFAULT_FILM_THICKNESS = 2e-9
+
+FinitePositive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+
+#: Relative difference of two film thicknesses above which they are different films.
+FILM_THICKNESS_RTOL = 1e-9
+#: Largest deficit 1 − m_z accepted at a profile's last radius: w is taken as 0 beyond it, so
+#: the profile must have decayed there (1 % of the core's 2).
+PROFILE_TAIL_MAX = 0.02
+
+
+def _strictly_increasing(values: tuple[float, ...], name: str) -> None:
+    if any(b <= a for a, b in zip(values, values[1:])):
+        raise ValueError(f"{name} must be strictly increasing")
+
+
+class ForceTableSpec(BaseModel):
+    """A tabulated repulsive force law in physical units (a calibrated model's pair or wall law).
+
+    Attributes
+    ----------
+    distance: centre–centre distance (pair) or distance from the skyrmion's centre to the
+        nearest wall (wall) [m]; at least 4 points, strictly increasing, ≥ 0.
+    force: |F| at those distances [N]; finite, ≥ 0.
+
+    The engine interpolates it with PCHIP, holds it at ``force[0]`` below the first distance and
+    sets it to 0 beyond the last (:func:`skygas.forces.tabulated_law`). The table is in SI, not
+    in units of d_sk and F₀: overriding either never changes a tabulated law.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    distance: tuple[float, ...]
+    force: tuple[float, ...]
+
+    @field_validator("distance")
+    @classmethod
+    def _distances(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if len(value) < 4:
+            raise ValueError("at least 4 distances (m)")
+        if value[0] < 0:
+            raise ValueError("distances (m) must be >= 0")
+        _strictly_increasing(value, "distance")
+        return value
+
+    @field_validator("force")
+    @classmethod
+    def _forces(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if any(f < 0 for f in value):
+            raise ValueError("forces (N) must be >= 0 (a repulsion's magnitude)")
+        return value
+
+    @model_validator(mode="after")
+    def _same_length(self):
+        if len(self.force) != len(self.distance):
+            raise ValueError(f"force needs one value per distance ({len(self.distance)}), "
+                             f"not {len(self.force)}")
+        return self
+
+
+class StrayFieldSpec(BaseModel):
+    """The isolated skyrmion's radial profile, for its energy in the film's edge stray field.
+
+    Attributes
+    ----------
+    profile_radius: radii ρ [m], strictly increasing from 0 (at least 2).
+    profile_deficit: w(ρ) = 1 − m_z at those radii (dimensionless): 2 at a fully reversed core,
+        decaying to ~0 (at most PROFILE_TAIL_MAX) at the last radius; linearly interpolated and
+        0 beyond the last radius (:mod:`skygas.landscape.stray_field`).
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    profile_radius: tuple[float, ...]
+    profile_deficit: tuple[float, ...]
+
+    @field_validator("profile_radius")
+    @classmethod
+    def _radii(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if len(value) < 2:
+            raise ValueError("at least 2 radii (m)")
+        if value[0] != 0:
+            raise ValueError("radii (m) must start at 0 (the skyrmion's centre)")
+        _strictly_increasing(value, "profile_radius")
+        return value
+
+    @field_validator("profile_deficit")
+    @classmethod
+    def _deficits(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if any(not 0 <= w <= 2 for w in value):
+            raise ValueError("deficits 1 - m_z between 0 and 2")
+        if value and value[-1] > PROFILE_TAIL_MAX:
+            raise ValueError(f"a deficit that has decayed to <= {PROFILE_TAIL_MAX} at the last "
+                             "radius (it is taken as 0 beyond)")
+        return value
+
+    @model_validator(mode="after")
+    def _same_length(self):
+        if len(self.profile_deficit) != len(self.profile_radius):
+            raise ValueError(f"profile_deficit needs one value per radius "
+                             f"({len(self.profile_radius)}), not {len(self.profile_deficit)}")
+        return self
 
 
 class Material(BaseModel):
@@ -51,6 +166,14 @@ class Material(BaseModel):
     antiferromagnetic: if true, the gyrocoupling vanishes (G = 0).
     dissipation: dimensionless 𝒟; ``None`` uses the thin-wall estimate.
     wall_width: Δ [m]; ``None`` uses √(A_ex/K_u).
+    film_thickness: t_F [m] the laws were measured for (a calibrated model); ``None``: any
+        film (default 2 nm). When set, a run in another film is refused.
+    gyromagnetic_ratio: γ [rad/(s·T)] for k = M_s t_F/γ; ``None`` uses
+        :data:`skygas.units.GYROMAGNETIC_RATIO`.
+    pair_table, wall_table: tabulated laws in SI (:class:`ForceTableSpec`), chosen by
+        ``forces.pair_law`` / ``forces.wall_law = "table"`` (the default when present).
+    stray_field: the skyrmion's profile (:class:`StrayFieldSpec`) for the edge stray-field
+        energy, added with a tabulated wall law (docs/physics.md §2).
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -69,6 +192,11 @@ class Material(BaseModel):
     antiferromagnetic: bool = False
     dissipation: PositiveFloat | None = None
     wall_width: PositiveFloat | None = None
+    film_thickness: FinitePositive | None = None
+    gyromagnetic_ratio: FinitePositive | None = None
+    pair_table: ForceTableSpec | None = None
+    wall_table: ForceTableSpec | None = None
+    stray_field: StrayFieldSpec | None = None
 
     @field_validator("wall_law")
     @classmethod
@@ -231,9 +359,36 @@ class ThieleParameters:
         return self.skyrmion_diameter * units.M_TO_NM
 
 
+def resolve_film_thickness(material: Material, film_thickness: float | None = None,
+                           field: str = "film_thickness") -> float:
+    """The film thickness t_F [m] of a run of ``material``.
+
+    ``None`` takes the material's own ``film_thickness`` (a calibrated model), else
+    :data:`DEFAULT_FILM_THICKNESS`. A material calibrated for one film refuses any other
+    (relative difference above :data:`FILM_THICKNESS_RTOL`): its laws hold for that film only.
+    """
+    if film_thickness is None:
+        own = material.film_thickness
+        return DEFAULT_FILM_THICKNESS if own is None else own
+    mismatch = film_mismatch(material, film_thickness)
+    if mismatch is not None:
+        raise InputError(field, film_thickness, mismatch)
+    return film_thickness
+
+
+def film_mismatch(material: Material, film_thickness: float) -> str | None:
+    """What is allowed instead of ``film_thickness`` [m] for ``material``, or ``None`` if it is
+    allowed (any film for a material without ``film_thickness``)."""
+    own = material.film_thickness
+    if own is None or abs(film_thickness - own) <= FILM_THICKNESS_RTOL * own:
+        return None
+    return (f"the {own:g} m film the model '{material.name}' was calibrated for "
+            "(leave film_thickness out to take it)")
+
+
 def derive_thiele(
     material: Material,
-    film_thickness: float = 2e-9,
+    film_thickness: float | None = None,
     *,
     dissipation: float | None = None,
     force_scale: float | None = None,
@@ -243,12 +398,16 @@ def derive_thiele(
 ) -> ThieleParameters:
     """Thiele coefficients of ``material`` in a film of ``film_thickness`` [m].
 
-    Arguments left ``None`` take the defaults of docs/physics.md §4: 𝒟 from the material (or the
-    thin-wall estimate), F₀ = A_ex t_F / d_sk, d_sk = 2 R_sk, η = α.
+    Arguments left ``None`` take the defaults of docs/physics.md §4: t_F from the material (a
+    calibrated model; :func:`resolve_film_thickness`) or 2 nm, 𝒟 from the material (or the
+    thin-wall estimate), F₀ = A_ex t_F / d_sk, d_sk = 2 R_sk, η = α; γ in k = M_s t_F/γ is the
+    material's ``gyromagnetic_ratio`` or :data:`skygas.units.GYROMAGNETIC_RATIO`.
     """
-    if not film_thickness > 0:
+    if film_thickness is not None and not film_thickness > 0:
         raise InputError("film_thickness", film_thickness, "a thickness > 0 in metres")
-    k = material.saturation_magnetization * film_thickness / units.GYROMAGNETIC_RATIO
+    film_thickness = resolve_film_thickness(material, film_thickness)
+    gamma = material.gyromagnetic_ratio or units.GYROMAGNETIC_RATIO
+    k = material.saturation_magnetization * film_thickness / gamma
     gyro = 0.0 if material.antiferromagnetic else -4.0 * math.pi * material.topological_charge * k
     if dissipation is None:
         dissipation = material.dissipation

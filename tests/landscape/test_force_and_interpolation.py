@@ -20,6 +20,7 @@ from skygas.geometry import rectangle
 from skygas.landscape import (
     Band,
     Disorder,
+    EdgeStrayField,
     Gaussian,
     GridFile,
     LandscapeField,
@@ -55,6 +56,9 @@ def every_kind(tmp_path) -> dict:
                                         depth_spread_kT=1.0),
         "disorder": Disorder(rms_kT=2.0, correlation_length=40e-9),
         "grid": GridFile(path=grid_file(tmp_path), spacing=10e-9, origin=(-1e-6, -1e-6)),
+        "edge_stray_field": EdgeStrayField(
+            saturation_magnetization=S2.saturation_magnetization, thickness=2e-9,
+            profile_radius=(0.0, 15e-9, 25e-9, 60e-9), profile_deficit=(2.0, 1.8, 0.1, 0.0)),
     }
 
 

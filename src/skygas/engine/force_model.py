@@ -8,14 +8,22 @@ default (checked by :func:`skygas.timestep.check_time_step`).
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from skygas import units
-from skygas.forces import DEFAULT_CUTOFF_FRACTION, ForceTable, pair_law, wall_law
-from skygas.materials import Material, ThieleParameters
+from skygas.errors import InputError
+from skygas.forces import (
+    DEFAULT_CUTOFF_FRACTION,
+    ForceTable,
+    pair_law,
+    tabulated_law,
+    wall_law,
+)
+from skygas.materials import ForceTableSpec, Material, ThieleParameters
 from skygas.memo import Memo, frozen
 
 #: Time steps longer than this fraction of τ_min are refused (see Simulation.max_time_step).
@@ -28,36 +36,103 @@ SUGGESTED_STEP_FRACTION = 0.1
 #: pushed that close annihilate rather than bounce (the annihilation model handles them).
 MIN_PLACEMENT_SEPARATION = 0.5
 
+#: The pair laws and wall laws a run may name (``forces.pair_law``, ``forces.wall_law``).
+PAIR_LAWS = ("paper", "lin-reichhardt", "table")
+WALL_LAWS = ("paper", "table")
+
 # Force tables per law, coefficients, F₀, d_sk and cutoff fraction (see skygas.memo): finding a
 # law's cutoff scans it at 2·10⁵ points, 10 ms per model.
 _FORCE_TABLES = Memo("force_tables", maxsize=8)
 
 
+def _resolve(name: str | None, table: ForceTableSpec | None, laws: tuple[str, ...],
+             field: str, table_field: str, material: Material) -> str:
+    if name is None:  # the material's own law
+        return "paper" if table is None else "table"
+    if name not in laws:
+        raise InputError(field, name, " or ".join(f"'{n}'" for n in laws)
+                         + " (default: 'table' when the material has a table, else 'paper')")
+    if name == "table" and table is None:
+        raise InputError(field, name, f"a law the material '{material.name}' has: it has no "
+                         f"{table_field} (use 'paper', or a calibrated model)")
+    return name
+
+
+def resolve_law_names(material: Material, pair_law_name: str | None = None,
+                      wall_law_name: str | None = None) -> tuple[str, str]:
+    """The pair and wall laws a run uses: a name given, or ``None`` for the material's own
+    (``"table"`` when it has ``pair_table`` / ``wall_table``, else ``"paper"``). ``"table"``
+    for a material without that table is refused."""
+    return (_resolve(pair_law_name, material.pair_table, PAIR_LAWS, "forces.pair_law",
+                     "pair_table", material),
+            _resolve(wall_law_name, material.wall_table, WALL_LAWS, "forces.wall_law",
+                     "wall_table", material))
+
+
+def _table_key(table: ForceTableSpec) -> str:
+    """A digest of a table's numbers (for the memo's key)."""
+    data = np.concatenate([np.asarray(table.distance, float), np.asarray(table.force, float)])
+    return hashlib.sha256(data.tobytes()).hexdigest()
+
+
+def _search_range(table: ForceTableSpec, d_sk_nm: float) -> float:
+    """Diameters to search a table law's cutoff in: the default 50, or past the table's end."""
+    return max(50.0, 1.01 * table.distance[-1] * units.M_TO_NM / d_sk_nm)
+
+
 @dataclass(frozen=True)
 class ForceModel:
-    """The tabulated pair and wall laws (internal units) and how they were made."""
+    """The tabulated pair and wall laws (internal units) and how they were made.
+
+    ``pair_law`` and ``wall_law`` are the resolved names (:func:`resolve_law_names`), the ones
+    results record."""
 
     pair: ForceTable
     wall: ForceTable
     pair_law: str
     pair_law_params: dict
     cutoff_fraction: float
+    wall_law: str = "paper"
 
     @classmethod
-    def build(cls, material: Material, thiele: ThieleParameters, pair_law_name: str = "paper",
-              pair_law_params: dict | None = None,
-              cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION) -> "ForceModel":
+    def build(cls, material: Material, thiele: ThieleParameters,
+              pair_law_name: str | None = None, pair_law_params: dict | None = None,
+              cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
+              wall_law_name: str | None = None) -> "ForceModel":
+        """Tabulate the laws of ``material`` with F₀ and d_sk of ``thiele``; ``None`` names
+        take the material's own law (:func:`resolve_law_names`)."""
+        pair_law_name, wall_law_name = resolve_law_names(material, pair_law_name, wall_law_name)
         params = dict(pair_law_params or {})
         f0 = thiele.force_scale_internal
         d_sk = thiele.skyrmion_diameter_internal
         key = (pair_law_name, tuple(material.pair_law), tuple(material.wall_law),
                repr(sorted(params.items())), f0, d_sk, float(cutoff_fraction))
+        if "table" in (pair_law_name, wall_law_name):  # the paper-law keys stay as they were
+            key += (wall_law_name,
+                    _table_key(material.pair_table) if pair_law_name == "table" else None,
+                    _table_key(material.wall_table) if wall_law_name == "table" else None)
+
+        def table_law(table: ForceTableSpec):
+            return tabulated_law(table.distance, table.force, thiele.skyrmion_diameter,
+                                 thiele.force_scale)
 
         def tabulate() -> tuple[ForceTable, ForceTable]:
             # 8192 nodes in r²: relative error < 5e-5 from r = d_sk/4 on (64 kB, in L2 cache)
-            pair = ForceTable.from_law(pair_law(pair_law_name, material.pair_law, **params),
-                                       f0, d_sk, cutoff_fraction, n_points=8192, squared=True)
-            wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)
+            if pair_law_name == "table":
+                pair = ForceTable.from_law(table_law(material.pair_table), f0, d_sk,
+                                           cutoff_fraction, n_points=8192, squared=True,
+                                           d_max=_search_range(material.pair_table, d_sk))
+            else:
+                pair = ForceTable.from_law(pair_law(pair_law_name, material.pair_law, **params),
+                                           f0, d_sk, cutoff_fraction, n_points=8192,
+                                           squared=True)
+            if wall_law_name == "table":
+                wall = ForceTable.from_law(table_law(material.wall_table), f0, d_sk,
+                                           cutoff_fraction,
+                                           d_max=_search_range(material.wall_table, d_sk))
+            else:
+                wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk,
+                                           cutoff_fraction)
             frozen(pair.values, wall.values)
             return pair, wall
 
@@ -65,17 +140,32 @@ class ForceModel:
         # writable arrays (a read-only one would compile a second variant of every kernel)
         pair, wall = (replace(table, values=table.values.copy())
                       for table in _FORCE_TABLES.get(key, tabulate))
-        return cls(pair, wall, pair_law_name, params, cutoff_fraction)
+        return cls(pair, wall, pair_law_name, params, cutoff_fraction, wall_law_name)
 
     def max_stiffness(self, closest: float = 0.0) -> float:
-        """Largest |dF/dr| [pN/nm] of either tabulated law at distances r ≥ ``closest`` [nm]."""
+        """Largest |dF/dr| [pN/nm] of either tabulated law at distances r ≥ ``closest`` [nm].
+
+        A table law ends with a drop to 0 at its last distance: a bounded jump of the force,
+        not a stiffness (an explicit step across it stays stable), so its slope is measured up
+        to the last node of the engine's table that holds a force, before the one-node ramp
+        down to 0. The paper laws keep their measure (they fall to 10⁻³ F₀ there)."""
         slopes = [0.0]
-        for table in (self.pair, self.wall):
-            if table.cutoff <= closest:  # a law that is zero there has no slope
+        for table, name in ((self.pair, self.pair_law), (self.wall, self.wall_law)):
+            end = _last_force_node(table) if name == "table" else table.cutoff
+            if end <= closest:  # a law that is zero there has no slope
                 continue
-            r = np.linspace(closest, table.cutoff, 20_001)
+            r = np.linspace(closest, end, 20_001)
             slopes.append(float(np.max(np.abs(np.diff(table(r)))) / (r[1] - r[0])))
         return max(slopes)
+
+
+def _last_force_node(table: ForceTable) -> float:
+    """Distance [nm] of the last node of ``table`` with a non-zero force."""
+    held = np.nonzero(table.values)[0]
+    if len(held) == 0:
+        return 0.0
+    coord = held[-1] * table.spacing
+    return min(float(np.sqrt(coord) if table.squared else coord), table.cutoff)
 
 
 def relaxation_time(thiele: ThieleParameters, forces: ForceModel,
@@ -97,8 +187,9 @@ def relaxation_time(thiele: ThieleParameters, forces: ForceModel,
     return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 
-def default_time_step(thiele: ThieleParameters, forces: ForceModel, interval: float) -> float:
+def default_time_step(thiele: ThieleParameters, forces: ForceModel, interval: float,
+                      landscape_curvature: float = 0.0) -> float:
     """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s], shortened so that ``interval``
     [s] (a recording or injection interval) is a whole number of steps."""
-    suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, forces)
+    suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, forces, landscape_curvature)
     return interval / math.ceil(interval / suggested - 1e-9)

@@ -26,6 +26,7 @@ from skygas.engine.force_model import (
     MIN_PLACEMENT_SEPARATION,
     SUGGESTED_STEP_FRACTION,
     ForceModel,
+    default_time_step,
     relaxation_time,
 )
 from skygas.engine.kernel import advance
@@ -36,8 +37,14 @@ from skygas.engine.store import SkyrmionStore
 from skygas.errors import InputError, require
 from skygas.forces import DEFAULT_CUTOFF_FRACTION
 from skygas.geometry import Outline
-from skygas.landscape import LandscapeField, parse_potentials
-from skygas.materials import Material, ThieleParameters, derive_thiele, load_material
+from skygas.landscape import EdgeStrayField, LandscapeField, parse_potentials
+from skygas.materials import (
+    Material,
+    ThieleParameters,
+    derive_thiele,
+    load_material,
+    resolve_film_thickness,
+)
 from skygas.memo import Memo, frozen
 from skygas.wall_field import WallField
 
@@ -91,10 +98,17 @@ class Simulation:
     time_step: dt [s]; refused above :meth:`max_time_step`; ``None`` takes
         :meth:`suggested_time_step`.
     seed: non-negative integer; with the same seed a run is bit-identical.
-    film_thickness: t_F [m] (default 2 nm, as in the paper).
+    film_thickness: t_F [m]; ``None``: the material's own (a calibrated model, which refuses
+        any other), else 2 nm as in the paper.
     thiele: explicit Thiele parameters (otherwise derived from the material and film).
     drift_velocity: uniform spin-drift velocity v_s [m/s] (x, y).
-    pair_law, pair_law_params, cutoff_fraction: see :mod:`skygas.forces`.
+    pair_law, wall_law: ``"paper"``, ``"lin-reichhardt"`` (pair only) or ``"table"`` (the
+        material's ``pair_table`` / ``wall_table``); ``None``: the material's own, ``"table"``
+        when it has the table, else ``"paper"`` (:func:`~skygas.engine.force_model.
+        resolve_law_names`). With the table wall law, a material with a ``stray_field``
+        profile also gets the edge stray-field energy as a landscape term
+        (:class:`~skygas.landscape.kinds.EdgeStrayField`, docs/physics.md §2).
+    pair_law_params, cutoff_fraction: see :mod:`skygas.forces`.
     grid_spacing: wall-field grid spacing [m] (default d_sk/16).
     integrator: ``"heun"`` (default) or ``"euler-maruyama"`` (for comparison only).
     brownian_substeps: draw each step's noise as the sum of this many sub-increments, so that
@@ -102,19 +116,24 @@ class Simulation:
     capacity: initial room in the store (it grows on demand).
     landscape: external potentials (:mod:`skygas.landscape`: objects or their TOML tables),
         added up on the field grid; their force −∇U enters like the pair and wall forces.
+    step_interval: with ``time_step=None``, the suggested step is shortened so that this
+        interval [s] (a recording or injection interval) is a whole number of steps
+        (:func:`~skygas.engine.force_model.default_time_step`).
 
     Operations (:attr:`operations`) act on the run at the steps they ask for and read and
-    change skyrmions through :attr:`state`.
+    change skyrmions through :attr:`state`. :attr:`edge_stray_field` is the stray-field term
+    the material added to the landscape (its last term), or ``None``.
     """
 
     def __init__(self, outline: Outline, material: Material | str = "S2", *,
                  temperature: float = 300.0, time_step: float | None = None, seed: int = 0,
-                 film_thickness: float = 2e-9, thiele: ThieleParameters | None = None,
-                 drift_velocity=(0.0, 0.0), pair_law: str = "paper",
+                 film_thickness: float | None = None, thiele: ThieleParameters | None = None,
+                 drift_velocity=(0.0, 0.0), pair_law: str | None = None,
                  pair_law_params: dict | None = None,
                  cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
                  grid_spacing: float | None = None, integrator: str = "heun",
-                 brownian_substeps: int = 1, capacity: int = 64, landscape=()):
+                 brownian_substeps: int = 1, capacity: int = 64, landscape=(),
+                 wall_law: str | None = None, step_interval: float | None = None):
         require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
         require(np.isfinite(temperature), "temperature", temperature,
                 "a finite number (not inf or nan)")
@@ -126,22 +145,31 @@ class Simulation:
                 "brownian_substeps", brownian_substeps, "an integer >= 1")
         self.outline = outline
         self.material = load_material(material)
+        if thiele is not None:  # a calibrated model holds for its own film only
+            resolve_film_thickness(self.material, thiele.film_thickness, "thiele.film_thickness")
         self.thiele = thiele or derive_thiele(self.material, film_thickness)
         self.temperature = float(temperature)
         self.seed = int(seed)
         self.integrator = integrator
         self.brownian_substeps = int(brownian_substeps)
         self.forces = ForceModel.build(self.material, self.thiele, pair_law, pair_law_params,
-                                       cutoff_fraction)
+                                       cutoff_fraction, wall_law_name=wall_law)
         d_sk = self.thiele.skyrmion_diameter_internal
         spacing = d_sk / 16 if grid_spacing is None else grid_spacing * units.M_TO_NM
         require(spacing > 0 and spacing <= d_sk, "grid_spacing", grid_spacing,
                 f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)")
         band = self.forces.wall.cutoff + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
-        self.landscape = LandscapeField(parse_potentials(landscape), self.wall_field.grid,
-                                        self.temperature, self.seed)
+        self.landscape = self._build_landscape(parse_potentials(landscape))
         limit = self.max_time_step()
+        if time_step is None and step_interval is not None:
+            require(np.isfinite(step_interval) and step_interval > 0, "step_interval",
+                    step_interval, "an interval > 0 in seconds")
+            # the landscape's curvature counts when the material's stray field is in it; runs
+            # without it keep the step they always had (the laws' stiffness alone)
+            time_step = default_time_step(self.thiele, self.forces, step_interval,
+                                          self.landscape.max_curvature()
+                                          if self.edge_stray_field is not None else 0.0)
         if time_step is None:
             time_step = self.suggested_time_step()
         require(np.isfinite(time_step) and 0 < time_step <= limit, "time_step", time_step,
@@ -180,6 +208,39 @@ class Simulation:
         self._counters = np.zeros(1, T.COUNTERS)
         self._neighbor_cells = None
         self.set_uniform_drift(drift_velocity)
+
+    def _build_landscape(self, terms: list) -> LandscapeField:
+        """The landscape of the user's ``terms``, plus the edge stray field of a calibrated
+        material (docs/physics.md §2) when its tabulated wall law is used.
+
+        Only then: the paper's wall law is a fit of the whole interaction with a straight
+        edge, stray field included, so adding the stray field to it would count it twice.
+        The tabulated wall law of a calibrated model is the short-range rest, measured with
+        the stray field taken out."""
+        stray = self.material.stray_field
+        self.edge_stray_field = None
+        if stray is not None and self.forces.wall_law == "table":
+            for k, term in enumerate(terms):
+                require(not isinstance(term, EdgeStrayField), f"potentials.{k}.kind",
+                        term.kind, f"another kind: the material '{self.material.name}' adds "
+                        "its own edge stray field with the table wall law")
+            self.edge_stray_field = EdgeStrayField(
+                saturation_magnetization=self.material.saturation_magnetization,
+                thickness=self.thiele.film_thickness, profile_radius=stray.profile_radius,
+                profile_deficit=stray.profile_deficit)
+            # appended last: the indices of the user's terms (a gate's band) stay as given
+            terms = [*terms, self.edge_stray_field]
+        inside = reachable = None
+        if any(getattr(term, "needs_film", False) for term in terms):
+            distance = self.wall_field.wall_distance  # nm, > 0 inside and beyond ports
+            spacing = self.wall_field.grid.spacing
+            # the film's share of each node's cell: exact for edges along grid lines, and it
+            # smooths a curved outline's staircase
+            inside = np.clip(0.5 + distance / spacing, 0.0, 1.0)
+            closest = MIN_PLACEMENT_SEPARATION * self.thiele.skyrmion_diameter_internal
+            reachable = distance >= closest
+        return LandscapeField(terms, self.wall_field.grid, self.temperature, self.seed,
+                              inside=inside, reachable=reachable)
 
     def _configure_neighbor_cells(self) -> None:
         """Largest neighbour-list margin and the cell list that goes with it.
@@ -444,6 +505,8 @@ class Simulation:
             "material": self.material.model_dump(mode="json"),
             "thiele": self.thiele.as_record(),
             "pair_law": self.forces.pair_law,
+            "wall_law": self.forces.wall_law,
+            "edge_stray_field": self.edge_stray_field is not None,
             "pair_law_params": self.forces.pair_law_params,
             "cutoff_fraction": self.forces.cutoff_fraction,
             "pair_cutoff_m": self.forces.pair.cutoff / units.M_TO_NM,

@@ -1,7 +1,8 @@
 """Energy landscapes: external potentials U(x, y) whose force −∇U enters the Thiele equation.
 
 Kinds (:mod:`skygas.landscape.kinds`): :class:`Gaussian`, :class:`Periodic`, :class:`Band`
-(a gate), :class:`RandomPinning`, :class:`Disorder` and :class:`GridFile` (``kind = "grid"``).
+(a gate), :class:`RandomPinning`, :class:`Disorder`, :class:`GridFile` (``kind = "grid"``) and
+:class:`EdgeStrayField` (the film's edge stray field, :mod:`skygas.landscape.stray_field`).
 Pass them to :class:`~skygas.engine.Simulation` as ``landscape=[...]``, or list them in a TOML
 configuration as ``[[potentials]]``. Several terms add. See ``docs/landscapes.md``.
 """
@@ -11,6 +12,7 @@ from skygas.landscape.kinds import (
     KINDS,
     Band,
     Disorder,
+    EdgeStrayField,
     Gaussian,
     GridFile,
     Periodic,
@@ -18,7 +20,7 @@ from skygas.landscape.kinds import (
     RandomPinning,
 )
 
-__all__ = ["KINDS", "Band", "Disorder", "Gaussian", "GridFile", "LandscapeField", "Periodic",
+__all__ = ["KINDS", "Band", "Disorder", "EdgeStrayField", "Gaussian", "GridFile", "LandscapeField", "Periodic",
            "Potential", "RandomPinning", "parse_potentials"]
 
 

@@ -29,22 +29,45 @@ def _aligned_cells(ny: int, nx: int) -> np.ndarray:
     return raw[skip:skip + ny * nx * 16].reshape(ny, nx, 16)
 
 
+def _max_curvature(gx: np.ndarray, gy: np.ndarray, h: float, where=None) -> float:
+    """Largest difference quotient of the gradient (gx, gy) [pN] between neighbouring nodes
+    [pN/nm]; with ``where`` (a node mask) only between two nodes it holds."""
+    out = 0.0
+    for g in (gx, gy):
+        for axis in (0, 1):
+            slope = np.abs(np.diff(g, axis=axis)) / h
+            if where is not None:
+                both = np.logical_and(np.take(where, np.arange(where.shape[axis] - 1), axis),
+                                      np.take(where, np.arange(1, where.shape[axis]), axis))
+                slope = slope[both]
+            if slope.size:
+                out = max(out, float(slope.max()))
+    return out
+
+
 class LandscapeField:
     """The potentials ``terms`` sampled on ``grid`` (:class:`~skygas.wall_field.Grid`) at
-    temperature ``temperature`` [K], random kinds drawn from ``seed``."""
+    temperature ``temperature`` [K], random kinds drawn from ``seed``.
 
-    def __init__(self, terms, grid, temperature: float, seed: int):
+    Terms made by the device's shape (``needs_film``, the edge stray field) read ``inside``,
+    the film's share of each node's cell (:class:`~skygas.landscape.kinds.SampleContext`), and
+    their curvature counts for the time step only at the nodes ``reachable`` (where skyrmion
+    centres can be; every node if ``None``)."""
+
+    def __init__(self, terms, grid, temperature: float, seed: int, *, inside=None,
+                 reachable=None):
         self.terms = list(terms)
         self.grid = grid
         self.temperature = float(temperature)
         self.seed = int(seed)
+        self.reachable = reachable
         gx, gy = grid.nodes()
         kt = units.thermal_energy_internal(temperature)
         self._samples: list[Samples] = []
         for index, term in enumerate(self.terms):
             seq = np.random.SeedSequence([self.seed, LANDSCAPE_STREAM, index])
             try:
-                self._samples.append(term.sample(SampleContext(gx, gy, kt, seq)))
+                self._samples.append(term.sample(SampleContext(gx, gy, kt, seq, inside)))
             except InputError as err:  # a term's field, named as in the configuration
                 raise InputError(f"potentials.{index}.{err.field}", err.value,
                                  err.allowed) from None
@@ -100,13 +123,30 @@ class LandscapeField:
 
     def max_curvature(self) -> float:
         """Largest |∂²U| [pN/nm] on the grid (finite differences of the sampled gradient): the
-        stiffness that limits the time step, like the force laws' slopes."""
+        stiffness that limits the time step, like the force laws' slopes.
+
+        Terms made by the device's shape (the edge stray field) are counted apart, at the
+        ``reachable`` nodes only, as the wall law's slope is counted only where skyrmions can
+        be (closer to a wall the step is undone); the bound is the sum, |∂²(U₁ + U₂)| ≤
+        |∂²U₁| + |∂²U₂|. Without such terms this is the maximum over all nodes, as always."""
         if not self.terms:
             return 0.0
         h = self.grid.spacing
-        gx, gy = self.nodes[..., 1] / h, self.nodes[..., 2] / h
-        parts = [np.abs(np.diff(g, axis=a)) / h for g in (gx, gy) for a in (0, 1)]
-        return float(max(p.max() for p in parts if p.size))
+        film = [k for k, t in enumerate(self.terms)
+                if getattr(t, "needs_film", False) and self.enabled[k]]
+        if not film:
+            return _max_curvature(self.nodes[..., 1] / h, self.nodes[..., 2] / h, h)
+        others = [k for k, t in enumerate(self.terms)
+                  if not getattr(t, "needs_film", False) and self.enabled[k]]
+        total = 0.0
+        if others:
+            gx = sum(self._samples[k].ux for k in others)
+            gy = sum(self._samples[k].uy for k in others)
+            total += _max_curvature(gx, gy, h)
+        for k in film:
+            total += _max_curvature(self._samples[k].ux, self._samples[k].uy, h,
+                                    self.reachable)
+        return total
 
     def describe(self) -> list[dict]:
         """The terms as JSON-able records (SI units, as configured)."""

@@ -7,14 +7,16 @@ k_BT at the run's temperature (``amplitude_kT``). :meth:`sample` gives U and its
 :class:`~skygas.landscape.field.LandscapeField` adds up and the engine interpolates
 (:mod:`skygas.landscape.hermite`). Analytic kinds give exact derivatives; ``disorder`` gives
 spectral ones; ``grid`` files are fitted with a bicubic spline; a ``band`` given as a polygon
-uses second-order finite differences of its smoothed indicator.
+uses second-order finite differences of its smoothed indicator; ``edge_stray_field`` (the
+film's edge stray field, made from the device's outline) fourth-order ones.
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
 from pathlib import Path
-from typing import Annotated, Literal, NamedTuple, Union
+from typing import Annotated, ClassVar, Literal, NamedTuple, Union
 
 import numpy as np
 from pydantic import (
@@ -27,6 +29,11 @@ from pydantic import (
 
 from skygas import units
 from skygas.config_types import StrictModel
+from skygas.memo import Memo
+
+# The edge stray-field energy per film, spacing and parameters (see skygas.memo): a sweep's
+# runs of one device share it (two FFT convolutions, ~1 s for the paper's chamber).
+_STRAY_ENERGY = Memo("edge_stray_field", maxsize=4)
 
 Length = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 Energy = Annotated[float, Field(allow_inf_nan=False)]
@@ -45,12 +52,16 @@ class Samples(NamedTuple):
 
 class SampleContext(NamedTuple):
     """What sampling needs besides the potential: node coordinates (ny, nx) [nm], k_BT
-    [pN·nm] at the run's temperature, and a seed for the random kinds."""
+    [pN·nm] at the run's temperature, a seed for the random kinds, and, for the kinds made by
+    the device's shape (:attr:`_Kind.needs_film`), ``inside``: the film's share of each node's
+    cell (ny, nx), 1 inside the outline, 0 outside, fractions along the walls (``None`` when
+    no term needs it)."""
 
     x: np.ndarray
     y: np.ndarray
     kt: float
     seed: np.random.SeedSequence
+    inside: np.ndarray | None = None
 
 
 class _Kind(StrictModel):
@@ -58,6 +69,11 @@ class _Kind(StrictModel):
     is sampled once from it)."""
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
+
+    #: True for a term made by the device's outline (it reads ``SampleContext.inside``); its
+    #: curvature limits the time step only where skyrmion centres can be, like the wall law's
+    #: slope (:meth:`~skygas.landscape.field.LandscapeField.max_curvature`).
+    needs_film: ClassVar[bool] = False
 
     def sample(self, ctx: SampleContext) -> Samples:  # pragma: no cover - every kind has one
         raise NotImplementedError
@@ -412,7 +428,82 @@ class GridFile(_Kind):
         return Samples(*parts)
 
 
-Potential = Annotated[Union[Gaussian, Periodic, Band, RandomPinning, Disorder, GridFile],
+def _fourth_order_derivative(f: np.ndarray, spacing: float, axis: int) -> np.ndarray:
+    """∂f along ``axis`` by the fourth-order central difference (f(−2) − 8f(−1) + 8f(1) −
+    f(2))/(12 h), on the nodes at least two from the ends (the result is 4 shorter there)."""
+    n = f.shape[axis]
+
+    def part(lo: int) -> np.ndarray:
+        return np.take(f, np.arange(lo, n - 4 + lo), axis=axis)
+
+    return (part(0) - 8 * part(1) + 8 * part(3) - part(4)) / (12 * spacing)
+
+
+class EdgeStrayField(_Kind):
+    """The energy of a skyrmion in the stray field of the film's edges (docs/physics.md §2,
+    :mod:`skygas.landscape.stray_field`):
+
+        U(r) = μ₀ M_s t ∫_film w(|r' − r|) H_dev(r') dA'
+
+    with ``saturation_magnetization`` M_s [A/m], film ``thickness`` t [m] and the skyrmion's
+    deficit w = 1 − m_z (``profile_deficit``, dimensionless) at ``profile_radius`` [m]. The film
+    is the device's outline (continued beyond its ports to the edge of the engine's grid, so
+    that a port is not an edge). A calibrated material with a ``stray_field`` profile adds this
+    term itself when its tabulated wall law is used; listing it by hand is for other uses.
+
+    U is computed on the engine's grid, padded by two nodes, and differentiated by fourth-order
+    central differences (U varies on the skyrmion's scale, many nodes wide)."""
+
+    kind: Literal["edge_stray_field"] = "edge_stray_field"
+    saturation_magnetization: Length
+    thickness: Length
+    profile_radius: tuple[Annotated[float, Field(ge=0, allow_inf_nan=False)], ...]
+    profile_deficit: tuple[Annotated[float, Field(ge=0, le=2, allow_inf_nan=False)], ...]
+
+    needs_film: ClassVar[bool] = True
+
+    @model_validator(mode="after")
+    def _profile(self):
+        r, w = self.profile_radius, self.profile_deficit
+        if len(r) < 2 or len(w) != len(r):
+            raise ValueError("profile_radius and profile_deficit need the same number (>= 2) "
+                             "of values")
+        if r[0] != 0 or any(b <= a for a, b in zip(r, r[1:])):
+            raise ValueError("profile_radius must increase strictly from 0")
+        return self
+
+    def sample(self, ctx: SampleContext) -> Samples:
+        from skygas.errors import InputError
+
+        if ctx.inside is None:
+            raise InputError("kind", self.kind, "a term sampled by a Simulation, which knows "
+                             "the device's outline (SampleContext.inside)")
+        spacing = float(ctx.x[0, 1] - ctx.x[0, 0])  # nm
+        film = np.pad(np.asarray(ctx.inside, dtype=float), 2)
+        key = (hashlib.sha256(film.tobytes()).hexdigest(), film.shape, spacing,
+               self.model_dump_json())
+        u = _STRAY_ENERGY.get(key, lambda: self._energy(film, spacing))
+        ux = _fourth_order_derivative(u, spacing, 1)
+        uy = _fourth_order_derivative(u, spacing, 0)
+        uxy = _fourth_order_derivative(ux, spacing, 0)
+        inner = (slice(2, -2), slice(2, -2))
+        return Samples(u[inner].copy(), ux[2:-2, :].copy(), uy[:, 2:-2].copy(), uxy.copy())
+
+    def _energy(self, film: np.ndarray, spacing_nm: float) -> np.ndarray:
+        """U [pN·nm] at the nodes of the padded film (read-only: it is memoised)."""
+        from skygas.landscape.stray_field import stray_field_energy
+        from skygas.memo import frozen
+
+        u = stray_field_energy(film, spacing_nm / units.M_TO_NM, self.thickness,
+                               self.saturation_magnetization, self.profile_radius,
+                               self.profile_deficit) * units.J_TO_PN_NM
+        frozen(u)
+        return u
+
+
+Potential = Annotated[Union[Gaussian, Periodic, Band, RandomPinning, Disorder, GridFile,
+                            EdgeStrayField],
                       Field(discriminator="kind")]
 KINDS = {"gaussian": Gaussian, "periodic": Periodic, "band": Band,
-         "random_pinning": RandomPinning, "disorder": Disorder, "grid": GridFile}
+         "random_pinning": RandomPinning, "disorder": Disorder, "grid": GridFile,
+         "edge_stray_field": EdgeStrayField}

@@ -201,7 +201,8 @@ class NeuronDevice:
         # the gate's band is the last landscape term, after the user's own potentials
         sim = Simulation(self.outline, c.resolved_material(), temperature=c.temperature,
                          time_step=c.time_step, seed=seed, thiele=self.thiele,
-                         landscape=[*c.potentials, self.band])
+                         landscape=[*c.potentials, self.band],
+                         **c.forces.simulation_arguments())
         grid = sim.wall_field.grid
         holding, release = c.current_density, c.release_current()
         if max(holding, release) > 0:

@@ -100,7 +100,8 @@ class ReservoirDevice:
         c = self.config
         return Simulation(self.walls, c.resolved_material(), temperature=c.temperature,
                           time_step=c.time_step, seed=seed, film_thickness=c.film_thickness,
-                          thiele=c.thiele_parameters(), landscape=c.potentials)
+                          thiele=c.thiele_parameters(), landscape=c.potentials,
+                          **c.forces.simulation_arguments())
 
     def _initial_positions(self, sim, rng) -> np.ndarray:
         d = sim.thiele.skyrmion_diameter_internal

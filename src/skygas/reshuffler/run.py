@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from skygas.current import solve_current
-from skygas.engine import ForceModel, Simulation, default_time_step
+from skygas.engine import Simulation
 from skygas.errors import require
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
@@ -103,12 +103,12 @@ class ReshufflerRun:
             require(abs(per_interval - round(per_interval)) < 1e-6 * per_interval, "time_step",
                     time_step, f"a step that divides the injection interval ({interval:g} s) a "
                     f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s")
-        if time_step is None:
-            time_step = default_time_step(thiele, ForceModel.build(material, thiele), interval)
+        # time_step None: the suggested step, shortened to divide the injection interval
         sim = Simulation(geometry.device_outline(), material,
                          temperature=config.noise_temperature(),
-                         time_step=time_step, seed=seeds["noise"], thiele=thiele, capacity=64,
-                         landscape=config.potentials)
+                         time_step=time_step, step_interval=interval, seed=seeds["noise"],
+                         thiele=thiele, capacity=64, landscape=config.potentials,
+                         **config.forces.simulation_arguments())
         vx, vy = drift_field_on_grid(geometry, current, sim.wall_field.grid,
                                      config.drift_coefficient())
         sim.set_drift_field(vx, vy)
