@@ -9,11 +9,13 @@ from skygas.micromag import (
     DiskBoundary,
     Skyrmion,
     Trajectory,
+    UnfixedLawError,
     fit_pair_law,
     fit_trajectories,
     fit_wall_law,
     pair_law_magnitude,
     synthetic,
+    tabulate_law,
     thiele_forces,
     velocities,
     wall_law_magnitude,
@@ -169,15 +171,18 @@ def test_pair_law_growing_outside_the_data_is_refitted_with_constraints():
 
 def test_pair_law_rising_inside_the_data_is_refused():
     force = 2e-12 * pair_law_magnitude(D_NARROW, (-1.0, 0.0, 0.0))  # F grows with d
-    with pytest.raises(InputError, match="pair_law.*inside the data"):
+    with pytest.raises(InputError, match="pair_law.*inside the data") as refused:
         fit_pair_law(D_NARROW, force, 2e-12)
+    assert not isinstance(refused.value, UnfixedLawError)  # a data problem, not a range one
 
 
 def test_pair_law_that_no_constraint_repairs_is_refused():
     # decreasing over the data but so slowly that no decaying law falls to 10⁻³ F₀ in 50 d_sk
     force = 2e-12 * pair_law_magnitude(D_NARROW, (-0.02, 0.5, 0.0))
-    with pytest.raises(InputError, match="pair_law.*do not fix how the force decays"):
+    with pytest.raises(UnfixedLawError, match="pair_law.*do not fix how the force decays "
+                       "beyond 2.60 d_sk") as refused:
         fit_pair_law(D_NARROW, force, 2e-12)
+    assert refused.value.fit.coefficients == pytest.approx((-0.02, 0.5, 0.0), abs=1e-6)
 
 
 def test_wall_law_that_rises_is_refused():
@@ -185,3 +190,60 @@ def test_wall_law_that_rises_is_refused():
     force = 2e-12 * wall_law_magnitude(d, (-0.2, 1.5, 0.0))  # leading coefficient < 0
     with pytest.raises(InputError, match="wall_law.*lower --wall-degree"):
         fit_wall_law(d, force, 2e-12, degree=2)
+
+
+# --- The law tabulated over the measured range ---------------------------------------------------
+
+
+def test_exact_samples_tabulate_on_the_law():
+    """Bins of equal counts over unevenly spaced samples: a monotonic law maps each bin's
+    median distance to its median force, so the table lies on the law."""
+    d = 1.2 + 1.4 * np.linspace(0.0, 1.0, 49) ** 2  # dense at short distances
+    force = 2e-12 * pair_law_magnitude(d, PAPER_PAIR)
+    table = tabulate_law("pair", d, force, 40e-9, 2e-12)
+    # ⌈√49⌉ = 7 bins of 7: odd counts, so each median is one of the samples
+    assert table.count.tolist() == [7] * 7
+    np.testing.assert_allclose(table.force, 2e-12 * pair_law_magnitude(table.distance,
+                                                                       PAPER_PAIR), rtol=1e-12)
+    assert table.distance_range == pytest.approx((1.2, 2.6))
+    rows = table.rows()
+    assert rows[0]["distance_m"] == pytest.approx(rows[0]["distance_diameters"] * 40e-9)
+    assert rows[0]["force_over_F0"] == pytest.approx(rows[0]["force_N"] / 2e-12)
+    assert tabulate_law("pair", d, force, 40e-9, 2e-12, bins=100).count.size == 49
+    with pytest.raises(InputError, match="table bins"):
+        tabulate_law("pair", d, force, 40e-9, 2e-12, bins=0)
+
+
+def test_wall_law_not_fixed_beyond_the_data_leaves_the_table(system):
+    """A wall law whose degree-2 fit grows without bound beyond the data: no law, no preset, one
+    warning, the table on the true law; ``strict`` raises instead."""
+    b = (-0.2, 1.5, 0.0)  # decreasing up to 3.75 d_sk, rising beyond
+    wall = synthetic.straight_wall(0.0)
+    times = np.linspace(0.0, 60e-9, 121)
+    positions = synthetic.integrate_thiele(system, [(0.6 * system.skyrmion_diameter, 0.0)],
+                                           times, synthetic.wall_forces(system, b, wall))
+    tracks = _trajectories(times, positions, system.skyrmion_diameter / 2)
+    result = fit_trajectories(tracks, "S2", film_thickness=FILM, boundary=wall, wall_degree=2)
+    assert result.wall is None and result.material is None
+    assert set(result.unfixed) == {"wall"}
+    (warning,) = result.warnings
+    assert warning.startswith("wall law: the samples (d = 0.60–") and "no material.toml" in warning
+    assert "refit with a lower --wall-degree (now 2)" in warning
+    table = result.tables["wall"]
+    np.testing.assert_allclose(table.force, system.force_scale
+                               * wall_law_magnitude(table.distance, b), rtol=0.01)
+    assert "wall law" in result.no_material_reason
+    with pytest.raises(UnfixedLawError, match="wall_law"):
+        fit_trajectories(tracks, "S2", film_thickness=FILM, boundary=wall, wall_degree=2,
+                         strict=True)
+
+
+def test_a_pair_law_rising_inside_the_data_is_refused_without_strict(system):
+    times = np.linspace(0.0, 5e-9, 41)
+    start = [(-0.6 * system.skyrmion_diameter, 0.0), (0.6 * system.skyrmion_diameter, 0.0)]
+    positions = synthetic.integrate_thiele(system, start, times,
+                                           synthetic.pair_forces(system, (-1.0, 0.0, 0.0)))
+    tracks = _trajectories(times, positions, system.skyrmion_diameter / 2)
+    with pytest.raises(InputError, match="inside the data") as refused:
+        fit_trajectories(tracks, "S2", film_thickness=FILM)
+    assert not isinstance(refused.value, UnfixedLawError)

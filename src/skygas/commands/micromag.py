@@ -31,7 +31,9 @@ def register(subparsers) -> None:
     fit = commands.add_parser(
         "fit", help="fit the pair and/or wall law from a directory of snapshots",
         description="Detect and track skyrmions in OVF snapshots, extract F = Ĝ·ẋ, fit the "
-        "paper's laws and write fit.json, forces.csv, fit.png and material.toml.")
+        "paper's laws and write fit.json, tracks.csv, forces.csv, the laws tabulated over the "
+        "measured range (pair_table.csv, wall_table.csv), fit.png and, when the data fix "
+        "every law asked for, material.toml.")
     fit.add_argument("snapshot_dir", help="directory of OVF snapshots (e.g. mumax3 m*.ovf)")
     fit.add_argument("--out", required=True, help="output directory")
     fit.add_argument("--pattern", default="*.ovf", help="file glob (default *.ovf)")
@@ -52,6 +54,12 @@ def register(subparsers) -> None:
     fit.add_argument("--wall-degree", type=int, default=5, help="wall polynomial degree")
     fit.add_argument("--max-step", type=float, default=None,
                      help="largest displacement between snapshots [m] (default: one radius)")
+    fit.add_argument("--table-bins", type=int, default=None,
+                     help="bins of the tabulated law (default: √(samples), at most 20)")
+    fit.add_argument("--strict", action="store_true",
+                     help="stop (exit 2, nothing written) when the data do not fix a law "
+                     "outside their range, instead of writing the tracks, the forces and the "
+                     "tabulated law without material.toml")
     fit.set_defaults(func=_fit)
 
     samples = commands.add_parser(
@@ -91,13 +99,24 @@ def _fit(args: argparse.Namespace) -> int:
         args.snapshot_dir, args.out, pattern=args.pattern, interval=args.interval,
         max_step=args.max_step, material=args.material, film_thickness=args.film_thickness,
         damping=args.damping, law=args.law, skyrmion_diameter=args.skyrmion_diameter,
-        force_scale=args.force_scale, window=args.window, wall_degree=args.wall_degree)
+        force_scale=args.force_scale, window=args.window, wall_degree=args.wall_degree,
+        table_bins=args.table_bins, strict=args.strict)
+    lengths = sorted((len(t) for t in result.tracks), reverse=True)
+    print(f"{len(lengths)} track(s) of {', '.join(map(str, lengths))} frames "
+          f"({result.parameters['n_snapshots']} snapshots): tracks.csv")
     for fit in (result.pair, result.wall):
         if fit is not None:
             values = ", ".join(f"{c:.5g} ± {u:.2g}" if math.isfinite(u) else f"{c:.5g}"
                                for c, u in zip(fit.coefficients, fit.uncertainties))
             print(f"{fit.law} law ({fit.n_points} samples, d = {fit.distance_range[0]:.2f}"
                   f"–{fit.distance_range[1]:.2f} d_sk): [{values}]")
+    for law, table in result.tables.items():
+        lo, hi = table.distance_range
+        first, last = table.force[0], table.force[-1]
+        print(f"{law} law tabulated ({int(table.count.sum())} samples in {table.count.size} "
+              f"bins, d = {lo:.2f}–{hi:.2f} d_sk): |F| = {first * 1e12:.3g} pN at "
+              f"{table.distance[0]:.2f} d_sk … {last * 1e12:.3g} pN at "
+              f"{table.distance[-1]:.2f} d_sk: {law}_table.csv")
     for warning in result.warnings:
         print(f"warning: {warning}")
     print(f"results in {args.out}")

@@ -35,10 +35,14 @@ def material_preset(base: Material, **updates) -> Material:
     return material_from_mapping(data, field="fitted material")
 
 
+#: What the first line of a fitted preset says (how a later fit recognises its own file).
+PRESET_MARK = "material preset fitted from micromagnetic snapshots"
+
+
 def write_material_toml(path: str | Path, material: Material, notes: list[str] = ()) -> Path:
     """Write ``material`` as a ``[material]`` table; ``notes`` become header comments."""
     path = Path(path)
-    lines = [f"# skygas {__version__} material preset fitted from micromagnetic snapshots."]
+    lines = [f"# skygas {__version__} {PRESET_MARK}."]
     lines += [f"# {line}" for note in notes for line in str(note).splitlines()]
     lines.append("[material]")
     for key, value in material.model_dump().items():
@@ -49,25 +53,41 @@ def write_material_toml(path: str | Path, material: Material, notes: list[str] =
     return path
 
 
-def plot_fits(path: str | Path, samples: dict, fits: dict) -> Path:
-    """One panel per fitted law: |F| [pN] against d [diameters], data and fitted curve."""
+def plot_fits(path: str | Path, samples: dict, fits: dict, tables: dict | None = None) -> Path:
+    """One panel per law: |F| [pN] against d [diameters]: the samples, the law tabulated over
+    the measured range (median and interquartile range per bin) and the fitted curve, if a law
+    was fitted."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    tables = tables or {}
     laws = [law for law in ("pair", "wall") if law in samples]
     fig, axes = plt.subplots(1, max(len(laws), 1), figsize=(5 * max(len(laws), 1), 4),
                              squeeze=False)
     for ax, law in zip(axes[0], laws):
         d, force = samples[law]
         positive = force > 0
-        ax.semilogy(d[positive], force[positive] * 1e12, ".", ms=3, label="Ĝ·ẋ (data)")
+        ax.semilogy(d[positive], force[positive] * 1e12, ".", ms=3, color="0.6",
+                    label="Ĝ·ẋ (samples)")
+        table = tables.get(law)
+        if table is not None:
+            # the log axis shows positive medians only; the bars are the quartiles
+            shown = table.force > 0
+            low = np.clip(table.force - table.force_q25, 0, None)
+            high = np.clip(table.force_q75 - table.force, 0, None)
+            ax.errorbar(table.distance[shown], table.force[shown] * 1e12,
+                        yerr=np.array([low[shown], high[shown]]) * 1e12, fmt="o", ms=4,
+                        color="C0", capsize=2, label="binned median (quartiles)")
         fit = fits.get(law)
         if fit is not None:
             grid = np.linspace(d.min(), d.max(), 200)
             coeffs = ", ".join(f"{c:.4g}" for c in fit.coefficients)
             ax.semilogy(grid, fit.magnitude(grid) * 1e12, "r-", label=f"fit [{coeffs}]")
+        else:
+            ax.text(0.02, 0.02, "no law fixed by the data: tabulated only",
+                    transform=ax.transAxes, fontsize=7)
         ax.set_xlabel("distance d (skyrmion diameters)")
         ax.set_ylabel("|F| (pN)")
         ax.set_title("skyrmion–skyrmion" if law == "pair" else "skyrmion–wall")

@@ -32,8 +32,12 @@ A pair fit that fails the checks only outside its data (an extrapolation: a narr
 fixes a₂ poorly, and a₂ < 0 makes the force grow without bound) is refitted with the
 constraints built in (:func:`fit_pair_law`): a₂ ≥ ``PAIR_A2_FLOOR`` and
 p'(1) ∝ 3a₂ + a₁ − a₀ ≥ 0, which with a₂ > 0 makes p(d) = (a₂d² + a₁d + a₀)/(d + 1) increase,
-and the force decrease, for all d ≥ 1. A law that rises inside its own data, or that no
-constrained law repairs, is refused (:class:`~skygas.errors.InputError`).
+and the force decrease, for all d ≥ 1. A law that rises inside its own data is refused
+(:class:`~skygas.errors.InputError`): the samples do not show a decaying repulsion. A law
+that no constrained law repairs (or a wall polynomial that fails the checks outside its data)
+raises :class:`UnfixedLawError`, an :class:`~skygas.errors.InputError` that says the samples
+do not fix the law *outside their range*; :func:`skygas.micromag.fit_trajectories` then keeps
+what the data do fix, the law tabulated over the measured range (:func:`tabulate_law`).
 """
 
 from __future__ import annotations
@@ -192,6 +196,98 @@ class LawFit:
                 "engine_range": list(engine_range(self.law, self.coefficients))}
 
 
+class UnfixedLawError(InputError):
+    """The samples fit no law the engine accepts, for want of data outside their range (not
+    because of the data inside it): ``fit`` is the unconstrained :class:`LawFit`, ``why`` what
+    fails (``"the fit grows without bound far away …"``), ``unfixed`` what the samples do not
+    fix (``"how the force decays beyond 2.25 d_sk"``), ``remedy`` what to record instead."""
+
+    def __init__(self, fit: "LawFit", why: str, unfixed: str, remedy: str):
+        self.fit, self.why, self.unfixed, self.remedy = fit, why, unfixed, remedy
+        lo, hi = fit.distance_range
+        super().__init__(f"{fit.law}_law", _rounded(fit.coefficients),
+                         f"a force that decays with distance: {why}, so the samples do not "
+                         f"fix {unfixed} (data: d = {lo:.2f}–{hi:.2f} d_sk)", remedy)
+
+
+@dataclass(frozen=True)
+class LawTable:
+    """A force law tabulated over the measured distances only: the samples sorted by distance
+    and cut into bins of (nearly) equal counts.
+
+    Per bin: ``d_low``, ``d_high`` (the extreme sample distances) and ``distance`` (the median)
+    in d_sk; ``force`` the median force [N] (signed: the repulsive component, so that noise
+    around zero does not bias it), ``force_q25``, ``force_q75`` its interquartile range [N] and
+    ``count`` the samples. ``diameter`` d_sk [m] and ``force_scale`` F₀ [N] convert the units.
+    """
+
+    law: str
+    diameter: float
+    force_scale: float
+    d_low: np.ndarray
+    d_high: np.ndarray
+    distance: np.ndarray
+    force: np.ndarray
+    force_q25: np.ndarray
+    force_q75: np.ndarray
+    count: np.ndarray
+
+    COLUMNS = ("distance_m", "distance_diameters", "force_N", "force_over_F0", "n_samples",
+               "force_q25_N", "force_q75_N", "d_low_diameters", "d_high_diameters")
+
+    def rows(self) -> list[dict]:
+        """One dict per bin, keyed by :attr:`COLUMNS` (SI units, d also in d_sk)."""
+        return [dict(zip(self.COLUMNS, (
+            float(d) * self.diameter, float(d), float(f), float(f) / self.force_scale, int(n),
+            float(lo_f), float(hi_f), float(lo), float(hi))))
+            for d, f, n, lo_f, hi_f, lo, hi in zip(
+                self.distance, self.force, self.count, self.force_q25, self.force_q75,
+                self.d_low, self.d_high)]
+
+    @property
+    def distance_range(self) -> tuple[float, float]:
+        """The measured range (d_min, d_max) in d_sk."""
+        return float(self.d_low.min()), float(self.d_high.max())
+
+    def as_record(self) -> dict:
+        return {"law": self.law, "skyrmion_diameter_m": self.diameter,
+                "force_scale_N": self.force_scale, "distance_range": list(self.distance_range),
+                "n_samples": int(self.count.sum()), "rows": self.rows()}
+
+
+def tabulate_law(law: str, d, force, diameter: float, force_scale: float,
+                 bins: int | None = None) -> LawTable:
+    """The samples (d [d_sk], force [N]) as a :class:`LawTable` of ``bins`` bins of equal
+    counts (default: ⌈√n⌉ bins for n samples, at most 20: as many bins as samples per bin).
+
+    A monotonic law maps the median distance of a bin to its median force, so a table of
+    exact samples lies on the law whatever the bins' widths (exactly for odd counts; for even
+    ones, the median is the mean of two neighbouring samples).
+    """
+    if not (diameter > 0 and force_scale > 0):
+        raise InputError("diameter, force_scale", (diameter, force_scale), "values > 0 (m, N)")
+    d = np.asarray(d, dtype=np.float64).ravel()
+    force = np.asarray(force, dtype=np.float64).ravel()
+    keep = np.isfinite(d) & np.isfinite(force)
+    if not keep.any():
+        raise InputError("force samples", 0, "at least one finite sample to tabulate")
+    d, force = d[keep], force[keep]
+    if bins is None:
+        bins = min(20, math.ceil(math.sqrt(d.size)))
+    if not (isinstance(bins, int) and bins >= 1):
+        raise InputError("table bins", bins, "an integer >= 1")
+    groups = np.array_split(np.argsort(d, kind="stable"), min(bins, d.size))
+
+    def per_bin(values, statistic):
+        return np.array([statistic(values[g]) for g in groups])
+
+    return LawTable(law, float(diameter), float(force_scale), per_bin(d, np.min),
+                    per_bin(d, np.max), per_bin(d, np.median), per_bin(force, np.median),
+                    per_bin(force, lambda v: np.percentile(v, 25)),
+                    per_bin(force, lambda v: np.percentile(v, 75)),
+                    np.array([g.size for g in groups]))
+
+
 def _clean(d, force, force_scale: float, need: int):
     if not force_scale > 0:
         raise InputError("force_scale", force_scale, "a force > 0 in newtons")
@@ -224,8 +320,9 @@ def fit_pair_law(d, force, force_scale: float, check: bool = True) -> LawFit:
     """Fit [a₂, a₁, a₀] of |F| = F₀ exp[−(a₂d² + a₁d + a₀)/(d+1)] to samples (d, |F| [N]).
 
     With ``check``, a law that fails :func:`law_problem` outside the data is refitted with the
-    constraints built in (``note`` says so); one that rises inside the data, or that no
-    constrained law repairs, raises :class:`InputError` (see the module docstring).
+    constraints built in (``note`` says so); one that rises inside the data raises
+    :class:`InputError`, one that no constrained law repairs :class:`UnfixedLawError` (see the
+    module docstring).
     """
     d, y, rejected = _clean(d, force, force_scale, need=4)
     # (d + 1) ln(F/F₀) = −a₂d² − a₁d − a₀ is linear in the coefficients.
@@ -239,9 +336,10 @@ def fit_pair_law(d, force, force_scale: float, check: bool = True) -> LawFit:
     constrained = _constrained_pair_fit(d, y, fit, reason, rejected)
     problem = law_problem("pair", constrained.coefficients)
     if problem is not None:
-        raise _refusal(fit, f"this fit {reason} and even the best decaying law {problem}, so "
-                       "the data do not fix how the force decays",
-                       "record snapshots until the skyrmions are farther apart")
+        raise UnfixedLawError(
+            fit, f"the fit {reason} and even the best decaying law {problem}",
+            f"how the force decays beyond {fit.distance_range[1]:.2f} d_sk",
+            "record snapshots until the skyrmions are farther apart")
     return constrained
 
 
@@ -282,8 +380,9 @@ def _constrained_pair_fit(d, y, free: LawFit, reason: str, rejected: int) -> Law
 def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = True) -> LawFit:
     """Fit b (degree ``degree``, highest power first) of |F| = F₀ exp[−polyval(b, d)].
 
-    With ``check``, a law that fails :func:`law_problem` raises :class:`InputError` (a
-    polynomial has no constrained refit here: a lower degree is the remedy).
+    With ``check``, a law that rises inside its data raises :class:`InputError`, one that
+    fails :func:`law_problem` only outside them :class:`UnfixedLawError` (a polynomial has no
+    constrained refit here: a lower degree, or data over more of the range, is the remedy).
     """
     if not (isinstance(degree, int) and degree >= 1):
         raise InputError("degree", degree, "an integer >= 1")
@@ -297,9 +396,10 @@ def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = Tr
     problem = law_problem("wall", fit.coefficients) if check else None
     if problem is not None:
         _refuse_if_rising_in_data(fit)
-        raise _refusal(fit, f"the fit {problem}, where the engine uses it",
-                       f"refit with a lower --wall-degree (now {degree}) or with snapshots "
-                       "that cover more of that range")
+        raise UnfixedLawError(
+            fit, f"the fit {problem}", "the force beyond them, where the engine uses the law "
+            "too", f"refit with a lower --wall-degree (now {degree}) or with snapshots that "
+            "cover more of the range")
     return fit
 
 

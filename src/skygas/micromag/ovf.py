@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -139,13 +140,50 @@ def _time_from_header(header: dict) -> float:
     return math.nan
 
 
-def read_ovf(path: str | Path) -> xr.DataArray:
-    """Read one OVF 1.0/2.0 file (text, binary 4 or binary 8) into a DataArray (see module)."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError("path", str(path), "an existing OVF file")
-    raw = path.read_bytes()
-    header, fmt, start = _parse_header(path, raw)
+@dataclass(frozen=True)
+class OVFMesh:
+    """The rectangular mesh of an OVF file: ``nodes`` (nx, ny, nz), ``cell`` (dx, dy, dz) [m]
+    and ``origin``, the mesh corner (xmin, ymin, zmin) [m]."""
+
+    nodes: tuple[int, int, int]
+    cell: tuple[float, float, float]
+    origin: tuple[float, float, float]
+
+    def same_grid(self, other: "OVFMesh") -> bool:
+        """Whether ``other`` is this mesh: equal node counts, cell sizes within 10⁻⁶ and
+        corners within 10⁻³ of a cell (what rounding in a text header leaves)."""
+        return (self.nodes == other.nodes
+                and all(math.isclose(a, b, rel_tol=1e-6) for a, b in zip(self.cell, other.cell))
+                and all(abs(a - b) <= 1e-3 * c
+                        for a, b, c in zip(self.origin, other.origin, self.cell)))
+
+    def describe(self, origin: bool = False) -> str:
+        """The mesh in words: ``200 × 125 cells of 2 nm`` (``2 × 2.5 nm`` for cells that are
+        not square), the layers if there are several, and the corner if ``origin``."""
+        nx, ny, nz = self.nodes
+        dx, dy, dz = self.cell
+        cell = _length(dx) if math.isclose(dx, dy, rel_tol=1e-6) else \
+            f"{_number_nm(dx)} × {_length(dy)}"
+        text = f"{nx} × {ny} cells of {cell}"
+        if nz > 1:
+            text += f", {nz} layers of {_length(dz)}"
+        if origin:
+            text += ", corner at (" + ", ".join(_number_nm(v) for v in self.origin) + ") nm"
+        return text
+
+
+def _number_nm(value: float) -> str:
+    return f"{value * 1e9:.4g}"
+
+
+def _length(value: float) -> str:
+    """A length [m] in nm, as short as the value allows."""
+    return f"{_number_nm(value)} nm"
+
+
+def _mesh_of(path: Path, header: dict) -> tuple[list[int], list[float], list[float], float]:
+    """Node counts, steps and first cell centres (in the file's unit) and metres per unit, after
+    checking the mesh against its own bounding box."""
     if "segment count" in header and _number(path, header, "segment count", int) != 1:
         raise _bad(path, "segment count", header["segment count"], "1 (one field per file)")
     if header.get("meshtype", "rectangular").lower() != "rectangular":
@@ -168,6 +206,41 @@ def read_ovf(path: str | Path) -> xr.DataArray:
             if not math.isclose(base, lo + step / 2, rel_tol=1e-4, abs_tol=1e-3 * step):
                 raise _bad(path, f"{axis}base", base, f"{axis}min + {axis}stepsize/2 = "
                            f"{lo + step / 2:g} (header inconsistent)")
+    return nodes, steps, bases, scale
+
+
+# The header ends with the line that opens the data block.
+_BEGIN_DATA = re.compile(rb"#[ \t]*begin:[ \t]*data[^\n]*\n", re.I)
+
+
+def read_mesh(path: str | Path) -> OVFMesh:
+    """The mesh of an OVF file from its header only (the data are not read): cheap enough to
+    check a whole folder of snapshots before reading any of them."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("path", str(path), "an existing OVF file")
+    raw = b""
+    with path.open("rb") as f:
+        while not _BEGIN_DATA.search(raw):
+            chunk = f.read(1 << 16)
+            if not chunk:
+                break  # _parse_header says what is missing
+            raw += chunk
+    header, _, _ = _parse_header(path, raw)
+    nodes, steps, bases, scale = _mesh_of(path, header)
+    return OVFMesh(tuple(nodes), tuple(s * scale for s in steps),
+                   tuple((b - s / 2) * scale for b, s in zip(bases, steps)))
+
+
+def read_ovf(path: str | Path) -> xr.DataArray:
+    """Read one OVF 1.0/2.0 file (text, binary 4 or binary 8) into a DataArray (see module)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("path", str(path), "an existing OVF file")
+    raw = path.read_bytes()
+    header, fmt, start = _parse_header(path, raw)
+    nodes, steps, bases, scale = _mesh_of(path, header)
+    unit = header.get("meshunit", "m")
     dim = _number(path, header, "valuedim", int) if header["version"] == 2 else 3
     if dim != 3:
         raise _bad(path, "valuedim", dim, "3 (a vector field)")

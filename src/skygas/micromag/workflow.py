@@ -25,15 +25,28 @@ from skygas.errors import InputError
 from skygas.materials import Material, load_material
 from skygas.micromag import export, forces
 from skygas.micromag.detection import detect_skyrmions
-from skygas.micromag.ovf import read_ovf
+from skygas.micromag.ovf import read_mesh, read_ovf
 from skygas.micromag.topology import unit_layer
 from skygas.micromag.tracking import Trajectory, link
+from skygas.run_driver import write_atomic, write_figure, write_json
+
+
+#: Why a fit writes no material.toml, when a requested law is not fixed by the data.
+NO_PRESET = ("no material.toml: the data fix no law the engine accepts for {laws} (the "
+             "tracks, the forces and the law tabulated over the measured range are written)")
 
 
 @dataclass
 class FitResult:
-    """Fitted laws (``pair``, ``wall``: :class:`~forces.LawFit` or None), the force samples
-    per law (d, |F| [N]), the Thiele coefficients used, all parameters, and warnings."""
+    """What the snapshots give.
+
+    ``pair``, ``wall``: the fitted :class:`~forces.LawFit` or None; ``samples``: the force
+    samples per law (d [d_sk], F [N]); ``tables``: each law tabulated over the measured range
+    (:class:`~forces.LawTable`, always made); ``unfixed``: per law the
+    :class:`~forces.UnfixedLawError` of a law the samples do not fix outside their range;
+    ``tracks``: every trajectory; the Thiele coefficients used, all parameters, the preset
+    (None when a requested law is unfixed) and the warnings.
+    """
 
     pair: forces.LawFit | None
     wall: forces.LawFit | None
@@ -42,25 +55,67 @@ class FitResult:
     parameters: dict
     material: Material | None = None
     warnings: list[str] = field(default_factory=list)
+    tables: dict = field(default_factory=dict)
+    unfixed: dict = field(default_factory=dict)
+    tracks: list[Trajectory] = field(default_factory=list)
+
+    @property
+    def no_material_reason(self) -> str | None:
+        """Why there is no preset (None if there is one)."""
+        if self.material is not None or not self.unfixed:
+            return None
+        return NO_PRESET.format(laws=" and ".join(f"the {law} law" for law in self.unfixed)) \
+            + ": " + "; ".join(f"{law} law: {err.why} (data: d = {err.fit.distance_range[0]:.2f}"
+                               f"–{err.fit.distance_range[1]:.2f} d_sk)"
+                               for law, err in self.unfixed.items())
 
     def as_record(self) -> dict:
         return {
             "skygas_version": __version__,
             "pair_law": None if self.pair is None else self.pair.as_record(),
             "wall_law": None if self.wall is None else self.wall.as_record(),
+            "unfixed_laws": {law: {"reason": err.why, "unfixed": err.unfixed,
+                                   "remedy": err.remedy,
+                                   "unconstrained_fit": err.fit.as_record()}
+                             for law, err in self.unfixed.items()},
+            "tables": {law: table.as_record() for law, table in self.tables.items()},
+            "material_toml": None if self.material is None else "material.toml",
+            "no_material_toml": self.no_material_reason,
             "thiele": self.thiele, "parameters": self.parameters, "warnings": self.warnings,
+            "tracks": [track_record(t) for t in self.tracks],
         }
 
     def write(self, out_dir: str | Path) -> dict[str, Path]:
-        """Write ``fit.json``, ``forces.csv``, ``fit.png`` and ``material.toml``."""
+        """Write ``fit.json``, ``tracks.csv``, ``forces.csv``, ``<law>_table.csv``, ``fit.png``
+        and (when every requested law was fitted) ``material.toml``, each atomically. A
+        ``material.toml`` left in ``out_dir`` by an earlier fit is removed when this fit has
+        none, so that the folder never holds a preset the data no longer support."""
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        paths = {"json": out / "fit.json", "csv": out / "forces.csv", "plot": out / "fit.png"}
+        paths = {"json": out / "fit.json", "tracks": out / "tracks.csv",
+                 "csv": out / "forces.csv", "plot": out / "fit.png"}
+        # The CSV files are plain tables (a header row, then numbers) that any CSV reader
+        # takes; the skygas version and the parameters they were made with are in fit.json,
+        # written with them, and in fit.png's text chunks.
+        rows = ["track,frame,time_s,x_m,y_m,radius_m,charge,dissipation"]
+        for t in self.tracks:
+            rows += [f"{t.id},{f},{time!r},{p.x!r},{p.y!r},{p.radius!r},{p.charge!r},"
+                     f"{p.dissipation!r}" for f, time, p in zip(t.frames, t.times, t.points)]
+        _write_text(paths["tracks"], rows)
         rows = ["law,distance_diameters,force_N"]
         for law, (d, f) in self.samples.items():
             rows += [f"{law},{a!r},{b!r}" for a, b in zip(d.tolist(), f.tolist())]
-        paths["csv"].write_text("\n".join(rows) + "\n")
-        export.plot_fits(paths["plot"], self.samples, {"pair": self.pair, "wall": self.wall})
+        _write_text(paths["csv"], rows)
+        for law, table in self.tables.items():
+            paths[f"{law}_table"] = out / f"{law}_table.csv"
+            rows = [",".join(table.COLUMNS)]
+            rows += [",".join(repr(v) for v in row.values()) for row in table.rows()]
+            _write_text(paths[f"{law}_table"], rows)
+        record = {"skygas_version": __version__,
+                  "parameters_json": json.dumps(self.parameters, default=str)}
+        write_figure(paths["plot"], lambda tmp: export.plot_fits(
+            tmp, self.samples, {"pair": self.pair, "wall": self.wall}, self.tables), record)
+        material_path = out / "material.toml"
         if self.material is not None:
             notes = [f"{k} = {v}" for k, v in self.parameters.items()]
             notes.append(f"force scale F0 = {self.thiele['force_scale_N']!r} N "
@@ -69,10 +124,27 @@ class FitResult:
                       f"{fit.distance_range[0]:.3f}–{fit.distance_range[1]:.3f} d_sk"
                       for fit in (self.pair, self.wall) if fit is not None]
             notes += self.warnings
-            paths["material"] = export.write_material_toml(out / "material.toml",
-                                                           self.material, notes)
-        paths["json"].write_text(json.dumps(self.as_record(), indent=2) + "\n")
+            paths["material"] = write_atomic(material_path, lambda tmp: export.
+                                             write_material_toml(tmp, self.material, notes))
+        elif material_path.is_file() and export.PRESET_MARK in \
+                material_path.read_text(errors="replace").partition("\n")[0]:
+            material_path.unlink()
+        write_json(paths["json"], {**self.as_record(),
+                                   "files": sorted(path.name for path in paths.values())})
         return paths
+
+
+def _write_text(path: Path, lines: list[str]) -> Path:
+    text = "\n".join(lines) + "\n"
+    return write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+def track_record(track: Trajectory) -> dict:
+    """One trajectory as JSON-able lists (SI units), the columns of ``tracks.csv``."""
+    return {"id": track.id, "frames": list(track.frames), "time_s": list(track.times),
+            "x_m": track.positions[:, 0].tolist(), "y_m": track.positions[:, 1].tolist(),
+            "radius_m": track.radius.tolist(), "charge": track.charge.tolist(),
+            "dissipation": track.dissipation.tolist()}
 
 
 def thiele_coefficients(charge: float, dissipation: float, material: Material,
@@ -99,11 +171,22 @@ def fit_trajectories(
     dissipation: float | None = None,
     window: int = 9,
     wall_degree: int = 5,
+    table_bins: int | None = None,
+    strict: bool = False,
 ) -> FitResult:
     """Fit the pair law (two trajectories) and/or the wall law (trajectories near ``boundary``).
 
     ``law``: "pair", "wall", "both" or "auto" (pair if two skyrmions coexist, else wall).
-    Measured charge, 𝒟 and diameter are used unless given. Units: SI.
+    Measured charge, 𝒟 and diameter are used unless given. Units: SI. Each law is also
+    tabulated over the measured distances (``table_bins`` bins, see
+    :func:`~forces.tabulate_law`).
+
+    A law the samples do not fix outside their range (:class:`~forces.UnfixedLawError`: no
+    decaying law, or a wall polynomial that fails the checks beyond the data) is left out:
+    ``result.unfixed`` says why, one warning says what the data do not fix, and there is no
+    preset (``result.material`` is None), since the engine would use that law where nothing
+    measured it. With ``strict`` the error is raised instead. A law that rises inside its own
+    data is always an error.
     """
     material = load_material(material)
     if law not in ("auto", "pair", "wall", "both"):
@@ -138,7 +221,7 @@ def fit_trajectories(
     for t in tracks:
         v = forces.velocities(t.times, t.positions, window=window)
         per_track[t.id] = forces.thiele_forces(v, thiele["gyrocoupling"], thiele["friction"])
-    samples, fits, warnings = {}, {}, []
+    samples, fits, warnings, unfixed = {}, {}, [], {}
     if law in ("pair", "both"):
         a, b = sorted(tracks, key=len, reverse=True)[:2] if len(tracks) >= 2 else (None, None)
         if a is None:
@@ -149,7 +232,7 @@ def fit_trajectories(
         d, f = forces.pair_samples(a.positions[ia], per_track[a.id][ia], b.positions[ib],
                                    per_track[b.id][ib], diameter)
         samples["pair"] = (d, f)
-        fits["pair"] = forces.fit_pair_law(d, f, scale)
+        fits["pair"] = _fit_or_unfixed(forces.fit_pair_law, unfixed, strict, d, f, scale)
         if len(tracks) > 2:
             warnings.append(f"{len(tracks)} trajectories: the pair fit used the two longest")
     if law in ("wall", "both"):
@@ -159,14 +242,25 @@ def fit_trajectories(
                  for t in tracks]
         d, f = (np.concatenate(x) for x in zip(*parts))
         samples["wall"] = (d, f)
-        fits["wall"] = forces.fit_wall_law(d, f, scale, degree=wall_degree)
+        fits["wall"] = _fit_or_unfixed(forces.fit_wall_law, unfixed, strict, d, f, scale,
+                                       degree=wall_degree)
+    tables = {name: forces.tabulate_law(name, *samples[name], diameter, scale, table_bins)
+              for name in samples}
     result = FitResult(fits.get("pair"), fits.get("wall"), samples, thiele, {
         "base_material": material.name, "film_thickness_m": film_thickness, "law": law,
-        "window": window, "wall_degree": wall_degree, "skygas_version": __version__})
+        "window": window, "wall_degree": wall_degree, "table_bins": table_bins,
+        "strict": strict, "skygas_version": __version__},
+        tables=tables, unfixed=unfixed, tracks=list(trajectories))
     for fit in (result.pair, result.wall):
         if fit is not None:
             warnings.extend(_coverage_notes(fit))
+    for err in unfixed.values():
+        warnings.append(_unfixed_warning(err))
     result.warnings.extend(warnings)
+    if unfixed:
+        # No preset: its unfixed law would have to be the base material's, a law that these
+        # snapshots did not measure.
+        return result
     # A preset the material model refuses is an error here, before anything is written.
     result.material = export.material_preset(
         material, name=f"{material.name}-fitted",
@@ -176,6 +270,28 @@ def fit_trajectories(
         damping=thiele["damping"],
         topological_charge=-1 if q < 0 else 1)
     return result
+
+
+def _fit_or_unfixed(fit_law, unfixed: dict, strict: bool, d, f, scale, **options):
+    """``fit_law(d, f, scale)``, or None with the law's :class:`~forces.UnfixedLawError` put in
+    ``unfixed`` (raised instead with ``strict``)."""
+    try:
+        return fit_law(d, f, scale, **options)
+    except forces.UnfixedLawError as err:
+        if strict:
+            raise
+        unfixed[err.fit.law] = err
+        return None
+
+
+def _unfixed_warning(err: forces.UnfixedLawError) -> str:
+    """The one line that says what the data do not fix, why, what was written instead and
+    what to do."""
+    lo, hi = err.fit.distance_range
+    return (f"{err.fit.law} law: the samples (d = {lo:.2f}–{hi:.2f} d_sk) do not fix "
+            f"{err.unfixed}: {err.why}; wrote the tracks, the forces and the law tabulated "
+            f"over the measured range, no material.toml ({err.remedy}, or use `skygas "
+            "calibrate`)")
 
 
 def _coverage_notes(fit: forces.LawFit) -> list[str]:
@@ -203,6 +319,27 @@ def snapshot_paths(directory: str | Path, pattern: str = "*.ovf") -> list[Path]:
     return paths
 
 
+def check_one_grid(directory: str | Path, paths: list[Path]) -> None:
+    """Refuse a folder whose snapshots are not all on the first file's mesh (node counts, cell
+    sizes, corner), naming the first file that differs and how; only the headers are read.
+
+    Two runs in one folder (a restart on a finer mesh, another sample) would otherwise be
+    tracked as one: skyrmions would jump between frames and the forces would be nonsense.
+    """
+    reference = read_mesh(paths[0])
+    for path in paths[1:]:
+        mesh = read_mesh(path)
+        if not mesh.same_grid(reference):
+            corner = mesh.nodes == reference.nodes and all(
+                math.isclose(a, b, rel_tol=1e-6) for a, b in zip(mesh.cell, reference.cell))
+            raise InputError(
+                "snapshot_dir", str(directory),
+                f"snapshots of one grid; {path.name} has {mesh.describe(corner)}, "
+                f"{paths[0].name} {reference.describe(corner)}",
+                "fit one run at a time (move the other files out, or choose them with "
+                "--pattern)")
+
+
 def fit_snapshots(
     directory: str | Path,
     out_dir: str | Path | None = None,
@@ -215,6 +352,7 @@ def fit_snapshots(
 ) -> FitResult:
     """Read OVF snapshots, detect and track skyrmions, fit the laws, and write to ``out_dir``.
 
+    Every file must be on the same mesh (:func:`check_one_grid`, before any file is read).
     Times come from each file's "Total simulation time" unless ``interval`` [s] is given.
     ``max_step`` [m] gates the tracking (default: one measured skyrmion radius). For a wall
     fit the boundary is the disk of the first snapshot's magnetic cells unless
@@ -223,6 +361,7 @@ def fit_snapshots(
     if interval is not None and not interval > 0:
         raise InputError("interval", interval, "a snapshot interval > 0 in seconds")
     paths = snapshot_paths(directory, pattern)
+    check_one_grid(directory, paths)
     snaps, first = [], None
     for path in paths:
         field_ = read_ovf(path)
