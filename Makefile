@@ -5,6 +5,11 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 DEMO_OUT ?= demo-output
+# torch is installed first and pinned: magnum.np (the `micromagnetics` extra) accepts any torch,
+# and pip's default on Linux is a CUDA build of several GB. Here 2.13.0 is a CPU build. On a
+# GPU machine: `make venv TORCH="torch==2.13.0 --index-url https://download.pytorch.org/whl/cu128"`
+# (or any CUDA build); elsewhere a CPU build: `--index-url https://download.pytorch.org/whl/cpu`.
+TORCH ?= torch==2.13.0
 
 .PHONY: demo test bench clean venv
 
@@ -13,7 +18,8 @@ venv: $(STAMP)
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet $(TORCH)
+	$(BIN)/python -m pip install --quiet -e '.[test,micromagnetics]'
 	touch $(STAMP)
 
 demo: $(STAMP)

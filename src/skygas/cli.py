@@ -43,6 +43,7 @@ _COMMAND_MODULES = [
     "skygas.commands.analyze",
     "skygas.commands.sc",
     "skygas.commands.micromag",
+    "skygas.commands.calibrate",
 ]
 
 #: exit status of a failure the user can fix (argparse's own, for the same kind of mistake)
@@ -79,6 +80,7 @@ EXAMPLES = {
     "micromag fit": "skygas micromag fit snapshots/ --out out/fit",
     "micromag samples": "skygas micromag samples",
     "reservoir": "skygas reservoir --out out/reservoir --json",
+    "calibrate": "skygas calibrate S2 --out out/cal",
 }
 
 # A number as a flag's value: argparse's own pattern (``^-\d+$|^-\d*\.\d+$``) has no exponent

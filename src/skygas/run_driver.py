@@ -249,10 +249,12 @@ def _progress_bar(job: Job, enabled: bool):
         return
     from tqdm import tqdm
 
-    bar = tqdm(total=round(job.work_total, 6), unit=job.work_unit, desc="simulated",
-               leave=False, initial=round(job.work_done(), 6))
+    bar = tqdm(total=round(job.work_total, 6), unit=job.work_unit,
+               desc=getattr(job, "work_description", "simulated"), leave=False,
+               initial=round(job.work_done(), 6))
 
     def update() -> None:
+        bar.total = round(job.work_total, 6)  # a job may learn its size as it goes
         bar.update(round(job.work_done(), 6) - bar.n)  # tqdm throttles the redraws
 
     try:

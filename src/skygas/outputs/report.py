@@ -124,6 +124,10 @@ class _Page:
                 f"<h1>{html.escape(self.title)}</h1>" + "\n".join(self.parts) + "</body></html>")
 
 
+#: The page builder, for other reports (the calibration's).
+Page = _Page
+
+
 def _jsonable(value):
     if isinstance(value, np.ndarray):
         return value.tolist()

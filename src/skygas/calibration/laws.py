@@ -1,0 +1,160 @@
+"""From calibration energies to force laws: tables, the paper's forms, the straight edge.
+
+**Pair law.** E(d) = E_pair − 2E_single + E_uniform at each measured centre distance d (the
+guiding centres of the relaxed pair, not the pinned cells: a skyrmion pushed by its neighbour
+deforms, and its guiding centre moves away from its pinned core). **Short-range wall law.**
+E(x) = E_single(x) − E_single(centre) against the measured distance x of the guiding centre
+from the calibration film's edge (compensated film: the edge acts only at short range).
+
+**Forces.** F = −dE/dd from a cubic spline through ln E (exact for an exponential, the
+laws' decay at long range; E stays positive for a repulsion), tabulated on a fine grid over
+the measured range, and continued beyond the farthest point with the exponential decay of the
+last three points until the force is far below the engine's cutoff (1e-4 F₀). Below the closest
+measured distance the engine holds the force constant (:class:`skygas.materials.ForceTableSpec`).
+
+**Straight edge.** A skyrmion near one straight edge of a real (uncompensated) film feels the
+short-range law plus the first-order energy in the edge's stray field,
+U(x) = μ₀M_s t ∫ w(|r' − r|) H(x') dA' over the film x' > 0, H(x') = (M_s/π)·atan(h/x')
+(h = t/2, :mod:`skygas.landscape.stray_field`): what the paper's wall law describes, and what
+:func:`straight_edge_force` returns, to fit the paper's form and compare with the paper.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import interpolate
+
+from skygas.units import MU_0
+
+#: The farthest tabulated force [F₀]: far below the engine's default cutoff (1e-3 F₀).
+TABLE_FLOOR = 1e-4
+#: Table nodes over the measured range.
+TABLE_NODES = 96
+
+
+@dataclass(frozen=True)
+class EnergyCurve:
+    """Energies [J] against distances [m] (sorted, distinct), and which were left out and
+    why (``dropped``: list of (distance, reason))."""
+
+    distance: np.ndarray
+    energy: np.ndarray
+    dropped: tuple[tuple[float, str], ...] = ()
+
+
+@dataclass(frozen=True)
+class ForceLaw:
+    """A tabulated repulsion: ``distance`` [m], ``force`` [N]; ``measured`` the range [m]
+    the energies covered (beyond: exponential continuation with decay length ``decay`` [m])."""
+
+    distance: np.ndarray
+    force: np.ndarray
+    measured: tuple[float, float]
+    decay: float
+
+    def __call__(self, d):
+        """|F| [N] at ``d`` [m], as the engine interpolates it (PCHIP, held below, 0 beyond)."""
+        d = np.asarray(d, float)
+        f = interpolate.PchipInterpolator(self.distance, self.force)(
+            np.clip(d, self.distance[0], self.distance[-1]))
+        return np.where(d > self.distance[-1], 0.0, f)
+
+
+def curve(points: list[tuple[float, float]], dropped=()) -> EnergyCurve:
+    """An :class:`EnergyCurve` from (distance, energy) pairs (duplicates averaged)."""
+    points = sorted(points)
+    d = np.array([p[0] for p in points])
+    e = np.array([p[1] for p in points])
+    keep = np.concatenate([[True], np.diff(d) > 1e-12])
+    return EnergyCurve(d[keep], e[keep], tuple(dropped))
+
+
+def force_law(energy: EnergyCurve, force_scale: float) -> ForceLaw:
+    """F(d) = −dE/dd (see the module docstring); ``force_scale`` F₀ [N] sets the floor."""
+    d, e = energy.distance, energy.energy
+    positive = e > 0
+    if not positive.all():  # the far tail vanished into rounding: keep what is above it
+        last = int(np.argmin(positive))
+        d, e = d[:last], e[:last]
+    if len(d) < 4:
+        raise ValueError("fewer than 4 positive energies: no repulsion to tabulate")
+    spline = interpolate.CubicSpline(d, np.log(e), bc_type="not-a-knot")
+    nodes = np.linspace(d[0], d[-1], TABLE_NODES)
+    force = -spline(nodes, 1) * np.exp(spline(nodes))
+    force = np.maximum(force, 0.0)
+    slope = np.polyfit(d[-3:], np.log(e[-3:]), 1)[0]  # ln E ≈ c − d/λ at the far end
+    decay = -1.0 / slope if slope < 0 else (d[-1] - d[0])
+    tail = []
+    if force[-1] > TABLE_FLOOR * force_scale:
+        reach = decay * math.log(force[-1] / (TABLE_FLOOR * force_scale))
+        tail = np.linspace(d[-1], d[-1] + reach, 24)[1:]
+    far = force[-1] * np.exp(-(np.asarray(tail) - d[-1]) / decay)
+    return ForceLaw(np.concatenate([nodes, tail]), np.concatenate([force, far]),
+                    (float(d[0]), float(d[-1])), float(decay))
+
+
+def projected_profile(profile_radius, profile_deficit, u: np.ndarray) -> np.ndarray:
+    """W(u) = ∫ w(√(u² + v²)) dv [m]: the deficit profile integrated across a line."""
+    r = np.asarray(profile_radius, float)
+    w = np.asarray(profile_deficit, float)
+    v = np.linspace(0.0, r[-1], 400)
+    rho = np.hypot(np.asarray(u, float)[:, None], v[None, :])
+    return 2.0 * np.trapezoid(np.interp(rho, r, w, right=0.0), v, axis=1)
+
+
+def halfplane_stray_energy(x, saturation_magnetization: float, thickness: float,
+                           profile_radius, profile_deficit) -> np.ndarray:
+    """U(x) [J] of a skyrmion at distance x [m] from the straight edge of a half-plane film,
+    first order in its deficit (module docstring); 0 far from the edge."""
+    h = 0.5 * thickness
+    reach = float(profile_radius[-1])
+    out = []
+    for xc in np.atleast_1d(np.asarray(x, float)):
+        xp = np.linspace(max(xc - reach, 0.0), xc + reach, 801)[1:]
+        field = saturation_magnetization / math.pi * np.arctan(h / xp)
+        weight = projected_profile(profile_radius, profile_deficit, xp - xc)
+        out.append(MU_0 * saturation_magnetization * thickness
+                   * np.trapezoid(field * weight, xp))
+    return np.array(out)
+
+
+def straight_edge_force(wall: ForceLaw, x: np.ndarray, saturation_magnetization: float,
+                        thickness: float, profile_radius, profile_deficit) -> np.ndarray:
+    """|F| [N] of a straight edge of a real film at distances ``x`` [m]: the short-range law
+    plus −dU/dx of the edge's stray field (module docstring)."""
+    x = np.asarray(x, float)
+    step = 0.25e-9
+    u_plus = halfplane_stray_energy(x + step, saturation_magnetization, thickness,
+                                    profile_radius, profile_deficit)
+    u_minus = halfplane_stray_energy(np.maximum(x - step, 1e-12), saturation_magnetization,
+                                     thickness, profile_radius, profile_deficit)
+    return wall(x) + (u_minus - u_plus) / (2 * step)
+
+
+def paper_form_fits(pair: ForceLaw, edge_x: np.ndarray, edge_force: np.ndarray,
+                    diameter: float, force_scale: float) -> dict:
+    """The paper's forms fitted to the tabulated laws over their measured ranges
+    (:func:`skygas.micromag.fit_pair_law`, :func:`~skygas.micromag.fit_wall_law`): the
+    coefficients, the range [d_sk] and the rms residual of ln|F|, or why there is no fit."""
+    from skygas.errors import InputError
+    from skygas.micromag.forces import fit_pair_law, fit_wall_law
+
+    out = {}
+    lo, hi = pair.measured
+    d = np.linspace(max(lo, diameter), hi, 40)  # the paper's forms start at one diameter
+    samples = {"pair": (d, pair(d)), "wall": (edge_x, edge_force)}
+    for law, (dist, force) in samples.items():
+        try:
+            fit = (fit_pair_law if law == "pair" else fit_wall_law)(
+                dist / diameter, force, force_scale)
+        except InputError as err:
+            out[law] = {"coefficients": None, "why": str(err)}
+            continue
+        out[law] = {"coefficients": [float(c) for c in fit.coefficients],
+                    "uncertainties": [float(u) for u in fit.uncertainties],
+                    "range_d_sk": [float(dist.min() / diameter), float(dist.max() / diameter)],
+                    "rms_log_residual": float(fit.rms_log_residual), "note": fit.note}
+    return out

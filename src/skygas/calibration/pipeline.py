@@ -1,0 +1,299 @@
+"""The calibration as a run-driver job: solves in worker processes, checkpoints, resume.
+
+:class:`CalibrationJob` follows :class:`skygas.run_driver.Job`. Its *work* is the planned
+solves, weighted by their expected cost; each piece of the job waits (at most a second) for
+solves to finish, records them and hands new ones to idle workers. What can run depends on what
+has finished (:mod:`skygas.calibration.plan`): the isolated skyrmion first, then, once its
+diameter is known, the laws, the checks and the validation run, whose LLG pieces form a chain
+(each starts from the previous one's texture). The LLG chain goes first whenever it can: it is
+the longest sequence of work.
+
+The checkpoint holds every finished solve (energies, statistics, kept textures) and the LLG
+run's state; a resumed calibration recomputes only the solves that were in flight, and since
+every solve is a pure function of its inputs the results are the same, bit for bit.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from skygas.calibration import plan
+from skygas.calibration.plan import CalibrationConfig, Relaxation
+from skygas.calibration.solver import Film
+from skygas.run_driver import from_json_array, json_array
+
+#: LLG snapshots per piece of the validation run.
+SNAPSHOTS_PER_PIECE = 5
+
+#: the files whose presence means a finished calibration
+RESULT_FILES = ("model.toml", "calibration.json", "report.html")
+
+
+class CalibrationJob:
+    """A calibration (``config``) computed by ``workers`` processes (0: in this process, one
+    solve per piece, as on a GPU) of ``threads`` torch threads each."""
+
+    work_unit = "solves"
+    work_description = "calibrating"
+    result_files = RESULT_FILES
+
+    def __init__(self, config: CalibrationConfig, workers: int = 2, threads: int = 1):
+        self.config = config
+        self.workers = int(workers)
+        self.threads = int(threads)
+        self.material_json = config.material.model_dump_json()
+        self.results: dict[str, dict[str, Any]] = {}
+        self.textures: dict[str, np.ndarray] = {}
+        self.llg: dict[str, Any] = {"frames": [], "time": 0.0, "next_step": 1e-14,
+                                    "seconds": 0.0, "steps": 0, "finished": False}
+        self.llg_m: np.ndarray | None = None
+        self.timeline: dict[str, list[float]] = {}  # stage -> [first start, last end] (s)
+        self._pool = None
+        self._in_flight: dict[str, Any] = {}
+        self._sizes: dict[str, tuple[float, float] | None] = {}
+        self._started = time.perf_counter()
+
+    # -- what is known ------------------------------------------------------------------------
+    def _stage1(self) -> tuple[list[Relaxation], str | None]:
+        """Stage 1's solves so far and the prefix of the final one (None until known): the
+        film grows until it is large enough for the radius measured in it, each larger film
+        starting from the profile relaxed in the one before."""
+        solves: list[Relaxation] = []
+        radius, template = None, None
+        while True:
+            film = plan.isolated_film(self.config, radius)
+            stage = plan.isolated_stage(self.config, f"isolated/{film.nx}", film, template)
+            solves += stage.solves
+            single = self.results.get(f"{stage.name}/single")
+            if single is None or f"{stage.name}/uniform" not in self.results:
+                return solves, None
+            if len(single["skyrmions"]) != 1:
+                return solves, stage.name  # no isolated skyrmion: finish() refuses
+            radius = single["skyrmions"][0]["radius"]
+            if plan.ISOLATED_MIN_SIDE * radius <= film.size[0]:
+                return solves, stage.name
+            template = self._measure(stage.name, film)[2]
+
+    def isolated_prefix(self) -> str | None:
+        """The stage-1 solves whose result is final (``PREFIX/single``, ``PREFIX/uniform``)."""
+        return self._stage1()[1]
+
+    def isolated_film(self) -> Film:
+        prefix = self.isolated_prefix()
+        return self._stage1()[0][-1].film if prefix is None else \
+            next(s.film for s in self._stage1()[0] if s.name == f"{prefix}/single")
+
+    def isolated_size(self) -> tuple[float, float, plan.Template] | None:
+        """(radius, wall width [m], starting template) of the isolated skyrmion, once stage 1
+        is final and holds one skyrmion."""
+        prefix = self.isolated_prefix()
+        if prefix is None:
+            return None
+        if prefix not in self._sizes:
+            self._sizes[prefix] = self._measure_size(prefix)
+        return self._sizes[prefix]
+
+    def _measure_size(self, prefix: str):
+        return self._measure(prefix, self.isolated_film())
+
+    def _measure(self, prefix: str, film: Film):
+        """(radius, wall width, template) of the single relaxed in stage-1 film ``film``."""
+        single = self.results[f"{prefix}/single"]
+        if len(single["skyrmions"]) != 1:
+            return None
+        from skygas.calibration.profile import fit_wall_width, helicity, radial_profile
+
+        s = single["skyrmions"][0]
+        m = self.textures[f"{prefix}/single"]
+        r_max = min(0.5 * min(film.size) - film.cell_size, 6 * s["radius"])
+        radii, mz = radial_profile(m, film, (s["x"], s["y"]), r_max)
+        template = plan.Template(tuple(map(float, radii)), tuple(map(float, mz)),
+                                 helicity(m, film, (s["x"], s["y"])))
+        return s["radius"], fit_wall_width(radii, mz, s["radius"]), template
+
+    def planned(self) -> list[Relaxation]:
+        """Every relaxation planned so far (it grows as results come in)."""
+        config = self.config
+        solves, _ = self._stage1()
+        size = self.isolated_size()
+        if size is not None:
+            radius, width, template = size
+            solves += plan.laws_stage(config, radius, width, template).solves
+            solves += plan.enlarged_stage(config, radius, template).solves
+            solves += plan.sensitivity_stage(config, self.isolated_film(), template).solves
+            solves += plan.stray_check_stage(config, radius, width, template).solves
+            if config.mesh_check:
+                solves += plan.mesh_stage(config, radius, width, template).solves
+            if config.validate_dynamics:
+                solves.append(plan.validation_start(config, radius, width, template))
+        return solves
+
+    def validation_film(self) -> Film:
+        return plan.validation_film(self.config, 2 * self.isolated_size()[0])
+
+    # -- the LLG chain ------------------------------------------------------------------------
+    def _llg_piece_cost(self) -> float:
+        film = self.validation_film()
+        v = self.config.validation
+        # an LLG step's explicit-stability limit scales as cell²; ~7 LLG snapshots of 50 ps
+        # on 20 000 cells of 2 nm take as long as one relaxation
+        scale = (2e-9 / self.config.material.cell_size) ** 2
+        return film.nx * film.ny / 20_000 * scale * SNAPSHOTS_PER_PIECE \
+            * v.snapshot_interval / 50e-12 / 7.0
+
+    def _llg_pieces_left(self) -> int:
+        if not self.config.validate_dynamics or self.llg["finished"]:
+            return 0
+        v = self.config.validation
+        total = math.ceil(v.max_duration / (SNAPSHOTS_PER_PIECE * v.snapshot_interval) - 1e-9)
+        done = len(self.llg["frames"]) // SNAPSHOTS_PER_PIECE
+        return max(total - done, 0)
+
+    def _llg_travel_done(self) -> bool:
+        """Has every skyrmion travelled ``min_travel`` diameters along its path?"""
+        from skygas.calibration.validation import path_lengths
+
+        frames = self.llg["frames"]
+        if not frames:
+            return False
+        radius = self.isolated_size()[0]
+        start = self.results["validation/start"]["skyrmions"]
+        lengths = path_lengths(start, frames, 2 * radius)
+        if lengths is None:  # a skyrmion was lost: nothing more to compare
+            return True
+        return min(lengths) >= self.config.validation.min_travel
+
+    def _llg_task(self):
+        v = self.config.validation
+        if self.llg_m is None:
+            self.llg_m = self.textures["validation/start"]
+        args = (self.material_json, self.validation_film(), self.llg_m, self.llg["time"],
+                self.llg["next_step"], SNAPSHOTS_PER_PIECE * v.snapshot_interval,
+                v.snapshot_interval, v.llg_tolerance)
+        return f"llg/{len(self.llg['frames'])}", "evolve", args
+
+    # -- the run-driver protocol --------------------------------------------------------------
+    @property
+    def work_total(self) -> float:
+        costs = sum(s.cost for s in self.planned())
+        if self.isolated_size() is None:
+            costs += 60.0  # the laws, checks and validation, before they can be planned
+        elif self.config.validate_dynamics and "validation/start" in self.results:
+            costs += self._llg_pieces_left() * self._llg_piece_cost() + self._llg_done_cost()
+        return costs
+
+    def _llg_done_cost(self) -> float:
+        return len(self.llg["frames"]) // SNAPSHOTS_PER_PIECE * self._llg_piece_cost()
+
+    def work_done(self) -> float:
+        done = sum(s.cost for s in self.planned() if s.name in self.results)
+        if self.config.validate_dynamics and "validation/start" in self.results:
+            done += self._llg_done_cost()
+        return done
+
+    def _ready(self) -> list[tuple[str, str, tuple]]:
+        """Tasks that can start now, the LLG chain first, then the costliest relaxations."""
+        tasks = []
+        if self.config.validate_dynamics and "validation/start" in self.results \
+                and not self.llg["finished"] and not any(k.startswith("llg/")
+                                                        for k in self._in_flight):
+            tasks.append(self._llg_task())
+        pending = [s for s in self.planned()
+                   if s.name not in self.results and s.name not in self._in_flight]
+        for s in sorted(pending, key=lambda s: -s.cost):
+            tasks.append((s.name, "relax", (self.material_json, s,
+                                            self.config.torque_tolerance)))
+        return tasks
+
+    def advance_piece(self) -> None:
+        from skygas.calibration import worker
+
+        if self.workers == 0:  # in this process, one task per piece
+            ready = self._ready()
+            if ready:
+                key, kind, args = ready[0]
+                self._record(key, getattr(worker, kind)(*args))
+            return
+        if self._pool is None:
+            self._pool = worker.start_pool(self.workers, self.threads, self.config.compile)
+        for key, kind, args in self._ready():
+            if len(self._in_flight) >= self.workers:
+                break
+            self._in_flight[key] = self._pool.apply_async(getattr(worker, kind), args)
+        deadline = time.perf_counter() + 1.0  # return within a second: Ctrl-C is honoured
+        while time.perf_counter() < deadline:
+            finished = [k for k, r in self._in_flight.items() if r.ready()]
+            if finished:
+                for key in finished:
+                    self._record(key, self._in_flight.pop(key).get())
+                return
+            time.sleep(0.02)
+
+    def _record(self, key: str, result: dict[str, Any]) -> None:
+        stage = key.split("/")[0]
+        now = time.perf_counter() - self._started
+        span = self.timeline.setdefault(stage, [now - result.get("seconds", 0.0), now])
+        span[0] = min(span[0], now - result.get("seconds", 0.0))
+        span[1] = now
+        if key.startswith("llg/"):
+            self.llg_m = result["m"]
+            self.llg["frames"] += result["frames"]
+            self.llg.update(time=result["time"], next_step=result["next_step"])
+            self.llg["seconds"] += result["seconds"]
+            self.llg["steps"] += result["steps"]
+            if self._llg_travel_done() or self._llg_pieces_left() == 0:
+                self.llg["finished"] = True
+            return
+        texture = result.pop("m", None)
+        if texture is not None:
+            self.textures[key] = texture
+        self.results[key] = result
+
+    def close(self) -> None:
+        """Stop the worker processes (at once: a solve in flight is recomputed on resume)."""
+        if self._pool is not None:
+            self._pool.terminate()
+            self._pool.join()
+            self._pool = None
+        self._in_flight.clear()
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        state = {"results": json_array(self.results), "llg": json_array(self.llg),
+                 "timeline": json_array(self.timeline)}
+        for name, texture in self.textures.items():
+            state[f"texture:{name}"] = texture
+        if self.llg_m is not None:
+            state["llg_m"] = self.llg_m
+        return state
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.results = from_json_array(state["results"])
+        self.llg = from_json_array(state["llg"])
+        self.timeline = from_json_array(state["timeline"])
+        self.textures = {k.split(":", 1)[1]: np.asarray(v) for k, v in state.items()
+                         if k.startswith("texture:")}
+        self.llg_m = np.asarray(state["llg_m"]) if "llg_m" in state else None
+
+    def config_json(self) -> str:
+        return self.config.model_dump_json()
+
+    def seed(self) -> int:
+        return self.config.seed()
+
+    def finish(self, out_dir: Path):
+        self.close()
+        from skygas.calibration.results import write_results
+
+        return write_results(self, Path(out_dir))
+
+
+def dump_raw(job: CalibrationJob, path: Path) -> None:
+    """The raw results as JSON (for debugging and the benchmark)."""
+    path.write_text(json.dumps({"results": job.results, "llg": job.llg,
+                                "timeline": job.timeline}, default=float, indent=1))

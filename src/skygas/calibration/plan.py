@@ -1,0 +1,385 @@
+"""What a calibration computes: its configuration, its films, and the list of solves.
+
+A calibration is a set of independent constrained relaxations plus one LLG run, all of them
+of the same material.
+
+**The reference environment.** A skyrmion's size depends on the stray field it sits in, and a
+film's own stray field depends on where its edges are: in a finite film the demagnetising field
+is weaker than an infinite film's −M_s by H_dev(r), about M_s t/D in the middle of a device of
+width D and more near its edges (:mod:`skygas.landscape.stray_field`). For soft skyrmions this
+matters a great deal: the S2 skyrmion (2 nm cells) has a radius of 26 nm in the middle of a
+300 nm film, 39 nm in the middle of a 1024 nm disk and 52 nm in an infinite film. The laws
+are therefore calibrated in *compensated* films (:class:`~skygas.calibration.solver.Film`):
+an extra field cancels the film's own H_dev, so that the film's edges act only at short range,
+and a uniform ``reference_field`` H_ref = M_s h/√(a² + h²) (h = t/2, a = D/2: H_dev at the
+centre of a disk of the ``reference_diameter`` D) puts every skyrmion in the environment of
+the interior of the device the model is for. The particle model then adds the gradient of the
+device's own stray field (its constant part is H_ref, already in the laws).
+
+**Stage 1, the isolated skyrmion** (needs nothing): a square film of side ``L₀`` with one
+skyrmion at its centre, and the same film uniform; the same pair in a film 1.25 times larger
+checks that the edges did not matter. ``L₀`` is 20 times the longer of Δ_eff and A/|D|, and
+grown (to 11 radii) until it is at least 10 skyrmion radii; a grown film starts from the
+profile relaxed in the smaller one. The same skyrmion at H_ref ± 1 mT/μ₀ measures how
+its size follows the field.
+
+**Stage 2, the laws** (needs the measured diameter d_sk): one rectangular *calibration film*
+of (pair range + 3) × 3.5 d_sk, open boundaries, an odd number of cells each way so that its
+centre row maps to itself under the half-turn about the film's centre (a symmetry of the film
+for either DMI). In it:
+
+- *singles*: one skyrmion with its core cell pinned at cell i of the centre row. The singles
+  at the cells near the left edge give the edge law E(x);
+- *pairs*: two skyrmions pinned at cells i and nx − 1 − i of the centre row, d = (nx − 1 − 2i)
+  cells apart. By the half-turn symmetry both feel the film exactly as the single at cell i
+  does, so the pair energy is E(d) = E_pair − 2E_single(i) + E_uniform: every interaction
+  with the film's edges, the long-range stray field included, cancels;
+- the uniform film.
+
+**Mesh check**: a smaller film with a pair at ≈ 1.5 d_sk (pair, its single, uniform) and the
+isolated skyrmion, each at the calibration's cell size and at half of it.
+
+**Stray-field check**: singles at a few distances from the left edge of the calibration film
+whose compensation spares that edge's stray field (a real straight edge in an otherwise
+infinite film), and its uniform state: their energy against the model's, short-range law plus
+first-order stray-field energy.
+
+**Validation** (needs d_sk): a compensated disk (with H_ref) of ``disk_radius`` d_sk with
+``skyrmions`` skyrmions at fixed, asymmetric positions, relaxed with their cores pinned, then
+released: LLG at T = 0.
+
+Every relaxation after stage 1 starts from the isolated skyrmion's own relaxed profile (its
+helicity and m_z(r)), which roughly halves the solver's iterations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from skygas.calibration.material import MicromagneticMaterial
+from skygas.calibration.solver import Film
+from skygas.config_types import Length, PositiveFloat, StrictModel
+from skygas.units import MU_0
+
+#: Relaxations stop below max|m × (m × H)| of this [A/m]: against 1 A/m, a third of the
+#: iterations, and pair energies that differ by 1e-4 of themselves (S2, 4 nm cells).
+CALIBRATION_TORQUE_TOLERANCE = 10.0
+#: The paper's chamber diameter [m], the default reference device.
+REFERENCE_DIAMETER = 1024e-9
+#: Field step [T] of the size-sensitivity solves.
+SENSITIVITY_STEP = 1e-3
+#: Distances from the edge [d_sk] of the stray-field check.
+STRAY_CHECK_GRID = (1.2, 2.0)
+
+#: Distances from the left edge [d_sk] of the singles that sample the edge law.
+EDGE_GRID = (0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5, 1.75, 2.0, 2.5)
+#: Side [radii] of the isolated skyrmion's film once its radius is known; a film is large
+#: enough while it is at least ISOLATED_MIN_SIDE radii (the margin keeps a radius measured in
+#: the larger film from asking for yet another one).
+ISOLATED_SIDE = 11.0
+ISOLATED_MIN_SIDE = 10.0
+#: Margin [d_sk] between a pair's skyrmions and the calibration film's edges.
+PAIR_MARGIN = 1.25
+#: Height of the calibration film [d_sk].
+FILM_HEIGHT = 3.0
+
+
+class ValidationSpec(StrictModel):
+    """The micromagnetic many-skyrmion run the model is checked against (T = 0, no current).
+
+    ``skyrmions`` in a disk of ``disk_radius`` skyrmion diameters; snapshots every
+    ``snapshot_interval`` [s]; the run stops once every skyrmion has travelled ``min_travel``
+    diameters along its path, or at ``max_duration`` [s]."""
+
+    skyrmions: int = Field(3, ge=1, le=7)
+    disk_radius: float = Field(2.5, ge=1.0, le=10.0)
+    snapshot_interval: PositiveFloat = 50e-12
+    min_travel: float = Field(1.0, gt=0)
+    max_duration: PositiveFloat = 10e-9
+    llg_tolerance: float = Field(1e-5, gt=0, lt=1e-2)
+
+
+class CalibrationConfig(StrictModel):
+    """Everything that decides a calibration's results (not how fast it runs).
+
+    ``pair_range``: the pair law's distances [d_sk] from closest approach to the farthest;
+    ``torque_tolerance``: a relaxation stops below max|m × (m × H)| [A/m];
+    ``mesh_check``: repeat the isolated skyrmion and one pair distance at half the cell size;
+    ``validate``: run the micromagnetic many-skyrmion dynamics; ``compile``: magnum.np's
+    compiled field terms (the same physics; the last bits differ, so a run resumes only with
+    the setting it started with); ``reference_diameter``: the device whose interior the model
+    is for [m] (see the module docstring)."""
+
+    material: MicromagneticMaterial
+    reference_diameter: Length = REFERENCE_DIAMETER
+    pair_range: tuple[float, float] = (1.0, 4.5)
+    torque_tolerance: PositiveFloat = CALIBRATION_TORQUE_TOLERANCE
+    mesh_check: bool = True
+    validate_dynamics: bool = True
+    validation: ValidationSpec = ValidationSpec()
+    compile: bool = False
+
+    @property
+    def reference_field(self) -> float:
+        """H_ref [A/m]: H_dev at the centre of a disk of the reference diameter."""
+        h = 0.5 * self.material.film_thickness
+        a = 0.5 * self.reference_diameter
+        return self.material.saturation_magnetization * h / math.hypot(a, h)
+
+    @model_validator(mode="after")
+    def _ranges(self) -> "CalibrationConfig":
+        lo, hi = self.pair_range
+        if not 0.6 <= lo < hi <= 12:
+            raise ValueError(f"pair_range|{list(self.pair_range)}|two distances 0.6 ≤ closest < "
+                             "farthest ≤ 12 skyrmion diameters")
+        return self
+
+    def seed(self) -> int:
+        return 0  # deterministic: nothing random in a calibration
+
+
+# -- the solves ---------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Template:
+    """A starting profile: the isolated skyrmion's m_z(r) (``radius`` [m], ``mz``) and
+    helicity [rad] (0 or π: Néel, ±π/2: Bloch)."""
+
+    radius: tuple[float, ...]
+    mz: tuple[float, ...]
+    helicity: float
+
+
+@dataclass(frozen=True)
+class Relaxation:
+    """One constrained relaxation: skyrmions with their core cells ``cores`` pinned (none: the
+    uniform film). They start from ``template`` scaled radially by ``scale`` or, without one,
+    from the ansatz with radius ``radius`` and wall width ``width`` [m]; ``keep``: return the
+    relaxed texture; ``cost``: expected wall time relative to a 20 000-cell solve."""
+
+    name: str
+    film: Film
+    cores: tuple[tuple[int, int], ...] = ()
+    radius: float = 0.0
+    width: float = 0.0
+    template: Template | None = None
+    scale: float = 1.0
+    keep: bool = False
+    cost: float = 1.0
+
+
+@dataclass
+class Stage:
+    """A named group of solves."""
+
+    name: str
+    solves: list[Relaxation] = field(default_factory=list)
+
+
+def odd(n: float) -> int:
+    """The odd integer nearest to ``n`` (at least 3)."""
+    k = max(3, int(round(n)))
+    return k if k % 2 else k + 1
+
+
+def _cost(film: Film, cell: float) -> float:
+    """A solve's expected cost: cells, and iterations ∝ 1/cell (the stiffest mode)."""
+    return film.nx * film.ny / 20_000 * cell / film.cell_size
+
+
+def reference_film(config: CalibrationConfig, nx: int, ny: int, cell: float | None = None,
+                   disk: bool = False, offset: float = 0.0,
+                   real_left_edge: bool = False) -> Film:
+    """A film in the reference environment (compensated, H_ref; ``offset`` [A/m] added;
+    ``real_left_edge``: that edge keeps its stray field)."""
+    return Film(nx, ny, cell or config.material.cell_size, disk=disk, compensated=True,
+                reference_field=config.reference_field + offset, real_left_edge=real_left_edge)
+
+
+def isolated_film(config: CalibrationConfig, radius: float | None = None,
+                  scale: float = 1.0, cell: float | None = None, offset: float = 0.0) -> Film:
+    """The square film of stage 1 (``radius``: the measured one, if known)."""
+    material = config.material
+    side = 20.0 * max(material.wall_width, material.dmi_length)
+    if radius is not None:
+        side = max(side, ISOLATED_SIDE * radius)
+    cell = cell or material.cell_size
+    n = odd(scale * side / cell)
+    return reference_film(config, n, n, cell, offset=offset)
+
+
+def initial_radius(material: MicromagneticMaterial) -> float:
+    """A first guess of the radius [m]: 2A/|D| (the radius of a skyrmion whose energy is
+    dominated by exchange and DMI)."""
+    return 2.0 * material.dmi_length
+
+
+def _centre(film: Film) -> tuple[int, int]:
+    return (film.nx - 1) // 2, (film.ny - 1) // 2
+
+
+def isolated_stage(config: CalibrationConfig, prefix: str, film: Film,
+                   template: Template | None = None) -> Stage:
+    """The isolated skyrmion and the uniform film, in ``film``."""
+    material = config.material
+    cost = _cost(film, material.cell_size)
+    width = max(material.bare_wall_width, 2 * film.cell_size)
+    return Stage(prefix, [
+        Relaxation(f"{prefix}/uniform", film, (), keep=True, cost=0.1 * cost),
+        Relaxation(f"{prefix}/single", film, (_centre(film),), initial_radius(material), width,
+                   template, keep=True, cost=cost)])
+
+
+def calibration_film(config: CalibrationConfig, diameter: float,
+                     pair_range: tuple[float, float], cell: float | None = None,
+                     real_left_edge: bool = False) -> Film:
+    """The stage-2 film: (farthest pair + 2 margins) × FILM_HEIGHT diameters, odd cells."""
+    cell = cell or config.material.cell_size
+    width = (pair_range[1] + 2 * PAIR_MARGIN) * diameter
+    return reference_film(config, odd(width / cell), odd(FILM_HEIGHT * diameter / cell), cell,
+                          real_left_edge=real_left_edge)
+
+
+def pair_cells(film: Film, diameter: float, pair_range: tuple[float, float],
+               count: int = 10) -> list[int]:
+    """Cells i of the pairs (i, nx − 1 − i): ``count`` distances from the closest to the
+    farthest of ``pair_range`` [d_sk], denser at short range where the law changes fastest."""
+    lo, hi = pair_range
+    targets = np.exp(np.linspace(math.log(lo), math.log(hi), count)) * diameter
+    cells = sorted({int(round((film.nx - 1 - d / film.cell_size) / 2)) for d in targets},
+                   reverse=True)
+    return [i for i in cells if 0 <= i < (film.nx - 1) // 2]
+
+
+def edge_cells(film: Film, diameter: float, grid=EDGE_GRID) -> list[int]:
+    """Cells i of the singles at distances ``grid`` [d_sk] from the left edge."""
+    cells = {int(round(x * diameter / film.cell_size - 0.5)) for x in grid}
+    return sorted(i for i in cells if 0 <= i <= (film.nx - 1) // 2)
+
+
+def _pair(name: str, film: Film, i: int, template: Template, radius: float, width: float,
+          cost: float) -> Relaxation:
+    row = (film.ny - 1) // 2
+    d = (film.nx - 1 - 2 * i) * film.cell_size
+    # two full profiles overlapping at close range would merge: start them smaller
+    scale = min(1.0, max(0.5 * d - width, 2 * film.cell_size) / radius)
+    return Relaxation(name, film, ((i, row), (film.nx - 1 - i, row)), radius, width, template,
+                      scale, cost=1.2 * cost)
+
+
+def laws_stage(config: CalibrationConfig, radius: float, width: float,
+               template: Template) -> Stage:
+    """Stage 2: the calibration film's uniform state, singles and pairs."""
+    diameter = 2 * radius
+    film = calibration_film(config, diameter, config.pair_range)
+    row = (film.ny - 1) // 2
+    pairs = pair_cells(film, diameter, config.pair_range)
+    singles = sorted(set(edge_cells(film, diameter)) | set(pairs) | {(film.nx - 1) // 2})
+    cost = _cost(film, config.material.cell_size)
+    stage = Stage("laws", [Relaxation("laws/uniform", film, (), cost=0.1 * cost)])
+    for i in singles:
+        stage.solves.append(Relaxation(f"laws/single/{i}", film, ((i, row),), radius, width,
+                                       template, cost=cost))
+    for i in pairs:
+        stage.solves.append(_pair(f"laws/pair/{i}", film, i, template, radius, width, cost))
+    return stage
+
+
+def sensitivity_stage(config: CalibrationConfig, film: Film, template: Template) -> Stage:
+    """The isolated skyrmion at H_ref ± SENSITIVITY_STEP/μ₀: how its size follows the field."""
+    stage = Stage("sensitivity")
+    cost = _cost(film, config.material.cell_size)
+    for sign, label in ((1, "plus"), (-1, "minus")):
+        shifted = reference_film(config, film.nx, film.ny, film.cell_size,
+                                 offset=sign * SENSITIVITY_STEP / MU_0)
+        stage.solves.append(Relaxation(f"sensitivity/{label}", shifted, (_centre(shifted),),
+                                       template=template, cost=cost))
+    return stage
+
+
+def stray_check_stage(config: CalibrationConfig, radius: float, width: float,
+                      template: Template) -> Stage:
+    """Singles near the left edge of the calibration film whose compensation leaves that
+    edge's stray field (a real straight edge), its uniform state and its centre single: to
+    check the model's first-order stray-field energy."""
+    diameter = 2 * radius
+    film = calibration_film(config, diameter, config.pair_range, real_left_edge=True)
+    row = (film.ny - 1) // 2
+    cost = _cost(film, config.material.cell_size)
+    stage = Stage("stray", [Relaxation("stray/uniform", film, (), cost=0.1 * cost)])
+    for i in sorted(set(edge_cells(film, diameter, STRAY_CHECK_GRID)) | {(film.nx - 1) // 2}):
+        stage.solves.append(Relaxation(f"stray/single/{i}", film, ((i, row),), radius, width,
+                                       template, cost=cost))
+    return stage
+
+
+def mesh_stage(config: CalibrationConfig, radius: float, width: float,
+               template: Template) -> Stage:
+    """The mesh check: a pair at ≈ 1.5 d_sk (pair, its single, uniform) at the calibration's
+    cell and at half of it (the single is also the isolated skyrmion of the comparison)."""
+    stage = Stage("mesh")
+    diameter = 2 * radius
+    for label, cell in (("coarse", config.material.cell_size),
+                        ("fine", 0.5 * config.material.cell_size)):
+        film = calibration_film(config, diameter, (1.5, 1.5), cell)
+        row = (film.ny - 1) // 2
+        i = int(round((film.nx - 1 - 1.5 * diameter / cell) / 2))
+        cost = _cost(film, config.material.cell_size)
+        stage.solves += [
+            Relaxation(f"mesh/{label}/uniform", film, (), cost=0.1 * cost),
+            Relaxation(f"mesh/{label}/single", film, ((i, row),), radius, width, template,
+                       cost=cost),
+            _pair(f"mesh/{label}/pair", film, i, template, radius, width, cost)]
+    return stage
+
+
+def enlarged_stage(config: CalibrationConfig, radius: float, template: Template) -> Stage:
+    """The isolated skyrmion again in a film 1.25 times larger (were the edges far enough?)."""
+    return isolated_stage(config, "enlarged", isolated_film(config, radius, scale=1.25),
+                          template)
+
+
+def validation_film(config: CalibrationConfig, diameter: float) -> Film:
+    """The validation disk: ``disk_radius`` diameters, in a square mesh of odd side, in the
+    reference environment."""
+    n = odd(2 * config.validation.disk_radius * diameter / config.material.cell_size)
+    return reference_film(config, n, n, disk=True)
+
+
+def validation_positions(film: Film, diameter: float, count: int) -> list[tuple[float, float]]:
+    """Fixed, asymmetric starting positions [m]: skyrmions 1.3–1.8 diameters apart and at
+    least 0.9 diameters from the rim, drawn once from a fixed seed (the same for every run
+    of the same size)."""
+    cx, cy = 0.5 * film.size[0], 0.5 * film.size[1]
+    reach = film.radius - 0.9 * diameter
+    if count == 3:  # the default: an irregular triangle, off the disk's centre
+        # 1.3–1.4 diameters apart: close enough that they move a diameter in a few ns
+        unit = [(-0.75, -0.25), (0.5, -0.55), (0.05, 0.8)]
+        points = [(cx + u * diameter, cy + v * diameter) for u, v in unit]
+        if all(math.hypot(x - cx, y - cy) <= reach for x, y in points):
+            return points
+    rng = np.random.default_rng(12345 + count)
+    for _ in range(20_000):
+        r = reach * np.sqrt(rng.random(count))
+        phi = 2 * math.pi * rng.random(count)
+        points = list(zip(cx + r * np.cos(phi), cy + r * np.sin(phi)))
+        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1:]]
+        if reach > 0 and (not gaps or 1.3 * diameter <= min(gaps) <= 1.8 * diameter):
+            return [(float(x), float(y)) for x, y in points]
+    from skygas.errors import InputError
+
+    raise InputError("validation.disk_radius", film.radius / diameter,
+                     f"a disk large enough for {count} skyrmions 1.3 diameters apart")
+
+
+def validation_start(config: CalibrationConfig, radius: float, width: float,
+                     template: Template) -> Relaxation:
+    """The validation's starting state: its skyrmions relaxed with their cores pinned."""
+    film = validation_film(config, 2 * radius)
+    points = validation_positions(film, 2 * radius, config.validation.skyrmions)
+    cores = tuple(film.cell_of(x, y) for x, y in points)
+    return Relaxation("validation/start", film, cores, radius, width, template, keep=True,
+                      cost=_cost(film, config.material.cell_size))

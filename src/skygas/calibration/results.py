@@ -1,0 +1,326 @@
+"""A finished calibration's files: model.toml, calibration.json, figures, report.html.
+
+Every file records the skygas version, the material and the calibration's settings (in its
+body, or for a PNG in its text chunks); every file is written atomically. The numbers shown in
+the report are the ones in calibration.json; none is drawn from anywhere else.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from skygas._version import __version__
+from skygas.calibration.analysis import Calibration, analyse
+from skygas.calibration.model_file import write_model
+from skygas.run_driver import write_figure, write_json
+from skygas.units import MU_0
+
+FIGURES = ("profile.png", "pair.png", "wall.png", "validation.png")
+
+
+def _version(package: str) -> str:
+    try:
+        return metadata.version(package)
+    except metadata.PackageNotFoundError:
+        return "not installed"
+
+
+def provenance(job) -> dict[str, Any]:
+    """What made the model: solver and versions, device, mesh, convergence, wall times."""
+    devices = sorted({r.get("device", "cpu") for r in job.results.values()})
+    seconds = {}
+    for name, result in job.results.items():
+        stage = name.split("/")[0]
+        seconds[stage] = seconds.get(stage, 0.0) + result["seconds"]
+    if job.llg["frames"]:
+        seconds["validation LLG"] = job.llg["seconds"]
+    return {
+        "skygas_version": __version__,
+        "solver": "magnum.np (finite differences; MinimizerBB energy minimisation with pinned "
+                  "core cells; RKF45 LLG)",
+        "magnumnp_version": _version("magnumnp"), "torch_version": _version("torch"),
+        "device": ", ".join(devices) or "cpu",
+        "workers": job.workers, "compiled_field_terms": job.config.compile,
+        "cell_size_m": job.config.material.cell_size,
+        "film": "one cell layer of the film's thickness, open boundaries; laws in compensated "
+                "films with the reference field",
+        "torque_tolerance_A_per_m": job.config.torque_tolerance,
+        "llg_tolerance": job.config.validation.llg_tolerance,
+        "solves": len(job.results),
+        "solver_seconds_by_stage": seconds,
+        "wall_seconds_by_stage": {k: v[1] - v[0] for k, v in job.timeline.items()},
+        "llg_steps": job.llg["steps"],
+        "written_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+    }
+
+
+def record(cal: Calibration) -> dict[str, str]:
+    """What every figure of the calibration records in its text chunks."""
+    return {"skygas_version": __version__, "seed": "0",
+            "config_json": cal.config.model_dump_json()}
+
+
+# -- numbers -------------------------------------------------------------------------------------
+def summary(cal: Calibration, job) -> dict[str, Any]:
+    """calibration.json: every number of the calibration (SI units; d_sk and F₀ where said)."""
+    iso = cal.isolated
+    out = {
+        "skygas_version": __version__,
+        "material": cal.config.material.as_record(),
+        "config": json.loads(cal.config.model_dump_json()),
+        "reference_field_T": MU_0 * cal.config.reference_field,
+        "isolated": {**iso.as_record(), "diameter": cal.diameter,
+                     "force_scale_N": cal.force_scale,
+                     "profile_radius_m": list(iso.profile_radius),
+                     "profile_mz": list(iso.profile_mz)},
+        "pair": _law_record(cal.pair, cal.pair_energy, cal),
+        "wall_short_range": _law_record(cal.wall, cal.wall_energy, cal),
+        "straight_edge": {"distance_m": cal.straight_edge_x.tolist(),
+                          "force_N": cal.straight_edge_force.tolist()},
+        "fits": cal.fits,
+        "checks": cal.checks,
+        "provenance": provenance(job),
+    }
+    if cal.validation is not None:
+        v = cal.validation
+        out["validation"] = {**v.summary(), "times_s": v.times.tolist(),
+                             "error_d_sk": v.error.tolist(),
+                             "micromagnetic_m": v.micromagnetic.tolist(),
+                             "particle_m": v.particle.tolist()}
+    elif cal.config.validate_dynamics:
+        out["validation"] = {"note": cal.validation_note}
+    return out
+
+
+def _law_record(law, energy, cal: Calibration) -> dict[str, Any]:
+    return {"energy_distance_m": energy.distance.tolist(), "energy_J": energy.energy.tolist(),
+            "dropped": [{"distance_m": d, "why": why} for d, why in energy.dropped],
+            "table_distance_m": law.distance.tolist(), "table_force_N": law.force.tolist(),
+            "measured_range_m": list(law.measured), "tail_decay_length_m": law.decay,
+            "measured_range_d_sk": [x / cal.diameter for x in law.measured]}
+
+
+# -- the model file ------------------------------------------------------------------------------
+def write_model_file(cal: Calibration, job, path: Path) -> Path:
+    iso = cal.isolated
+    m = cal.config.material
+    fits = cal.fits
+    header = [
+        f"skygas {__version__} calibrated particle model of {m.name} (skygas calibrate).",
+        f"Use it as `material = \"{path.name}\"` (a path) in any configuration, or "
+        f"`--material {path.name}` where a command takes one.",
+        "The [material] table is what the engine reads: its tabulated laws (pair_table,",
+        "wall_table) are the default; forces.pair_law = \"paper\" / forces.wall_law = \"paper\"",
+        "use the paper's forms fitted to them (pair_law, wall_law) instead.",
+        f"Laws measured for skyrmions in the interior of a device of "
+        f"{cal.config.reference_diameter * 1e9:g} nm (reference field "
+        f"{MU_0 * cal.config.reference_field * 1e3:.3f} mT on top of B_z).",
+    ]
+    sections = {
+        "micromagnetics": {k: v for k, v in m.model_dump().items() if v is not None},
+        "thiele": {"charge": iso.charge, "k_kg_per_s": iso.k,
+                   "gyrocoupling_kg_per_s": iso.gyrocoupling,
+                   "dissipation": iso.dissipation,
+                   "dissipation_tensor": [list(row) for row in iso.dissipation_tensor],
+                   "thin_wall_dissipation": iso.thin_wall_dissipation,
+                   "radius_m": iso.radius, "wall_width_m": iso.wall_width,
+                   "diameter_m": cal.diameter, "force_scale_N": cal.force_scale,
+                   "energy_J": iso.energy, "moment_deficit_m2": iso.moment_deficit},
+        "laws": {"pair_measured_m": list(cal.pair.measured),
+                 "wall_measured_m": list(cal.wall.measured),
+                 "pair_tail_decay_m": cal.pair.decay, "wall_tail_decay_m": cal.wall.decay,
+                 "reference_diameter_m": cal.config.reference_diameter,
+                 "reference_field_T": MU_0 * cal.config.reference_field},
+        "fits": {law: {k: v for k, v in fit.items() if v not in (None, "")}
+                 for law, fit in fits.items()},
+        "provenance": {k: v for k, v in provenance(job).items() if not isinstance(v, dict)},
+    }
+    comments = {
+        "material.pair_table": "pair law |F|(d): d centre distance [m], force [N] (PCHIP; held "
+                               "below the first distance, 0 beyond the last)",
+        "material.wall_table": "short-range wall law |F|(x): x distance to the nearest wall "
+                               "[m], force [N]; the long-range part is the stray field below",
+        "material.stray_field": "the skyrmion's profile 1 - m_z(r) for its energy in the "
+                                "device's edge stray field (added with the table wall law)",
+        "fits": "the paper's forms fitted to the tables over their measured ranges (d_sk units)",
+    }
+    return write_model(path, cal.material_table(), sections, header, comments)
+
+
+# -- figures -------------------------------------------------------------------------------------
+def _paper_laws(cal: Calibration):
+    """The paper's pair and wall laws for the same material, in its own units (the preset's
+    table diameter and F₀), or None when the material is not a preset."""
+    from skygas.materials import derive_thiele, preset, preset_names
+
+    name = cal.config.material.name
+    if name not in preset_names():
+        return None
+    p = preset(name)
+    thiele = derive_thiele(p, cal.config.material.film_thickness)
+    return p, thiele.skyrmion_diameter, thiele.force_scale
+
+
+def plot_profile(cal: Calibration, path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from skygas.calibration.profile import ansatz_mz
+
+    iso = cal.isolated
+
+    def draw(tmp):
+        fig, ax = plt.subplots(figsize=(6, 4))
+        r = np.asarray(iso.profile_radius) * 1e9
+        ax.plot(r, iso.profile_mz, "k.", ms=3, label="relaxed (azimuthal mean)")
+        ax.plot(r, ansatz_mz(np.asarray(iso.profile_radius), iso.radius, iso.wall_width), "r-",
+                lw=1, label=f"360° wall ansatz, R = {iso.radius * 1e9:.2f} nm, "
+                            f"Δ = {iso.wall_width * 1e9:.2f} nm")
+        ax.axvline(iso.radius * 1e9, color="0.6", lw=0.8, ls="--")
+        ax.set(xlabel="r [nm]", ylabel="m_z", title=f"{cal.config.material.name}: isolated "
+               f"skyrmion, Q = {iso.charge:+.4f}, $\\mathcal{{D}}$ = {iso.dissipation:.2f}")
+        ax.legend(fontsize=8, loc="lower right")
+        fig.tight_layout()
+        fig.savefig(tmp, dpi=110)
+        plt.close(fig)
+
+    return write_figure(path, draw, record(cal))
+
+
+def plot_law(cal: Calibration, which: str, path: Path) -> Path:
+    """|F| [pN] against distance [nm]: the calibrated table (over the measured range, and its
+    continuation), −dE/dd at the measured energies, the paper-form fit and the paper's law for
+    the same material (if it is a preset)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from skygas.forces import paper_pair_force, paper_wall_force
+
+    law = cal.pair if which == "pair" else cal.wall
+    energy = cal.pair_energy if which == "pair" else cal.wall_energy
+    fit = cal.fits[which]["coefficients"]
+    paper = _paper_laws(cal)
+    d_sk = cal.diameter
+
+    def draw(tmp):
+        fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4))
+        lo, hi = law.measured
+        inside = law.distance <= hi
+        ax.semilogy(law.distance[inside] * 1e9, law.force[inside] * 1e12, "k-", lw=1.5,
+                    label="calibrated (table)")
+        ax.semilogy(law.distance[~inside] * 1e9, law.force[~inside] * 1e12, "k:", lw=1.2,
+                    label="continuation (exponential)")
+        if which == "wall":
+            ax.semilogy(cal.straight_edge_x * 1e9, cal.straight_edge_force * 1e12, "b-", lw=1,
+                        label="straight edge of a real film (+ stray field)")
+        x = np.linspace(max(lo, d_sk), max(hi, 4 * d_sk), 200)
+        if fit:
+            shape = paper_pair_force(x / d_sk, *fit) if which == "pair" else \
+                paper_wall_force(x / d_sk, fit)
+            ax.semilogy(x * 1e9, cal.force_scale * shape * 1e12, "r--", lw=1,
+                        label="paper's form fitted")
+        if paper is not None:
+            p, pd, pf = paper
+            xp = np.linspace(0.5 * pd if which == "wall" else pd, 5 * pd, 200)
+            shape = paper_pair_force(xp / pd, *p.pair_law) if which == "pair" else \
+                paper_wall_force(xp / pd, p.wall_law)
+            ax.semilogy(xp * 1e9, pf * shape * 1e12, "g-.", lw=1,
+                        label=f"paper's {p.name} law (d_sk = {pd * 1e9:.1f} nm)")
+        ax.set(xlabel=("centre distance" if which == "pair" else "distance to the edge")
+               + " [nm]", ylabel="|F| [pN]", title=f"{which} law")
+        ax.legend(fontsize=7)
+        bx.plot(energy.distance * 1e9, energy.energy / (cal.force_scale * d_sk), "ko", ms=4)
+        bx.set(xlabel="distance [nm]", ylabel="E / (F₀ d_sk)",
+               title=f"energies (F₀ d_sk = {cal.force_scale * d_sk:.3g} J)")
+        bx.set_yscale("log")
+        fig.tight_layout()
+        fig.savefig(tmp, dpi=110)
+        plt.close(fig)
+
+    return write_figure(path, draw, record(cal))
+
+
+def plot_validation(cal: Calibration, path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    v = cal.validation
+
+    def draw(tmp):
+        fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.8))
+        cx, cy = v.centre
+        ax.add_patch(plt.Circle((cx * 1e9, cy * 1e9), v.disk_radius * 1e9, fill=False,
+                                color="0.5"))
+        for k in range(v.micromagnetic.shape[1]):
+            mm, pm = v.micromagnetic[:, k] * 1e9, v.particle[:, k] * 1e9
+            line, = ax.plot(mm[:, 0], mm[:, 1], "-", lw=1.5,
+                            label="micromagnetic (LLG)" if k == 0 else None)
+            ax.plot(pm[:, 0], pm[:, 1], "--", lw=1.2, color=line.get_color(),
+                    label="particle model" if k == 0 else None)
+            ax.plot(*mm[0], "o", color=line.get_color(), ms=4)
+        ax.set_aspect("equal")
+        pad = 0.05 * v.disk_radius * 1e9
+        ax.set(xlim=((cx - v.disk_radius) * 1e9 - pad, (cx + v.disk_radius) * 1e9 + pad),
+               ylim=((cy - v.disk_radius) * 1e9 - pad, (cy + v.disk_radius) * 1e9 + pad),
+               xlabel="x [nm]", ylabel="y [nm]", title="trajectories (dots: start)")
+        ax.legend(fontsize=8)
+        bx.plot(v.times * 1e9, v.error, "k-")
+        bx.axhline(0.1, color="r", lw=0.8, ls="--", label="goal 0.1 d_sk")
+        bx.set(xlabel="t [ns]", ylabel="RMS centre error [d_sk]",
+               title=f"max {v.error.max():.3f} d_sk")
+        bx.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(tmp, dpi=110)
+        plt.close(fig)
+
+    return write_figure(path, draw, record(cal))
+
+
+# -- everything ------------------------------------------------------------------------------------
+def write_results(job, out: Path) -> dict[str, Any]:
+    """Analyse ``job`` and write its files into ``out``; returns calibration.json's data."""
+    cal = analyse(job)
+    data = summary(cal, job)
+    plot_profile(cal, out / "profile.png")
+    plot_law(cal, "pair", out / "pair.png")
+    plot_law(cal, "wall", out / "wall.png")
+    if cal.validation is not None:
+        plot_validation(cal, out / "validation.png")
+    _save_textures(job, out / "textures.npz")
+    write_json(out / "calibration.json", data)
+    write_model_file(cal, job, out / "model.toml")
+    from skygas.calibration.report import write_report
+
+    write_report(cal, data, out)
+    return data
+
+
+def _save_textures(job, path: Path) -> None:
+    """The relaxed isolated skyrmion and the validation run's first and last textures."""
+    from skygas.run_driver import write_atomic
+
+    arrays = {}
+    prefix = job.isolated_prefix()
+    if prefix is not None:
+        arrays["isolated"] = job.textures[f"{prefix}/single"]
+    if "validation/start" in job.textures:
+        arrays["validation_start"] = job.textures["validation/start"]
+    if job.llg_m is not None:
+        arrays["validation_end"] = job.llg_m
+    meta = {"skygas_version": np.array(__version__),
+            "config_json": np.array(job.config.model_dump_json()),
+            "layout": np.array("m[i, j, component], cell (i, j) centred at ((i + 1/2) cell, "
+                               "(j + 1/2) cell)")}
+    write_atomic(path, lambda tmp: np.savez_compressed(tmp, **arrays, **meta))

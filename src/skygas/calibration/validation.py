@@ -1,0 +1,125 @@
+"""Validation: the calibrated particle model against micromagnetic many-skyrmion dynamics.
+
+The micromagnetic run (:mod:`skygas.calibration.pipeline`): ``n`` skyrmions in a disk, relaxed
+with their cores pinned, released at t = 0 and integrated with LLG at T = 0, without current,
+with the material's α, in the same environment as the laws (compensated film with the
+reference field, so the disk's edge acts at short range). Each snapshot is read by the
+project's own detector (:func:`skygas.micromag.detect_skyrmions`, guiding centres) and the
+skyrmions are followed from frame to frame by minimum total displacement.
+
+The particle run: the same number of skyrmions at the tracked positions of the first frame, in
+a disk of the micromagnetic disk's equal-area radius, T = 0, the calibrated model (its tables,
+without the edge stray field, which the compensated disk does not have), recorded at the same
+times. The error is the RMS over skyrmions of the distance between the two runs' positions, in
+skyrmion diameters, at every snapshot.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+
+def match_frames(start: list[dict], frames: list[dict], diameter: float):
+    """Positions (frames + 1, skyrmions, 2) [m] of the skyrmions of ``start``, followed
+    through ``frames`` (each a dict with ``skyrmions``) by minimum total displacement; None if
+    a skyrmion is lost (annihilated or merged) or jumps by more than half a diameter."""
+    current = np.array([[s["x"], s["y"]] for s in start])
+    out = [current.copy()]
+    for frame in frames:
+        points = np.array([[s["x"], s["y"]] for s in frame["skyrmions"]]).reshape(-1, 2)
+        if len(points) != len(current):
+            return None
+        cost = np.linalg.norm(current[:, None, :] - points[None, :, :], axis=-1)
+        rows, cols = linear_sum_assignment(cost)
+        if np.max(cost[rows, cols]) > 0.5 * diameter:
+            return None
+        current = points[cols[np.argsort(rows)]]
+        out.append(current.copy())
+    return np.array(out)
+
+
+def path_lengths(start: list[dict], frames: list[dict], diameter: float):
+    """Path length of each skyrmion [d_sk], or None if one was lost."""
+    tracks = match_frames(start, frames, diameter)
+    if tracks is None:
+        return None
+    steps = np.linalg.norm(np.diff(tracks, axis=0), axis=-1)
+    return (steps.sum(axis=0) / diameter).tolist()
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Both runs at the snapshot times: ``times`` [s], ``micromagnetic`` and ``particle``
+    positions (frames, skyrmions, 2) [m], ``error`` RMS centre error per frame [d_sk],
+    ``path_length`` per skyrmion in the micromagnetic run [d_sk], ``radius`` the mean
+    micromagnetic radius per frame [m]."""
+
+    times: np.ndarray
+    micromagnetic: np.ndarray
+    particle: np.ndarray
+    error: np.ndarray
+    path_length: np.ndarray
+    radius: np.ndarray
+    diameter: float
+    disk_radius: float
+    centre: tuple[float, float]
+
+    def summary(self) -> dict:
+        return {"rms_error_max_d_sk": float(self.error.max()),
+                "rms_error_final_d_sk": float(self.error[-1]),
+                "rms_error_mean_d_sk": float(self.error.mean()),
+                "duration_s": float(self.times[-1]),
+                "path_length_d_sk": [float(x) for x in self.path_length],
+                "radius_range_m": [float(self.radius.min()), float(self.radius.max())],
+                "disk_radius_m": self.disk_radius, "skyrmions": int(self.micromagnetic.shape[1])}
+
+
+def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness: float):
+    """Positions (frames, n, 2) [m] of the particle model from ``start`` (n, 2) [m] at
+    ``times`` [s] (the first is 0), in a disk of the film's equal-area radius."""
+    from skygas import geometry
+    from skygas.engine import Simulation
+
+    centre = (0.5 * film.size[0], 0.5 * film.size[1])
+    radius = math.sqrt(film.magnetic().sum() / math.pi) * film.cell_size
+    sim = Simulation(geometry.disk(radius, centre), material, temperature=0.0,
+                     film_thickness=thickness, seed=0)
+    interval = float(times[1] - times[0])
+    steps = max(1, round(interval / sim.suggested_time_step()))
+    sim = Simulation(geometry.disk(radius, centre), material, temperature=0.0,
+                     film_thickness=thickness, seed=0, time_step=interval / steps)
+    ids = sim.add_skyrmions(start)
+    out = [np.asarray(start, float)]
+    for _ in times[1:]:
+        sim.run(interval)
+        present, xy = sim.positions()
+        if len(present) != len(ids):
+            break
+        out.append(xy[np.searchsorted(present, ids)])
+    return np.array(out), radius, centre
+
+
+def compare(material, film, start: list[dict], frames: list[dict], diameter: float,
+            thickness: float, settle: float = 0.0) -> Comparison | None:
+    """The particle model against the micromagnetic frames (module docstring), from the first
+    frame at or after ``settle`` [s]; None if the micromagnetic run lost a skyrmion."""
+    tracks = match_frames(start, frames, diameter)
+    if tracks is None:
+        return None
+    times = np.array([0.0] + [f["time"] for f in frames])
+    first = int(np.searchsorted(times, settle - 1e-15))
+    if first:
+        start, frames = frames[first - 1]["skyrmions"], frames[first:]
+    tracks, times = tracks[first:], times[first:] - times[first]
+    particle, radius, centre = particle_run(material, film, tracks[0], times, thickness)
+    n = min(len(particle), len(tracks))
+    error = np.sqrt(np.mean(np.sum((particle[:n] - tracks[:n]) ** 2, axis=-1), axis=1))
+    steps = np.linalg.norm(np.diff(tracks, axis=0), axis=-1)
+    radii = np.array([np.mean([s["radius"] for s in start])]
+                     + [np.mean([s["radius"] for s in f["skyrmions"]]) for f in frames])
+    return Comparison(times[:n], tracks[:n], particle[:n], error / diameter,
+                      steps.sum(axis=0) / diameter, radii[:n], diameter, radius, centre)

@@ -1,0 +1,72 @@
+"""The micromagnetic solver wrapper (magnum.np): the guiding-centre constraint holds a skyrmion
+where it is asked to without adding energy, and the solves are pure functions of their inputs
+(what makes a resumed calibration bit-identical). Small films on a coarse mesh."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("magnumnp")
+
+from skygas.calibration import solver  # noqa: E402
+from skygas.calibration.material import load_micromagnetic_material  # noqa: E402
+from skygas.calibration.profile import detect  # noqa: E402
+
+solver.configure(threads=1, compile=False)
+MATERIAL = load_micromagnetic_material("S6", cell_size=2e-9)
+FILM = solver.Film(41, 41, 2e-9, compensated=True)
+
+
+def _centre():
+    return 0.5 * FILM.size[0], 0.5 * FILM.size[1]
+
+
+def test_holding_a_symmetric_skyrmion_adds_no_energy():
+    """At the film's centre the skyrmion sits where it would sit anyway: the constrained and
+    the free minimum are the same texture, to the tolerance of the relaxation."""
+    fs = solver.FilmSolver(MATERIAL, FILM)
+    m0 = solver.skyrmion_texture(FILM, [_centre()], 11e-9, 3e-9)
+    held = fs.relax(m0, [_centre()], reach=30e-9, torque_tolerance=1.0)
+    free = fs.relax(m0, torque_tolerance=1.0)
+    assert held.converged and free.converged
+    assert held.energy == pytest.approx(free.energy, rel=1e-9)
+    (s,) = detect(held.m, FILM, MATERIAL.film_thickness)
+    assert (s.x, s.y) == pytest.approx(_centre(), abs=0.05 * FILM.cell_size)
+
+
+def test_a_skyrmion_is_held_off_centre_where_the_edges_push_it():
+    fs = solver.FilmSolver(MATERIAL, FILM)
+    target = (_centre()[0] - 10e-9, _centre()[1] + 4e-9)
+    m0 = solver.skyrmion_texture(FILM, [target], 11e-9, 3e-9)
+    held = fs.relax(m0, [target], reach=30e-9, torque_tolerance=1.0)
+    free = fs.relax(m0, torque_tolerance=1.0)
+    (s,) = detect(held.m, FILM, MATERIAL.film_thickness)
+    assert (s.x, s.y) == pytest.approx(target, abs=0.1 * FILM.cell_size)
+    (f,) = detect(free.m, FILM, MATERIAL.film_thickness)
+    assert abs(f.x - target[0]) > 1e-9  # left alone it moves: the hold does something
+    assert held.energy > free.energy
+
+
+def test_solves_are_pure_functions_of_their_inputs():
+    fs = solver.FilmSolver(MATERIAL, FILM)
+    m0 = solver.skyrmion_texture(FILM, [_centre()], 11e-9, 3e-9)
+    a = fs.relax(m0, [_centre()], reach=30e-9, torque_tolerance=30.0)
+    b = solver.FilmSolver(MATERIAL, FILM).relax(m0, [_centre()], reach=30e-9,
+                                                 torque_tolerance=30.0)
+    assert np.array_equal(a.m, b.m) and a.energy == b.energy
+
+
+def test_llg_is_a_pure_function_and_pieces_agree_with_one_run():
+    """The same piece from the same (m, t, next step) gives the same bits (a resumed
+    validation run repeats its pieces exactly); cutting a run in two shortens one step, which
+    changes the result only within the integrator's tolerance."""
+    fs = solver.FilmSolver(MATERIAL, FILM)
+    m0 = solver.skyrmion_texture(FILM, [(_centre()[0] - 6e-9, _centre()[1])], 11e-9, 3e-9)
+    half = fs.evolve(m0, 0.0, 10e-12, first_step=1e-14)
+    again = solver.FilmSolver(MATERIAL, FILM).evolve(m0, 0.0, 10e-12, first_step=1e-14)
+    assert np.array_equal(half.m, again.m) and half.next_step == again.next_step
+    rest = fs.evolve(half.m, half.time, 10e-12, first_step=half.next_step)
+    whole = fs.evolve(m0, 0.0, 20e-12, first_step=1e-14)
+    assert rest.time == pytest.approx(whole.time, rel=1e-12)
+    assert np.max(np.abs(whole.m - rest.m)) < 1e-4
