@@ -251,7 +251,8 @@ def _progress_bar(job: Job, enabled: bool):
 
     bar = tqdm(total=round(job.work_total, 6), unit=job.work_unit,
                desc=getattr(job, "work_description", "simulated"), leave=False,
-               initial=round(job.work_done(), 6))
+               initial=round(job.work_done(), 6),
+               bar_format=getattr(job, "progress_format", None))
 
     def update() -> None:
         bar.total = round(job.work_total, 6)  # a job may learn its size as it goes

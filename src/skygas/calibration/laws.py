@@ -1,8 +1,8 @@
 """From calibration energies to force laws: tables, the paper's forms, the straight edge.
 
 **Pair law.** E(d) = E_pair − 2E_single + E_uniform at each measured centre distance d (the
-guiding centres of the relaxed pair, not the pinned cells: a skyrmion pushed by its neighbour
-deforms, and its guiding centre moves away from its pinned core). **Short-range wall law.**
+guiding centres that the project's detector finds in the relaxed pair; they are held where
+asked, within a fraction of a cell). **Short-range wall law.**
 E(x) = E_single(x) − E_single(centre) against the measured distance x of the guiding centre
 from the calibration film's edge (compensated film: the edge acts only at short range).
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 from pathlib import Path
 from typing import Any
@@ -39,8 +40,12 @@ class CalibrationJob:
     """A calibration (``config``) computed by ``workers`` processes (0: in this process, one
     solve per piece, as on a GPU) of ``threads`` torch threads each."""
 
-    work_unit = "solves"
+    #: work is the planned relaxations' and LLG pieces' estimated cost (about one unit per
+    #: isolated-skyrmion relaxation), a number that means nothing to a user: the bar shows
+    #: the percentage and the times only
+    work_unit = "cost"
     work_description = "calibrating"
+    progress_format = "{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
     result_files = RESULT_FILES
 
     def __init__(self, config: CalibrationConfig, workers: int = 2, threads: int = 1):
@@ -53,69 +58,67 @@ class CalibrationJob:
         self.llg: dict[str, Any] = {"frames": [], "time": 0.0, "next_step": 1e-14,
                                     "seconds": 0.0, "steps": 0, "finished": False}
         self.llg_m: np.ndarray | None = None
-        self.timeline: dict[str, list[float]] = {}  # stage -> [first start, last end] (s)
+        #: stage -> [first start, last end], seconds since 1970 (the wall clock)
+        self.timeline: dict[str, list[float]] = {}
         self._pool = None
         self._in_flight: dict[str, Any] = {}
-        self._sizes: dict[str, tuple[float, float] | None] = {}
-        self._started = time.perf_counter()
+        self._measured: dict[str, tuple | None] = {}
 
     # -- what is known ------------------------------------------------------------------------
-    def _stage1(self) -> tuple[list[Relaxation], str | None]:
-        """Stage 1's solves so far and the prefix of the final one (None until known): the
-        film grows until it is large enough for the radius measured in it, each larger film
-        starting from the profile relaxed in the one before."""
+    def _stage1(self) -> tuple[list[Relaxation], Relaxation | None]:
+        """Stage 1's solves so far, and its final single (None until known): the film grows
+        until it is large enough for the radius measured in it, each larger film starting
+        from the profile relaxed in the one before."""
         solves: list[Relaxation] = []
         radius, template = None, None
         while True:
             film = plan.isolated_film(self.config, radius)
             stage = plan.isolated_stage(self.config, f"isolated/{film.nx}", film, template)
             solves += stage.solves
-            single = self.results.get(f"{stage.name}/single")
+            single_task = stage.solves[-1]
+            single = self.results.get(single_task.name)
             if single is None or f"{stage.name}/uniform" not in self.results:
                 return solves, None
             if len(single["skyrmions"]) != 1:
-                return solves, stage.name  # no isolated skyrmion: finish() refuses
+                return solves, single_task  # no isolated skyrmion: finish() refuses
             radius = single["skyrmions"][0]["radius"]
             if plan.ISOLATED_MIN_SIDE * radius <= film.size[0]:
-                return solves, stage.name
-            template = self._measure(stage.name, film)[2]
+                return solves, single_task
+            template = self._measure(single_task)[2]
 
     def isolated_prefix(self) -> str | None:
         """The stage-1 solves whose result is final (``PREFIX/single``, ``PREFIX/uniform``)."""
-        return self._stage1()[1]
+        single = self._stage1()[1]
+        return None if single is None else single.name.rsplit("/", 1)[0]
 
     def isolated_film(self) -> Film:
-        prefix = self.isolated_prefix()
-        return self._stage1()[0][-1].film if prefix is None else \
-            next(s.film for s in self._stage1()[0] if s.name == f"{prefix}/single")
+        """The final stage-1 film."""
+        return self._stage1()[1].film
 
     def isolated_size(self) -> tuple[float, float, plan.Template] | None:
         """(radius, wall width [m], starting template) of the isolated skyrmion, once stage 1
         is final and holds one skyrmion."""
-        prefix = self.isolated_prefix()
-        if prefix is None:
-            return None
-        if prefix not in self._sizes:
-            self._sizes[prefix] = self._measure_size(prefix)
-        return self._sizes[prefix]
+        single = self._stage1()[1]
+        return None if single is None else self._measure(single)
 
-    def _measure_size(self, prefix: str):
-        return self._measure(prefix, self.isolated_film())
+    def _measure(self, task: Relaxation):
+        """(radius, wall width, template) of a stage-1 single (None without one skyrmion);
+        kept, since the plan asks for it at every piece."""
+        if task.name not in self._measured:
+            result = self.results[task.name]
+            self._measured[task.name] = None
+            if len(result["skyrmions"]) == 1:
+                from skygas.calibration.profile import fit_wall_width, helicity, radial_profile
 
-    def _measure(self, prefix: str, film: Film):
-        """(radius, wall width, template) of the single relaxed in stage-1 film ``film``."""
-        single = self.results[f"{prefix}/single"]
-        if len(single["skyrmions"]) != 1:
-            return None
-        from skygas.calibration.profile import fit_wall_width, helicity, radial_profile
-
-        s = single["skyrmions"][0]
-        m = self.textures[f"{prefix}/single"]
-        r_max = min(0.5 * min(film.size) - film.cell_size, 6 * s["radius"])
-        radii, mz = radial_profile(m, film, (s["x"], s["y"]), r_max)
-        template = plan.Template(tuple(map(float, radii)), tuple(map(float, mz)),
-                                 helicity(m, film, (s["x"], s["y"])))
-        return s["radius"], fit_wall_width(radii, mz, s["radius"]), template
+                s, film = result["skyrmions"][0], task.film
+                m = self.textures[task.name]
+                r_max = min(0.5 * min(film.size) - film.cell_size, 6 * s["radius"])
+                radii, mz = radial_profile(m, film, (s["x"], s["y"]), r_max)
+                template = plan.Template(tuple(map(float, radii)), tuple(map(float, mz)),
+                                         helicity(m, film, (s["x"], s["y"])))
+                self._measured[task.name] = (s["radius"], fit_wall_width(radii, mz, s["radius"]),
+                                             template)
+        return self._measured[task.name]
 
     def planned(self) -> list[Relaxation]:
         """Every relaxation planned so far (it grows as results come in)."""
@@ -198,7 +201,8 @@ class CalibrationJob:
         return done
 
     def _ready(self) -> list[tuple[str, str, tuple]]:
-        """Tasks that can start now, the LLG chain first, then the costliest relaxations."""
+        """Tasks that can start now: the LLG chain and its start first, then the costliest
+        relaxations (the longest first: the least idle time at the end)."""
         tasks = []
         if self.config.validate_dynamics and "validation/start" in self.results \
                 and not self.llg["finished"] and not any(k.startswith("llg/")
@@ -206,7 +210,8 @@ class CalibrationJob:
             tasks.append(self._llg_task())
         pending = [s for s in self.planned()
                    if s.name not in self.results and s.name not in self._in_flight]
-        for s in sorted(pending, key=lambda s: -s.cost):
+        # the validation's start first (the LLG chain waits for it), then the costliest
+        for s in sorted(pending, key=lambda s: (s.name != "validation/start", -s.cost)):
             tasks.append((s.name, "relax", (self.material_json, s,
                                             self.config.torque_tolerance)))
         return tasks
@@ -214,7 +219,10 @@ class CalibrationJob:
     def advance_piece(self) -> None:
         from skygas.calibration import worker
 
-        if self.workers == 0:  # in this process, one task per piece
+        if self.workers == 0:  # in this process (a GPU), one task per piece
+            from skygas.calibration import solver
+
+            solver.configure(threads=os.cpu_count() or 1, compile=self.config.compile)
             ready = self._ready()
             if ready:
                 key, kind, args = ready[0]
@@ -237,7 +245,7 @@ class CalibrationJob:
 
     def _record(self, key: str, result: dict[str, Any]) -> None:
         stage = key.split("/")[0]
-        now = time.perf_counter() - self._started
+        now = time.time()  # epoch seconds: a resumed run's times continue its first run's
         span = self.timeline.setdefault(stage, [now - result.get("seconds", 0.0), now])
         span[0] = min(span[0], now - result.get("seconds", 0.0))
         span[1] = now

@@ -108,11 +108,13 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
             + f"; there the skyrmions' radius is {_nm(worst['radius_m'])} "
             f"({worst['radius_m'] / iso.radius * 100:.0f} % of the model's).")
     out.append(validation_sentence(cal))
-    times = data["provenance"]["wall_seconds_by_stage"]
-    if times:
-        out.append("Wall time by stage: " + ", ".join(f"{k} {v:.0f} s" for k, v in times.items())
-                   + f" ({data['provenance']['workers']} worker process(es), "
-                   f"{data['provenance']['device']}).")
+    prov = data["provenance"]
+    spans = prov["stage_spans_s"]
+    if spans:
+        out.append(f"The calibration took {prov['wall_seconds']:.0f} s of wall time on "
+                   f"{prov['workers']} worker process(es) ({prov['device']}); its stages ended "
+                   "at " + ", ".join(f"{k} {v[1]:.0f} s" for k, v in
+                                    sorted(spans.items(), key=lambda kv: kv[1][1])) + ".")
     return out
 
 
@@ -129,6 +131,12 @@ def validation_sentence(cal: Calibration) -> str:
             f"along its path). The particle model's RMS centre error is at most "
             f"{s['rms_error_max_d_sk']:.3f} d_sk (final {s['rms_error_final_d_sk']:.3f}, mean "
             f"{s['rms_error_mean_d_sk']:.3f}); the goal is {VALIDATION_GOAL:g} d_sk.")
+    r = cal.validation_restarted
+    if r is not None:
+        start = v.times[-1] - r.times[-1]
+        text += (f" Restarted from the micromagnetic positions {start * 1e9:.2f} ns after the "
+                 f"release (once the released skyrmions have taken up the shape of moving "
+                 f"ones), the model's error is at most {r.error.max():.3f} d_sk.")
     if min(s["path_length_d_sk"]) < 1.0:
         text += (" The run stopped before every skyrmion had travelled one diameter "
                  f"(its time limit, {cal.config.validation.max_duration * 1e9:g} ns).")

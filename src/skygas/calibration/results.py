@@ -40,10 +40,12 @@ def provenance(job) -> dict[str, Any]:
         seconds[stage] = seconds.get(stage, 0.0) + result["seconds"]
     if job.llg["frames"]:
         seconds["validation LLG"] = job.llg["seconds"]
+    start = min((v[0] for v in job.timeline.values()), default=0.0)
     return {
         "skygas_version": __version__,
-        "solver": "magnum.np (finite differences; MinimizerBB energy minimisation with pinned "
-                  "core cells; RKF45 LLG)",
+        "solver": "magnum.np field terms (finite differences, FFT stray field); "
+                  "Barzilai-Borwein minimisation with guiding centres held by Lagrange "
+                  "multipliers; RKF45 LLG",
         "magnumnp_version": _version("magnumnp"), "torch_version": _version("torch"),
         "device": ", ".join(devices) or "cpu",
         "workers": job.workers, "compiled_field_terms": job.config.compile,
@@ -54,7 +56,8 @@ def provenance(job) -> dict[str, Any]:
         "llg_tolerance": job.config.validation.llg_tolerance,
         "solves": len(job.results),
         "solver_seconds_by_stage": seconds,
-        "wall_seconds_by_stage": {k: v[1] - v[0] for k, v in job.timeline.items()},
+        "stage_spans_s": {k: [v[0] - start, v[1] - start] for k, v in job.timeline.items()},
+        "wall_seconds": max((v[1] for v in job.timeline.values()), default=start) - start,
         "llg_steps": job.llg["steps"],
         "written_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
@@ -93,6 +96,13 @@ def summary(cal: Calibration, job) -> dict[str, Any]:
                              "error_d_sk": v.error.tolist(),
                              "micromagnetic_m": v.micromagnetic.tolist(),
                              "particle_m": v.particle.tolist()}
+        r = cal.validation_restarted
+        if r is not None:
+            out["validation"]["restarted"] = {
+                "from_s": float(v.times[-1] - r.times[-1]),
+                "rms_error_max_d_sk": float(r.error.max()),
+                "rms_error_final_d_sk": float(r.error[-1]),
+                "error_d_sk": r.error.tolist()}
     elif cal.config.validate_dynamics:
         out["validation"] = {"note": cal.validation_note}
     return out
@@ -276,7 +286,12 @@ def plot_validation(cal: Calibration, path: Path) -> Path:
                ylim=((cy - v.disk_radius) * 1e9 - pad, (cy + v.disk_radius) * 1e9 + pad),
                xlabel="x [nm]", ylabel="y [nm]", title="trajectories (dots: start)")
         ax.legend(fontsize=8)
-        bx.plot(v.times * 1e9, v.error, "k-")
+        bx.plot(v.times * 1e9, v.error, "k-", label="from the release")
+        r = cal.validation_restarted
+        if r is not None:
+            start = v.times[-1] - r.times[-1]
+            bx.plot((r.times + start) * 1e9, r.error, "b--",
+                    label=f"model restarted at {start * 1e9:.2f} ns")
         bx.axhline(0.1, color="r", lw=0.8, ls="--", label="goal 0.1 d_sk")
         bx.set(xlabel="t [ns]", ylabel="RMS centre error [d_sk]",
                title=f"max {v.error.max():.3f} d_sk")

@@ -4,9 +4,9 @@ This is the only module that imports torch and magnum.np. It offers, for one fil
 (:class:`Film`) of one material (:class:`~skygas.calibration.material.MicromagneticMaterial`):
 
 - :meth:`FilmSolver.energy`: the micromagnetic energy of a texture, term by term;
-- :meth:`FilmSolver.relax`: the nearest energy minimum (magnum.np's ``MinimizerBB``, the
-  Barzilai–Borwein minimiser of Exl et al., J. Appl. Phys. 115, 17D118 (2014)), optionally with
-  some cells *pinned*: their magnetisation is held fixed and the rest relaxes around them;
+- :meth:`FilmSolver.relax`: the nearest energy minimum (the Barzilai–Borwein minimiser of
+  magnum.np's ``MinimizerBB``, Exl et al., J. Appl. Phys. 115, 17D118 (2014)), optionally with
+  the skyrmions' guiding centres held at given points (Lagrange multipliers);
 - :meth:`FilmSolver.evolve`: Landau–Lifshitz–Gilbert dynamics at T = 0 (magnum.np's adaptive
   Runge–Kutta–Fehlberg 4(5)), with the material's own γ and α.
 
@@ -44,7 +44,9 @@ def configure(threads: int = 1, compile: bool = True) -> None:
     """Set torch's thread count and whether magnum.np's field terms are compiled
     (``torch.compile``: about 25 % faster per evaluation, about 20 s to compile once per
     process with a cold cache). Call before the first solve of the process."""
-    if not _settings["configured"] and not compile:
+    if _settings["configured"]:
+        return  # torch is imported: its threads and compilation are set for this process
+    if not compile:
         os.environ["TORCHDYNAMO_DISABLE"] = "1"
     _settings.update(threads=int(threads), compile=bool(compile))
 
@@ -69,6 +71,13 @@ def gpu_available() -> bool:
     except ImportError:
         return False
     return bool(torch.cuda.is_available())
+
+
+def default_workers() -> int:
+    """Solver processes: two on a CPU (one torch thread each: two threads per process with
+    another busy process beside it made a relaxation 25 times slower), or as many as there
+    are cores if fewer; none on a GPU (one process drives it)."""
+    return 0 if gpu_available() else max(1, min(2, os.cpu_count() or 1))
 
 
 def backend():

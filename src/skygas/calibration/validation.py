@@ -1,9 +1,9 @@
 """Validation: the calibrated particle model against micromagnetic many-skyrmion dynamics.
 
-The micromagnetic run (:mod:`skygas.calibration.pipeline`): ``n`` skyrmions in a disk, relaxed
-with their cores pinned, released at t = 0 and integrated with LLG at T = 0, without current,
-with the material's α, in the same environment as the laws (compensated film with the
-reference field, so the disk's edge acts at short range). Each snapshot is read by the
+The micromagnetic run (:mod:`skygas.calibration.pipeline`): ``n`` skyrmions in a disk,
+relaxed with their guiding centres held, released at t = 0 and integrated with LLG at T = 0,
+without current, with the material's α, in the same environment as the laws (compensated
+film with the reference field, so the disk's edge acts at short range). Each snapshot is read by the
 project's own detector (:func:`skygas.micromag.detect_skyrmions`, guiding centres) and the
 skyrmions are followed from frame to frame by minimum total displacement.
 

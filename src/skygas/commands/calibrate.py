@@ -8,7 +8,6 @@ numerics); the solver (torch, magnum.np) is imported by the worker processes onl
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 from skygas.commands.json_output import print_json
@@ -54,55 +53,31 @@ def register(subparsers) -> None:
     p.set_defaults(func=_calibrate)
 
 
-def _config(args):
-    from pydantic import ValidationError
-
-    from skygas.calibration.material import load_micromagnetic_material
-    from skygas.calibration.plan import CalibrationConfig
-    from skygas.config_types import to_input_error
-
-    material = load_micromagnetic_material(args.material, cell_size=args.cell_size)
-    fields = {"material": material, "validate_dynamics": not args.no_validate,
-              "mesh_check": not args.no_mesh_check, "compile": args.compile}
+def _settings(args) -> dict:
+    """The calibration's settings given on the command line (CalibrationConfig fields)."""
+    settings = {"validate_dynamics": not args.no_validate, "mesh_check": not args.no_mesh_check,
+                "compile": args.compile}
     if args.reference_diameter is not None:
-        fields["reference_diameter"] = args.reference_diameter
+        settings["reference_diameter"] = args.reference_diameter
     validation = {}
     if args.skyrmions is not None:
         validation["skyrmions"] = args.skyrmions
     if args.validation_duration is not None:
         validation["max_duration"] = args.validation_duration
     if validation:
-        fields["validation"] = validation
-    try:
-        return CalibrationConfig(**fields)
-    except ValidationError as err:
-        raise to_input_error(err) from None
-
-
-def _workers(args) -> int:
-    from skygas.errors import require
-
-    if args.workers is not None:
-        require(args.workers >= 0, "--workers", args.workers, "an integer >= 0")
-        return args.workers
-    from skygas.calibration.solver import gpu_available
-
-    return 0 if gpu_available() else max(1, min(2, os.cpu_count() or 1))
+        settings["validation"] = validation
+    return settings
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    from skygas.calibration.pipeline import CalibrationJob
-    from skygas.calibration.solver import require_installed
-    from skygas.run_driver import drive
+    from skygas.calibration import calibrate
+    from skygas.calibration.material import load_micromagnetic_material
 
+    options = run_options(args, progress=not args.json)
     with named_by_flags(args, _FLAGS):
-        config = _config(args)
-    require_installed()
-    job = CalibrationJob(config, workers=_workers(args))
-    try:
-        data = drive(job, args.out, **run_options(args, progress=not args.json))
-    finally:
-        job.close()
+        material = load_micromagnetic_material(args.material, cell_size=args.cell_size)
+        data = calibrate(material, args.out, workers=args.workers, **options,
+                         **_settings(args))
     if args.json:
         print_json(brief(data, args.out))
     else:
@@ -125,7 +100,8 @@ def brief(data: dict, out) -> dict:
         "pair_measured_range_d_sk": data["pair"]["measured_range_d_sk"],
         "wall_measured_range_d_sk": data["wall_short_range"]["measured_range_d_sk"],
         "fits": {k: v.get("coefficients") for k, v in data["fits"].items()},
-        "wall_seconds_by_stage": data["provenance"]["wall_seconds_by_stage"],
+        "wall_seconds": data["provenance"]["wall_seconds"],
+        "stage_spans_s": data["provenance"]["stage_spans_s"],
         "skygas_version": data["skygas_version"],
     }
     validation = data.get("validation", {})

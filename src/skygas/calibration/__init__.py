@@ -1,0 +1,62 @@
+"""`skygas calibrate`: from a film's micromagnetic parameters to a particle model.
+
+:func:`calibrate` runs magnum.np (:mod:`skygas.calibration.solver`) for the material's isolated
+skyrmion, its pair and edge interactions and a many-skyrmion validation run, and writes the
+particle model (``model.toml``), every number (``calibration.json``) and a report. See
+``docs/calibration.md``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+__all__ = ["calibrate", "CalibrationConfig", "MicromagneticMaterial",
+           "load_micromagnetic_material"]
+
+
+def __getattr__(name: str):
+    if name in ("CalibrationConfig", "ValidationSpec"):
+        from skygas.calibration import plan
+
+        return getattr(plan, name)
+    if name in ("MicromagneticMaterial", "load_micromagnetic_material"):
+        from skygas.calibration import material
+
+        return getattr(material, name)
+    raise AttributeError(name)
+
+
+def calibrate(material, out: str | Path, *, workers: int | None = None, resume: bool = False,
+              overwrite: bool = False, progress: bool = True, strict: bool = False,
+              checkpoint_seconds: float = 60.0, **settings: Any) -> dict[str, Any]:
+    """Calibrate ``material`` (a preset name, a TOML file, a mapping or a
+    :class:`~skygas.calibration.material.MicromagneticMaterial`) into the folder ``out``;
+    ``settings`` are fields of :class:`~skygas.calibration.plan.CalibrationConfig`
+    (``reference_diameter``, ``validate_dynamics``, ``mesh_check``, ``validation={...}``,
+    ...). ``workers``: solver processes (default: 2 on a CPU, 0 on a GPU). Returns the
+    contents of ``out/calibration.json``. Interrupted (Ctrl-C), it resumes with
+    ``resume=True``."""
+    from pydantic import ValidationError
+
+    from skygas.calibration.material import load_micromagnetic_material
+    from skygas.calibration.pipeline import CalibrationJob
+    from skygas.calibration.plan import CalibrationConfig
+    from skygas.calibration.solver import default_workers, require_installed
+    from skygas.config_types import to_input_error
+    from skygas.errors import require
+    from skygas.run_driver import drive
+
+    try:
+        config = CalibrationConfig(material=load_micromagnetic_material(material), **settings)
+    except ValidationError as err:
+        raise to_input_error(err) from None
+    require(workers is None or (isinstance(workers, int) and workers >= 0), "--workers",
+            workers, "an integer >= 0 (0: solve in this process, as on a GPU)")
+    require_installed()
+    job = CalibrationJob(config, workers=default_workers() if workers is None else workers)
+    try:
+        return drive(job, out, resume=resume, overwrite=overwrite, progress=progress,
+                     checkpoint_seconds=checkpoint_seconds, strict=strict)
+    finally:
+        job.close()
