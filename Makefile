@@ -11,7 +11,7 @@ DEMO_OUT ?= demo-output
 # (or any CUDA build); elsewhere a CPU build: `--index-url https://download.pytorch.org/whl/cpu`.
 TORCH ?= torch==2.13.0
 
-.PHONY: demo test bench clean venv
+.PHONY: demo test lint format bench clean venv
 
 venv: $(STAMP)
 
@@ -27,6 +27,16 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -n 2 -q
+
+# The quality gate (.ci/run runs it before the tests): lint rules and layout (pyproject.toml,
+# [tool.ruff]). `make format` applies the layout and the safe fixes.
+lint: $(STAMP)
+	$(BIN)/ruff check src tests benchmarks examples
+	$(BIN)/ruff format --check src tests benchmarks examples
+
+format: $(STAMP)
+	$(BIN)/ruff check --fix src tests benchmarks examples
+	$(BIN)/ruff format src tests benchmarks examples
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_engine.py

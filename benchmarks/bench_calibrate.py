@@ -28,9 +28,11 @@ def report(data: dict, total: float | None = None) -> None:
     prov = data["provenance"]
     spans, solver = prov["stage_spans_s"], prov["solver_seconds_by_stage"]
     material = data["material"]
-    print(f"{material['name']} on {material['cell_size'] * 1e9:g} nm cells, "
-          f"{prov['workers']} worker(s), {prov['device']}, magnum.np {prov['magnumnp_version']}, "
-          f"torch {prov['torch_version']}")
+    print(
+        f"{material['name']} on {material['cell_size'] * 1e9:g} nm cells, "
+        f"{prov['workers']} worker(s), {prov['device']}, magnum.np {prov['magnumnp_version']}, "
+        f"torch {prov['torch_version']}"
+    )
     print(f"{'stage':<12} {'solves [s]':>11} {'started [s]':>12} {'done [s]':>9}")
     for stage in sorted(spans, key=lambda k: spans[k][1]):
         cpu = solver.get("validation LLG" if stage == "llg" else stage, float("nan"))
@@ -40,8 +42,10 @@ def report(data: dict, total: float | None = None) -> None:
         print(f"total wall time {total:.1f} s")
     validation = data.get("validation", {})
     if "rms_error_max_d_sk" in validation:
-        print(f"validation: {validation['duration_s'] * 1e9:.2f} ns of LLG, RMS error max "
-              f"{validation['rms_error_max_d_sk']:.3f} d_sk")
+        print(
+            f"validation: {validation['duration_s'] * 1e9:.2f} ns of LLG, RMS error max "
+            f"{validation['rms_error_max_d_sk']:.3f} d_sk"
+        )
 
 
 def main() -> None:
@@ -52,8 +56,12 @@ def main() -> None:
     parser.add_argument("--no-mesh-check", action="store_true")
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--out", default=None, help="keep the calibration here")
-    parser.add_argument("--from", dest="source", default=None,
-                        help="print the times of this finished calibration instead")
+    parser.add_argument(
+        "--from",
+        dest="source",
+        default=None,
+        help="print the times of this finished calibration instead",
+    )
     args = parser.parse_args()
     if args.source:
         report(json.loads((Path(args.source) / "calibration.json").read_text()))
@@ -63,9 +71,13 @@ def main() -> None:
 
     out = Path(args.out) if args.out else Path(tempfile.mkdtemp()) / "cal"
     started = time.perf_counter()
-    data = calibrate(load_micromagnetic_material(args.material, cell_size=args.cell_size), out,
-                     workers=args.workers, validate_dynamics=not args.no_validate,
-                     mesh_check=not args.no_mesh_check)
+    data = calibrate(
+        load_micromagnetic_material(args.material, cell_size=args.cell_size),
+        out,
+        workers=args.workers,
+        validate_dynamics=not args.no_validate,
+        mesh_check=not args.no_mesh_check,
+    )
     report(data, time.perf_counter() - started)
     print(f"results in {out}")
 

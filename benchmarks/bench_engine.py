@@ -35,8 +35,7 @@ HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
 def make_sim(n: int, seed: int = 1) -> Simulation:
     radius_nm = np.sqrt(n / (np.pi * HALF_FULL_DENSITY))
     outline = disk(radius_nm * 1e-9)
-    sim = Simulation(outline, "S2", temperature=300.0, seed=seed, grid_spacing=4e-9,
-                     capacity=n)
+    sim = Simulation(outline, "S2", temperature=300.0, seed=seed, grid_spacing=4e-9, capacity=n)
     rng = np.random.default_rng(seed)
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(outline, n, 1.2 * d_sk, 0.6 * d_sk, rng)
@@ -76,8 +75,10 @@ def main() -> None:
     args = parser.parse_args()
     steal = StealMeter()
     repeats = 3 if args.quick else 7
-    print(f"{'N':>6} {'µs/step':>10} {'steps/s':>10} {'pairs/eval':>11} {'pair evals/s':>13}"
-          f" {'GHz':>10} {'kcycles/step':>13}")
+    print(
+        f"{'N':>6} {'µs/step':>10} {'steps/s':>10} {'pairs/eval':>11} {'pair evals/s':>13}"
+        f" {'GHz':>10} {'kcycles/step':>13}"
+    )
     costs = []
     for n in args.sizes:
         sim = make_sim(n)
@@ -88,9 +89,12 @@ def main() -> None:
         after = clock_ghz()
         costs.append(per_step)
         ghz = 0.5 * (before + after)
-        print(f"{n:>6} {per_step * 1e6:>10.2f} {1 / per_step:>10.0f} {pairs:>11.0f} "
-              f"{pairs / t_pairs:>13.3g} {before:>4.2f}-{after:<4.2f} "
-              f"{per_step * ghz * 1e6:>13.1f}", flush=True)
+        print(
+            f"{n:>6} {per_step * 1e6:>10.2f} {1 / per_step:>10.0f} {pairs:>11.0f} "
+            f"{pairs / t_pairs:>13.3g} {before:>4.2f}-{after:<4.2f} "
+            f"{per_step * ghz * 1e6:>13.1f}",
+            flush=True,
+        )
     slope = np.polyfit(np.log(args.sizes), np.log(costs), 1)[0]
     print(f"cost exponent (time per step ∝ N^b): b = {slope:.3f}")
     print(steal.report())

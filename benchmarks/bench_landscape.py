@@ -37,16 +37,26 @@ HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
 LANDSCAPES = {
     "none": [],
     "zeros": [Disorder(rms_kT=0.0, correlation_length=40e-9)],
-    "grid": [Disorder(rms_kT=3.0, correlation_length=40e-9),
-             RandomPinning(density=1e14, sigma=15e-9, depth_kT=5.0)],
+    "grid": [
+        Disorder(rms_kT=3.0, correlation_length=40e-9),
+        RandomPinning(density=1e14, sigma=15e-9, depth_kT=5.0),
+    ],
 }
 
 
 def make_sim(n: int, landscape, time_step=None) -> Simulation:
     radius_nm = np.sqrt(n / (np.pi * HALF_FULL_DENSITY))
     outline = disk(radius_nm * 1e-9)
-    sim = Simulation(outline, "S2", temperature=300.0, seed=1, grid_spacing=4e-9, capacity=n,
-                     time_step=time_step, landscape=landscape)
+    sim = Simulation(
+        outline,
+        "S2",
+        temperature=300.0,
+        seed=1,
+        grid_spacing=4e-9,
+        capacity=n,
+        time_step=time_step,
+        landscape=landscape,
+    )
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(1))
     sim.state.insert_nm(pts)
@@ -64,12 +74,17 @@ def reshuffler_seconds(rms_kt: float | None) -> float:
     """CPU seconds of a 20 µs paper reshuffler run (after building it)."""
     from skygas.reshuffler import ReshufflerRun, load_reshuffler_config
 
-    overrides = {"duration": 2e-5, "seed": 1, "current_density": 1.7e11,
-                 "output.trajectory_window": 0.0}
+    overrides = {
+        "duration": 2e-5,
+        "seed": 1,
+        "current_density": 1.7e11,
+        "output.trajectory_window": 0.0,
+    }
     config = load_reshuffler_config(preset="paper", overrides=overrides)
     if rms_kt is not None:
-        config = config.model_copy(update={"potentials": [
-            Disorder(rms_kT=rms_kt, correlation_length=40e-9)]})
+        config = config.model_copy(
+            update={"potentials": [Disorder(rms_kT=rms_kt, correlation_length=40e-9)]}
+        )
     run = ReshufflerRun.build(config)
     t0 = time.process_time()
     run.advance()
@@ -92,17 +107,23 @@ def main() -> None:
         ratios = {"zeros": [], "grid": []}
         names = list(sims)
         for r in range(args.rounds):
-            for name in names[r % 3:] + names[:r % 3]:
+            for name in names[r % 3 :] + names[: r % 3]:
                 times[name].append(seconds_per_step(sims[name], steps))
             for name in ratios:
                 ratios[name].append(times[name][-1] / times["none"][-1])
         per_step = {k: statistics.median(v) * 1e6 for k, v in times.items()}
-        print(f"N = {n}: {steps} steps per timing, {args.rounds} rounds, dt = {dt:.3g} s; CPU "
-              f"time per step: no landscape {per_step['none']:.1f} µs, zeros "
-              f"{per_step['zeros']:.1f} µs, grid {per_step['grid']:.1f} µs", flush=True)
+        print(
+            f"N = {n}: {steps} steps per timing, {args.rounds} rounds, dt = {dt:.3g} s; CPU "
+            f"time per step: no landscape {per_step['none']:.1f} µs, zeros "
+            f"{per_step['zeros']:.1f} µs, grid {per_step['grid']:.1f} µs",
+            flush=True,
+        )
         for name, values in ratios.items():
-            print(f"  {name}/none: median {statistics.median(values):.3f} "
-                  f"(rounds {min(values):.3f}…{max(values):.3f})", flush=True)
+            print(
+                f"  {name}/none: median {statistics.median(values):.3f} "
+                f"(rounds {min(values):.3f}…{max(values):.3f})",
+                flush=True,
+            )
     if args.reshuffler_rounds:
         variants = {"none": None, "zeros": 0.0, "disorder 3 kT": 3.0}
         for rms in variants.values():  # compile
@@ -110,12 +131,18 @@ def main() -> None:
         times = {name: [] for name in variants}
         names = list(variants)
         for r in range(args.reshuffler_rounds):
-            for name in names[r % 3:] + names[:r % 3]:
+            for name in names[r % 3 :] + names[: r % 3]:
                 times[name].append(reshuffler_seconds(variants[name]))
         base = statistics.median(times["none"])
-        print("reshuffler (paper, 1.7e11 A/m², 20 µs), CPU s: " + ", ".join(
-            f"{name} {statistics.median(t):.2f} (×{statistics.median(t) / base:.2f})"
-            for name, t in times.items()), flush=True)
+        print(
+            "reshuffler (paper, 1.7e11 A/m², 20 µs), CPU s: "
+            + ", ".join(
+                f"{name} {statistics.median(t):.2f} (×{statistics.median(t) / base:.2f})"
+                for name, t in times.items()
+            ),
+            flush=True,
+        )
+
 
 if __name__ == "__main__":
     main()

@@ -38,18 +38,23 @@ def main() -> None:
     start = time.perf_counter()
     if not (out / "reshuffler.nc").exists():
         run_reshuffler(config, out, progress=False)
-    print(f"reshuffler run: {args.duration * 1e6:g} µs simulated in "
-          f"{time.perf_counter() - start:.1f} s (not part of the budget), results in {out}")
+    print(
+        f"reshuffler run: {args.duration * 1e6:g} µs simulated in "
+        f"{time.perf_counter() - start:.1f} s (not part of the budget), results in {out}"
+    )
     start, cpu = time.perf_counter(), _cpu_seconds()
     done = finish_outputs(out, animate=True, report=True)
     total, cpu = time.perf_counter() - start, _cpu_seconds() - cpu
     movie, report = done["movie"], done["report"]
-    print(f"movie:  {movie['seconds']:6.1f} s  {movie['frames']} frames "
-          f"({movie['width_px']}×{movie['height_px']}), {movie['bytes'] / 1e6:.2f} MB")
-    print(f"report: {report['seconds']:6.1f} s  "
-          f"{Path(report['path']).stat().st_size / 1e6:.2f} MB")
-    print(f"total:  {total:6.1f} s wall on one core, {cpu:.1f} s CPU (this process and "
-          f"ffmpeg; budget 30 s); movie {movie['bytes'] / 1e6:.2f} MB (budget 20 MB)")
+    print(
+        f"movie:  {movie['seconds']:6.1f} s  {movie['frames']} frames "
+        f"({movie['width_px']}×{movie['height_px']}), {movie['bytes'] / 1e6:.2f} MB"
+    )
+    print(f"report: {report['seconds']:6.1f} s  {Path(report['path']).stat().st_size / 1e6:.2f} MB")
+    print(
+        f"total:  {total:6.1f} s wall on one core, {cpu:.1f} s CPU (this process and "
+        f"ffmpeg; budget 30 s); movie {movie['bytes'] / 1e6:.2f} MB (budget 20 MB)"
+    )
 
 
 def _cpu_seconds() -> float:

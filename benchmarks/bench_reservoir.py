@@ -28,8 +28,15 @@ def main() -> None:
     config = reservoir_config({"study": {"workers": args.workers}})
     device = ReservoirDevice(config)
     # compile (or load the compiled kernels) outside the timing
-    run_study(reservoir_config({"study": {"workers": 1, "n_inputs": 8, "temporal_inputs": 8},
-                                "hold_time": 1e-7, "sensors": {"sample_interval": 2e-9}}))
+    run_study(
+        reservoir_config(
+            {
+                "study": {"workers": 1, "n_inputs": 8, "temporal_inputs": 8},
+                "hold_time": 1e-7,
+                "sensors": {"sample_interval": 2e-9},
+            }
+        )
+    )
     walls, cpus = [], []
     for repeat in range(args.repeats):
         cfg = reservoir_config({"seed": repeat + 1, "study": {"workers": args.workers}})
@@ -39,15 +46,19 @@ def main() -> None:
         walls.append(wall)
         cpus.append(summary["cpu_seconds"])
         xor = summary["xor"]
-        print(f"repeat {repeat + 1}: {wall:.1f} s wall, {summary['cpu_seconds']:.1f} s CPU in "
-              f"{summary['streams']} workers, {summary['steps'] / 1e6:.0f} M steps "
-              f"({summary['steps'] / summary['cpu_seconds'] / 1e6:.2f} M steps per CPU s); "
-              f"XOR {100 * xor['accuracy']:.1f} % ({xor['margin_standard_errors']:.1f} SE), "
-              f"mean of 16 {100 * summary['mean_accuracy']:.1f} %")
-    print(f"default study: median {statistics.median(walls):.1f} s wall, "
-          f"{statistics.median(cpus):.1f} s CPU ({statistics.median(cpus) / args.workers:.1f} s "
-          f"per worker) with {args.workers} workers; load average "
-          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+        print(
+            f"repeat {repeat + 1}: {wall:.1f} s wall, {summary['cpu_seconds']:.1f} s CPU in "
+            f"{summary['streams']} workers, {summary['steps'] / 1e6:.0f} M steps "
+            f"({summary['steps'] / summary['cpu_seconds'] / 1e6:.2f} M steps per CPU s); "
+            f"XOR {100 * xor['accuracy']:.1f} % ({xor['margin_standard_errors']:.1f} SE), "
+            f"mean of 16 {100 * summary['mean_accuracy']:.1f} %"
+        )
+    print(
+        f"default study: median {statistics.median(walls):.1f} s wall, "
+        f"{statistics.median(cpus):.1f} s CPU ({statistics.median(cpus) / args.workers:.1f} s "
+        f"per worker) with {args.workers} workers; load average "
+        f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
+    )
 
 
 if __name__ == "__main__":

@@ -18,8 +18,12 @@ from skygas.reshuffler import ReshufflerRun, load_reshuffler_config, summarize
 
 
 def one_run(duration: float, seed: int, time_step: float | None = None) -> dict:
-    overrides = {"duration": duration, "seed": seed, "current_density": 1.7e11,
-                 "output.trajectory_window": 0.0}
+    overrides = {
+        "duration": duration,
+        "seed": seed,
+        "current_density": 1.7e11,
+        "output.trajectory_window": 0.0,
+    }
     if time_step is not None:
         overrides["time_step"] = time_step
     config = load_reshuffler_config(preset="paper", overrides=overrides)
@@ -28,8 +32,13 @@ def one_run(duration: float, seed: int, time_step: float | None = None) -> dict:
     run.advance()
     wall = time.perf_counter() - start
     summary = summarize(run).summary
-    return {"wall": wall, "rho": summary["correlation"], "dt": summary["time_step_s"],
-            "detected": summary["n_detected"], "occupancy": summary["max_occupancy"]}
+    return {
+        "wall": wall,
+        "rho": summary["correlation"],
+        "dt": summary["time_step_s"],
+        "detected": summary["n_detected"],
+        "occupancy": summary["max_occupancy"],
+    }
 
 
 def main() -> None:
@@ -42,18 +51,21 @@ def main() -> None:
     runs = [one_run(args.duration, seed=s) for s in range(1, args.repeats + 1)]
     wall = statistics.median(r["wall"] for r in runs)
     dt = runs[0]["dt"]
-    print(f"paper preset, J = 1.7e11 A/m², {args.duration * 1e3:g} ms simulated, "
-          f"time step {dt * 1e12:.1f} ps")
+    print(
+        f"paper preset, J = 1.7e11 A/m², {args.duration * 1e3:g} ms simulated, "
+        f"time step {dt * 1e12:.1f} ps"
+    )
     walls = ", ".join(f"{r['wall']:.1f}" for r in runs)
     rhos = ", ".join(f"{r['rho']:.4f}" for r in runs)
     print(f"  wall time (median of {len(runs)}): {wall:.1f} s [{walls}]")
     print(f"  simulated time per wall second: {args.duration / wall * 1e6:.2f} µs/s")
-    print(f"  ρ per run: {rhos}; "
-          f"peak occupancy {max(r['occupancy'] for r in runs)}")
+    print(f"  ρ per run: {rhos}; peak occupancy {max(r['occupancy'] for r in runs)}")
     if not args.skip_half_step:
         half = one_run(args.duration, seed=1, time_step=dt / 2)
-        print(f"  half step ({dt / 2 * 1e12:.1f} ps, seed 1): ρ = {half['rho']:.4f} "
-              f"(vs {runs[0]['rho']:.4f}), wall {half['wall']:.1f} s")
+        print(
+            f"  half step ({dt / 2 * 1e12:.1f} ps, seed 1): ρ = {half['rho']:.4f} "
+            f"(vs {runs[0]['rho']:.4f}), wall {half['wall']:.1f} s"
+        )
 
 
 if __name__ == "__main__":

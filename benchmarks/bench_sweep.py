@@ -33,6 +33,7 @@ sweep: on a machine with as many cores as workers, that time is taken from them.
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--repeats 3] [--duration 2e-6]
 [--mode all|first|cold|warm|hot]``.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -59,13 +60,16 @@ SERIAL_OF = {"first": "built", "cold": "loaded", "warm": "loaded", "hot": "in me
 
 
 def workload(duration: float):
-    return api.parse_sweep({
-        "sweep": {"seed": 1, "replicas": 1},
-        "base": {"preset": "paper", "duration": duration,
-                 "output": {"trajectory_window": 0.0}},
-        "grid": {"current_density": [1.7e11, 2.2e11, 2.9e11, 3.8e11],
-                 "signal.p": [0.2, 0.4, 0.62, 0.8]},
-    })
+    return api.parse_sweep(
+        {
+            "sweep": {"seed": 1, "replicas": 1},
+            "base": {"preset": "paper", "duration": duration, "output": {"trajectory_window": 0.0}},
+            "grid": {
+                "current_density": [1.7e11, 2.2e11, 2.9e11, 3.8e11],
+                "signal.p": [0.2, 0.4, 0.62, 0.8],
+            },
+        }
+    )
 
 
 def timed(sweep, tmp: Path, name: str, **kwargs) -> float:
@@ -77,10 +81,21 @@ def timed(sweep, tmp: Path, name: str, **kwargs) -> float:
 
 def _warm_up() -> None:
     """Imports and compiled kernels, on a small device (not the benchmark's)."""
-    config = api.parse_sweep({"base": {"preset": "paper", "duration": 5e-8,
-                                   "device": {"chamber_diameter": 3e-7},
-                                   "output": {"trajectory_window": 0.0}},
-                          "grid": {"temperature": [300.0]}}).runs[0].config
+    config = (
+        api.parse_sweep(
+            {
+                "base": {
+                    "preset": "paper",
+                    "duration": 5e-8,
+                    "device": {"chamber_diameter": 3e-7},
+                    "output": {"trajectory_window": 0.0},
+                },
+                "grid": {"temperature": [300.0]},
+            }
+        )
+        .runs[0]
+        .config
+    )
     api.run_one(config.model_dump_json())
 
 
@@ -94,8 +109,9 @@ def _process_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def timed_on_cluster(sweep, tmp: Path, name: str, workers: int,
-                     hot: bool) -> tuple[float, list, float]:
+def timed_on_cluster(
+    sweep, tmp: Path, name: str, workers: int, hot: bool
+) -> tuple[float, list, float]:
     """Wall time of the sweep on a running local cluster, the current solves each worker did,
     and the CPU time this process (client, scheduler and nannies) used meanwhile."""
     from dask.distributed import Client
@@ -168,8 +184,7 @@ def main() -> None:
                         with disk_cache(tmp, name if mode == "first" else ""):
                             t = timed(sweep, tmp, name, workers=workers)
                     else:
-                        t, done, cpu = timed_on_cluster(sweep, tmp, name, workers,
-                                                        mode == "hot")
+                        t, done, cpu = timed_on_cluster(sweep, tmp, name, workers, mode == "hot")
                         solves[mode].append(done)
                         client_cpu[mode][workers].append(cpu)
                     times[mode][workers].append(t)
@@ -177,24 +192,32 @@ def main() -> None:
     print(f"{n} points, {args.duration * 1e6:g} µs each, {args.repeats} repeats")
     for setup, values in serial.items():
         t = statistics.median(values)
-        print(f"serial (in this process, set-up {setup}): median {t:.1f} s ({spread(values)}) "
-              f"= {t / n:.2f} s per point")
+        print(
+            f"serial (in this process, set-up {setup}): median {t:.1f} s ({spread(values)}) "
+            f"= {t / n:.2f} s per point"
+        )
     for mode in modes:
         t1, t2 = statistics.median(times[mode][1]), statistics.median(times[mode][2])
-        ratios = [a / b for a, b in zip(times[mode][1], times[mode][2])]
+        ratios = [a / b for a, b in zip(times[mode][1], times[mode][2], strict=True)]
         reference = statistics.median(serial[SERIAL_OF[mode]])
-        print(f"{mode}: 1 worker median {t1:.1f} s ({spread(times[mode][1])}), 2 workers "
-              f"median {t2:.1f} s ({spread(times[mode][2])}), speed-up {t1 / t2:.2f}x "
-              f"(per repeat: {', '.join(f'{r:.2f}' for r in ratios)}; their median "
-              f"{statistics.median(ratios):.2f}x), "
-              f"Dask overhead per point {(t1 - reference) / n:.2f} s")
+        print(
+            f"{mode}: 1 worker median {t1:.1f} s ({spread(times[mode][1])}), 2 workers "
+            f"median {t2:.1f} s ({spread(times[mode][2])}), speed-up {t1 / t2:.2f}x "
+            f"(per repeat: {', '.join(f'{r:.2f}' for r in ratios)}; their median "
+            f"{statistics.median(ratios):.2f}x), "
+            f"Dask overhead per point {(t1 - reference) / n:.2f} s"
+        )
         if solves[mode]:
-            print(f"  current solves per worker in each sweep (1 worker, 2 workers, ...): "
-                  f"{solves[mode]}")
-            print("  CPU of the client, scheduler and nannies during a sweep (this process; "
-                  "it competes with the workers for the cores): median "
-                  f"{statistics.median(client_cpu[mode][1]):.2f} s with 1 worker, "
-                  f"{statistics.median(client_cpu[mode][2]):.2f} s with 2")
+            print(
+                f"  current solves per worker in each sweep (1 worker, 2 workers, ...): "
+                f"{solves[mode]}"
+            )
+            print(
+                "  CPU of the client, scheduler and nannies during a sweep (this process; "
+                "it competes with the workers for the cores): median "
+                f"{statistics.median(client_cpu[mode][1]):.2f} s with 1 worker, "
+                f"{statistics.median(client_cpu[mode][2]):.2f} s with 2"
+            )
     print(steal.report())
 
 

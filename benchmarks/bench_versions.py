@@ -66,10 +66,11 @@ WORKLOADS = {
 def timed(src: str, code: str, clock: str = "perf_counter") -> float:
     code = code.replace("time.CLOCK", f"time.{clock}")
     # the version's source first, then whatever the caller's path holds (its dependencies)
-    env = {**os.environ,
-           "PYTHONPATH": os.pathsep.join(p for p in (src, os.environ.get("PYTHONPATH")) if p)}
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                         text=True)
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join(p for p in (src, os.environ.get("PYTHONPATH")) if p),
+    }
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     if out.returncode:
         sys.exit(f"workload failed with {src}:\n{out.stderr}")
     return float(out.stdout.strip().splitlines()[-1])
@@ -92,10 +93,15 @@ def main() -> None:
             order = (args.old_src, args.new_src) if r % 2 == 0 else (args.new_src, args.old_src)
             times = {src: timed(src, code, clock) for src in order}
             ratios.append(times[args.new_src] / times[args.old_src])
-            print(f"  {name}: old {times[args.old_src]:.4g}, new {times[args.new_src]:.4g}, "
-                  f"new/old {ratios[-1]:.3f}", flush=True)
-        print(f"{name}: median new/old {statistics.median(ratios):.3f} "
-              f"over {args.rounds} rounds", flush=True)
+            print(
+                f"  {name}: old {times[args.old_src]:.4g}, new {times[args.new_src]:.4g}, "
+                f"new/old {ratios[-1]:.3f}",
+                flush=True,
+            )
+        print(
+            f"{name}: median new/old {statistics.median(ratios):.3f} over {args.rounds} rounds",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

@@ -45,5 +45,7 @@ def clock_ghz(multiplies: int = 5_000_000, samples: int = 20) -> float:
 
 
 if __name__ == "__main__":
-    print(f"core clock (dependent multiplies, {MULTIPLY_LATENCY_CYCLES} cycles each): "
-          f"{clock_ghz():.2f} GHz")
+    print(
+        f"core clock (dependent multiplies, {MULTIPLY_LATENCY_CYCLES} cycles each): "
+        f"{clock_ghz():.2f} GHz"
+    )

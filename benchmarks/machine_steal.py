@@ -39,6 +39,8 @@ class StealMeter:
             return "steal time: not reported by this system"
         stolen = end - self.start_value
         cores = os.cpu_count() or 1
-        return (f"steal time (CPU taken by the hypervisor) during the benchmark: {stolen:.1f} s "
-                f"= {100 * stolen / (wall_seconds * cores):.1f} % of {cores} cores × "
-                f"{wall_seconds:.0f} s")
+        return (
+            f"steal time (CPU taken by the hypervisor) during the benchmark: {stolen:.1f} s "
+            f"= {100 * stolen / (wall_seconds * cores):.1f} % of {cores} cores × "
+            f"{wall_seconds:.0f} s"
+        )

@@ -28,8 +28,9 @@ def _repeated_pair_pass(x, y, alive, cells, pair, repeats, fx, fy, counters_arra
     margin = np.full(n, 0.5 * cells.skin)
     while True:
         pair_j = np.empty(capacity, dtype=np.int64)
-        n_owners = build_neighbor_list(x, y, alive, margin, cells, pair.cutoff, cell_head,
-                                       cell_next, owner, start, pair_j)
+        n_owners = build_neighbor_list(
+            x, y, alive, margin, cells, pair.cutoff, cell_head, cell_next, owner, start, pair_j
+        )
         if n_owners >= 0:
             break
         capacity *= 2
@@ -44,6 +45,15 @@ def repeated_pair_pass(sim, repeats: int) -> tuple[np.ndarray, np.ndarray, int]:
     n = len(store.x)
     fx, fy = np.empty(n), np.empty(n)
     counters = np.zeros(1, COUNTERS)
-    _repeated_pair_pass(store.x, store.y, store.alive, sim.neighbor_cells,
-                        sim.force_terms.pair, repeats, fx, fy, counters)
+    _repeated_pair_pass(
+        store.x,
+        store.y,
+        store.alive,
+        sim.neighbor_cells,
+        sim.force_terms.pair,
+        repeats,
+        fx,
+        fy,
+        counters,
+    )
     return fx, fy, int(counters[0]["pair_evaluations"])

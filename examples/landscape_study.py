@@ -20,13 +20,16 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
 from skygas.sweep import open_sweep  # noqa: E402
 
 RMS = "potentials_0_rms_kT"
-QUANTITIES = {"correlation": "ρ (lag 0)", "correlation_max_lag": "largest |ρ| over lags",
-              "mean_transit_s": "mean transit [ns]", "max_occupancy": "max occupancy"}
+QUANTITIES = {
+    "correlation": "ρ (lag 0)",
+    "correlation_max_lag": "largest |ρ| over lags",
+    "mean_transit_s": "mean transit [ns]",
+    "max_occupancy": "max occupancy",
+}
 
 
 def stats(ds, name):
@@ -38,15 +41,21 @@ def stats(ds, name):
 
 def summary(ds) -> list[dict]:
     rows = []
-    currents = ds["current_density"].values if "current_density" in ds.dims else \
-        [float(json.loads(ds.attrs["base_config_json"])["current_density"])]
+    currents = (
+        ds["current_density"].values
+        if "current_density" in ds.dims
+        else [float(json.loads(ds.attrs["base_config_json"])["current_density"])]
+    )
     for j in currents:
         sub = ds.sel(current_density=j) if "current_density" in ds.dims else ds
         for rms in sub[RMS].values:
             point = sub.sel({RMS: rms})
-            row = {"current_density_A_m2": float(j), "rms_kT": float(rms),
-                   "replicas": int(ds.sizes["replica"]),
-                   "duration_s": float(point["simulated_time_s"].values[0])}
+            row = {
+                "current_density_A_m2": float(j),
+                "rms_kT": float(rms),
+                "replicas": int(ds.sizes["replica"]),
+                "duration_s": float(point["simulated_time_s"].values[0]),
+            }
             for name in (*QUANTITIES, "n_injected", "n_detected", "n_present", "n_skipped"):
                 m, s = stats(point, name)
                 row[name] = float(m)
@@ -68,29 +77,39 @@ def main() -> None:
     for j in sorted({r["current_density_A_m2"] for r in rows}):
         part = [r for r in rows if r["current_density_A_m2"] == j]
         x = [r["rms_kT"] for r in part]
-        for ax, (name, label) in zip(axes, QUANTITIES.items()):
+        for ax, (name, label) in zip(axes, QUANTITIES.items(), strict=False):
             scale = 1e9 if name.endswith("_s") else 1.0
-            ax.errorbar(x, [r[name] * scale for r in part],
-                        yerr=[r[f"{name}_se"] * scale for r in part], marker="o", capsize=3,
-                        label=f"J = {j:.2g} A/m²")
+            ax.errorbar(
+                x,
+                [r[name] * scale for r in part],
+                yerr=[r[f"{name}_se"] * scale for r in part],
+                marker="o",
+                capsize=3,
+                label=f"J = {j:.2g} A/m²",
+            )
             ax.set_xscale("symlog", linthresh=1.0)
             ax.set_xlabel("disorder rms [k_BT] (ξ = 40 nm)")
             ax.set_ylabel(label)
     axes[2].set_yscale("log")
     axes[0].axhline(0, color="grey", lw=0.5)
     axes[0].legend(fontsize=8)
-    fig.suptitle("Reshuffler (paper preset, p = 0.62) with a Gaussian random landscape; "
-                 "error bars: standard errors over replicas", fontsize=10)
+    fig.suptitle(
+        "Reshuffler (paper preset, p = 0.62) with a Gaussian random landscape; "
+        "error bars: standard errors over replicas",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(out / "landscape_disorder.png", dpi=120)
     for r in rows:
-        print(f"J = {r['current_density_A_m2']:.2g}  rms {r['rms_kT']:>4g} kT:  "
-              f"ρ = {r['correlation']:+.4f} ± {r['correlation_se']:.4f}   "
-              f"max-lag |ρ| = {r['correlation_max_lag']:.3f} ± {r['correlation_max_lag_se']:.3f}"
-              f"   transit {r['mean_transit_s'] * 1e9:.0f} ± {r['mean_transit_s_se'] * 1e9:.0f} ns"
-              f"   max occ. {r['max_occupancy']:.1f} ± {r['max_occupancy_se']:.1f}   "
-              f"detected {r['n_detected']:.0f}/{r['n_injected']:.0f}, left "
-              f"{r['n_present']:.0f}")
+        print(
+            f"J = {r['current_density_A_m2']:.2g}  rms {r['rms_kT']:>4g} kT:  "
+            f"ρ = {r['correlation']:+.4f} ± {r['correlation_se']:.4f}   "
+            f"max-lag |ρ| = {r['correlation_max_lag']:.3f} ± {r['correlation_max_lag_se']:.3f}"
+            f"   transit {r['mean_transit_s'] * 1e9:.0f} ± {r['mean_transit_s_se'] * 1e9:.0f} ns"
+            f"   max occ. {r['max_occupancy']:.1f} ± {r['max_occupancy_se']:.1f}   "
+            f"detected {r['n_detected']:.0f}/{r['n_injected']:.0f}, left "
+            f"{r['n_present']:.0f}"
+        )
 
 
 if __name__ == "__main__":

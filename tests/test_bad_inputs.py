@@ -34,9 +34,15 @@ def _replace_line(text: str, key: str, line: str) -> str:
 
 
 def _manifest(command: str, finished: bool = True) -> str:
-    return json.dumps({"command": command, "skygas_version": "0", "config_hash": "x",
-                       "started_at": "2026-01-01T00:00:00Z",
-                       "finished_at": "2026-01-01T00:01:00Z" if finished else None})
+    return json.dumps(
+        {
+            "command": command,
+            "skygas_version": "0",
+            "config_hash": "x",
+            "started_at": "2026-01-01T00:00:00Z",
+            "finished_at": "2026-01-01T00:01:00Z" if finished else None,
+        }
+    )
 
 
 #: the files each case finds in its working folder
@@ -66,38 +72,58 @@ CASES = {
     "duration inf flag": (["reshuffle", "--duration", "inf", "--out", "OUT"], "--duration = inf"),
     "duration 1e300 toml": (["simulate", "big.toml", "--out", "OUT"], "duration = 1e+300"),
     "check-timestep inf": (["check-timestep", "big.toml", "--duration", "inf"], "duration = inf"),
-    "out under /proc": (["reshuffle", "--out", "/proc/skygas-test/x"],
-                        "--out = '/proc/skygas-test/x'"),
+    "out under /proc": (
+        ["reshuffle", "--out", "/proc/skygas-test/x"],
+        "--out = '/proc/skygas-test/x'",
+    ),
     "out is a file": (["reshuffle", "--out", "afile"], "--out = 'afile'"),
     "out under a file": (["sc", "demo", "--out", "afile/sub"], "--out = 'afile/sub'"),
     "sc demo out is a file": (["sc", "demo", "--out", "afile"], "--out = 'afile'"),
     "sweep out is a file": (["sweep", "quick.toml", "--out", "afile", "--serial"], "--out"),
     "plot an unfinished store": (["plot", "x.creating", "--out", "OUT"], "STORE = "),
     "neuron rate 1e20": (["neuron", "rate.toml", "--out", "OUT"], "inputs.rate = 1e+20"),
-    "sc demo 1e10 bits": (["sc", "demo", "--n-bits", "10000000000", "--out", "OUT"],
-                          "--n-bits = 10000000000"),
+    "sc demo 1e10 bits": (
+        ["sc", "demo", "--n-bits", "10000000000", "--out", "OUT"],
+        "--n-bits = 10000000000",
+    ),
     # results overwritten or lost
     "another command's folder": (["neuron", "--out", "done"], "results of `skygas reshuffle`"),
     "finished results": (["reshuffle", "--out", "done"], "--overwrite"),
     "interrupted run without --resume": (
-        ["simulate", str(EXAMPLES / "closed-chamber.toml"), "--out", "stopped"], "--resume"),
+        ["simulate", str(EXAMPLES / "closed-chamber.toml"), "--out", "stopped"],
+        "--resume",
+    ),
     # nonsense accepted (refused under --strict)
-    "temperature 1e9 strict": (["simulate", "hot.toml", "--out", "OUT", "--strict"],
-                               "temperature = 1000000000.0"),
-    "current 1e20 strict": (["reshuffle", "--current-density", "1e20", "--strict", "--out",
-                             "OUT"], "--current-density = 1e+20"),
+    "temperature 1e9 strict": (
+        ["simulate", "hot.toml", "--out", "OUT", "--strict"],
+        "temperature = 1000000000.0",
+    ),
+    "current 1e20 strict": (
+        ["reshuffle", "--current-density", "1e20", "--strict", "--out", "OUT"],
+        "--current-density = 1e+20",
+    ),
     # unclear messages before
-    "chamber 1024 flag": (["reshuffle", "--chamber-diameter", "1024", "--out", "OUT"],
-                          "did you mean 1024e-9"),
-    "chamber 1024 toml": (["reshuffle", "reshuffler.toml", "--out", "OUT"],
-                          "device.chamber_diameter = 1024"),
-    "negative temperature flag": (["reshuffle", "--temperature", "-5", "--out", "OUT"],
-                                  "--temperature = -5.0: expected a number >= 0"),
-    "nan temperature flag": (["reshuffle", "--temperature", "nan", "--out", "OUT"],
-                             "--temperature = nan: expected a finite number"),
+    "chamber 1024 flag": (
+        ["reshuffle", "--chamber-diameter", "1024", "--out", "OUT"],
+        "did you mean 1024e-9",
+    ),
+    "chamber 1024 toml": (
+        ["reshuffle", "reshuffler.toml", "--out", "OUT"],
+        "device.chamber_diameter = 1024",
+    ),
+    "negative temperature flag": (
+        ["reshuffle", "--temperature", "-5", "--out", "OUT"],
+        "--temperature = -5.0: expected a number >= 0",
+    ),
+    "nan temperature flag": (
+        ["reshuffle", "--temperature", "nan", "--out", "OUT"],
+        "--temperature = nan: expected a finite number",
+    ),
     "nan temperature toml": (["simulate", "nan.toml", "--out", "OUT"], "a finite number"),
-    "negative current is a value": (["reshuffle", "--current-density", "-1e11", "--out", "OUT"],
-                                    "--current-density = -1"),
+    "negative current is a value": (
+        ["reshuffle", "--current-density", "-1e11", "--out", "OUT"],
+        "--current-density = -1",
+    ),
     "duration 0 simulate": (["simulate", "zero.toml", "--out", "OUT"], "duration = 0"),
     "duration 0 reshuffle": (["reshuffle", "--duration", "0", "--out", "OUT"], "--duration = 0"),
     "duration 0 neuron": (["neuron", "--duration", "0", "--out", "OUT"], "--duration = 0"),
@@ -107,16 +133,23 @@ CASES = {
     "missing config": (["simulate", "nope.toml", "--out", "OUT"], "config = 'nope.toml'"),
     "negative seed": (["reshuffle", "--seed", "-1", "--out", "OUT"], "--seed = -1"),
     "p above one": (["reshuffle", "--p", "1.5", "--out", "OUT"], "--p = 1.5"),
-    "unknown material": (["reshuffle", "--material", "unobtainium", "--out", "OUT"],
-                         "material = 'unobtainium'"),
-    "negative checkpoint interval": (["reshuffle", "--checkpoint-seconds", "-1e3", "--out",
-                                      "OUT"], "--checkpoint-seconds = -1000.0"),
+    "unknown material": (
+        ["reshuffle", "--material", "unobtainium", "--out", "OUT"],
+        "material = 'unobtainium'",
+    ),
+    "negative checkpoint interval": (
+        ["reshuffle", "--checkpoint-seconds", "-1e3", "--out", "OUT"],
+        "--checkpoint-seconds = -1000.0",
+    ),
     "negative bit count": (["sc", "demo", "--n-bits", "-5", "--out", "OUT"], "--n-bits = -5"),
-    "diameters not numbers": (["saturation", "--diameters", "big", "--out", "OUT"],
-                              "diameters[0] = 'big'"),
-    "saturation inf temperature": (["saturation", "--diameters", "300e-9", "--temperature",
-                                    "inf", "--out", "OUT"],
-                                   "--temperature = inf: expected a finite number"),
+    "diameters not numbers": (
+        ["saturation", "--diameters", "big", "--out", "OUT"],
+        "diameters[0] = 'big'",
+    ),
+    "saturation inf temperature": (
+        ["saturation", "--diameters", "300e-9", "--temperature", "inf", "--out", "OUT"],
+        "--temperature = inf: expected a finite number",
+    ),
     "export of nothing": (["export", "OUT", "--format", "gsd", "--out", "OUT.gsd"], "OUT"),
     "inspect a missing file": (["micromag", "inspect", "missing.ovf"], "missing.ovf"),
     "memory limit": (["sc", "demo", "--out", "OUT"], "fits in memory"),
@@ -125,14 +158,22 @@ CASES = {
 
 def _snapshot(folder: Path) -> dict[str, bytes | None]:
     """Every path under ``folder`` with the bytes of the files (None for folders)."""
-    return {str(p.relative_to(folder)): (p.read_bytes() if p.is_file() else None)
-            for p in sorted(folder.rglob("*"))}
+    return {
+        str(p.relative_to(folder)): (p.read_bytes() if p.is_file() else None)
+        for p in sorted(folder.rglob("*"))
+    }
 
 
 def _run(args: list[str], cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
     environment = {**os.environ, "PYTHONWARNINGS": "ignore", **(env or {})}
-    return subprocess.run([sys.executable, "-m", "skygas.cli", *args], cwd=cwd, env=environment,
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "skygas.cli", *args],
+        cwd=cwd,
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 @pytest.mark.parametrize("name", list(CASES))
@@ -161,8 +202,11 @@ def test_every_subparser_takes_negative_numbers_with_exponents():
     parser = cli.build_parser()
     for value in ("-1e11", "-2.5E-9", "-.5", "-3", "-inf"):
         args = parser.parse_args(["reshuffle", "--out", "o", "--current-density", value])
-        assert args.current_density == float(value) or value == "-inf" and \
-            args.current_density == float("-inf")
+        assert (
+            args.current_density == float(value)
+            or value == "-inf"
+            and args.current_density == float("-inf")
+        )
     args = parser.parse_args(["sc", "demo", "--out", "o", "--n-bits", "-5"])
     assert args.n_bits == -5
     args = parser.parse_args(["micromag", "inspect", "f.ovf", "--threshold", "-1e-1"])
@@ -189,12 +233,15 @@ def test_help_shows_defaults_and_one_example_per_command():
     reshuffle = commands["reshuffle"].format_help()
     assert "(default: 300.0)" in commands["saturation"].format_help()  # --temperature
     assert "--overwrite" in reshuffle and "--strict" in reshuffle
-    assert "(default: 4096)" in commands["sc demo"].format_help() or \
-        "default 4096" in commands["sc demo"].format_help()
+    assert (
+        "(default: 4096)" in commands["sc demo"].format_help()
+        or "default 4096" in commands["sc demo"].format_help()
+    )
 
 
 def test_an_internal_error_is_one_line_with_status_70_and_debug_shows_the_traceback(
-        tmp_path, monkeypatch, capsys):
+    tmp_path, monkeypatch, capsys
+):
     def broken(args):
         raise RuntimeError("something skygas did not foresee")
 
@@ -211,8 +258,16 @@ def test_an_internal_error_is_one_line_with_status_70_and_debug_shows_the_traceb
 
 def test_a_run_folder_is_refused_twice_then_replaced_with_overwrite(tmp_path, capsys):
     out = tmp_path / "run"
-    args = ["reshuffle", "--duration", "1e-8", "--out", str(out), "--json", "--no-report",
-            "--quiet"]
+    args = [
+        "reshuffle",
+        "--duration",
+        "1e-8",
+        "--out",
+        str(out),
+        "--json",
+        "--no-report",
+        "--quiet",
+    ]
     assert cli.main(args) == 0
     manifest = json.loads((out / "manifest.json").read_text())
     assert manifest["command"] == "reshuffle" and manifest["finished_at"] is not None
@@ -227,13 +282,25 @@ def test_a_run_folder_is_refused_twice_then_replaced_with_overwrite(tmp_path, ca
     summary = json.loads(capsys.readouterr().out)  # one JSON object, standard JSON
     assert summary["seed"] == 5
     assert (out / "notes.txt").read_text() == "mine"  # nothing else in the folder is deleted
-    assert json.loads((out / "manifest.json").read_text())["config_hash"] != \
-        manifest["config_hash"]
+    assert json.loads((out / "manifest.json").read_text())["config_hash"] != manifest["config_hash"]
 
 
 def test_a_sanity_finding_is_a_warning_without_strict(tmp_path):
-    proc = _run(["reshuffle", "--temperature", "1e9", "--duration", "1e-8", "--out", "run",
-                 "--json", "--no-report", "--quiet"], tmp_path)
+    proc = _run(
+        [
+            "reshuffle",
+            "--temperature",
+            "1e9",
+            "--duration",
+            "1e-8",
+            "--out",
+            "run",
+            "--json",
+            "--no-report",
+            "--quiet",
+        ],
+        tmp_path,
+    )
     assert proc.returncode == 0, proc.stderr
     warnings = proc.stderr.strip().splitlines()
     assert warnings and all(w.startswith("skygas: warning: ") for w in warnings)

@@ -16,9 +16,18 @@ import sys
 import pytest
 
 
-@pytest.mark.parametrize("package", ["skygas", "skygas.reshuffler", "skygas.sweep",
-                                     "skygas.neuron", "skygas.sc", "skygas.micromag",
-                                     "skygas.reservoir"])
+@pytest.mark.parametrize(
+    "package",
+    [
+        "skygas",
+        "skygas.reshuffler",
+        "skygas.sweep",
+        "skygas.neuron",
+        "skygas.sc",
+        "skygas.micromag",
+        "skygas.reservoir",
+    ],
+)
 def test_every_exported_name_resolves(package):
     module = importlib.import_module(package)
     assert module.__all__
@@ -30,25 +39,32 @@ def test_every_exported_name_resolves(package):
 
 def imported(script: str) -> str:
     """Run ``script`` in a fresh interpreter and return what it prints."""
-    return subprocess.run([sys.executable, "-c", script], check=True, capture_output=True,
-                          text=True).stdout.strip()
+    return subprocess.run(
+        [sys.executable, "-c", script], check=True, capture_output=True, text=True
+    ).stdout.strip()
 
 
 def test_a_sweep_worker_does_not_import_the_client_side_libraries():
-    assert imported(
-        "import sys\n"
-        "from skygas.sweep.worker import run_one\n"
-        "import skygas.reshuffler.run, skygas.reshuffler.analysis, skygas.reshuffler.config\n"
-        "heavy = ('xarray', 'pandas', 'zarr', 'dask', 'matplotlib', 'netCDF4', 'joblib')\n"
-        "print(' '.join(m for m in heavy if m in sys.modules))\n"
-    ) == ""
+    assert (
+        imported(
+            "import sys\n"
+            "from skygas.sweep.worker import run_one\n"
+            "import skygas.reshuffler.run, skygas.reshuffler.analysis, skygas.reshuffler.config\n"
+            "heavy = ('xarray', 'pandas', 'zarr', 'dask', 'matplotlib', 'netCDF4', 'joblib')\n"
+            "print(' '.join(m for m in heavy if m in sys.modules))\n"
+        )
+        == ""
+    )
 
 
 def test_the_command_line_is_built_without_numerics():
-    assert imported(
-        "import sys\n"
-        "from skygas.cli import build_parser\n"
-        "build_parser()\n"
-        "heavy = ('scipy', 'numba', 'xarray', 'pydantic', 'shapely', 'zarr', 'dask')\n"
-        "print(' '.join(m for m in heavy if m in sys.modules))\n"
-    ) == ""
+    assert (
+        imported(
+            "import sys\n"
+            "from skygas.cli import build_parser\n"
+            "build_parser()\n"
+            "heavy = ('scipy', 'numba', 'xarray', 'pydantic', 'shapely', 'zarr', 'dask')\n"
+            "print(' '.join(m for m in heavy if m in sys.modules))\n"
+        )
+        == ""
+    )

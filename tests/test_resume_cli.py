@@ -86,19 +86,30 @@ sys.exit(main(sys.argv[5:]))
 """
 
 COMMANDS = {
-    "simulate": {"files": ("trajectories.nc", "summary.json"),
-                 # exits are appended after the kernel returns, before the step count moves on
-                 "hooks": [("skygas.exit_log", "ExitLog", "append", 3),
-                           ("skygas.exit_log", "ExitLog", "append", 2)]},
-    "reshuffle": {"files": ("reshuffler.nc", "summary.json"),
-                  "hooks": [("skygas.reshuffler.injection", "Injector",
-                             "planned_insertions_made", 5),
-                            ("skygas.reshuffler.run", "ReshufflerRun", "_add_snapshots", 2)]},
-    "neuron": {"files": ("trace.npz", "summary.json"),
-               "hooks": [("skygas.neuron.inputs", "SiteInjector", "_inject", 60),
-                         ("skygas.neuron.device", "NeuronController", "act", 500),
-                         # inside a run of the transfer curve (the first build is the main run)
-                         ("skygas.neuron.device", "NeuronDevice", "build", 2)]},
+    "simulate": {
+        "files": ("trajectories.nc", "summary.json"),
+        # exits are appended after the kernel returns, before the step count moves on
+        "hooks": [
+            ("skygas.exit_log", "ExitLog", "append", 3),
+            ("skygas.exit_log", "ExitLog", "append", 2),
+        ],
+    },
+    "reshuffle": {
+        "files": ("reshuffler.nc", "summary.json"),
+        "hooks": [
+            ("skygas.reshuffler.injection", "Injector", "planned_insertions_made", 5),
+            ("skygas.reshuffler.run", "ReshufflerRun", "_add_snapshots", 2),
+        ],
+    },
+    "neuron": {
+        "files": ("trace.npz", "summary.json"),
+        "hooks": [
+            ("skygas.neuron.inputs", "SiteInjector", "_inject", 60),
+            ("skygas.neuron.device", "NeuronController", "act", 500),
+            # inside a run of the transfer curve (the first build is the main run)
+            ("skygas.neuron.device", "NeuronDevice", "build", 2),
+        ],
+    },
 }
 
 
@@ -119,10 +130,12 @@ def _env() -> dict:
 
 
 def _cli(argv: list[str], hook=None) -> subprocess.CompletedProcess:
-    prefix = [sys.executable, "-c", HOOK, *map(str, hook)] if hook else \
-        [sys.executable, "-m", "skygas.cli"]
-    return subprocess.run([*prefix, *argv], capture_output=True, text=True, env=_env(),
-                          timeout=300)
+    prefix = (
+        [sys.executable, "-c", HOOK, *map(str, hook)]
+        if hook
+        else [sys.executable, "-m", "skygas.cli"]
+    )
+    return subprocess.run([*prefix, *argv], capture_output=True, text=True, env=_env(), timeout=300)
 
 
 class _Started:
@@ -130,8 +143,12 @@ class _Started:
     the run driver has taken over the signals and is about to step)."""
 
     def __init__(self, argv: list[str]):
-        self.proc = subprocess.Popen([sys.executable, "-m", "skygas.cli", *argv],
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=_env())
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "skygas.cli", *argv],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            env=_env(),
+        )
         self.stderr = b""
         self.bar = threading.Event()
         self.reader = threading.Thread(target=self._read, daemon=True)
@@ -165,9 +182,12 @@ def _summary(path: Path) -> dict:
 
 def _attributes(attrs: dict) -> dict:
     """Dataset attributes, JSON ones parsed, wall times left out."""
-    return _without_wall_times({k: _without_wall_times(json.loads(v))
-                                if isinstance(v, str) and v.startswith("{") else v
-                                for k, v in attrs.items()})
+    return _without_wall_times(
+        {
+            k: _without_wall_times(json.loads(v)) if isinstance(v, str) and v.startswith("{") else v
+            for k, v in attrs.items()
+        }
+    )
 
 
 def assert_same_results(ref: Path, out: Path, files) -> None:
@@ -189,8 +209,9 @@ def assert_same_results(ref: Path, out: Path, files) -> None:
             assert sorted(x.variables) == sorted(y.variables)
             for k in x.variables:
                 assert x[k].dtype == y[k].dtype, f"{name}: {k}"
-                assert np.array_equal(x[k].values, y[k].values,
-                                      equal_nan=x[k].dtype.kind == "f"), f"{name}: {k}"
+                assert np.array_equal(x[k].values, y[k].values, equal_nan=x[k].dtype.kind == "f"), (
+                    f"{name}: {k}"
+                )
             assert _attributes(x.attrs) == _attributes(y.attrs), name
 
 
@@ -284,7 +305,8 @@ def test_sigkill_then_resume_from_a_periodic_checkpoint(command, reference, tmp_
 
 
 def test_resume_refuses_another_configuration_and_a_fresh_start_refuses_a_checkpoint(
-        reference, tmp_path, capsys):
+    reference, tmp_path, capsys
+):
     """A checkpoint belongs to one configuration; without --resume it is never overwritten."""
     out = tmp_path / "out"
     argv = _argv("simulate", tmp_path, out)

@@ -39,12 +39,14 @@ class CountingJob:
         self.done += 1
 
     def state_dict(self):
-        return {"done": np.array(self.done), "total": np.array(self.total),
-                "halves": np.array(self.halves)}
+        return {
+            "done": np.array(self.done),
+            "total": np.array(self.total),
+            "halves": np.array(self.halves),
+        }
 
     def load_state_dict(self, state):
-        self.done, self.total, self.halves = (int(state[k]) for k in ("done", "total",
-                                                                       "halves"))
+        self.done, self.total, self.halves = (int(state[k]) for k in ("done", "total", "halves"))
 
     def config_json(self):
         return json.dumps({"pieces": self.work_total, "seed": self._seed})
@@ -53,8 +55,9 @@ class CountingJob:
         return self._seed
 
     def finish(self, out):
-        write_atomic(out / "result.json",
-                     lambda tmp: tmp.write_text(json.dumps({"total": self.total})))
+        write_atomic(
+            out / "result.json", lambda tmp: tmp.write_text(json.dumps({"total": self.total}))
+        )
         return self.total
 
 
@@ -128,8 +131,16 @@ def test_saturation_resumes_exactly(tmp_path, monkeypatch, capsys):
     uninterrupted run's numbers."""
     from skygas.neuron.saturation import SaturationProtocol
 
-    argv = ["saturation", "--diameters", "2e-7", "--repetitions", "2", "--relax-time", "2e-10",
-            "--quiet"]
+    argv = [
+        "saturation",
+        "--diameters",
+        "2e-7",
+        "--repetitions",
+        "2",
+        "--relax-time",
+        "2e-10",
+        "--quiet",
+    ]
     assert main([*argv, "--out", str(tmp_path / "ref")]) == 0
     original = SaturationProtocol.run_trial
 

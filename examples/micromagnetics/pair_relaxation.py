@@ -51,15 +51,21 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--out", required=True, help="folder for the OVF snapshots and run.json")
     parser.add_argument("--cell-size", type=float, default=2e-9, help="cell size [m] (2e-9)")
-    parser.add_argument("--duration", type=float, default=5e-9,
-                        help="LLG time after the release [s] (5e-9)")
-    parser.add_argument("--snapshots", type=int, default=51,
-                        help="files written, the first at the release (51)")
-    parser.add_argument("--separation", type=float, default=72e-9,
-                        help="distance of the pinned cores [m] (72e-9)")
-    parser.add_argument("--pin-radius", type=float, default=PIN_RADIUS,
-                        help="pin the cells within this distance of each core's centre [m] "
-                        "(16e-9)")
+    parser.add_argument(
+        "--duration", type=float, default=5e-9, help="LLG time after the release [s] (5e-9)"
+    )
+    parser.add_argument(
+        "--snapshots", type=int, default=51, help="files written, the first at the release (51)"
+    )
+    parser.add_argument(
+        "--separation", type=float, default=72e-9, help="distance of the pinned cores [m] (72e-9)"
+    )
+    parser.add_argument(
+        "--pin-radius",
+        type=float,
+        default=PIN_RADIUS,
+        help="pin the cells within this distance of each core's centre [m] (16e-9)",
+    )
     parser.add_argument("--threads", type=int, default=1, help="torch threads (1)")
     return parser.parse_args(argv)
 
@@ -77,8 +83,11 @@ def check(args: argparse.Namespace, out: Path) -> None:
     if not 0 < args.cell_size <= 5e-9:
         raise InputError("--cell-size", args.cell_size, "a cell size in (0, 5e-9] m")
     if out.exists() and any(out.glob("*.ovf")):
-        raise InputError("--out", str(out), "a new or empty folder (it holds OVF files: "
-                         "`micromag fit` reads every snapshot in it)")
+        raise InputError(
+            "--out",
+            str(out),
+            "a new or empty folder (it holds OVF files: `micromag fit` reads every snapshot in it)",
+        )
 
 
 def core_cells(film: solver.Film, centre, radius: float) -> list[tuple[int, int]]:
@@ -92,8 +101,9 @@ def core_cells(film: solver.Film, centre, radius: float) -> list[tuple[int, int]
 
 def as_field(m: np.ndarray, film: solver.Film, thickness: float, t: float):
     """The solver's (nx, ny, 3) texture as an OVF field (ny, nx, 3) at time ``t`` [s]."""
-    return field_from_array(np.transpose(m, (1, 0, 2)),
-                            (film.cell_size, film.cell_size, thickness), time=t)
+    return field_from_array(
+        np.transpose(m, (1, 0, 2)), (film.cell_size, film.cell_size, thickness), time=t
+    )
 
 
 def main(argv=None) -> int:
@@ -108,29 +118,40 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     solver.configure(threads=args.threads)
     # the film in whole cells, as close to 400 × 250 nm as the cell allows
-    film = solver.Film(round(WIDTH / args.cell_size), round(HEIGHT / args.cell_size),
-                       args.cell_size)
+    film = solver.Film(
+        round(WIDTH / args.cell_size), round(HEIGHT / args.cell_size), args.cell_size
+    )
     width, height = film.size
-    centres = [(width / 2 - args.separation / 2, height / 2),
-               (width / 2 + args.separation / 2, height / 2)]
+    centres = [
+        (width / 2 - args.separation / 2, height / 2),
+        (width / 2 + args.separation / 2, height / 2),
+    ]
     radius = preset("S2").skyrmion_radius
     m0 = solver.skyrmion_texture(film, centres, radius, material.bare_wall_width)
-    pinned = solver.core_mask(film, [c for centre in centres
-                                     for c in core_cells(film, centre, args.pin_radius)])
-    print(f"{film.nx} × {film.ny} cells of {args.cell_size * 1e9:g} nm, material S2, "
-          f"cores pinned {args.separation * 1e9:g} nm apart; solver on {solver.device_name()}",
-          flush=True)
+    pinned = solver.core_mask(
+        film, [c for centre in centres for c in core_cells(film, centre, args.pin_radius)]
+    )
+    print(
+        f"{film.nx} × {film.ny} cells of {args.cell_size * 1e9:g} nm, material S2, "
+        f"cores pinned {args.separation * 1e9:g} nm apart; solver on {solver.device_name()}",
+        flush=True,
+    )
     fs = solver.FilmSolver(material, film)
     relaxed = fs.relax(m0, pinned)
-    print(f"relaxed with the cores pinned: {relaxed.iterations} iterations, torque "
-          f"{relaxed.torque:.3g} A/m, {relaxed.seconds:.0f} s", flush=True)
+    print(
+        f"relaxed with the cores pinned: {relaxed.iterations} iterations, torque "
+        f"{relaxed.torque:.3g} A/m, {relaxed.seconds:.0f} s",
+        flush=True,
+    )
     if not relaxed.converged:
         print("pair_relaxation: error: the pinned relaxation did not converge", file=sys.stderr)
         return 1
     interval = args.duration / (args.snapshots - 1)
-    note = (f"magnum.np LLG run by examples/micromagnetics/pair_relaxation.py (skygas "
-            f"{__version__}): two S2 skyrmions released {args.separation:g} m apart, "
-            f"alpha = {material.damping:g}")
+    note = (
+        f"magnum.np LLG run by examples/micromagnetics/pair_relaxation.py (skygas "
+        f"{__version__}): two S2 skyrmions released {args.separation:g} m apart, "
+        f"alpha = {material.damping:g}"
+    )
 
     def snapshot(i: int, m: np.ndarray, t: float) -> None:
         field = as_field(m, film, material.film_thickness, t)
@@ -146,25 +167,49 @@ def main(argv=None) -> int:
         m, step, steps = piece.m, piece.next_step, steps + piece.steps
         t = i * interval  # the nominal time: uniform spacing, as mumax3's autosave writes
         snapshot(i, m, t)
-        print(f"  snapshot {i}/{args.snapshots - 1}: t = {piece.time * 1e9:.4f} ns, "
-              f"{piece.steps} steps, {piece.seconds:.1f} s", flush=True)
-    write_json(out / "run.json", {
-        "skygas_version": __version__, "solver": solver.versions(),
-        "device": solver.device_name(), "material": material.as_record(),
-        "film": {"nx": film.nx, "ny": film.ny, "cell_size_m": film.cell_size,
-                 "width_m": width, "height_m": height},
-        "parameters": {"separation_m": args.separation, "duration_s": args.duration,
-                       "snapshots": args.snapshots, "interval_s": interval,
-                       "initial_radius_m": radius, "initial_wall_width_m":
-                       material.bare_wall_width, "pin_radius_m": args.pin_radius,
-                       "pinned_cells": int(pinned.sum()),
-                       "threads": args.threads},
-        "relaxation": {"iterations": relaxed.iterations, "torque_A_per_m": relaxed.torque,
-                       "energy_J": relaxed.energy, "seconds": relaxed.seconds},
-        "llg": {"steps": steps, "seconds": time.perf_counter() - started},
-    })
-    print(f"{args.snapshots} snapshots in {out}; next: skygas micromag fit {out} --out FIT",
-          flush=True)
+        print(
+            f"  snapshot {i}/{args.snapshots - 1}: t = {piece.time * 1e9:.4f} ns, "
+            f"{piece.steps} steps, {piece.seconds:.1f} s",
+            flush=True,
+        )
+    write_json(
+        out / "run.json",
+        {
+            "skygas_version": __version__,
+            "solver": solver.versions(),
+            "device": solver.device_name(),
+            "material": material.as_record(),
+            "film": {
+                "nx": film.nx,
+                "ny": film.ny,
+                "cell_size_m": film.cell_size,
+                "width_m": width,
+                "height_m": height,
+            },
+            "parameters": {
+                "separation_m": args.separation,
+                "duration_s": args.duration,
+                "snapshots": args.snapshots,
+                "interval_s": interval,
+                "initial_radius_m": radius,
+                "initial_wall_width_m": material.bare_wall_width,
+                "pin_radius_m": args.pin_radius,
+                "pinned_cells": int(pinned.sum()),
+                "threads": args.threads,
+            },
+            "relaxation": {
+                "iterations": relaxed.iterations,
+                "torque_A_per_m": relaxed.torque,
+                "energy_J": relaxed.energy,
+                "seconds": relaxed.seconds,
+            },
+            "llg": {"steps": steps, "seconds": time.perf_counter() - started},
+        },
+    )
+    print(
+        f"{args.snapshots} snapshots in {out}; next: skygas micromag fit {out} --out FIT",
+        flush=True,
+    )
     return 0
 
 

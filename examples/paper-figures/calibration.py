@@ -3,8 +3,9 @@
     python examples/paper-figures/calibration.py runs/calibration-high.zarr \
         runs/calibration-s100.zarr --out docs/figures
 
-For each dynamics time scale s (and time step) in the stores: ρ at J = 3.8×10¹¹ A/m² against ξ (replica mean
-± standard error), ξ(s) where ρ crosses the paper's 0.64 (linear interpolation between the two
+For each dynamics time scale s (and time step) in the stores: ρ at J = 3.8×10¹¹ A/m² against ξ
+(replica mean ± standard error), ξ(s) where ρ crosses the paper's 0.64 (linear interpolation between
+the two
 bracketing points; its uncertainty from ρ's standard errors through the local slope), and the
 low-current statements (ρ, fullest chamber, p_out against its 95 % interval) at 10¹⁰ A/m².
 Writes ``calibration.json`` and ``calibration.png`` (left: ρ(ξ) per s; right: the running ρ of
@@ -24,8 +25,7 @@ from skygas.sweep import open_sweep
 from skygas.sweep.analysis import point_table
 
 TARGET, HIGH, LOW = 0.64, 3.8e11, 1e10
-S_KEY, XI_KEY, J_KEY = "hypothesis_dynamics_time_scale", "spin_drift_coefficient", \
-    "current_density"
+S_KEY, XI_KEY, J_KEY = "hypothesis_dynamics_time_scale", "spin_drift_coefficient", "current_density"
 
 
 def base_config(ds):
@@ -58,8 +58,11 @@ def crossing(xi: np.ndarray, rho: np.ndarray, sem: np.ndarray) -> dict:
             value = xi[i] + (TARGET - rho[i]) / slope
             error = float(np.hypot(sem[i], sem[i + 1]) / slope)
             return {"xi": float(value), "xi_error": error, "bracket": [xi[i], xi[i + 1]]}
-    return {"xi": float("nan"), "note": "rho does not cross 0.64 in the scanned xi",
-            "rho_range": [float(np.nanmin(rho)), float(np.nanmax(rho))]}
+    return {
+        "xi": float("nan"),
+        "note": "rho does not cross 0.64 in the scanned xi",
+        "rho_range": [float(np.nanmin(rho)), float(np.nanmax(rho))],
+    }
 
 
 def main() -> None:
@@ -79,19 +82,51 @@ def main() -> None:
         xi = np.array([r[XI_KEY] for r in high])
         rho = np.array([r["rho"] for r in high])
         sem = np.array([r["rho_sem"] for r in high])
-        entry = {"high_current": [{k: r[k] for k in (XI_KEY, "rho", "rho_sem",
-                                                     "correlation_max_lag", "max_occupancy",
-                                                     "mean_transit_s")} for r in high],
-                 "crossing": crossing(xi, rho, sem),
-                 "low_current": [{k: r[k] for k in (XI_KEY, "rho", "rho_sem", "max_occupancy",
-                                                    "p_in", "p_out", "p_out_worst_z",
-                                                    "mean_transit_s")} for r in low]}
+        entry = {
+            "high_current": [
+                {
+                    k: r[k]
+                    for k in (
+                        XI_KEY,
+                        "rho",
+                        "rho_sem",
+                        "correlation_max_lag",
+                        "max_occupancy",
+                        "mean_transit_s",
+                    )
+                }
+                for r in high
+            ],
+            "crossing": crossing(xi, rho, sem),
+            "low_current": [
+                {
+                    k: r[k]
+                    for k in (
+                        XI_KEY,
+                        "rho",
+                        "rho_sem",
+                        "max_occupancy",
+                        "p_in",
+                        "p_out",
+                        "p_out_worst_z",
+                        "mean_transit_s",
+                    )
+                }
+                for r in low
+            ],
+        }
         result["per_s"][f"s={s:g}, dt={dt * 1e12:.3g} ps"] = entry
         if not high:
             continue
         order = np.argsort(xi)
-        left.errorbar(xi[order], rho[order], yerr=np.nan_to_num(sem[order]), fmt="o-",
-                      capsize=2, label=f"s = {s:g}, step {dt * 1e12:.3g} ps")
+        left.errorbar(
+            xi[order],
+            rho[order],
+            yerr=np.nan_to_num(sem[order]),
+            fmt="o-",
+            capsize=2,
+            label=f"s = {s:g}, step {dt * 1e12:.3g} ps",
+        )
     left.axhline(TARGET, color="k", ls=":", label="paper: 0.64")
     left.set_xscale("log")
     ticks = [1.5e-9, 3e-9, 6e-9, 1.2e-8]
@@ -117,8 +152,14 @@ def main() -> None:
                 y = pt["running_rho"].isel(replica=r).values
                 ok = np.isfinite(t) & np.isfinite(y)
                 colour = colours.setdefault(s, f"C{len(colours)}")
-                right.plot(t[ok] * 1e6, y[ok], lw=0.7, color=colour, alpha=0.8,
-                           label=None if s in labelled else f"s = {s:g} (each run, all ξ)")
+                right.plot(
+                    t[ok] * 1e6,
+                    y[ok],
+                    lw=0.7,
+                    color=colour,
+                    alpha=0.8,
+                    label=None if s in labelled else f"s = {s:g} (each run, all ξ)",
+                )
                 labelled.add(s)
     right.set_xlabel("time (µs)")
     right.set_ylabel("running ρ at J = 3.8×10¹¹ A/m²")

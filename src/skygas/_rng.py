@@ -38,8 +38,12 @@ def philox4x32_10(c0, c1, c2, c3, k0, k1):
     for _ in range(10):
         p0 = _M0 * c0
         p1 = _M1 * c2
-        c0, c1, c2, c3 = (p1 >> np.uint64(32)) ^ c1 ^ k0, p1 & _MASK32, \
-            (p0 >> np.uint64(32)) ^ c3 ^ k1, p0 & _MASK32
+        c0, c1, c2, c3 = (
+            (p1 >> np.uint64(32)) ^ c1 ^ k0,
+            p1 & _MASK32,
+            (p0 >> np.uint64(32)) ^ c3 ^ k1,
+            p0 & _MASK32,
+        )
         k0 = (k0 + _W0) & _MASK32
         k1 = (k1 + _W1) & _MASK32
     return c0, c1, c2, c3
@@ -53,27 +57,40 @@ def _candidates(seed, ident, step, stream, attempt):
     i = np.uint64(ident)
     t = np.uint64(step)
     sub = (np.uint64(stream) + np.uint64(256) * np.uint64(attempt)) << np.uint64(16)
-    r0, r1, r2, r3 = philox4x32_10(i & _MASK32, ((i >> np.uint64(32)) & np.uint64(0xFFFF)) | sub,
-                                   t & _MASK32, t >> np.uint64(32), s & _MASK32,
-                                   s >> np.uint64(32))
+    r0, r1, r2, r3 = philox4x32_10(
+        i & _MASK32,
+        ((i >> np.uint64(32)) & np.uint64(0xFFFF)) | sub,
+        t & _MASK32,
+        t >> np.uint64(32),
+        s & _MASK32,
+        s >> np.uint64(32),
+    )
     # via int64: the words are < 2³², and signed conversion is a single instruction on x86
-    return (float(np.int64(r0)) * _INV_2_31 - 1.0, float(np.int64(r1)) * _INV_2_31 - 1.0,
-            float(np.int64(r2)) * _INV_2_31 - 1.0, float(np.int64(r3)) * _INV_2_31 - 1.0)
+    return (
+        float(np.int64(r0)) * _INV_2_31 - 1.0,
+        float(np.int64(r1)) * _INV_2_31 - 1.0,
+        float(np.int64(r2)) * _INV_2_31 - 1.0,
+        float(np.int64(r3)) * _INV_2_31 - 1.0,
+    )
 
 
 @intrinsic
 def _float_bits(typingctx, value):
     """The IEEE-754 bits of a float64 as an int64 (a register move, no memory)."""
+
     def codegen(context, builder, signature, args):
         return builder.bitcast(args[0], ir.IntType(64))
+
     return types.int64(types.float64), codegen
 
 
 @intrinsic
 def _bits_float(typingctx, bits):
     """The float64 whose IEEE-754 bits are the int64 ``bits``."""
+
     def codegen(context, builder, signature, args):
         return builder.bitcast(args[0], ir.DoubleType())
+
     return types.float64(types.int64), codegen
 
 
@@ -164,8 +181,7 @@ def fill_gaussian_pairs(seed, ids, alive, step, stream, cand, out_x, out_y):
     """
     n = ids.shape[0]
     for i in range(n):
-        cand[0, i], cand[1, i], cand[2, i], cand[3, i] = _candidates(seed, ids[i], step,
-                                                                     stream, 0)
+        cand[0, i], cand[1, i], cand[2, i], cand[3, i] = _candidates(seed, ids[i], step, stream, 0)
     for i in range(n):
         u0 = cand[0, i]
         v0 = cand[1, i]
@@ -189,15 +205,21 @@ def fill_gaussian_pairs(seed, ids, alive, step, stream, cand, out_x, out_y):
 def _philox_words(c, k):
     out = np.empty(4, dtype=np.uint64)
     out[0], out[1], out[2], out[3] = philox4x32_10(
-        np.uint64(c[0]), np.uint64(c[1]), np.uint64(c[2]), np.uint64(c[3]),
-        np.uint64(k[0]), np.uint64(k[1]))
+        np.uint64(c[0]),
+        np.uint64(c[1]),
+        np.uint64(c[2]),
+        np.uint64(c[3]),
+        np.uint64(k[0]),
+        np.uint64(k[1]),
+    )
     return out
 
 
 def philox_words(counter, key) -> list[int]:
     """Philox4x32-10 of a 4-word ``counter`` and 2-word ``key`` (for tests and tools)."""
-    return [int(v) for v in _philox_words(np.asarray(counter, np.uint64),
-                                          np.asarray(key, np.uint64))]
+    return [
+        int(v) for v in _philox_words(np.asarray(counter, np.uint64), np.asarray(key, np.uint64))
+    ]
 
 
 @numba.njit(cache=True)

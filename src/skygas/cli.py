@@ -63,10 +63,10 @@ EXAMPLES = {
     "check-timestep": "skygas check-timestep examples/closed-chamber.toml --json",
     "demo": "skygas demo --out out/demo",
     "reshuffle": "skygas reshuffle --preset paper --duration 2e-6 --current-density 1.7e11 "
-                 "--out out/reshuffler",
+    "--out out/reshuffler",
     "neuron": "skygas neuron examples/neuron.toml --out out/neuron",
     "saturation": "skygas saturation --diameters 300e-9 500e-9 --repetitions 3 "
-                  "--out out/saturation",
+    "--out out/saturation",
     "sweep": "skygas sweep examples/sweeps/quick-current.toml --out out/sweep.zarr --workers 2",
     "plot": "skygas plot out/sweep.zarr --out out/sweep-figures",
     "animate": "skygas animate out/reshuffler --out out/reshuffler/movie.mp4 --window 0:2e-6",
@@ -95,8 +95,12 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter):
     def _get_help_string(self, action: argparse.Action) -> str:
         text = action.help or ""
         default = action.default
-        if "default" in text or default in (None, False, argparse.SUPPRESS) or \
-                action.option_strings == [] and action.nargs in ("?", "*"):
+        if (
+            "default" in text
+            or default in (None, False, argparse.SUPPRESS)
+            or action.option_strings == []
+            and action.nargs in ("?", "*")
+        ):
             return text
         if isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
             return text
@@ -128,10 +132,16 @@ def _complete_subparsers(parser: argparse.ArgumentParser, prefix: str = "") -> N
             if key in EXAMPLES and not sub.epilog:
                 sub.epilog = f"example:\n  {EXAMPLES[key]}"
             options = sub._option_string_actions
-            if "--out" in options and "--overwrite" not in options and \
-                    key.split()[0] not in _FILE_OUT_COMMANDS | _OWN_OUT_RULES:
-                sub.add_argument("--overwrite", action="store_true",
-                                 help="replace the finished results of the same command in OUT")
+            if (
+                "--out" in options
+                and "--overwrite" not in options
+                and key.split()[0] not in _FILE_OUT_COMMANDS | _OWN_OUT_RULES
+            ):
+                sub.add_argument(
+                    "--overwrite",
+                    action="store_true",
+                    help="replace the finished results of the same command in OUT",
+                )
             _complete_subparsers(sub, f"{key} ")
 
 
@@ -140,11 +150,12 @@ def build_parser() -> argparse.ArgumentParser:
         prog="skygas",
         description="Stochastic Thiele simulation of skyrmion gases and skyrmionic devices.",
         epilog="Bad input: one line 'skygas: error: ...' and exit status 2; a bug in skygas: "
-               "exit status 70 (add --debug for the traceback).",
+        "exit status 70 (add --debug for the traceback).",
     )
     parser.add_argument("--version", action="version", version=f"skygas {__version__}")
-    parser.add_argument("--debug", action="store_true",
-                        help="show the Python traceback of any error")
+    parser.add_argument(
+        "--debug", action="store_true", help="show the Python traceback of any error"
+    )
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in _COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
@@ -172,14 +183,16 @@ def _check_output_folder(out: Path) -> Path | None:
     """Refuse an ``--out`` that is an existing file; return the first folder of ``out`` that
     does not exist yet (what this command will create), or None."""
     if out.exists() and not out.is_dir():
-        raise InputError("--out", str(out), "a folder (this is an existing file)",
-                         "choose another --out")
+        raise InputError(
+            "--out", str(out), "a folder (this is an existing file)", "choose another --out"
+        )
     created = None
     for folder in [out, *out.parents]:
         if folder.exists():
             if not folder.is_dir():
-                raise InputError("--out", str(out), f"a folder path ({folder} is a file)",
-                                 "choose another --out")
+                raise InputError(
+                    "--out", str(out), f"a folder path ({folder} is a file)", "choose another --out"
+                )
             break
         created = folder
     return created
@@ -200,8 +213,7 @@ def _remove_if_empty(created: Path | None, out: Path) -> None:
 
 
 def describe_error(err: BaseException, args: argparse.Namespace | None = None) -> tuple[str, int]:
-    """The one line printed for ``err`` (without the ``skygas: `` prefix) and the exit status.
-    """
+    """The one line printed for ``err`` (without the ``skygas: `` prefix) and the exit status."""
     if isinstance(err, InputError):
         return f"error: {err}", EXIT_INPUT
     if isinstance(err, OSError) and err.errno is not None:
@@ -211,15 +223,21 @@ def describe_error(err: BaseException, args: argparse.Namespace | None = None) -
             field, value = "--out", out  # the folder itself, or one of its parents
         else:
             field, value = "path", name
-        return (f"error: {field} = {value!r}: expected a path that can be used ({name} gives: "
-                f"{err.strerror}); choose a path in a folder that exists and that you can "
-                "write to"), EXIT_INPUT
+        return (
+            f"error: {field} = {value!r}: expected a path that can be used ({name} gives: "
+            f"{err.strerror}); choose a path in a folder that exists and that you can "
+            "write to"
+        ), EXIT_INPUT
     if isinstance(err, (OverflowError, MemoryError)):
-        return (f"error: input = (too large): the job asks for more than this machine can "
-                f"compute ({type(err).__name__}: {err}); use a shorter duration, fewer "
-                "skyrmions, streams or frames"), EXIT_INPUT
-    return (f"internal error: {type(err).__name__}: {err}; this is a bug in skygas: rerun "
-            "with --debug for the traceback"), EXIT_INTERNAL
+        return (
+            f"error: input = (too large): the job asks for more than this machine can "
+            f"compute ({type(err).__name__}: {err}); use a shorter duration, fewer "
+            "skyrmions, streams or frames"
+        ), EXIT_INPUT
+    return (
+        f"internal error: {type(err).__name__}: {err}; this is a bug in skygas: rerun "
+        "with --debug for the traceback"
+    ), EXIT_INTERNAL
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -236,8 +254,12 @@ def main(argv: list[str] | None = None) -> int:
         if out is not None:
             created = _check_output_folder(out)
         if with_manifest:
-            manifest.claim(out, command_name(args), overwrite=getattr(args, "overwrite", False),
-                           resume=getattr(args, "resume", False))
+            manifest.claim(
+                out,
+                command_name(args),
+                overwrite=getattr(args, "overwrite", False),
+                resume=getattr(args, "resume", False),
+            )
         status = int(args.func(args) or 0)
         if with_manifest and status == 0:
             manifest.finish_command(out, args, started)

@@ -8,7 +8,7 @@ seconds, kelvin, m/s). Every field is checked when the file is loaded; an invali
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import Field, ValidationError, ValidationInfo, field_validator, model_validator
@@ -64,7 +64,7 @@ class PolygonSpec(StrictModel):
     vertices: list[Point2] = Field(min_length=3)
 
 
-ShapeSpec = Annotated[Union[DiskSpec, RectangleSpec, PolygonSpec], Field(discriminator="kind")]
+ShapeSpec = Annotated[DiskSpec | RectangleSpec | PolygonSpec, Field(discriminator="kind")]
 
 
 class ChamberGeometry(ChamberSize):
@@ -74,8 +74,9 @@ class ChamberGeometry(ChamberSize):
     closed: bool = Field(False, description="close both conduit ends (no ports)")
 
     def build(self) -> geo.Outline:
-        outline = geo.chamber_with_conduits(self.chamber_diameter, self.conduit_width,
-                                            self.conduit_length)
+        outline = geo.chamber_with_conduits(
+            self.chamber_diameter, self.conduit_width, self.conduit_length
+        )
         return geo.Outline(outline.region) if self.closed else outline
 
 
@@ -101,14 +102,14 @@ class ShapesGeometry(StrictModel):
         return outline
 
 
-GeometrySpec = Annotated[Union[ChamberGeometry, ShapesGeometry], Field(discriminator="kind")]
+GeometrySpec = Annotated[ChamberGeometry | ShapesGeometry, Field(discriminator="kind")]
 
 
 class ThieleOverrides(StrictModel):
     """Optional overrides of the derived Thiele parameters (docs/physics.md §4)."""
 
     dissipation: PositiveFloat | None = None
-    force_scale: PositiveFloat | None = None        # F0 [N]
+    force_scale: PositiveFloat | None = None  # F0 [N]
     skyrmion_diameter: Length | None = None  # d_sk [m]
     eta: float | None = None
     mu: float = 1.0
@@ -126,9 +127,12 @@ class ForcesSpec(StrictModel):
 
     def simulation_arguments(self) -> dict:
         """The keyword arguments of :class:`~skygas.engine.Simulation` these choices give."""
-        return {"pair_law": self.pair_law, "wall_law": self.wall_law,
-                "pair_law_params": self.pair_law_params,
-                "cutoff_fraction": self.cutoff_fraction}
+        return {
+            "pair_law": self.pair_law,
+            "wall_law": self.wall_law,
+            "pair_law_params": self.pair_law_params,
+            "cutoff_fraction": self.cutoff_fraction,
+        }
 
 
 class DriftSpec(StrictModel):
@@ -146,10 +150,14 @@ class SkyrmionsSpec(StrictModel):
 
 def _material(material: str | dict[str, Any]) -> Material:
     """The material a configuration names: a preset name, a TOML file, or an inline table."""
-    if isinstance(material, str) and not material.endswith(".toml") \
-            and material not in preset_names():
-        raise InputError("material", material,
-                         f"a preset ({', '.join(preset_names())}), a .toml file or a table")
+    if (
+        isinstance(material, str)
+        and not material.endswith(".toml")
+        and material not in preset_names()
+    ):
+        raise InputError(
+            "material", material, f"a preset ({', '.join(preset_names())}), a .toml file or a table"
+        )
     return load_material(material)
 
 
@@ -169,7 +177,7 @@ class MaterialFields(StrictModel):
     ``film_thickness`` left out takes the material's own when it has one (a calibrated model,
     measured for one film); a different explicit value is then refused."""
 
-    material: Union[str, dict[str, Any]] = "S2"
+    material: str | dict[str, Any] = "S2"
     film_thickness: Length = DEFAULT_FILM_THICKNESS
     thiele: ThieleOverrides = ThieleOverrides()
     forces: ForcesSpec = ForcesSpec()
@@ -200,9 +208,15 @@ class MaterialFields(StrictModel):
     def thiele_parameters(self) -> ThieleParameters:
         """Thiele coefficients of the material in the film, with the overrides applied."""
         o = self.thiele
-        return derive_thiele(self.resolved_material(), self.film_thickness,
-                             dissipation=o.dissipation, force_scale=o.force_scale,
-                             skyrmion_diameter=o.skyrmion_diameter, eta=o.eta, mu=o.mu)
+        return derive_thiele(
+            self.resolved_material(),
+            self.film_thickness,
+            dissipation=o.dissipation,
+            force_scale=o.force_scale,
+            skyrmion_diameter=o.skyrmion_diameter,
+            eta=o.eta,
+            mu=o.mu,
+        )
 
 
 class SimulationConfig(MaterialFields):
@@ -232,22 +246,30 @@ class SimulationConfig(MaterialFields):
         if time_step is None:
             time_step = self.time_step
         # time_step None: the suggested step, shortened to divide record_interval exactly
-        sim = Simulation(outline, material, time_step=time_step,
-                         step_interval=self.record_interval,
-                         brownian_substeps=brownian_substeps,
-                         temperature=self.temperature, seed=self.seed,
-                         film_thickness=self.film_thickness, thiele=thiele,
-                         drift_velocity=self.drift.velocity,
-                         integrator=self.integrator, landscape=self.potentials,
-                         **self.forces.simulation_arguments())
+        sim = Simulation(
+            outline,
+            material,
+            time_step=time_step,
+            step_interval=self.record_interval,
+            brownian_substeps=brownian_substeps,
+            temperature=self.temperature,
+            seed=self.seed,
+            film_thickness=self.film_thickness,
+            thiele=thiele,
+            drift_velocity=self.drift.velocity,
+            integrator=self.integrator,
+            landscape=self.potentials,
+            **self.forces.simulation_arguments(),
+        )
         s = self.skyrmions
         if s.positions:
             sim.add_skyrmions(np.asarray(s.positions), validate=True)
         if s.random_count:
             d_sk = sim.thiele.skyrmion_diameter_internal
             rng = np.random.default_rng(np.random.SeedSequence([self.seed, 0x5EED]))
-            pts = geo.random_positions(sim.outline, s.random_count, s.min_separation * d_sk,
-                                       s.min_separation * d_sk, rng)
+            pts = geo.random_positions(
+                sim.outline, s.random_count, s.min_separation * d_sk, s.min_separation * d_sk, rng
+            )
             sim.validate_positions(pts, "skyrmions.random_count")
             sim.state.insert_nm(pts)
         return sim
@@ -259,16 +281,22 @@ def resolve_paths(data: dict, folder: Path) -> dict:
     configuration's folder), as a user who writes them next to the file means them."""
     data = dict(data)
     material = data.get("material")
-    if isinstance(material, str) and material.endswith(".toml") \
-            and not Path(material).is_absolute():
+    if (
+        isinstance(material, str)
+        and material.endswith(".toml")
+        and not Path(material).is_absolute()
+    ):
         data["material"] = str(folder / material)
     potentials = data.get("potentials")
     if isinstance(potentials, list):
         data["potentials"] = [
             {**p, "path": str(folder / p["path"])}
-            if isinstance(p, dict) and isinstance(p.get("path"), str)
-            and not Path(p["path"]).is_absolute() else p
-            for p in potentials]
+            if isinstance(p, dict)
+            and isinstance(p.get("path"), str)
+            and not Path(p["path"]).is_absolute()
+            else p
+            for p in potentials
+        ]
     return data
 
 

@@ -44,10 +44,14 @@ MAX_LENGTH = 1.0
 
 def _metres(value: float) -> float:
     if not MIN_LENGTH <= value <= MAX_LENGTH:
-        hint = f"did you mean {value:g}e-9 (nanometres)?" if value > MAX_LENGTH else \
-            "did you mean nanometres (e.g. 2e-9)?"
-        raise ValueError(f"a length between {MIN_LENGTH:g} m and {MAX_LENGTH:g} m; lengths are "
-                         f"in metres: {hint}")
+        hint = (
+            f"did you mean {value:g}e-9 (nanometres)?"
+            if value > MAX_LENGTH
+            else "did you mean nanometres (e.g. 2e-9)?"
+        )
+        raise ValueError(
+            f"a length between {MIN_LENGTH:g} m and {MAX_LENGTH:g} m; lengths are in metres: {hint}"
+        )
     return value
 
 

@@ -42,8 +42,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas.errors import InputError
 from skygas import validate as v
+from skygas.errors import InputError
 from skygas.sc.metrics import PValueEstimate, p_value_interval, pearson, scc
 from skygas.signals import as_bits
 
@@ -62,8 +62,9 @@ def _aligned(b: Any, c: Any) -> tuple[np.ndarray, np.ndarray]:
     return b[:n], c[:n]
 
 
-def _times(values: Any, field: str, *, sorted_: bool = False, allow_empty: bool = True
-           ) -> np.ndarray:
+def _times(
+    values: Any, field: str, *, sorted_: bool = False, allow_empty: bool = True
+) -> np.ndarray:
     try:
         array = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
@@ -76,8 +77,11 @@ def _times(values: Any, field: str, *, sorted_: bool = False, allow_empty: bool 
         raise InputError(field, values, "finite times (seconds)")
     if sorted_ and np.any(np.diff(array) < 0):
         bad = int(np.flatnonzero(np.diff(array) < 0)[0]) + 1
-        raise InputError(f"{field}[{bad}]", array[bad].item(),
-                         "times in non-decreasing order (the order of the output events)")
+        raise InputError(
+            f"{field}[{bad}]",
+            array[bad].item(),
+            "times in non-decreasing order (the order of the output events)",
+        )
     return array
 
 
@@ -102,8 +106,11 @@ def _same_size(**arrays: np.ndarray) -> None:
     names = list(arrays)
     for name in names[1:]:
         if arrays[name].size != arrays[names[0]].size:
-            raise InputError(name, f"{arrays[name].size} entries",
-                             f"{arrays[names[0]].size}, one per entry of {names[0]}")
+            raise InputError(
+                name,
+                f"{arrays[name].size} entries",
+                f"{arrays[names[0]].size}, one per entry of {names[0]}",
+            )
 
 
 # ----------------------------------------------------------------------- building the output
@@ -177,15 +184,16 @@ def pearson_vs_lag(b: Any, c: Any, max_lag: int) -> LagScan:
     max_lag = v.positive_int(max_lag, "max_lag", minimum=0)
     limit = min(b.size, c.size) - 2
     if max_lag > limit:
-        raise InputError("max_lag", max_lag,
-                         f"an integer <= {max(limit, 0)} (at least 2 pairs at every lag)")
+        raise InputError(
+            "max_lag", max_lag, f"an integer <= {max(limit, 0)} (at least 2 pairs at every lag)"
+        )
     lags = np.arange(-max_lag, max_lag + 1)
     rho = np.empty(lags.size)
     n_pairs = np.empty(lags.size, dtype=np.int64)
     for i, lag in enumerate(lags):
         first = max(0, -lag)
         stop = min(b.size, c.size - lag)
-        rho[i] = pearson(b[first:stop], c[first + lag:stop + lag])
+        rho[i] = pearson(b[first:stop], c[first + lag : stop + lag])
         n_pairs[i] = stop - first
     best = int(np.lexsort((np.abs(lags), -np.abs(rho)))[0])
     return LagScan(lags, rho, n_pairs, int(lags[best]), float(rho[best]))
@@ -219,8 +227,13 @@ def p_out_vs_p_in(b: Any, c: Any, confidence: float = 0.95) -> PValueComparison:
 
 
 def _scalar_estimate(estimate: PValueEstimate) -> PValueEstimate:
-    return PValueEstimate(float(estimate.estimate), float(estimate.low), float(estimate.high),
-                          estimate.n_bits, estimate.confidence)
+    return PValueEstimate(
+        float(estimate.estimate),
+        float(estimate.low),
+        float(estimate.high),
+        estimate.n_bits,
+        estimate.confidence,
+    )
 
 
 @dataclass(frozen=True)
@@ -233,8 +246,9 @@ class RunningCorrelation:
     rho: np.ndarray
 
 
-def running_correlation(b: Any, c: Any, detection_times: Any, n_points: int = 200
-                        ) -> RunningCorrelation:
+def running_correlation(
+    b: Any, c: Any, detection_times: Any, n_points: int = 200
+) -> RunningCorrelation:
     r"""Pearson :math:`\rho` of the first :math:`m` index-aligned pairs as the output grows.
 
     The paper's reshuffler figure (right panel) plots the correlation against time "as the
@@ -254,8 +268,11 @@ def running_correlation(b: Any, c: Any, detection_times: Any, n_points: int = 20
     n = b_seq.size
     if n < 2:
         raise InputError("c", f"{n} aligned event(s)", "at least 2 aligned input/output events")
-    m = np.unique(np.rint(np.linspace(2, n, n_points)).astype(np.int64)) if n_points > 1 \
+    m = (
+        np.unique(np.rint(np.linspace(2, n, n_points)).astype(np.int64))
+        if n_points > 1
         else np.array([n])
+    )
     # Cumulative counts give every prefix at once with the same formula as sc.metrics.pearson.
     ones_b = np.cumsum(b_seq)[m - 1]
     ones_c = np.cumsum(c_seq)[m - 1]
@@ -280,9 +297,16 @@ class Occupancy:
     down: np.ndarray
 
 
-def occupancy(injection_times: Any, injection_chambers: Any, detection_times: Any,
-              detection_chambers: Any, times: Any = None, *,
-              annihilation_times: Any = (), annihilation_chambers: Any = ()) -> Occupancy:
+def occupancy(
+    injection_times: Any,
+    injection_chambers: Any,
+    detection_times: Any,
+    detection_chambers: Any,
+    times: Any = None,
+    *,
+    annihilation_times: Any = (),
+    annihilation_chambers: Any = (),
+) -> Occupancy:
     r"""Skyrmions present in the UP and DOWN chambers, counted from the event lists.
 
     :math:`N_X(t) = \#\{\text{injections into } X \text{ at} \le t\}
@@ -292,6 +316,7 @@ def occupancy(injection_times: Any, injection_chambers: Any, detection_times: An
     (sorted, unique), so ``up.max()`` is the exact peak occupancy (the paper quotes at most 51
     skyrmions per chamber at its lowest current).
     """
+
     def events(kind: str, times_: Any, chambers: Any) -> tuple[np.ndarray, np.ndarray]:
         """Validated (times, chambers) of one kind of event (injection, detection, …)."""
         t = _times(times_, f"{kind}_times")
@@ -312,8 +337,11 @@ def occupancy(injection_times: Any, injection_chambers: Any, detection_times: An
 
     counts = {}
     for label, is_up in (("up", True), ("down", False)):
-        counts[label] = (count(t_inj[ch_inj == is_up]) - count(t_det[ch_det == is_up])
-                         - count(t_ann[ch_ann == is_up]))
+        counts[label] = (
+            count(t_inj[ch_inj == is_up])
+            - count(t_det[ch_det == is_up])
+            - count(t_ann[ch_ann == is_up])
+        )
     return Occupancy(query, counts["up"], counts["down"])
 
 
@@ -344,9 +372,13 @@ def _ids(values: Any, field: str) -> np.ndarray:
     return array.astype(np.int64)
 
 
-def transit_times(injection_ids: Any, injection_times: Any, detection_ids: Any,
-                  detection_times: Any,
-                  quantiles: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95)) -> TransitTimes:
+def transit_times(
+    injection_ids: Any,
+    injection_times: Any,
+    detection_ids: Any,
+    detection_times: Any,
+    quantiles: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95),
+) -> TransitTimes:
     """Time from injection to detection of each skyrmion, matched by skyrmion id.
 
     Results follow the order of the detection lists. Every detected id must have been injected,
@@ -368,20 +400,30 @@ def transit_times(injection_ids: Any, injection_times: Any, detection_ids: Any,
         found = np.zeros(det_ids.size, dtype=bool)
     missing = np.flatnonzero(~found)
     if missing.size:
-        raise InputError(f"detection_ids[{missing[0]}]", int(det_ids[missing[0]]),
-                         "ids that appear in injection_ids")
+        raise InputError(
+            f"detection_ids[{missing[0]}]",
+            int(det_ids[missing[0]]),
+            "ids that appear in injection_ids",
+        )
     transit = det_t - inj_t[order][position]
     early = np.flatnonzero(transit < 0)
     if early.size:
-        raise InputError(f"detection_times[{early[0]}]", det_t[early[0]].item(),
-                         "a time no earlier than the skyrmion's injection "
-                         f"({inj_t[order][position][early[0]]})")
+        raise InputError(
+            f"detection_times[{early[0]}]",
+            det_t[early[0]].item(),
+            f"a time no earlier than the skyrmion's injection ({inj_t[order][position][early[0]]})",
+        )
     if transit.size:
         mean, median = float(transit.mean()), float(np.median(transit))
         values = np.quantile(transit, probabilities)
     else:
         mean = median = float("nan")
         values = np.full(probabilities.size, np.nan)
-    return TransitTimes(det_ids, transit, mean, median,
-                        {float(q): float(x) for q, x in zip(probabilities, values)},
-                        int(inj_ids.size - det_ids.size))
+    return TransitTimes(
+        det_ids,
+        transit,
+        mean,
+        median,
+        {float(q): float(x) for q, x in zip(probabilities, values, strict=True)},
+        int(inj_ids.size - det_ids.size),
+    )

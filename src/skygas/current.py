@@ -1,7 +1,8 @@
 """Current flow through a device: the drift field v_s = ξ·j, resistance, Joule power.
 
 The paper drives skyrmions with the current density j(x) obtained from a separate current-flow
-simulation (COMSOL; paper, Methods) and quotes J as the density *in the conduits* (docs/physics.md §3).
+simulation (COMSOL; paper, Methods) and quotes J as the density *in the conduits*
+(docs/physics.md §3).
 :func:`solve_current` redoes that calculation for any :class:`~skygas.geometry.Outline`:
 
     ∇·(σ∇φ) = 0          in the device (uniform conductivity σ = 1/ρ),
@@ -94,8 +95,13 @@ def _positive_number(name: str, value, unit: str) -> float:
 
 
 def _port_names(name: str, value, outline: Outline) -> tuple[str, ...]:
-    names = (value,) if isinstance(value, str) else tuple(value) if isinstance(
-        value, Sequence) else None
+    names = (
+        (value,)
+        if isinstance(value, str)
+        else tuple(value)
+        if isinstance(value, Sequence)
+        else None
+    )
     allowed = f"a port name or a list of port names of the outline: {outline.port_names()}"
     require(names is not None and len(names) > 0, name, value, allowed)
     for n in names:
@@ -145,8 +151,11 @@ class _Cells:
 
     def bilinear(self, field: np.ndarray, x, y) -> np.ndarray:
         """Bilinear interpolation of a cell-centred ``field`` at (x, y) nm (clamped)."""
-        return bilinear_at_indices(field, (np.asarray(x, float) - self.x0) / self.h - 0.5,
-                                   (np.asarray(y, float) - self.y0) / self.h - 0.5)
+        return bilinear_at_indices(
+            field,
+            (np.asarray(x, float) - self.x0) / self.h - 0.5,
+            (np.asarray(y, float) - self.y0) / self.h - 0.5,
+        )
 
 
 def _aligned_cells(outline: Outline, reference: LineString, cell_size_nm: float) -> _Cells:
@@ -155,7 +164,8 @@ def _aligned_cells(outline: Outline, reference: LineString, cell_size_nm: float)
     width = math.hypot(bx - ax, by - ay)
     h = cell_size_nm
     axis_aligned = len(reference.coords) == 2 and (
-        abs(bx - ax) <= _AXIS_TOLERANCE * width or abs(by - ay) <= _AXIS_TOLERANCE * width)
+        abs(bx - ax) <= _AXIS_TOLERANCE * width or abs(by - ay) <= _AXIS_TOLERANCE * width
+    )
     minx, miny, maxx, maxy = outline.bounds_nm
     if axis_aligned:
         h = width / max(1, round(width / h))
@@ -185,12 +195,18 @@ class _PortFaces:
     port: np.ndarray  # index into sources + sinks
 
 
-def _port_faces(cells: _Cells, inside: np.ndarray, outline: Outline,
-                electrodes: Sequence[tuple[str, float, bool]]) -> _PortFaces:
+def _port_faces(
+    cells: _Cells,
+    inside: np.ndarray,
+    outline: Outline,
+    electrodes: Sequence[tuple[str, float, bool]],
+) -> _PortFaces:
     """The boundary faces of the electrodes ``(port name, potential [V], is_source)``."""
     cx, cy = cells.centres()
-    parts = {k: [] for k in ("cell_j", "cell_i", "direction", "conductance", "potential",
-                             "is_source", "port")}
+    parts = {
+        k: []
+        for k in ("cell_j", "cell_i", "direction", "conductance", "potential", "is_source", "port")
+    }
     for d, (di, dj) in enumerate(_DIRECTIONS):
         neighbour_inside = np.roll(inside, (-dj, -di), axis=(0, 1))
         jj, ii = np.nonzero(inside & ~neighbour_inside)  # the margin keeps rolls from wrapping
@@ -239,10 +255,15 @@ def _solve_potential(cells: _Cells, inside: np.ndarray, ports: _PortFaces, cell_
     port_cell = index[ports.cell_j, ports.cell_i]
     live_labels = np.unique(label[port_cell])
     live = np.isin(label, live_labels)
-    if np.intersect1d(label[port_cell[ports.is_source]],
-                      label[port_cell[~ports.is_source]]).size == 0:
-        raise InputError("cell_size", cell_size, "a cell size small enough that the "
-                         "discretised device connects source and sink")
+    if (
+        np.intersect1d(label[port_cell[ports.is_source]], label[port_cell[~ports.is_source]]).size
+        == 0
+    ):
+        raise InputError(
+            "cell_size",
+            cell_size,
+            "a cell size small enough that the discretised device connects source and sink",
+        )
 
     diagonal = np.asarray(adjacency.sum(axis=1)).ravel()
     np.add.at(diagonal, port_cell, ports.conductance)
@@ -255,8 +276,9 @@ def _solve_potential(cells: _Cells, inside: np.ndarray, ports: _PortFaces, cell_
     # conductances on the diagonal): SuperLU's symmetric mode with a minimum-degree ordering of
     # A + Aᵀ and no pivoting keeps the factor sparse (0.9 s for the 1024 nm chamber's 133 000
     # cells, against 1.3 s for the general solver with the same ordering).
-    factor = splu(sub, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                  options={"SymmetricMode": True})
+    factor = splu(
+        sub, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+    )
     phi_live = factor.solve(rhs[keep])
 
     phi = np.full(inside.shape, np.nan)
@@ -296,19 +318,31 @@ class _UnitFlow:
 _MEMO = Memo("current", maxsize=4, persist=True)
 
 
-def _unit_flow(outline: Outline, sources: tuple[str, ...], sinks: tuple[str, ...],
-               h_nm: float, cell_size: float) -> _UnitFlow:
+def _unit_flow(
+    outline: Outline,
+    sources: tuple[str, ...],
+    sinks: tuple[str, ...],
+    h_nm: float,
+    cell_size: float,
+) -> _UnitFlow:
     started = time.perf_counter()
     cells = _aligned_cells(outline, outline.ports[sources[0]], h_nm)
     cx, cy = cells.centres()
     inside = outline.contains_nm(cx, cy)
-    ports = _port_faces(cells, inside, outline, [(n, 1.0, True) for n in sources]
-                        + [(n, 0.0, False) for n in sinks])
-    for side, names, mask in (("source", sources, ports.is_source),
-                              ("sink", sinks, ~ports.is_source)):
-        require(mask.any(), "cell_size", cell_size,
-                f"a cell size small enough that the {side} port(s) {list(names)} touch "
-                "at least one cell centre inside the outline")
+    ports = _port_faces(
+        cells, inside, outline, [(n, 1.0, True) for n in sources] + [(n, 0.0, False) for n in sinks]
+    )
+    for side, names, mask in (
+        ("source", sources, ports.is_source),
+        ("sink", sinks, ~ports.is_source),
+    ):
+        require(
+            mask.any(),
+            "cell_size",
+            cell_size,
+            f"a cell size small enough that the {side} port(s) {list(names)} touch "
+            "at least one cell centre inside the outline",
+        )
     phi = _solve_potential(cells, inside, ports, cell_size)
     jx_unit, jy_unit, phi_unit, outward, live = _flow_fields(cells, inside, ports, phi)
 
@@ -318,11 +352,18 @@ def _unit_flow(outline: Outline, sources: tuple[str, ...], sinks: tuple[str, ...
         port_current_unit[name] = float(np.sum(outward[ports.port == p]))
     source_unit = -sum(port_current_unit[n] for n in sources)  # into the device
     sink_unit = sum(port_current_unit[n] for n in sinks)  # out of it
-    return _UnitFlow(cells=cells, inside=inside, jx_unit=jx_unit, jy_unit=jy_unit,
-                     phi_unit=phi_unit, port_current_unit=tuple(port_current_unit.items()),
-                     source_unit=source_unit, cells_live=int(live.sum()),
-                     conservation_error=abs(sink_unit - source_unit) / source_unit,
-                     solve_seconds=time.perf_counter() - started)
+    return _UnitFlow(
+        cells=cells,
+        inside=inside,
+        jx_unit=jx_unit,
+        jy_unit=jy_unit,
+        phi_unit=phi_unit,
+        port_current_unit=tuple(port_current_unit.items()),
+        source_unit=source_unit,
+        cells_live=int(live.sum()),
+        conservation_error=abs(sink_unit - source_unit) / source_unit,
+        solve_seconds=time.perf_counter() - started,
+    )
 
 
 def _flow_fields(cells: _Cells, inside: np.ndarray, ports: _PortFaces, phi: np.ndarray):
@@ -340,8 +381,9 @@ def _flow_fields(cells: _Cells, inside: np.ndarray, ports: _PortFaces, phi: np.n
     k = ports.cell_j, ports.cell_i
     for d in range(4):
         on = ports.direction == d
-        face[d][k[0][on], k[1][on]] = (ports.conductance[on]
-                                       * (phi[k[0][on], k[1][on]] - ports.potential[on]))
+        face[d][k[0][on], k[1][on]] = ports.conductance[on] * (
+            phi[k[0][on], k[1][on]] - ports.potential[on]
+        )
     jx = 0.5 * (face[0] - face[1])
     jy = 0.5 * (face[2] - face[3])
     outward = ports.conductance * (phi[k] - ports.potential)
@@ -352,7 +394,6 @@ def _flow_fields(cells: _Cells, inside: np.ndarray, ports: _PortFaces, phi: np.n
     phi = phi[nearest[0], nearest[1]]  # every nearest cell is live: no nan left
     frozen(inside, jx, jy, phi)
     return jx, jy, phi, outward, live
-
 
 
 # -- the solution --------------------------------------------------------------------------------
@@ -377,10 +418,15 @@ class _CellFlow:
         return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
 
     def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
-        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C] (docs/physics.md §1)."""
+        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C]
+        (docs/physics.md §1)."""
         xi = float(spin_drift_coefficient)
-        require(math.isfinite(xi), "spin_drift_coefficient", spin_drift_coefficient,
-                "a finite number (m³/C)")
+        require(
+            math.isfinite(xi),
+            "spin_drift_coefficient",
+            spin_drift_coefficient,
+            "a finite number (m³/C)",
+        )
         jx, jy = self.sample(grid)
         return xi * jx, xi * jy
 
@@ -388,8 +434,9 @@ class _CellFlow:
         """(jx, jy) [A/m²] at points (x, y) [m] (outside points: the nearest inside value)."""
         x_nm = np.asarray(x, float) * M_TO_NM
         y_nm = np.asarray(y, float) * M_TO_NM
-        return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(self._jy, x_nm,
-                                                                                  y_nm)
+        return self._cells.bilinear(self._jx, x_nm, y_nm), self._cells.bilinear(
+            self._jy, x_nm, y_nm
+        )
 
 
 @dataclass(frozen=True)
@@ -438,10 +485,16 @@ class CurrentSolution(_CellFlow):
 
     def potential_at(self, x, y) -> np.ndarray:
         """Electric potential φ [V] at (x, y) [m] (the sink is at 0 V; nearest cell)."""
-        i = np.clip(((np.asarray(x, float) * M_TO_NM - self._cells.x0) / self._cells.h)
-                    .astype(int), 0, self._cells.nx - 1)
-        j = np.clip(((np.asarray(y, float) * M_TO_NM - self._cells.y0) / self._cells.h)
-                    .astype(int), 0, self._cells.ny - 1)
+        i = np.clip(
+            ((np.asarray(x, float) * M_TO_NM - self._cells.x0) / self._cells.h).astype(int),
+            0,
+            self._cells.nx - 1,
+        )
+        j = np.clip(
+            ((np.asarray(y, float) * M_TO_NM - self._cells.y0) / self._cells.h).astype(int),
+            0,
+            self._cells.ny - 1,
+        )
         return self._phi[j, i]
 
     # -- integrals -----------------------------------------------------------------------------
@@ -454,9 +507,16 @@ class CurrentSolution(_CellFlow):
         """
         start = np.asarray(segment_start, float) * M_TO_NM
         end = np.asarray(segment_end, float) * M_TO_NM
-        require(start.shape == (2,) and end.shape == (2,) and np.all(np.isfinite(start))
-                and np.all(np.isfinite(end)) and np.any(start != end), "segment",
-                (segment_start, segment_end), "two distinct (x, y) points in metres")
+        require(
+            start.shape == (2,)
+            and end.shape == (2,)
+            and np.all(np.isfinite(start))
+            and np.all(np.isfinite(end))
+            and np.any(start != end),
+            "segment",
+            (segment_start, segment_end),
+            "two distinct (x, y) points in metres",
+        )
         length = float(np.hypot(*(end - start)))
         normal = np.array([end[1] - start[1], start[0] - end[0]]) / length
         inside = self._outline.region.intersection(LineString([start, end]))
@@ -473,7 +533,7 @@ class CurrentSolution(_CellFlow):
         c = self._cells
         total = 0.0
         gauss = 0.5 + np.array([-0.5, 0.5]) / math.sqrt(3.0)
-        for p, q in zip(coords[:-1], coords[1:]):
+        for p, q in zip(coords[:-1], coords[1:], strict=True):
             cuts = [0.0, 1.0]
             for axis, origin in ((0, c.x0), (1, c.y0)):
                 a = (p[axis] - origin) / c.h - 0.5
@@ -494,8 +554,9 @@ class CurrentSolution(_CellFlow):
     def mean_current_density(self, port: str) -> float:
         """Mean of j·n̂ [A/m²] across ``port`` (n̂ from source to sink: into the device at a
         source, out of it at a sink), from the discrete port currents."""
-        require(port in self._port_flux, "port", port,
-                f"a source or sink port: {list(self._port_flux)}")
+        require(
+            port in self._port_flux, "port", port, f"a source or sink port: {list(self._port_flux)}"
+        )
         current, width = self._port_flux[port]
         return current / (width * self.conductor_thickness)
 
@@ -523,9 +584,10 @@ class CurrentSolution(_CellFlow):
             "solve_seconds": self.solve_seconds,
             "conservation_error": self.conservation_error,
             "port_mean_current_density_A_per_m2": {
-                k: self.mean_current_density(k) for k in self._port_flux},
+                k: self.mean_current_density(k) for k in self._port_flux
+            },
             "method": "finite volumes on square cells, staircase insulating walls, "
-                      "Dirichlet electrodes on the ports, sparse direct solve",
+            "Dirichlet electrodes on the ports, sparse direct solve",
         }
 
     @property
@@ -565,26 +627,42 @@ def solve_current(
 
     The current field depends only on the shape; thickness and resistivity enter only R, V and P.
     """
-    require(isinstance(outline, Outline), "outline", type(outline).__name__,
-            "a skygas.geometry.Outline")
+    require(
+        isinstance(outline, Outline), "outline", type(outline).__name__, "a skygas.geometry.Outline"
+    )
     ok = isinstance(current_density, (int, float, np.floating, np.integer)) and not isinstance(
-        current_density, bool)
-    require(ok and math.isfinite(current_density), "current_density", current_density,
-            "a finite number (A/m²)")
+        current_density, bool
+    )
+    require(
+        ok and math.isfinite(current_density),
+        "current_density",
+        current_density,
+        "a finite number (A/m²)",
+    )
     thickness = _positive_number("conductor_thickness", conductor_thickness, "metres")
     rho = _positive_number("resistivity", resistivity, "Ω·m")
     h_nm = _positive_number("cell_size", cell_size, "metres") * M_TO_NM
     sources = _port_names("source", source, outline)
     sinks = _port_names("sink", sink, outline)
-    require(not set(sources) & set(sinks), "sink", sink,
-            f"ports different from the source ports {list(sources)}")
+    require(
+        not set(sources) & set(sinks),
+        "sink",
+        sink,
+        f"ports different from the source ports {list(sources)}",
+    )
     minx, miny, maxx, maxy = outline.bounds_nm
     estimate = ((maxx - minx) / h_nm + 5) * ((maxy - miny) / h_nm + 5)
-    require(estimate <= _MAX_CELLS, "cell_size", cell_size,
-            f"a cell size giving at most {_MAX_CELLS} cells (this one gives ~{estimate:.2g})")
+    require(
+        estimate <= _MAX_CELLS,
+        "cell_size",
+        cell_size,
+        f"a cell size giving at most {_MAX_CELLS} cells (this one gives ~{estimate:.2g})",
+    )
 
-    flow = _MEMO.get((outline_key(outline), sources, sinks, h_nm),
-                     lambda: _unit_flow(outline, sources, sinks, h_nm, cell_size))
+    flow = _MEMO.get(
+        (outline_key(outline), sources, sinks, h_nm),
+        lambda: _unit_flow(outline, sources, sinks, h_nm, cell_size),
+    )
     port_current_unit = dict(flow.port_current_unit)
     h_m = flow.cells.h / M_TO_NM
     source_width = sum(outline.ports[n].length for n in sources) / M_TO_NM
@@ -599,25 +677,50 @@ def solve_current(
     # Port currents [A] (positive from source to sink) and the physical port widths [m].
     port_flux = {}
     for name in sources:
-        port_flux[name] = (-port_current_unit[name] * voltage * thickness / rho,
-                           outline.ports[name].length / M_TO_NM)
+        port_flux[name] = (
+            -port_current_unit[name] * voltage * thickness / rho,
+            outline.ports[name].length / M_TO_NM,
+        )
     for name in sinks:
-        port_flux[name] = (port_current_unit[name] * voltage * thickness / rho,
-                           outline.ports[name].length / M_TO_NM)
+        port_flux[name] = (
+            port_current_unit[name] * voltage * thickness / rho,
+            outline.ports[name].length / M_TO_NM,
+        )
     return CurrentSolution(
-        current_density=float(current_density), sources=sources, sinks=sinks, cell_size=h_m,
-        conductor_thickness=thickness, resistivity=rho, source_width=source_width,
-        total_current=total_current, resistance=resistance, voltage=voltage,
-        power=total_current ** 2 * resistance, cells=flow.cells_live,
-        solve_seconds=flow.solve_seconds, conservation_error=flow.conservation_error,
-        _cells=flow.cells, _jx=jx, _jy=jy, _phi=phi_volts, _inside=flow.inside,
-        _outline=outline, _port_flux=port_flux,
-        _settings=MappingProxyType({"source": sources, "sink": sinks, "cell_size": cell_size,
-                                    "conductor_thickness": conductor_thickness,
-                                    "resistivity": resistivity}))
+        current_density=float(current_density),
+        sources=sources,
+        sinks=sinks,
+        cell_size=h_m,
+        conductor_thickness=thickness,
+        resistivity=rho,
+        source_width=source_width,
+        total_current=total_current,
+        resistance=resistance,
+        voltage=voltage,
+        power=total_current**2 * resistance,
+        cells=flow.cells_live,
+        solve_seconds=flow.solve_seconds,
+        conservation_error=flow.conservation_error,
+        _cells=flow.cells,
+        _jx=jx,
+        _jy=jy,
+        _phi=phi_volts,
+        _inside=flow.inside,
+        _outline=outline,
+        _port_flux=port_flux,
+        _settings=MappingProxyType(
+            {
+                "source": sources,
+                "sink": sinks,
+                "cell_size": cell_size,
+                "conductor_thickness": conductor_thickness,
+                "resistivity": resistivity,
+            }
+        ),
+    )
 
 
-# -- contacts at arbitrary potentials ---------------------------------------------------------------
+# -- contacts at arbitrary potentials -------------------------------------------------------
 @dataclass(frozen=True)
 class ContactFlow(_CellFlow):
     """The current flow through a device whose contacts are held at given potentials.
@@ -658,15 +761,23 @@ class ContactFlow(_CellFlow):
 def _superpose(flows: Sequence[ContactFlow], weights: Sequence[float]) -> ContactFlow:
     """Σ_i w_i·flow_i: potentials, currents and fields all add (the problem is linear)."""
     first = flows[0]
+
     def mix(get):
-        return sum(w * get(f) for f, w in zip(flows, weights))
+        return sum(w * get(f) for f, w in zip(flows, weights, strict=True))
+
     names = list(first.potentials)
     return ContactFlow(
-        potentials={k: float(mix(lambda f: f.potentials[k])) for k in names},
-        contact_currents={k: float(mix(lambda f: f.contact_currents[k])) for k in names},
-        conductor_thickness=first.conductor_thickness, resistivity=first.resistivity,
-        cell_size=first.cell_size, _cells=first._cells, _jx=mix(lambda f: f._jx),
-        _jy=mix(lambda f: f._jy), _phi=mix(lambda f: f._phi), _inside=first._inside)
+        potentials={k: float(mix(lambda f, k=k: f.potentials[k])) for k in names},
+        contact_currents={k: float(mix(lambda f, k=k: f.contact_currents[k])) for k in names},
+        conductor_thickness=first.conductor_thickness,
+        resistivity=first.resistivity,
+        cell_size=first.cell_size,
+        _cells=first._cells,
+        _jx=mix(lambda f: f._jx),
+        _jy=mix(lambda f: f._jy),
+        _phi=mix(lambda f: f._phi),
+        _inside=first._inside,
+    )
 
 
 def _contact_cells(outline: Outline, contacts: Sequence[str], h_nm: float):
@@ -678,31 +789,38 @@ def _contact_cells(outline: Outline, contacts: Sequence[str], h_nm: float):
 
 
 def _check_contacts(outline: Outline, potentials) -> dict[str, float]:
-    allowed = (f"a mapping of at least two port names of the outline "
-               f"({outline.port_names()}) to finite potentials in volts")
-    require(isinstance(potentials, Mapping) and len(potentials) >= 2, "potentials",
-            potentials, allowed)
+    allowed = (
+        f"a mapping of at least two port names of the outline "
+        f"({outline.port_names()}) to finite potentials in volts"
+    )
+    require(
+        isinstance(potentials, Mapping) and len(potentials) >= 2, "potentials", potentials, allowed
+    )
     out = {}
     for name, v in potentials.items():
         ok = isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool)
-        require(name in outline.ports and ok and math.isfinite(v), f"potentials.{name}", v,
-                allowed)
+        require(name in outline.ports and ok and math.isfinite(v), f"potentials.{name}", v, allowed)
         out[name] = float(v)
     return out
 
 
-def solve_contacts(outline: Outline, potentials: Mapping[str, float], *,
-                   cell_size: float = DEFAULT_CELL_SIZE,
-                   conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
-                   resistivity: float = DEFAULT_RESISTIVITY) -> ContactFlow:
+def solve_contacts(
+    outline: Outline,
+    potentials: Mapping[str, float],
+    *,
+    cell_size: float = DEFAULT_CELL_SIZE,
+    conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
+    resistivity: float = DEFAULT_RESISTIVITY,
+) -> ContactFlow:
     """Solve ∇·(σ∇φ) = 0 with every port in ``potentials`` held at its potential [V].
 
     The direct solve for one set of potentials; :class:`ContactBasis` gives the same flow as a
     superposition of unit solutions, which is cheaper when many sets are needed. Cells are
     aligned with the first contact named, as in :class:`ContactBasis`.
     """
-    require(isinstance(outline, Outline), "outline", type(outline).__name__,
-            "a skygas.geometry.Outline")
+    require(
+        isinstance(outline, Outline), "outline", type(outline).__name__, "a skygas.geometry.Outline"
+    )
     volts = _check_contacts(outline, potentials)
     thickness = _positive_number("conductor_thickness", conductor_thickness, "metres")
     rho = _positive_number("resistivity", resistivity, "Ω·m")
@@ -712,25 +830,47 @@ def solve_contacts(outline: Outline, potentials: Mapping[str, float], *,
     low = min(volts.values())
     ports = _port_faces(cells, inside, outline, [(n, v, v > low) for n, v in volts.items()])
     for n in range(len(names)):
-        require(np.any(ports.port == n), "cell_size", cell_size,
-                f"a cell size small enough that contact {names[n]!r} touches at least one "
-                "cell centre inside the outline")
+        require(
+            np.any(ports.port == n),
+            "cell_size",
+            cell_size,
+            f"a cell size small enough that contact {names[n]!r} touches at least one "
+            "cell centre inside the outline",
+        )
     h_m = cells.h / M_TO_NM
     if np.all(ports.potential == low):  # one potential everywhere: no current
         zero = np.zeros(inside.shape)
-        return ContactFlow(potentials=volts, contact_currents={n: 0.0 for n in names},
-                           conductor_thickness=thickness, resistivity=rho, cell_size=h_m,
-                           _cells=cells, _jx=zero, _jy=zero, _phi=np.full(inside.shape, low),
-                           _inside=inside)
+        return ContactFlow(
+            potentials=volts,
+            contact_currents={n: 0.0 for n in names},
+            conductor_thickness=thickness,
+            resistivity=rho,
+            cell_size=h_m,
+            _cells=cells,
+            _jx=zero,
+            _jy=zero,
+            _phi=np.full(inside.shape, low),
+            _inside=inside,
+        )
     phi = _solve_potential(cells, inside, ports, cell_size)
     jx, jy, phi, outward, _ = _flow_fields(cells, inside, ports, phi)
     # flux densities in σ·V/h → A/m²; face fluxes in σ t V → A (inward = −outward)
-    currents = {n: -float(np.sum(outward[ports.port == p])) * thickness / rho
-                for p, n in enumerate(names)}
+    currents = {
+        n: -float(np.sum(outward[ports.port == p])) * thickness / rho for p, n in enumerate(names)
+    }
     scale = 1.0 / (rho * h_m)
-    return ContactFlow(potentials=volts, contact_currents=currents,
-                       conductor_thickness=thickness, resistivity=rho, cell_size=h_m,
-                       _cells=cells, _jx=jx * scale, _jy=jy * scale, _phi=phi, _inside=inside)
+    return ContactFlow(
+        potentials=volts,
+        contact_currents=currents,
+        conductor_thickness=thickness,
+        resistivity=rho,
+        cell_size=h_m,
+        _cells=cells,
+        _jx=jx * scale,
+        _jy=jy * scale,
+        _phi=phi,
+        _inside=inside,
+    )
 
 
 class ContactBasis:
@@ -741,25 +881,43 @@ class ContactBasis:
     contact l (:attr:`conductance`, [S]), and the Joule power is P = Vᵀ G V.
     """
 
-    def __init__(self, outline: Outline, contacts: Sequence[str], *,
-                 cell_size: float = DEFAULT_CELL_SIZE,
-                 conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
-                 resistivity: float = DEFAULT_RESISTIVITY):
+    def __init__(
+        self,
+        outline: Outline,
+        contacts: Sequence[str],
+        *,
+        cell_size: float = DEFAULT_CELL_SIZE,
+        conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
+        resistivity: float = DEFAULT_RESISTIVITY,
+    ):
         names = list(contacts)
-        require(len(set(names)) == len(names) and len(names) >= 2, "contacts", contacts,
-                "at least two different port names")
+        require(
+            len(set(names)) == len(names) and len(names) >= 2,
+            "contacts",
+            contacts,
+            "at least two different port names",
+        )
         self.contacts = tuple(names)
-        self.units = [solve_contacts(outline, {n: float(n == k) for n in names},
-                                     cell_size=cell_size,
-                                     conductor_thickness=conductor_thickness,
-                                     resistivity=resistivity) for k in names]
-        self.conductance = np.array([[u.contact_currents[k] for u in self.units]
-                                     for k in names])
+        self.units = [
+            solve_contacts(
+                outline,
+                {n: float(n == k) for n in names},
+                cell_size=cell_size,
+                conductor_thickness=conductor_thickness,
+                resistivity=resistivity,
+            )
+            for k in names
+        ]
+        self.conductance = np.array([[u.contact_currents[k] for u in self.units] for k in names])
 
     def flow(self, potentials: Mapping[str, float]) -> ContactFlow:
         """The flow for ``potentials`` (every contact named, volts) by superposition."""
-        require(isinstance(potentials, Mapping) and set(potentials) == set(self.contacts),
-                "potentials", potentials, f"a potential [V] for each of {list(self.contacts)}")
+        require(
+            isinstance(potentials, Mapping) and set(potentials) == set(self.contacts),
+            "potentials",
+            potentials,
+            f"a potential [V] for each of {list(self.contacts)}",
+        )
         return _superpose(self.units, [float(potentials[n]) for n in self.contacts])
 
     def power(self, potentials: Mapping[str, float]) -> float:

@@ -90,8 +90,9 @@ def _warn_once(message: str) -> None:
     global _warned
     if not _warned:
         _warned = True
-        warnings.warn(f"skygas disk cache off for this process: {message}", RuntimeWarning,
-                      stacklevel=3)
+        warnings.warn(
+            f"skygas disk cache off for this process: {message}", RuntimeWarning, stacklevel=3
+        )
 
 
 def _cache_at(where: Path):
@@ -138,4 +139,3 @@ def load_or_build(memo: str, key: Hashable, build: Callable[[], T]) -> tuple[T, 
         except OSError as err:
             _warn_once(f"{where}: {err}")
     return value, not built
-

@@ -38,8 +38,7 @@ class InputError(ValueError):
         super().__init__(text if hint is None else f"{text}; {hint}")
 
 
-def require(condition: bool, field: str, value: Any, allowed: str,
-            hint: str | None = None) -> None:
+def require(condition: bool, field: str, value: Any, allowed: str, hint: str | None = None) -> None:
     """Raise :class:`InputError` unless ``condition`` holds."""
     if not condition:
         raise InputError(field, value, allowed, hint)
@@ -54,8 +53,11 @@ class RunInterrupted(KeyboardInterrupt):
     def __init__(self, signum: int, checkpoint: Path | None):
         self.signum = signum
         self.checkpoint = checkpoint
-        where = (f"state saved in {checkpoint}; run the same command with --resume to continue"
-                 if checkpoint is not None else "no checkpoint was saved")
+        where = (
+            f"state saved in {checkpoint}; run the same command with --resume to continue"
+            if checkpoint is not None
+            else "no checkpoint was saved"
+        )
         super().__init__(f"interrupted by {signal.Signals(signum).name}: {where}")
 
     @property

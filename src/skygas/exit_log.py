@@ -23,9 +23,15 @@ class ExitLog:
         """Add a batch: ids, times [s], port indices into :attr:`port_names`, x and y [m]
         (arrays of equal length; copied)."""
         if len(ids):
-            self._blocks.append((np.array(ids, dtype=np.int64), np.array(times, dtype=float),
-                                 np.array(ports, dtype=np.int64), np.array(x, dtype=float),
-                                 np.array(y, dtype=float)))
+            self._blocks.append(
+                (
+                    np.array(ids, dtype=np.int64),
+                    np.array(times, dtype=float),
+                    np.array(ports, dtype=np.int64),
+                    np.array(x, dtype=float),
+                    np.array(y, dtype=float),
+                )
+            )
             self._merged = None
 
     def arrays(self) -> dict[str, np.ndarray]:
@@ -35,11 +41,11 @@ class ExitLog:
             names = ("skyrmion", "time", "port", "x", "y")
             dtypes = (np.int64, float, np.int64, float, float)
             if self._blocks:
-                columns = [np.concatenate(c) for c in zip(*self._blocks)]
+                columns = [np.concatenate(c) for c in zip(*self._blocks, strict=True)]
                 self._blocks = [tuple(columns)]
             else:
                 columns = [np.empty(0, d) for d in dtypes]
-            self._merged = dict(zip(names, columns))
+            self._merged = dict(zip(names, columns, strict=True))
             for column in self._merged.values():
                 column.flags.writeable = False
         return self._merged
@@ -49,7 +55,7 @@ class ExitLog:
         return np.array(self.port_names, dtype=str).reshape(-1)[self.arrays()["port"]]
 
     @classmethod
-    def from_arrays(cls, port_names, ids, times, labels, x, y) -> "ExitLog":
+    def from_arrays(cls, port_names, ids, times, labels, x, y) -> ExitLog:
         """Rebuild a log from saved columns, ports given by name."""
         log = cls(port_names)
         index = {name: k for k, name in enumerate(log.port_names)}
@@ -61,8 +67,13 @@ class ExitLog:
 
     def __getitem__(self, k: int) -> tuple[int, float, str, float, float]:
         a = self.arrays()
-        return (int(a["skyrmion"][k]), float(a["time"][k]), self.port_names[a["port"][k]],
-                float(a["x"][k]), float(a["y"][k]))
+        return (
+            int(a["skyrmion"][k]),
+            float(a["time"][k]),
+            self.port_names[a["port"][k]],
+            float(a["x"][k]),
+            float(a["y"][k]),
+        )
 
     def __iter__(self):
         return (self[k] for k in range(len(self)))

@@ -84,10 +84,12 @@ def tabulated_law(distance, force, skyrmion_diameter: float, force_scale: float)
     """
     r_nm = np.asarray(distance, dtype=float) * 1e9
     f_pn = np.asarray(force, dtype=float) * 1e12
-    if r_nm.ndim != 1 or len(r_nm) < 2 or r_nm.shape != f_pn.shape \
-            or np.any(np.diff(r_nm) <= 0):
-        raise InputError("force table", list(distance),
-                         "at least two strictly increasing distances with one force each")
+    if r_nm.ndim != 1 or len(r_nm) < 2 or r_nm.shape != f_pn.shape or np.any(np.diff(r_nm) <= 0):
+        raise InputError(
+            "force table",
+            list(distance),
+            "at least two strictly increasing distances with one force each",
+        )
     interpolant = PchipInterpolator(r_nm, f_pn, extrapolate=False)
     d_sk_nm, f0_pn = skyrmion_diameter * 1e9, force_scale * 1e12
     first, last = r_nm[0], r_nm[-1]
@@ -143,9 +145,16 @@ class ForceTable:
     squared: bool = False
 
     @classmethod
-    def from_law(cls, law, force_scale: float, length_unit: float, cutoff_fraction: float,
-                 n_points: int = 4096, squared: bool = False,
-                 d_max: float = 50.0) -> "ForceTable":
+    def from_law(
+        cls,
+        law,
+        force_scale: float,
+        length_unit: float,
+        cutoff_fraction: float,
+        n_points: int = 4096,
+        squared: bool = False,
+        d_max: float = 50.0,
+    ) -> ForceTable:
         """Tabulate ``force_scale · law(r / length_unit)`` up to the law's cutoff (nm, pN);
         the cutoff is searched up to ``d_max`` diameters (:func:`cutoff_distance`)."""
         cutoff = cutoff_distance(law, cutoff_fraction, d_max) * length_unit
@@ -169,8 +178,9 @@ class ForceTable:
             out = out * r
         return np.where(r < self.cutoff, out, 0.0)
 
-    def max_relative_error(self, law, force_scale: float, length_unit: float,
-                           r_min: float = 0.0) -> float:
+    def max_relative_error(
+        self, law, force_scale: float, length_unit: float, r_min: float = 0.0
+    ) -> float:
         """Largest |table − law|/law between nodes, for r_min ≤ r < cutoff (nm)."""
         mid = (np.arange(len(self.values) - 2) + 0.5) * self.spacing
         r = np.sqrt(mid) if self.squared else mid
@@ -190,9 +200,12 @@ def pair_law(name: str, pair_coefficients, **params):
         return lambda d: paper_pair_force(d, a2, a1, a0)
     if name == "lin-reichhardt":
         return lambda d: lin_reichhardt_pair_force(d, **params)
-    raise InputError("forces.pair_law", name,
-                     "'paper' or 'lin-reichhardt' ('table' is built from the material's "
-                     "pair_table by tabulated_law)")
+    raise InputError(
+        "forces.pair_law",
+        name,
+        "'paper' or 'lin-reichhardt' ('table' is built from the material's "
+        "pair_table by tabulated_law)",
+    )
 
 
 def wall_law(coefficients):

@@ -48,23 +48,30 @@ class Outline:
         if not isinstance(self.region, (Polygon, MultiPolygon)) or self.region.is_empty:
             raise InputError("geometry", self.region, "a non-empty region of one or more pieces")
         if not self.region.is_valid:
-            raise InputError("geometry", shapely.validation.explain_validity(self.region),
-                             "a valid (non self-intersecting) outline")
+            raise InputError(
+                "geometry",
+                shapely.validation.explain_validity(self.region),
+                "a valid (non self-intersecting) outline",
+            )
 
     # -- composition ------------------------------------------------------------------------
-    def __or__(self, other: "Outline") -> "Outline":
+    def __or__(self, other: Outline) -> Outline:
         return union(self, other)
 
-    def with_port(self, name: str, start, end) -> "Outline":
+    def with_port(self, name: str, start, end) -> Outline:
         """Open the boundary segment from ``start`` to ``end`` (metres) as port ``name``."""
         segment = LineString([np.asarray(start) * M_TO_NM, np.asarray(end) * M_TO_NM])
         return self._with_port_nm(name, segment)
 
-    def _with_port_nm(self, name: str, segment: LineString) -> "Outline":
+    def _with_port_nm(self, name: str, segment: LineString) -> Outline:
         require(name not in self.ports, "port name", name, "a name not already used")
         on_boundary = self.region.boundary.buffer(_PORT_TOLERANCE_NM).contains(segment)
-        require(on_boundary, f"ports.{name}", list(segment.coords),
-                "a segment lying on the outline's boundary")
+        require(
+            on_boundary,
+            f"ports.{name}",
+            list(segment.coords),
+            "a segment lying on the outline's boundary",
+        )
         return Outline(self.region, {**self.ports, name: segment})
 
     # -- queries (nanometres) ---------------------------------------------------------------
@@ -81,15 +88,17 @@ class Outline:
     def bounds_nm(self) -> tuple[float, float, float, float]:
         return tuple(self.region.bounds)
 
-    def translated(self, dx: float, dy: float) -> "Outline":
+    def translated(self, dx: float, dy: float) -> Outline:
         """The same outline moved by (dx, dy) metres (port names kept)."""
         from shapely import affinity
 
         dx, dy = dx * M_TO_NM, dy * M_TO_NM
-        return Outline(affinity.translate(self.region, dx, dy),
-                       {k: affinity.translate(v, dx, dy) for k, v in self.ports.items()})
+        return Outline(
+            affinity.translate(self.region, dx, dy),
+            {k: affinity.translate(v, dx, dy) for k, v in self.ports.items()},
+        )
 
-    def without_ports(self, *names: str) -> "Outline":
+    def without_ports(self, *names: str) -> Outline:
         """The same outline with the named ports closed into walls."""
         for name in names:
             require(name in self.ports, "port name", name, f"one of {list(self.ports)}")
@@ -118,15 +127,19 @@ class Outline:
         }
 
     @classmethod
-    def from_record(cls, record: dict) -> "Outline":
+    def from_record(cls, record: dict) -> Outline:
         region = shapely.from_wkt(record["region_wkt_nm"])
         ports = {k: LineString(v) for k, v in record.get("ports_nm", {}).items()}
         return cls(region, ports)
 
 
 def _positive(name: str, value: float) -> float:
-    require(isinstance(value, (int, float)) and value > 0 and math.isfinite(value),
-            name, value, "a length > 0 in metres")
+    require(
+        isinstance(value, (int, float)) and value > 0 and math.isfinite(value),
+        name,
+        value,
+        "a length > 0 in metres",
+    )
     return float(value)
 
 
@@ -161,8 +174,12 @@ def rectangle(width: float, height: float, center=(0.0, 0.0)) -> Outline:
 def polygon(vertices) -> Outline:
     """A polygon through ``vertices`` [m] (an (n, 2) sequence, n ≥ 3)."""
     v = np.asarray(vertices, float)
-    require(v.ndim == 2 and v.shape[1] == 2 and len(v) >= 3, "vertices", vertices,
-            "at least three (x, y) points in metres")
+    require(
+        v.ndim == 2 and v.shape[1] == 2 and len(v) >= 3,
+        "vertices",
+        vertices,
+        "at least three (x, y) points in metres",
+    )
     return Outline(Polygon(v * M_TO_NM))
 
 
@@ -170,8 +187,11 @@ def union(*outlines: Outline) -> Outline:
     """The union of overlapping outlines (ports are kept)."""
     region = unary_union([o.region for o in outlines])
     if not isinstance(region, Polygon):
-        raise InputError("geometry", f"{len(getattr(region, 'geoms', []))} disjoint pieces",
-                         "shapes that overlap into one connected region")
+        raise InputError(
+            "geometry",
+            f"{len(getattr(region, 'geoms', []))} disjoint pieces",
+            "shapes that overlap into one connected region",
+        )
     result = Outline(region)
     for o in outlines:
         for name, seg in o.ports.items():
@@ -213,8 +233,12 @@ def chamber_with_conduits(
     left = box(cx - x_end, cy - half_w, cx - x_meet + overlap, cy + half_w)
     right = box(cx + x_meet - overlap, cy - half_w, cx + x_end, cy + half_w)
     region = unary_union([chamber, left, right])
-    require(corner_radius >= 0 and math.isfinite(corner_radius), "corner_radius",
-            corner_radius, "a radius >= 0 in metres")
+    require(
+        corner_radius >= 0 and math.isfinite(corner_radius),
+        "corner_radius",
+        corner_radius,
+        "a radius >= 0 in metres",
+    )
     if corner_radius > 0:
         # A closing (grow, then shrink) fills re-entrant corners with arcs. Only its material
         # near the four junctions is added, so every other vertex (the conduit ends with
@@ -222,20 +246,33 @@ def chamber_with_conduits(
         rad = corner_radius * M_TO_NM
         segs = _circle_segments(rad)
         closed = region.buffer(rad, quad_segs=segs, join_style="mitre").buffer(
-            -rad, quad_segs=segs, join_style="round")
-        junctions = unary_union([Point(cx + sx * x_meet, cy + sy * half_w).buffer(3 * rad)
-                                 for sx in (-1, 1) for sy in (-1, 1)])
+            -rad, quad_segs=segs, join_style="round"
+        )
+        junctions = unary_union(
+            [
+                Point(cx + sx * x_meet, cy + sy * half_w).buffer(3 * rad)
+                for sx in (-1, 1)
+                for sy in (-1, 1)
+            ]
+        )
         region = unary_union([region, closed.intersection(junctions)])
     outline = Outline(region)
     outline = outline._with_port_nm(
-        "input", LineString([(cx - x_end, cy - half_w), (cx - x_end, cy + half_w)]))
+        "input", LineString([(cx - x_end, cy - half_w), (cx - x_end, cy + half_w)])
+    )
     return outline._with_port_nm(
-        "output", LineString([(cx + x_end, cy - half_w), (cx + x_end, cy + half_w)]))
+        "output", LineString([(cx + x_end, cy - half_w), (cx + x_end, cy + half_w)])
+    )
 
 
-def random_positions(outline: Outline, count: int, min_separation_nm: float,
-                     min_wall_distance_nm: float, rng: np.random.Generator,
-                     max_tries: int = 200_000) -> np.ndarray:
+def random_positions(
+    outline: Outline,
+    count: int,
+    min_separation_nm: float,
+    min_wall_distance_nm: float,
+    rng: np.random.Generator,
+    max_tries: int = 200_000,
+) -> np.ndarray:
     """``count`` random points [nm] inside ``outline``, pairwise ≥ ``min_separation_nm`` apart
     and ≥ ``min_wall_distance_nm`` from walls (random sequential addition).
 
@@ -259,7 +296,9 @@ def random_positions(outline: Outline, count: int, min_separation_nm: float,
                     break
         tries += 1
         if tries > max_tries:
-            raise InputError("skyrmions.count", count,
-                             f"fewer skyrmions: only {len(points)} fit at "
-                             f"{min_separation_nm:.1f} nm separation")
+            raise InputError(
+                "skyrmions.count",
+                count,
+                f"fewer skyrmions: only {len(points)} fit at {min_separation_nm:.1f} nm separation",
+            )
     return points

@@ -35,12 +35,11 @@ class HypothesisSpec(StrictModel):
     """The hypothesis knobs of a run (both 1: the SI Thiele equation)."""
 
     dynamics_time_scale: float = Field(1.0, gt=0)  # s: k → k/s (finite: StrictModel)
-    noise_scale: float = Field(1.0, gt=0)          # n: T_noise = n T
+    noise_scale: float = Field(1.0, gt=0)  # n: T_noise = n T
 
     def record(self) -> dict[str, float]:
         """Flat dict for result summaries."""
-        return {"dynamics_time_scale": self.dynamics_time_scale,
-                "noise_scale": self.noise_scale}
+        return {"dynamics_time_scale": self.dynamics_time_scale, "noise_scale": self.noise_scale}
 
 
 def scale_dynamics(thiele: ThieleParameters, time_scale: float) -> ThieleParameters:
@@ -48,8 +47,7 @@ def scale_dynamics(thiele: ThieleParameters, time_scale: float) -> ThieleParamet
     diffusion ×s, drift from v_s unchanged, F₀ and d_sk unchanged."""
     if not (math.isfinite(time_scale) and time_scale > 0):
         raise ValueError(f"time scale must be finite and > 0, got {time_scale!r}")
-    return replace(thiele, k=thiele.k / time_scale,
-                   gyrocoupling=thiele.gyrocoupling / time_scale)
+    return replace(thiele, k=thiele.k / time_scale, gyrocoupling=thiele.gyrocoupling / time_scale)
 
 
 def noise_temperature(temperature: float, noise_scale: float) -> float:

@@ -52,8 +52,14 @@ def read(out: str | Path) -> dict | None:
         return None
 
 
-def claim(out: str | Path, command: str, config_hash: str | None = None, *,
-          overwrite: bool = False, resume: bool = False) -> dict | None:
+def claim(
+    out: str | Path,
+    command: str,
+    config_hash: str | None = None,
+    *,
+    overwrite: bool = False,
+    resume: bool = False,
+) -> dict | None:
     """Check that ``command`` may write into ``out`` (see the module docstring); returns the
     folder's manifest (None without one). Raises :class:`InputError` with one line otherwise.
     """
@@ -62,21 +68,38 @@ def claim(out: str | Path, command: str, config_hash: str | None = None, *,
         return None
     other = found.get("command")
     if other != command:
-        raise InputError("--out", str(out), f"a folder for `skygas {command}` results (it "
-                         f"holds the results of `skygas {other}`)", "choose another --out")
+        raise InputError(
+            "--out",
+            str(out),
+            f"a folder for `skygas {command}` results (it holds the results of `skygas {other}`)",
+            "choose another --out",
+        )
     if found.get("finished_at") is not None and not overwrite:
-        raise InputError("--out", str(out), "a folder without finished results (a finished "
-                         f"`skygas {command}` run is there)",
-                         "add --overwrite to replace them, or choose another --out")
+        raise InputError(
+            "--out",
+            str(out),
+            f"a folder without finished results (a finished `skygas {command}` run is there)",
+            "add --overwrite to replace them, or choose another --out",
+        )
     if resume and config_hash is not None and found.get("config_hash") not in (None, config_hash):
-        raise InputError("--resume", str(out), "a folder written by the same configuration and "
-                         "options (this one belongs to another run)",
-                         "choose another --out, or add --overwrite to start again")
+        raise InputError(
+            "--resume",
+            str(out),
+            "a folder written by the same configuration and "
+            "options (this one belongs to another run)",
+            "choose another --out, or add --overwrite to start again",
+        )
     return found
 
 
-def write(out: str | Path, command: str, config_hash: str | None, *, started_at: float,
-          finished_at: float | None = None) -> Path:
+def write(
+    out: str | Path,
+    command: str,
+    config_hash: str | None,
+    *,
+    started_at: float,
+    finished_at: float | None = None,
+) -> Path:
     """Write ``OUT/manifest.json`` atomically (times in seconds since 1970, UTC)."""
     from skygas.run_driver import write_json
 

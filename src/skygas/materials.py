@@ -55,7 +55,7 @@ PROFILE_TAIL_MAX = 0.02
 
 
 def _strictly_increasing(values: tuple[float, ...], name: str) -> None:
-    if any(b <= a for a, b in zip(values, values[1:])):
+    if any(b <= a for a, b in zip(values, values[1:], strict=False)):
         raise ValueError(f"{name} must be strictly increasing")
 
 
@@ -98,8 +98,9 @@ class ForceTableSpec(BaseModel):
     @model_validator(mode="after")
     def _same_length(self):
         if len(self.force) != len(self.distance):
-            raise ValueError(f"force needs one value per distance ({len(self.distance)}), "
-                             f"not {len(self.force)}")
+            raise ValueError(
+                f"force needs one value per distance ({len(self.distance)}), not {len(self.force)}"
+            )
         return self
 
 
@@ -135,15 +136,19 @@ class StrayFieldSpec(BaseModel):
         if any(not 0 <= w <= 2 for w in value):
             raise ValueError("deficits 1 - m_z between 0 and 2")
         if value and value[-1] > PROFILE_TAIL_MAX:
-            raise ValueError(f"a deficit that has decayed to <= {PROFILE_TAIL_MAX} at the last "
-                             "radius (it is taken as 0 beyond)")
+            raise ValueError(
+                f"a deficit that has decayed to <= {PROFILE_TAIL_MAX} at the last "
+                "radius (it is taken as 0 beyond)"
+            )
         return value
 
     @model_validator(mode="after")
     def _same_length(self):
         if len(self.profile_deficit) != len(self.profile_radius):
-            raise ValueError(f"profile_deficit needs one value per radius "
-                             f"({len(self.profile_radius)}), not {len(self.profile_deficit)}")
+            raise ValueError(
+                f"profile_deficit needs one value per radius "
+                f"({len(self.profile_radius)}), not {len(self.profile_deficit)}"
+            )
         return self
 
 
@@ -215,7 +220,7 @@ class Material(BaseModel):
         """d_sk = 2 R_sk [m]."""
         return 2.0 * self.skyrmion_radius
 
-    def antiferromagnetic_variant(self) -> "Material":
+    def antiferromagnetic_variant(self) -> Material:
         """The same material with G = 0 (an antiferromagnetic skyrmion, paper §Reshuffler)."""
         return self.model_copy(update={"antiferromagnetic": True, "name": f"{self.name}-AFM"})
 
@@ -359,8 +364,9 @@ class ThieleParameters:
         return self.skyrmion_diameter * units.M_TO_NM
 
 
-def resolve_film_thickness(material: Material, film_thickness: float | None = None,
-                           field: str = "film_thickness") -> float:
+def resolve_film_thickness(
+    material: Material, film_thickness: float | None = None, field: str = "film_thickness"
+) -> float:
     """The film thickness t_F [m] of a run of ``material``.
 
     ``None`` takes the material's own ``film_thickness`` (a calibrated model), else
@@ -382,8 +388,10 @@ def film_mismatch(material: Material, film_thickness: float) -> str | None:
     own = material.film_thickness
     if own is None or abs(film_thickness - own) <= FILM_THICKNESS_RTOL * own:
         return None
-    return (f"the {own:g} m film the model '{material.name}' was calibrated for "
-            "(leave film_thickness out to take it)")
+    return (
+        f"the {own:g} m film the model '{material.name}' was calibrated for "
+        "(leave film_thickness out to take it)"
+    )
 
 
 def derive_thiele(
@@ -412,9 +420,7 @@ def derive_thiele(
     if dissipation is None:
         dissipation = material.dissipation
     if dissipation is None:
-        width = material.wall_width or math.sqrt(
-            material.exchange_stiffness / material.anisotropy
-        )
+        width = material.wall_width or math.sqrt(material.exchange_stiffness / material.anisotropy)
         dissipation = thin_wall_dissipation(material.skyrmion_radius, width)
     if not dissipation > 0:
         raise InputError("dissipation", dissipation, "a dimensionless 𝒟 > 0")

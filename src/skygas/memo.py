@@ -55,8 +55,9 @@ _enabled = os.environ.get("SKYGAS_MEMO", "1") not in ("0", "false", "no")
 class Memo:
     """A bounded, thread-safe LRU map from a hashable key to a built value."""
 
-    def __init__(self, name: str, maxsize: int = 4, max_bytes: int = 256 * 2**20,
-                 persist: bool = False):
+    def __init__(
+        self, name: str, maxsize: int = 4, max_bytes: int = 256 * 2**20, persist: bool = False
+    ):
         self.name = name
         self.maxsize = maxsize
         self.max_bytes = max_bytes
@@ -95,8 +96,9 @@ class Memo:
             self._items[key] = value
             self._items.move_to_end(key)
             self._sizes[key] = sum(a.nbytes for a in _arrays_in(value))
-            while len(self._items) > 1 and (len(self._items) > self.maxsize
-                                            or sum(self._sizes.values()) > self.max_bytes):
+            while len(self._items) > 1 and (
+                len(self._items) > self.maxsize or sum(self._sizes.values()) > self.max_bytes
+            ):
                 old, _ = self._items.popitem(last=False)
                 del self._sizes[old]
         return value
@@ -134,8 +136,10 @@ _MEMOS: dict[str, Memo] = {}
 def outline_key(outline) -> tuple:
     """A hashable key of an :class:`~skygas.geometry.Outline`: the exact bytes (WKB) of its
     region and of each port, in order, with the port names."""
-    return (shapely.to_wkb(outline.region),
-            tuple((name, shapely.to_wkb(line)) for name, line in outline.ports.items()))
+    return (
+        shapely.to_wkb(outline.region),
+        tuple((name, shapely.to_wkb(line)) for name, line in outline.ports.items()),
+    )
 
 
 def frozen(*arrays: np.ndarray) -> None:
@@ -147,9 +151,16 @@ def frozen(*arrays: np.ndarray) -> None:
 def memo_stats() -> dict[str, dict[str, int]]:
     """Hits, misses and stored entries of every memo in this process; of the misses,
     ``disk_hits`` were loaded from the disk cache and ``built`` were computed."""
-    return {name: {"hits": m.hits, "misses": m.misses, "disk_hits": m.disk_hits,
-                   "built": m.misses - m.disk_hits, "entries": len(m._items)}
-            for name, m in _MEMOS.items()}
+    return {
+        name: {
+            "hits": m.hits,
+            "misses": m.misses,
+            "disk_hits": m.disk_hits,
+            "built": m.misses - m.disk_hits,
+            "entries": len(m._items),
+        }
+        for name, m in _MEMOS.items()
+    }
 
 
 def memo_bytes() -> dict[str, int]:

@@ -95,8 +95,7 @@ def _scan_cell(x, y, segs, start, members, c, best, best_n, bx, by):
 
 
 @numba.njit(cache=True)
-def _grid_kernel(px, py, segs, x0, y0, cell, ncx, ncy, start, members,
-                 out_d, out_x, out_y, out_i):
+def _grid_kernel(px, py, segs, x0, y0, cell, ncx, ncy, start, members, out_d, out_x, out_y, out_i):
     tol = 1e-6 * cell  # cell bounds are grown by this, to cover rounding in the bucketing
     best_n = -1
     for p in range(px.shape[0]):
@@ -118,12 +117,12 @@ def _grid_kernel(px, py, segs, x0, y0, cell, ncx, ncy, start, members,
                 while i <= ci + r:
                     c = j * ncx + i
                     if 0 <= i < ncx and start[c] < start[c + 1]:
-                        gx = max(max(x0 + i * cell - tol - x, x - (x0 + (i + 1) * cell + tol)),
-                                 0.0)
+                        gx = max(max(x0 + i * cell - tol - x, x - (x0 + (i + 1) * cell + tol)), 0.0)
                         # skip a cell farther than the best so far (nothing in it can tie)
                         if (gx * gx + gy * gy) * (1.0 - _MARGIN) <= best:
-                            best, best_n, bx, by = _scan_cell(x, y, segs, start, members, c,
-                                                              best, best_n, bx, by)
+                            best, best_n, bx, by = _scan_cell(
+                                x, y, segs, start, members, c, best, best_n, bx, by
+                            )
                     i += step
             # every unvisited cell is more than r cells away from the point's cell: its
             # segments are at least r·cell away
@@ -135,8 +134,12 @@ def _grid_kernel(px, py, segs, x0, y0, cell, ncx, ncy, start, members,
 
 
 def _outputs(px):
-    return (np.empty_like(px), np.empty_like(px), np.empty_like(px),
-            np.empty(px.shape, dtype=np.int64))
+    return (
+        np.empty_like(px),
+        np.empty_like(px),
+        np.empty_like(px),
+        np.empty(px.shape, dtype=np.int64),
+    )
 
 
 def nearest_segment_brute(px, py, segs):
@@ -144,8 +147,7 @@ def nearest_segment_brute(px, py, segs):
     px = np.ascontiguousarray(px, dtype=np.float64)
     py = np.ascontiguousarray(py, dtype=np.float64)
     out_d, out_x, out_y, out_i = _outputs(px)
-    _brute_kernel(px, py, np.ascontiguousarray(segs, dtype=np.float64), out_d, out_x, out_y,
-                  out_i)
+    _brute_kernel(px, py, np.ascontiguousarray(segs, dtype=np.float64), out_d, out_x, out_y, out_i)
     return out_d, out_x, out_y, out_i
 
 
@@ -168,12 +170,14 @@ def nearest_segment(px, py, segs):
     # about one segment per cell on average over the bounding box (measured fastest on the
     # reshuffler, whose wall field asks for points up to ~260 nm from the walls), at least two
     # segment lengths
-    cell = max(math.sqrt(width * height / segs.shape[0]), 2 * mean_length,
-               1e-6 * max(width, height, 1.0))
+    cell = max(
+        math.sqrt(width * height / segs.shape[0]), 2 * mean_length, 1e-6 * max(width, height, 1.0)
+    )
     ncx = int(width // cell) + 1
     ncy = int(height // cell) + 1
     start, members = _bucket(segs, xmin, ymin, cell, ncx, ncy)
     out_d, out_x, out_y, out_i = _outputs(px)
-    _grid_kernel(px, py, segs, xmin, ymin, cell, ncx, ncy, start, members,
-                 out_d, out_x, out_y, out_i)
+    _grid_kernel(
+        px, py, segs, xmin, ymin, cell, ncx, ncy, start, members, out_d, out_x, out_y, out_i
+    )
     return out_d, out_x, out_y, out_i

@@ -59,15 +59,21 @@ def format_bytes(n: float) -> str:
     return f"{n:.3g} PiB"  # pragma: no cover
 
 
-def require_memory(field: str, value, n_bytes: float, what: str,
-                   hint: str = "use a smaller value") -> None:
+def require_memory(
+    field: str, value, n_bytes: float, what: str, hint: str = "use a smaller value"
+) -> None:
     """Refuse ``field = value`` when ``what`` would need ``n_bytes`` [bytes] (an estimate of
     the largest arrays) beyond :func:`memory_limit`."""
     limit = memory_limit()
     if not (n_bytes <= limit):  # also catches inf and nan
-        raise InputError(field, value, f"a job that fits in memory ({what} would need about "
-                         f"{format_bytes(n_bytes)}, more than the {format_bytes(limit)} a job "
-                         "may use)", hint)
+        raise InputError(
+            field,
+            value,
+            f"a job that fits in memory ({what} would need about "
+            f"{format_bytes(n_bytes)}, more than the {format_bytes(limit)} a job "
+            "may use)",
+            hint,
+        )
 
 
 def step_count(duration: float, time_step: float, field: str = "duration") -> int:
@@ -75,7 +81,11 @@ def step_count(duration: float, time_step: float, field: str = "duration") -> in
     is not finite or above :data:`MAX_STEPS`."""
     steps = duration / time_step
     if not (math.isfinite(steps) and steps <= MAX_STEPS):
-        raise InputError(field, duration, f"a duration of at most {MAX_STEPS:.3g} time steps "
-                         f"of {time_step:.3g} s ({MAX_STEPS * time_step:.3g} s)",
-                         "use a shorter duration")
+        raise InputError(
+            field,
+            duration,
+            f"a duration of at most {MAX_STEPS:.3g} time steps "
+            f"of {time_step:.3g} s ({MAX_STEPS * time_step:.3g} s)",
+            "use a shorter duration",
+        )
     return int(round(steps))

@@ -38,9 +38,10 @@ import os
 import signal
 import threading
 import time
+from collections.abc import Callable
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -140,13 +141,17 @@ def write_atomic(path: str | Path, write: Callable[[Path], Any]) -> Path:
 
 def run_record(job: Job) -> dict[str, str]:
     """What every file of a run records: the skygas version, the seed and the configuration."""
-    return {"skygas_version": __version__, "seed": str(job.seed()),
-            "config_json": job.config_json()}
+    return {
+        "skygas_version": __version__,
+        "seed": str(job.seed()),
+        "config_json": job.config_json(),
+    }
 
 
 def write_figure(path: str | Path, plot: Callable[[Path], Any], record: dict[str, str]) -> Path:
     """Write the PNG that ``plot(tmp)`` draws, atomically, with ``record`` (see
     :func:`run_record`) in its text chunks (``PIL.Image.open(path).text``)."""
+
     def write(tmp: Path) -> None:
         from PIL import Image, PngImagePlugin
 
@@ -192,8 +197,12 @@ def save_checkpoint(job: Job, path: Path) -> None:
     """Save the job's state with its configuration, seed and version, atomically."""
     config = job.config_json()
     state = job.state_dict()
-    meta = {"fingerprint": np.array(fingerprint(config)), "config_json": np.array(config),
-            "seed": np.array(job.seed()), "skygas_version": np.array(__version__)}
+    meta = {
+        "fingerprint": np.array(fingerprint(config)),
+        "config_json": np.array(config),
+        "seed": np.array(job.seed()),
+        "skygas_version": np.array(__version__),
+    }
     clash = set(meta) & set(state)
     assert not clash, f"job state uses reserved checkpoint keys {clash}"
     write_atomic(path, lambda tmp: np.savez(tmp, **meta, **state))
@@ -204,13 +213,20 @@ def load_checkpoint(job: Job, path: Path) -> None:
     refuse one written by another configuration (:class:`InputError`)."""
     with np.load(path, allow_pickle=False) as data:
         if str(data["fingerprint"]) != fingerprint(job.config_json()):
-            raise InputError("--resume", str(path),
-                             "a checkpoint written by the same configuration and options "
-                             "(this one belongs to another run: use another --out, or delete it "
-                             "to start again)")
-        job.load_state_dict({k: data[k] for k in data.files
-                             if k not in ("fingerprint", "config_json", "seed",
-                                          "skygas_version")})
+            raise InputError(
+                "--resume",
+                str(path),
+                "a checkpoint written by the same configuration and options "
+                "(this one belongs to another run: use another --out, or delete it "
+                "to start again)",
+            )
+        job.load_state_dict(
+            {
+                k: data[k]
+                for k in data.files
+                if k not in ("fingerprint", "config_json", "seed", "skygas_version")
+            }
+        )
 
 
 # -- signals ----------------------------------------------------------------------------------
@@ -230,7 +246,7 @@ class _DeferredSignals:
             raise KeyboardInterrupt
         self.received = signum
 
-    def __enter__(self) -> "_DeferredSignals":
+    def __enter__(self) -> _DeferredSignals:
         if threading.current_thread() is threading.main_thread():
             for s in self.SIGNALS:
                 self._previous[s] = signal.signal(s, self._handle)
@@ -249,10 +265,14 @@ def _progress_bar(job: Job, enabled: bool):
         return
     from tqdm import tqdm
 
-    bar = tqdm(total=round(job.work_total, 6), unit=job.work_unit,
-               desc=getattr(job, "work_description", "simulated"), leave=False,
-               initial=round(job.work_done(), 6),
-               bar_format=getattr(job, "progress_format", None))
+    bar = tqdm(
+        total=round(job.work_total, 6),
+        unit=job.work_unit,
+        desc=getattr(job, "work_description", "simulated"),
+        leave=False,
+        initial=round(job.work_done(), 6),
+        bar_format=getattr(job, "progress_format", None),
+    )
 
     def update() -> None:
         bar.total = round(job.work_total, 6)  # a job may learn its size as it goes
@@ -272,8 +292,7 @@ def _prepare_folder(job: Job, out: Path, resume: bool, overwrite: bool) -> Path 
     from skygas import manifest
 
     command = manifest.current_command(type(job).__name__)
-    manifest.claim(out, command, fingerprint(job.config_json()), overwrite=overwrite,
-                   resume=resume)
+    manifest.claim(out, command, fingerprint(job.config_json()), overwrite=overwrite, resume=resume)
     ckpt = out / CHECKPOINT
     finished = [name for name in job.result_files if (out / name).exists()]
     if overwrite and not (resume and ckpt.exists()):
@@ -282,19 +301,34 @@ def _prepare_folder(job: Job, out: Path, resume: bool, overwrite: bool) -> Path 
         ckpt.unlink(missing_ok=True)
         return None
     if finished and not ckpt.exists():
-        raise InputError("--out", str(out), f"a folder without finished results ({finished[0]} "
-                         "is there)", "add --overwrite to replace them, or choose another --out")
+        raise InputError(
+            "--out",
+            str(out),
+            f"a folder without finished results ({finished[0]} is there)",
+            "add --overwrite to replace them, or choose another --out",
+        )
     if ckpt.exists():
         if not resume:
-            raise InputError("--out", str(out), "a folder without an interrupted run "
-                             f"({ckpt.name} is there)", "add --resume to continue it, "
-                             "--overwrite to start again, or choose another --out")
+            raise InputError(
+                "--out",
+                str(out),
+                f"a folder without an interrupted run ({ckpt.name} is there)",
+                "add --resume to continue it, --overwrite to start again, or choose another --out",
+            )
         return ckpt
     return None
 
 
-def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool = True,
-          checkpoint_seconds: float = 30.0, overwrite: bool = False, strict: bool = False) -> Any:
+def drive(
+    job: Job,
+    out_dir: str | Path,
+    *,
+    resume: bool = False,
+    progress: bool = True,
+    checkpoint_seconds: float = 30.0,
+    overwrite: bool = False,
+    strict: bool = False,
+) -> Any:
     """Run ``job`` to its end and return ``job.finish(out_dir)`` (see the module docstring).
 
     ``resume``: continue from ``OUT/checkpoint.npz`` when there is one. Without it, an existing
@@ -313,8 +347,9 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
     sanity.before_run(job, strict)
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
-        raise InputError("--out", str(out), "a folder (this is an existing file)",
-                         "choose another --out")
+        raise InputError(
+            "--out", str(out), "a folder (this is an existing file)", "choose another --out"
+        )
     resume_from = _prepare_folder(job, out, resume, overwrite) if out.is_dir() else None
     out.mkdir(parents=True, exist_ok=True)
     ckpt = out / CHECKPOINT
@@ -332,8 +367,10 @@ def drive(job: Job, out_dir: str | Path, *, resume: bool = False, progress: bool
             if signals.received is not None:
                 save_checkpoint(job, ckpt)
                 raise RunInterrupted(signals.received, ckpt)
-            if job.work_done() < job.work_total and \
-                    time.perf_counter() - last_save >= checkpoint_seconds:
+            if (
+                job.work_done() < job.work_total
+                and time.perf_counter() - last_save >= checkpoint_seconds
+            ):
                 save_checkpoint(job, ckpt)
                 last_save = time.perf_counter()
         if signals.received is not None:  # arrived while loading, or with nothing left to do

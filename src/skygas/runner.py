@@ -41,9 +41,13 @@ class SimulationJob:
         self.total_steps = step_count(config.duration, self.sim.time_step)
         # recorded frames: per skyrmion, x and y (float64) and its id (int64)
         frames = self.total_steps * self.sim.time_step / config.record_interval
-        require_memory("record_interval", config.record_interval,
-                       24.0 * (frames + 1) * max(1, self.sim.count), "the recorded frames",
-                       "record less often, or run for a shorter duration")
+        require_memory(
+            "record_interval",
+            config.record_interval,
+            24.0 * (frames + 1) * max(1, self.sim.count),
+            "the recorded frames",
+            "record less often, or run for a shorter duration",
+        )
         self.piece_steps = max(1, self.total_steps // PIECES)
         self.work_total = self._ns(self.total_steps)
         self.wall_time = 0.0
@@ -100,18 +104,33 @@ class SimulationJob:
         ds = self.sim.trajectories()
         ds.attrs["config_json"] = self.config_json()
         write_netcdf(ds, out / "trajectories.nc")
-        write_figure(out / "trajectories.png",
-                     lambda tmp: plot_trajectories(ds, self.sim.outline, tmp,
-                                                     landscape=self.sim.landscape),
-                     run_record(self))
+        write_figure(
+            out / "trajectories.png",
+            lambda tmp: plot_trajectories(ds, self.sim.outline, tmp, landscape=self.sim.landscape),
+            run_record(self),
+        )
         summary = self.summary()
         write_json(out / "summary.json", summary)
         return summary
 
 
-def run_simulation(config: SimulationConfig, out_dir: str | Path, *, progress: bool = True,
-                   resume: bool = False, checkpoint_seconds: float = 30.0,
-                   overwrite: bool = False, strict: bool = False) -> dict:
+def run_simulation(
+    config: SimulationConfig,
+    out_dir: str | Path,
+    *,
+    progress: bool = True,
+    resume: bool = False,
+    checkpoint_seconds: float = 30.0,
+    overwrite: bool = False,
+    strict: bool = False,
+) -> dict:
     """Build, run and save the simulation described by ``config``; returns the summary."""
-    return drive(SimulationJob(config), out_dir, resume=resume, progress=progress,
-                 checkpoint_seconds=checkpoint_seconds, overwrite=overwrite, strict=strict)
+    return drive(
+        SimulationJob(config),
+        out_dir,
+        resume=resume,
+        progress=progress,
+        checkpoint_seconds=checkpoint_seconds,
+        overwrite=overwrite,
+        strict=strict,
+    )

@@ -58,33 +58,57 @@ def findings_before_run(config: Any, sim: Any = None) -> list[InputError]:
     found: list[InputError] = []
     temperature = getattr(config, "temperature", None)
     if temperature is not None and temperature > MAX_TEMPERATURE:
-        found.append(InputError(
-            "temperature", temperature, f"at most {MAX_TEMPERATURE:g} K, where the wall law "
-            "still holds (docs/physics.md §5)", "give a material measured at that temperature, "
-            "or lower it"))
-    currents = {name: getattr(config, name, None)
-                for name in ("current_density", "release_current_density")}
+        found.append(
+            InputError(
+                "temperature",
+                temperature,
+                f"at most {MAX_TEMPERATURE:g} K, where the wall law "
+                "still holds (docs/physics.md §5)",
+                "give a material measured at that temperature, or lower it",
+            )
+        )
+    currents = {
+        name: getattr(config, name, None) for name in ("current_density", "release_current_density")
+    }
     for name, value in currents.items():
         if value is not None and value > MAX_CURRENT_DENSITY:
-            found.append(InputError(
-                name, value, f"at most {MAX_CURRENT_DENSITY:g} A/m², the paper's range where "
-                "skyrmions stay rigid (docs/physics.md §5)", "lower the current"))
-    holding = currents["current_density"] if currents["release_current_density"] is not None \
-        else None  # only the neuron has both: its current_density holds skyrmions at the gate
+            found.append(
+                InputError(
+                    name,
+                    value,
+                    f"at most {MAX_CURRENT_DENSITY:g} A/m², the paper's range where "
+                    "skyrmions stay rigid (docs/physics.md §5)",
+                    "lower the current",
+                )
+            )
+    holding = (
+        currents["current_density"] if currents["release_current_density"] is not None else None
+    )  # only the neuron has both: its current_density holds skyrmions at the gate
     if holding is not None and MAX_HOLDING_CURRENT_DENSITY < holding <= MAX_CURRENT_DENSITY:
-        found.append(InputError(
-            "current_density", holding, f"at most {MAX_HOLDING_CURRENT_DENSITY:g} A/m² where "
-            "skyrmions are held back (pressed closer than one diameter above it; docs/physics.md "
-            "§5)", "lower the holding current"))
+        found.append(
+            InputError(
+                "current_density",
+                holding,
+                f"at most {MAX_HOLDING_CURRENT_DENSITY:g} A/m² where "
+                "skyrmions are held back (pressed closer than one diameter above it; "
+                "docs/physics.md §5)",
+                "lower the holding current",
+            )
+        )
     speed = drift_speed(config)
     if sim is not None and speed > 0:
         d_sk = sim.thiele.skyrmion_diameter
         per_step = speed * sim.time_step / d_sk
         if per_step > MAX_DRIFT_PER_STEP:
-            found.append(InputError(
-                "time_step", sim.time_step, f"a drift of at most {MAX_DRIFT_PER_STEP:g} skyrmion "
-                f"diameters per step (v_s = {speed:.3g} m/s moves {per_step:.3g} diameters)",
-                "shorten the time step or lower the current"))
+            found.append(
+                InputError(
+                    "time_step",
+                    sim.time_step,
+                    f"a drift of at most {MAX_DRIFT_PER_STEP:g} skyrmion "
+                    f"diameters per step (v_s = {speed:.3g} m/s moves {per_step:.3g} diameters)",
+                    "shorten the time step or lower the current",
+                )
+            )
     return found
 
 
@@ -93,13 +117,17 @@ def drift_speed(config: Any) -> float:
     velocity = getattr(getattr(config, "drift", None), "velocity", None)
     if velocity is not None:
         return math.hypot(*velocity)
-    currents = [getattr(config, name, None) for name in ("current_density",
-                                                        "release_current_density")]
+    currents = [
+        getattr(config, name, None) for name in ("current_density", "release_current_density")
+    ]
     currents = [c for c in currents if c is not None]
     if not currents:
         return 0.0
-    xi = config.drift_coefficient() if hasattr(config, "drift_coefficient") else \
-        getattr(config, "spin_drift_coefficient", None)
+    xi = (
+        config.drift_coefficient()
+        if hasattr(config, "drift_coefficient")
+        else getattr(config, "spin_drift_coefficient", None)
+    )
     return 0.0 if xi is None else xi * max(currents)
 
 
@@ -123,7 +151,15 @@ def after_run(job: Any, strict: bool = False) -> None:
     sim = _simulation(job)
     escapes = getattr(sim, "wall_escapes", 0) if sim is not None else 0
     if escapes > MAX_WALL_ESCAPES:
-        report([InputError("time_step", sim.time_step, f"a run without wall escapes ({escapes} "
-                           f"of {sim.step} steps would have crossed a wall and were undone)",
-                           "shorten the time step, or lower the temperature or the current")],
-               strict)
+        report(
+            [
+                InputError(
+                    "time_step",
+                    sim.time_step,
+                    f"a run without wall escapes ({escapes} "
+                    f"of {sim.step} steps would have crossed a wall and were undone)",
+                    "shorten the time step, or lower the temperature or the current",
+                )
+            ],
+            strict,
+        )

@@ -46,8 +46,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from skygas.errors import InputError
 from skygas import validate as v
+from skygas.errors import InputError
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 
 #: Time between injections [s] (paper: 0.2 nucleations per ns).
@@ -91,8 +91,12 @@ class SignalSpec:
             return
         p = _number(self.p, "p", "a number in [0, 1]")
         if self.kind == "telegraph" and not 0.0 < p < 1.0:
-            raise InputError("p", self.p, "a number strictly between 0 and 1 for a telegraph "
-                             "signal (use kind = 'bernoulli' for a constant one)")
+            raise InputError(
+                "p",
+                self.p,
+                "a number strictly between 0 and 1 for a telegraph "
+                "signal (use kind = 'bernoulli' for a constant one)",
+            )
         if not 0.0 <= p <= 1.0:
             raise InputError("p", self.p, "a number in [0, 1]")
         if self.kind == "telegraph":
@@ -108,8 +112,9 @@ def _number(value: Any, field: str, allowed: str) -> float:
     return number
 
 
-def injection_times(n_events: int, injection_interval: float = DEFAULT_INJECTION_INTERVAL,
-                    start: float = 0.0) -> np.ndarray:
+def injection_times(
+    n_events: int, injection_interval: float = DEFAULT_INJECTION_INTERVAL, start: float = 0.0
+) -> np.ndarray:
     r"""Times :math:`t_k = t_0 + k\Delta` [s] of the injection events ``k = 0 .. n_events-1``."""
     n_events = v.positive_int(n_events, "n_events")
     interval = v.positive_float(injection_interval, "injection_interval", "seconds")
@@ -117,9 +122,12 @@ def injection_times(n_events: int, injection_interval: float = DEFAULT_INJECTION
     return start + interval * np.arange(n_events)
 
 
-def generate_bits(spec: SignalSpec, n_events: int | None,
-                  injection_interval: float = DEFAULT_INJECTION_INTERVAL,
-                  seed: v.SeedLike = None) -> np.ndarray:
+def generate_bits(
+    spec: SignalSpec,
+    n_events: int | None,
+    injection_interval: float = DEFAULT_INJECTION_INTERVAL,
+    seed: v.SeedLike = None,
+) -> np.ndarray:
     r"""The input bits :math:`b_k`, one per injection event, as a boolean array.
 
     Parameters
@@ -144,8 +152,9 @@ def generate_bits(spec: SignalSpec, n_events: int | None,
             return bits
         n_events = v.positive_int(n_events, "n_events")
         if n_events > bits.size:
-            raise InputError("n_events", n_events,
-                             f"at most {bits.size}, the number of bits in {spec.path}")
+            raise InputError(
+                "n_events", n_events, f"at most {bits.size}, the number of bits in {spec.path}"
+            )
         return bits[:n_events]
     n_events = v.positive_int(n_events, "n_events")
     rng = v.make_rng(seed)
@@ -195,8 +204,9 @@ def read_bits(path: str | Path) -> np.ndarray:
         except (ValueError, OSError) as err:
             raise InputError("path", str(path), f"a readable .npy file ({err})") from None
         try:
-            return as_bits(np.ravel(array) if array.ndim == 2 and 1 in array.shape else array,
-                           "path")
+            return as_bits(
+                np.ravel(array) if array.ndim == 2 and 1 in array.shape else array, "path"
+            )
         except InputError as err:
             raise InputError("path", f"{path}: {err.field} = {err.value!r}", err.allowed) from None
     if suffix not in _TEXT_SUFFIXES:

@@ -19,8 +19,8 @@ however accurate, separate exponentially over long times.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -48,16 +48,21 @@ class TimeStepReport:
 
     def summary(self) -> str:
         verdict = "OK" if self.passed else "TOO LARGE"
-        return (f"time step {self.time_step:.3g} s (τ_min = {self.relaxation_time:.3g} s): "
-                f"dt vs dt/2 over {self.duration:.3g} s differ by "
-                f"{self.rms_difference_diameters:.2e} d_sk rms, "
-                f"{self.max_difference_diameters:.2e} d_sk max "
-                f"(tolerance {self.tolerance_diameters:g} d_sk): {verdict}")
+        return (
+            f"time step {self.time_step:.3g} s (τ_min = {self.relaxation_time:.3g} s): "
+            f"dt vs dt/2 over {self.duration:.3g} s differ by "
+            f"{self.rms_difference_diameters:.2e} d_sk rms, "
+            f"{self.max_difference_diameters:.2e} d_sk max "
+            f"(tolerance {self.tolerance_diameters:g} d_sk): {verdict}"
+        )
 
 
-def check_time_step(build: Callable[[float | None, int], Simulation], duration: float = 2e-9,
-                    time_step: float | None = None,
-                    tolerance_diameters: float = 0.01) -> TimeStepReport:
+def check_time_step(
+    build: Callable[[float | None, int], Simulation],
+    duration: float = 2e-9,
+    time_step: float | None = None,
+    tolerance_diameters: float = 0.01,
+) -> TimeStepReport:
     """Compare runs at dt and dt/2 sharing one Brownian path.
 
     ``build(time_step, brownian_substeps)`` must return a fresh simulation with the initial
@@ -78,17 +83,30 @@ def check_time_step(build: Callable[[float | None, int], Simulation], duration: 
     rms = float(np.sqrt(np.mean(diff**2))) if len(diff) else 0.0
     worst = float(diff.max()) if len(diff) else 0.0
     return TimeStepReport(
-        time_step=dt, relaxation_time=coarse.relaxation_time(), duration=coarse.time,
-        skyrmions_compared=int(len(common)), rms_difference=rms, max_difference=worst,
-        rms_difference_diameters=rms / d_sk, max_difference_diameters=worst / d_sk,
-        tolerance_diameters=tolerance_diameters, passed=worst / d_sk <= tolerance_diameters)
+        time_step=dt,
+        relaxation_time=coarse.relaxation_time(),
+        duration=coarse.time,
+        skyrmions_compared=int(len(common)),
+        rms_difference=rms,
+        max_difference=worst,
+        rms_difference_diameters=rms / d_sk,
+        max_difference_diameters=worst / d_sk,
+        tolerance_diameters=tolerance_diameters,
+        passed=worst / d_sk <= tolerance_diameters,
+    )
 
 
-def check_config_time_step(config, duration: float = 2e-9, time_step: float | None = None,
-                           tolerance_diameters: float = 0.01) -> TimeStepReport:
+def check_config_time_step(
+    config,
+    duration: float = 2e-9,
+    time_step: float | None = None,
+    tolerance_diameters: float = 0.01,
+) -> TimeStepReport:
     """:func:`check_time_step` for a :class:`~skygas.config.SimulationConfig`."""
+
     def build(dt, substeps):
-        return config.build(time_step=dt if dt is not None else config.time_step,
-                            brownian_substeps=substeps)
+        return config.build(
+            time_step=dt if dt is not None else config.time_step, brownian_substeps=substeps
+        )
 
     return check_time_step(build, duration, time_step, tolerance_diameters)

@@ -30,8 +30,9 @@ polygons whose chords stray at most 0.05 nm inside the true circle
 about 0.075 nm. The field is not smooth on the medial axis
 (points equidistant from two walls, e.g. a conduit's centre line) and at concave corners; there
 the interpolated normal blends the two walls' normals over one cell, so the wall force passes
-continuously through the two walls' balance instead of jumping. :meth:`WallField.interpolation_error`
-measures the error against shapely at random points; ``docs/engine.md`` quotes its output.
+continuously through the two walls' balance instead of jumping.
+:meth:`WallField.interpolation_error` measures the error against shapely at random points;
+``docs/engine.md`` quotes its output.
 """
 
 from __future__ import annotations
@@ -43,9 +44,9 @@ import shapely
 from scipy import ndimage
 
 from skygas.geometry import Outline
-from skygas.resources import require_memory
 from skygas.memo import Memo, frozen, outline_key
 from skygas.nearest_segment import nearest_segment
+from skygas.resources import require_memory
 
 # Wall fields built in this process, by outline, spacing and band (see skygas.memo): a sweep
 # over current, p-value or temperature re-uses its device's field instead of rebuilding it.
@@ -83,8 +84,12 @@ class BilinearWeights:
         """The interpolated values of ``field`` (same arithmetic as the kernels)."""
         f = field.reshape(-1)
         k = self.flat
-        return (self.w00 * f[k] + self.w10 * f[k + 1]
-                + self.w01 * f[k + self.nx] + self.w11 * f[k + self.nx + 1])
+        return (
+            self.w00 * f[k]
+            + self.w10 * f[k + 1]
+            + self.w01 * f[k + self.nx]
+            + self.w11 * f[k + self.nx + 1]
+        )
 
 
 def bilinear_at_indices(field: np.ndarray, fx, fy) -> np.ndarray:
@@ -110,8 +115,11 @@ class Grid:
 
     def bilinear(self, field: np.ndarray, x, y) -> np.ndarray:
         """Bilinear interpolation of ``field`` (ny, nx) at (x, y) nm, as the kernels do."""
-        return bilinear_at_indices(field, (np.asarray(x, float) - self.x0) / self.spacing,
-                                   (np.asarray(y, float) - self.y0) / self.spacing)
+        return bilinear_at_indices(
+            field,
+            (np.asarray(x, float) - self.x0) / self.spacing,
+            (np.asarray(y, float) - self.y0) / self.spacing,
+        )
 
 
 def _segments(lines) -> np.ndarray:
@@ -137,13 +145,15 @@ class WallField:
     band: float
 
     @classmethod
-    def build(cls, outline: Outline, spacing: float, band: float) -> "WallField":
+    def build(cls, outline: Outline, spacing: float, band: float) -> WallField:
         """Sample ``outline`` with grid ``spacing`` [nm]; exact within ``band`` [nm].
 
         The field depends only on these three, so it is built once per process for each
         (outline, spacing, band) and shared, read-only, by later calls (:mod:`skygas.memo`)."""
-        return _MEMO.get(cls.key(outline, spacing, band),
-                         lambda: cls._build(outline, float(spacing), float(band)))
+        return _MEMO.get(
+            cls.key(outline, spacing, band),
+            lambda: cls._build(outline, float(spacing), float(band)),
+        )
 
     @staticmethod
     def key(outline: Outline, spacing: float, band: float) -> tuple:
@@ -159,16 +169,26 @@ class WallField:
         ny = int(np.ceil((y1 - y0 + 2 * margin) / spacing)) + 1
         # the distances, the normals and the scratch of the distance transform: about ten
         # float64 values per node
-        require_memory("geometry", f"an outline of {x1 - x0:.3g} nm × {y1 - y0:.3g} nm",
-                       80.0 * nx * ny, f"its wall grid of {nx} × {ny} nodes at {spacing:g} nm",
-                       "lengths are in metres: did you mean nanometres?")
+        require_memory(
+            "geometry",
+            f"an outline of {x1 - x0:.3g} nm × {y1 - y0:.3g} nm",
+            80.0 * nx * ny,
+            f"its wall grid of {nx} × {ny} nodes at {spacing:g} nm",
+            "lengths are in metres: did you mean nanometres?",
+        )
         grid = Grid(x0 - margin, y0 - margin, float(spacing), nx, ny)
         gx, gy = grid.nodes()
         inside = outline.contains_nm(gx, gy)
 
         # Approximate distance everywhere (Euclidean distance transform of the raster) ...
-        approx = np.where(inside, ndimage.distance_transform_edt(inside),
-                          -ndimage.distance_transform_edt(~inside)) * spacing
+        approx = (
+            np.where(
+                inside,
+                ndimage.distance_transform_edt(inside),
+                -ndimage.distance_transform_edt(~inside),
+            )
+            * spacing
+        )
         wall_distance = approx.copy()
         domain_distance = approx.copy()
         normal_x = np.zeros_like(approx)
@@ -197,8 +217,9 @@ class WallField:
             ax, ay, bx, by = wall_segs[index[on_wall]].T
             length = np.hypot(bx - ax, by - ay)
             cx, cy = -(by - ay) / length, (bx - ax) / length
-            probe_in = outline.contains_nm(px[on_wall] + 1e-3 * spacing * cx,
-                                           py[on_wall] + 1e-3 * spacing * cy)
+            probe_in = outline.contains_nm(
+                px[on_wall] + 1e-3 * spacing * cx, py[on_wall] + 1e-3 * spacing * cy
+            )
             flip = np.where(probe_in, 1.0, -1.0)
             nxv[on_wall], nyv[on_wall] = flip * cx, flip * cy
         # outside, beyond a wall: the normal points back in (nodes on a wall already do)
@@ -215,11 +236,15 @@ class WallField:
     def interpolate(self, x, y) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Interpolated (wall distance, normal x, normal y) at (x, y) nm."""
         g = self.grid
-        return (g.bilinear(self.wall_distance, x, y), g.bilinear(self.normal_x, x, y),
-                g.bilinear(self.normal_y, x, y))
+        return (
+            g.bilinear(self.wall_distance, x, y),
+            g.bilinear(self.normal_x, x, y),
+            g.bilinear(self.normal_y, x, y),
+        )
 
-    def interpolation_error(self, outline: Outline, n_samples: int = 20_000,
-                            seed: int = 0) -> dict[str, float]:
+    def interpolation_error(
+        self, outline: Outline, n_samples: int = 20_000, seed: int = 0
+    ) -> dict[str, float]:
         """Error of the interpolated wall distance [nm] and normal [rad] against shapely,
         at random inside points within ``band`` of a wall (quantiles and maximum)."""
         rng = np.random.default_rng(seed)

@@ -13,6 +13,8 @@ import numpy as np
 import pytest
 import shapely
 
+# the engine tests' helpers: lattice(n_side, spacing_nm) [nm], the 2×2 drift solve, no pairs
+from engine.test_dynamics import NO_PAIRS, drift_solution, lattice  # noqa: E402
 from skygas.analysis import (
     Frames,
     density_map,
@@ -26,9 +28,6 @@ from skygas.analysis.structure import isotropic_covariogram
 from skygas.engine import Simulation
 from skygas.geometry import disk, rectangle
 from skygas.materials import derive_thiele, preset
-
-# the engine tests' helpers: lattice(n_side, spacing_nm) [nm], the 2×2 drift solve, no pairs
-from engine.test_dynamics import NO_PAIRS, drift_solution, lattice  # noqa: E402
 
 S2 = preset("S2")
 
@@ -48,8 +47,7 @@ def test_pairs_at_lag_match_the_same_skyrmion_across_gaps():
 
 
 def test_uneven_frames_are_refused_for_lag_observables():
-    frames = Frames.from_dense([0.0, 1e-9, 3e-9], [0], [[0.0], [1.0], [2.0]],
-                               [[0.0], [0.0], [0.0]])
+    frames = Frames.from_dense([0.0, 1e-9, 3e-9], [0], [[0.0], [1.0], [2.0]], [[0.0], [0.0], [0.0]])
     with pytest.raises(ValueError, match="evenly"):
         mean_squared_displacement(frames)
 
@@ -66,8 +64,9 @@ def test_free_diffusion_constant_from_the_msd():
     first lags must agree with the exact D within 4 of its jackknife errors."""
     temperature = 300.0
     exact = derive_thiele(S2).diffusion_constant(temperature)
-    sim = Simulation(rectangle(16e-6, 16e-6), S2, temperature=temperature, seed=3,
-                     grid_spacing=30e-9, **NO_PAIRS)
+    sim = Simulation(
+        rectangle(16e-6, 16e-6), S2, temperature=temperature, seed=3, grid_spacing=30e-9, **NO_PAIRS
+    )
     sim.add_skyrmions(lattice(20, 500.0) * 1e-9)
     sim.run(60e-9, record_interval=5e-9)
     frames = Frames.from_trajectories(sim.trajectories())
@@ -110,8 +109,9 @@ def test_pair_correlation_of_an_ideal_gas_is_one_at_every_distance():
             pts = np.vstack([pts, cand[outline.contains_nm(cand[:, 0], cand[:, 1])]])
         frames_xy.append(pts[:60] * 1e-9)
     xy = np.concatenate(frames_xy)
-    frames = Frames(np.arange(500) * 1e-9, np.full(500, 60), np.tile(np.arange(60), 500),
-                    xy[:, 0], xy[:, 1])
+    frames = Frames(
+        np.arange(500) * 1e-9, np.full(500, 60), np.tile(np.arange(60), 500), xy[:, 0], xy[:, 1]
+    )
     result = pair_correlation(frames, outline, r_max=0.9e-6, bins=30, max_frames=500)
     assert np.all(np.abs(result.g - 1) < 4.5 * result.error), (result.g, result.error)
     assert np.all(result.error < 0.05)
@@ -125,16 +125,24 @@ def test_pair_correlation_of_an_ideal_gas_is_one_at_every_distance():
 def test_hall_angle_of_a_uniform_drift_is_the_thiele_solution():
     thiele = derive_thiele(S2, eta=2.5 * S2.damping)
     v_s = np.array([15.0, 4.0])
-    sim = Simulation(rectangle(6e-6, 6e-6), S2, temperature=0.0, thiele=thiele,
-                     drift_velocity=v_s, grid_spacing=30e-9, **NO_PAIRS)
+    sim = Simulation(
+        rectangle(6e-6, 6e-6),
+        S2,
+        temperature=0.0,
+        thiele=thiele,
+        drift_velocity=v_s,
+        grid_spacing=30e-9,
+        **NO_PAIRS,
+    )
     sim.add_skyrmions(lattice(3, 600.0) * 1e-9 - [1e-6, 0.0])
     sim.run(100e-9, record_interval=10e-9)
     v = mean_velocity(Frames.from_trajectories(sim.trajectories()))
     expected = drift_solution(thiele, v_s)
     np.testing.assert_allclose(v.velocity, expected, rtol=1e-8)
     angle = v.hall_angle(v_s)
-    assert angle == pytest.approx(math.atan2(expected[1], expected[0])
-                                  - math.atan2(v_s[1], v_s[0]), abs=1e-8)
+    assert angle == pytest.approx(
+        math.atan2(expected[1], expected[0]) - math.atan2(v_s[1], v_s[0]), abs=1e-8
+    )
     assert angle == pytest.approx(thiele.hall_angle(), abs=1e-8)
     assert abs(angle) > 0.05
 
@@ -142,8 +150,16 @@ def test_hall_angle_of_a_uniform_drift_is_the_thiele_solution():
 def test_hall_angle_with_thermal_noise_within_its_error():
     thiele = derive_thiele(S2, eta=2 * S2.damping)
     v_s = np.array([20.0, 0.0])
-    sim = Simulation(rectangle(16e-6, 16e-6), S2, temperature=300.0, thiele=thiele,
-                     drift_velocity=v_s, seed=9, grid_spacing=30e-9, **NO_PAIRS)
+    sim = Simulation(
+        rectangle(16e-6, 16e-6),
+        S2,
+        temperature=300.0,
+        thiele=thiele,
+        drift_velocity=v_s,
+        seed=9,
+        grid_spacing=30e-9,
+        **NO_PAIRS,
+    )
     sim.add_skyrmions(lattice(12, 700.0) * 1e-9)
     sim.run(100e-9, record_interval=10e-9)
     v = mean_velocity(Frames.from_trajectories(sim.trajectories()))
@@ -159,8 +175,13 @@ def test_density_map_integrates_to_the_mean_count():
     rng = np.random.default_rng(2)
     n_frames, n = 50, 40
     xy = rng.uniform(0, 1e-6, size=(n_frames * n, 2))
-    frames = Frames(np.arange(n_frames) * 1e-9, np.full(n_frames, n),
-                    np.tile(np.arange(n), n_frames), xy[:, 0], xy[:, 1])
+    frames = Frames(
+        np.arange(n_frames) * 1e-9,
+        np.full(n_frames, n),
+        np.tile(np.arange(n), n_frames),
+        xy[:, 0],
+        xy[:, 1],
+    )
     m = density_map(frames, 10, (0, 1e-6, 0, 1e-6))
     cell = (m.x_edges[1] - m.x_edges[0]) * (m.y_edges[1] - m.y_edges[0])
     assert m.values.sum() * cell == pytest.approx(n)

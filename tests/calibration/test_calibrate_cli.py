@@ -29,8 +29,17 @@ def calibrated(tmp_path_factory):
 
 
 def test_writes_the_model_report_and_numbers(calibrated):
-    for name in ("model.toml", "calibration.json", "report.html", "profile.png", "pair.png",
-                 "wall.png", "validation.png", "textures.npz", "manifest.json"):
+    for name in (
+        "model.toml",
+        "calibration.json",
+        "report.html",
+        "profile.png",
+        "pair.png",
+        "wall.png",
+        "validation.png",
+        "textures.npz",
+        "manifest.json",
+    ):
         assert (calibrated / name).is_file(), name
     material = load_material(calibrated / "model.toml")
     data = json.loads((calibrated / "calibration.json").read_text())
@@ -69,21 +78,40 @@ def test_validation_compares_a_run_that_moved_a_diameter(calibrated):
 
 def test_the_model_runs_in_simulate_and_reshuffle(calibrated, tmp_path):
     config = tmp_path / "chamber.toml"
-    config.write_text(f'material = "{calibrated / "model.toml"}"\nduration = 2e-9\n'
-                      "temperature = 300\nrecord_interval = 1e-10\n"
-                      "[geometry]\nkind = \"shapes\"\n[[geometry.shapes]]\nkind = \"disk\"\n"
-                      "radius = 150e-9\n[skyrmions]\nrandom_count = 6\n")
-    assert cli.main(["simulate", str(config), "--out", str(tmp_path / "sim"),
-                     "--quiet", "--no-report"]) == 0
+    config.write_text(
+        f'material = "{calibrated / "model.toml"}"\nduration = 2e-9\n'
+        "temperature = 300\nrecord_interval = 1e-10\n"
+        '[geometry]\nkind = "shapes"\n[[geometry.shapes]]\nkind = "disk"\n'
+        "radius = 150e-9\n[skyrmions]\nrandom_count = 6\n"
+    )
+    assert (
+        cli.main(
+            ["simulate", str(config), "--out", str(tmp_path / "sim"), "--quiet", "--no-report"]
+        )
+        == 0
+    )
     import xarray as xr
 
     with xr.open_dataset(tmp_path / "sim" / "trajectories.nc") as ds:
         parameters = json.loads(ds.attrs["parameters_json"])
     assert parameters["pair_law"] == "table" and parameters["wall_law"] == "table"
     assert parameters["edge_stray_field"]
-    assert cli.main(["reshuffle", "--material", str(calibrated / "model.toml"),
-                     "--duration", "2e-8", "--out", str(tmp_path / "rs"), "--quiet",
-                     "--no-report"]) == 0
+    assert (
+        cli.main(
+            [
+                "reshuffle",
+                "--material",
+                str(calibrated / "model.toml"),
+                "--duration",
+                "2e-8",
+                "--out",
+                str(tmp_path / "rs"),
+                "--quiet",
+                "--no-report",
+            ]
+        )
+        == 0
+    )
 
 
 def test_interrupted_and_resumed_gives_the_same_bits(tmp_path):
@@ -91,8 +119,11 @@ def test_interrupted_and_resumed_gives_the_same_bits(tmp_path):
     straight = tmp_path / "straight"
     assert cli.main(["calibrate", *args, "--out", str(straight)]) == 0
     broken = tmp_path / "broken"
-    process = subprocess.Popen([sys.executable, "-m", "skygas.cli", "calibrate", *args,
-                                "--out", str(broken)], stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "skygas.cli", "calibrate", *args, "--out", str(broken)],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     checkpoint = broken / "checkpoint.npz"
     deadline = time.time() + 120
     while time.time() < deadline and process.poll() is None:

@@ -19,7 +19,7 @@ def test_force_of_an_exponential_energy_and_its_continuation():
     same decay down to 1e-4 F₀."""
     lam, e0, f0 = 7e-9, 3e-19, 1e-12
     d = np.linspace(20e-9, 80e-9, 11)
-    law = laws.force_law(laws.curve(list(zip(d, e0 * np.exp(-d / lam)))), f0)
+    law = laws.force_law(laws.curve(list(zip(d, e0 * np.exp(-d / lam), strict=True))), f0)
     x = np.linspace(20e-9, 80e-9, 50)
     assert law(x) == pytest.approx(e0 / lam * np.exp(-x / lam), rel=1e-4)
     assert law.decay == pytest.approx(lam, rel=1e-9)
@@ -33,7 +33,7 @@ def test_energies_that_fall_into_rounding_are_cut():
     d = np.linspace(1e-8, 6e-8, 8)
     e = np.exp(-d / 5e-9)
     e[-2:] = [-1e-30, 0.0]
-    law = laws.force_law(laws.curve(list(zip(d, e))), 1e-12)
+    law = laws.force_law(laws.curve(list(zip(d, e, strict=True))), 1e-12)
     assert law.measured[1] == pytest.approx(d[-3])
 
 
@@ -46,8 +46,9 @@ def test_half_plane_stray_energy_far_from_the_edge_is_the_point_dipole_limit():
     area = np.trapezoid(w * 2 * np.pi * r, r)
     for x in (300e-9, 600e-9):
         u = laws.halfplane_stray_energy(x, ms, t, r, w)[0]
-        assert u == pytest.approx(MU_0 * ms * t * area * ms / math.pi * math.atan(t / 2 / x),
-                                  rel=2e-2)
+        assert u == pytest.approx(
+            MU_0 * ms * t * area * ms / math.pi * math.atan(t / 2 / x), rel=2e-2
+        )
 
 
 def test_half_plane_energy_agrees_with_the_engines_stray_field_on_a_large_film():
@@ -73,10 +74,14 @@ def test_model_file_round_trips_and_refuses_an_invalid_material(tmp_path):
     from skygas.materials import load_material, preset
 
     base = preset("S2").model_dump()
-    base["pair_table"] = {"distance": [1e-8, 2e-8, 3e-8, 4e-8], "force": [4e-12, 2e-12, 1e-12,
-                                                                          0.0]}
-    path = write_model(tmp_path / "model.toml", base, {"provenance": {"solver": "x"}},
-                       ["a header"], {"provenance": "a comment"})
+    base["pair_table"] = {"distance": [1e-8, 2e-8, 3e-8, 4e-8], "force": [4e-12, 2e-12, 1e-12, 0.0]}
+    path = write_model(
+        tmp_path / "model.toml",
+        base,
+        {"provenance": {"solver": "x"}},
+        ["a header"],
+        {"provenance": "a comment"},
+    )
     loaded = load_material(path)
     assert loaded.pair_table.force == (4e-12, 2e-12, 1e-12, 0.0)
     assert tomllib.loads(path.read_text())["provenance"]["solver"] == "x"
@@ -84,5 +89,7 @@ def test_model_file_round_trips_and_refuses_an_invalid_material(tmp_path):
     with pytest.raises(InputError, match="wall_law"):
         write_model(tmp_path / "bad.toml", bad, {}, [], {})
     assert not (tmp_path / "bad.toml").exists()
-    assert tomllib.loads(dumps({"a": np.float64(1.5), "b": [np.float64(2.0)]})) == \
-        {"a": 1.5, "b": [2.0]}
+    assert tomllib.loads(dumps({"a": np.float64(1.5), "b": [np.float64(2.0)]})) == {
+        "a": 1.5,
+        "b": [2.0],
+    }

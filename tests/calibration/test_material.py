@@ -54,7 +54,8 @@ BAD = [
 
 @pytest.mark.parametrize("line, field", BAD)
 def test_a_bad_value_is_one_line_naming_the_field_and_nothing_is_written(
-        tmp_path, capsys, line, field):
+    tmp_path, capsys, line, field
+):
     path = tmp_path / "film.toml"
     path.write_text(f'base = "S2"\n{line}\n')
     out = tmp_path / "cal"
@@ -69,18 +70,24 @@ def test_unknown_presets_missing_fields_and_broken_files_are_refused(tmp_path, c
     missing.write_text("saturation_magnetization = 1e6\n")
     binary = tmp_path / "binary.toml"
     binary.write_bytes(b"\xff\xfe\x00junk")
-    for source, field in (("S9", "MATERIAL"), (str(missing), "exchange_stiffness"),
-                          (str(binary), "MATERIAL"), (str(tmp_path / "none.toml"), "MATERIAL")):
+    for source, field in (
+        ("S9", "MATERIAL"),
+        (str(missing), "exchange_stiffness"),
+        (str(binary), "MATERIAL"),
+        (str(tmp_path / "none.toml"), "MATERIAL"),
+    ):
         assert cli.main(["calibrate", source, "--out", str(tmp_path / "cal")]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and field in err[0], err
 
 
 def test_options_are_named_in_their_error(tmp_path, capsys):
-    for argv, flag in ((["--cell-size", "9e-9"], "--cell-size"),
-                       (["--skyrmions", "0"], "--skyrmions"),
-                       (["--reference-diameter", "-1"], "--reference-diameter"),
-                       (["--workers", "-2"], "--workers")):
+    for argv, flag in (
+        (["--cell-size", "9e-9"], "--cell-size"),
+        (["--skyrmions", "0"], "--skyrmions"),
+        (["--reference-diameter", "-1"], "--reference-diameter"),
+        (["--workers", "-2"], "--workers"),
+    ):
         assert cli.main(["calibrate", "S2", "--out", str(tmp_path / "cal"), *argv]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and flag in err[0], err

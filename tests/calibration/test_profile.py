@@ -32,8 +32,7 @@ def test_g_is_minus_four_pi_q_k_with_the_measured_charge():
     film, _, m = _ansatz(cell=1e-9)
     material = load_micromagnetic_material("S2", cell_size=1e-9)
     iso = measure_isolated(m, film, material, energy=1e-19)
-    k = material.saturation_magnetization * material.film_thickness \
-        / material.gyromagnetic_ratio
+    k = material.saturation_magnetization * material.film_thickness / material.gyromagnetic_ratio
     assert iso.k == k
     assert iso.gyrocoupling == -4.0 * math.pi * iso.charge * k  # exactly the formula
     assert iso.charge == pytest.approx(-1.0, abs=1e-3)  # the lattice charge of the ansatz

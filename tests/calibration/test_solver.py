@@ -52,8 +52,7 @@ def test_solves_are_pure_functions_of_their_inputs():
     fs = solver.FilmSolver(MATERIAL, FILM)
     m0 = solver.skyrmion_texture(FILM, [_centre()], 11e-9, 3e-9)
     a = fs.relax(m0, [_centre()], reach=30e-9, torque_tolerance=30.0)
-    b = solver.FilmSolver(MATERIAL, FILM).relax(m0, [_centre()], reach=30e-9,
-                                                 torque_tolerance=30.0)
+    b = solver.FilmSolver(MATERIAL, FILM).relax(m0, [_centre()], reach=30e-9, torque_tolerance=30.0)
     assert np.array_equal(a.m, b.m) and a.energy == b.energy
 
 

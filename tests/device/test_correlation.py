@@ -41,11 +41,19 @@ def pearson_std(p, q, n):
         return sum(w * (x - p) ** i * (y - p) ** j for x, y, w in pmf)
 
     rho = mu(1, 1) / np.sqrt(mu(2, 0) * mu(0, 2))
-    var = rho**2 / n * (
-        mu(2, 2) / mu(1, 1) ** 2
-        + 0.25 * (mu(4, 0) / mu(2, 0) ** 2 + mu(0, 4) / mu(0, 2) ** 2
-                  + 2 * mu(2, 2) / (mu(2, 0) * mu(0, 2)))
-        - (mu(3, 1) / (mu(1, 1) * mu(2, 0)) + mu(1, 3) / (mu(1, 1) * mu(0, 2)))
+    var = (
+        rho**2
+        / n
+        * (
+            mu(2, 2) / mu(1, 1) ** 2
+            + 0.25
+            * (
+                mu(4, 0) / mu(2, 0) ** 2
+                + mu(0, 4) / mu(0, 2) ** 2
+                + 2 * mu(2, 2) / (mu(2, 0) * mu(0, 2))
+            )
+            - (mu(3, 1) / (mu(1, 1) * mu(2, 0)) + mu(1, 3) / (mu(1, 1) * mu(0, 2)))
+        )
     )
     return np.sqrt(var)
 
@@ -146,12 +154,20 @@ def test_occupancy_from_a_hand_made_event_list():
     # one annihilated at 12, none detected.
     inj_t = [0, 5, 10, 20, 25]
     inj_c = [1, 0, 1, 1, 0]
-    result = occupancy(inj_t, inj_c, [15, 30], [True, True], times=[-1, 0, 7, 12, 15, 22, 40],
-                       annihilation_times=[12], annihilation_chambers=["down"])
+    result = occupancy(
+        inj_t,
+        inj_c,
+        [15, 30],
+        [True, True],
+        times=[-1, 0, 7, 12, 15, 22, 40],
+        annihilation_times=[12],
+        annihilation_chambers=["down"],
+    )
     assert result.up.tolist() == [0, 1, 1, 2, 1, 2, 1]
     assert result.down.tolist() == [0, 0, 1, 0, 0, 0, 1]
-    every_event = occupancy(inj_t, inj_c, [15, 30], [1, 1], annihilation_times=[12],
-                            annihilation_chambers=[0])
+    every_event = occupancy(
+        inj_t, inj_c, [15, 30], [1, 1], annihilation_times=[12], annihilation_chambers=[0]
+    )
     assert every_event.times.tolist() == [0, 5, 10, 12, 15, 20, 25, 30]
     assert every_event.up.max() == 2 and every_event.down.max() == 1
 

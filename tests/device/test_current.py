@@ -38,11 +38,13 @@ def strip(length=412e-9, width=100e-9, vertical=False):
     """A straight strip with ports "a" and "b" on its short ends."""
     if vertical:
         out = rectangle(width, length)
-        return (out.with_port("a", (-width / 2, -length / 2), (width / 2, -length / 2))
-                .with_port("b", (-width / 2, length / 2), (width / 2, length / 2)))
+        return out.with_port("a", (-width / 2, -length / 2), (width / 2, -length / 2)).with_port(
+            "b", (-width / 2, length / 2), (width / 2, length / 2)
+        )
     out = rectangle(length, width)
-    return (out.with_port("a", (-length / 2, -width / 2), (-length / 2, width / 2))
-            .with_port("b", (length / 2, -width / 2), (length / 2, width / 2)))
+    return out.with_port("a", (-length / 2, -width / 2), (-length / 2, width / 2)).with_port(
+        "b", (length / 2, -width / 2), (length / 2, width / 2)
+    )
 
 
 # -- conservation ----------------------------------------------------------------------------
@@ -50,13 +52,15 @@ def test_net_current_through_cross_sections_equals_total(chamber, chamber_soluti
     s = chamber_solution
     x_in, x_out = _port_x(chamber, "input"), _port_x(chamber, "output")
     half = 0.6 * CONDUIT_WIDTH
-    cuts = [((x_in + 5e-9, -half), (x_in + 5e-9, half)),       # input conduit, near the port
-            ((x_in + 30e-9, -half), (x_in + 30e-9, half)),     # input conduit, inside
-            ((0.0, -600e-9), (0.0, 600e-9)),                   # chamber centre
-            ((-200e-9, -600e-9), (-200e-9, 600e-9)),           # chamber, off centre
-            ((300e-9, -600e-9), (300e-9, 600e-9)),
-            ((x_out - 30e-9, -half), (x_out - 30e-9, half)),   # output conduit
-            ((-100e-9, 700e-9), (100e-9, -700e-9))]            # an oblique cut
+    cuts = [
+        ((x_in + 5e-9, -half), (x_in + 5e-9, half)),  # input conduit, near the port
+        ((x_in + 30e-9, -half), (x_in + 30e-9, half)),  # input conduit, inside
+        ((0.0, -600e-9), (0.0, 600e-9)),  # chamber centre
+        ((-200e-9, -600e-9), (-200e-9, 600e-9)),  # chamber, off centre
+        ((300e-9, -600e-9), (300e-9, 600e-9)),
+        ((x_out - 30e-9, -half), (x_out - 30e-9, half)),  # output conduit
+        ((-100e-9, 700e-9), (100e-9, -700e-9)),
+    ]  # an oblique cut
     for start, end in cuts:
         # upward-pointing cuts count +x current; the oblique one points downwards
         sign = 1.0 if end[1] > start[1] else -1.0
@@ -90,8 +94,7 @@ def test_mean_density_across_conduits_is_J(chamber, chamber_solution):
 @pytest.mark.parametrize("cell_size", [10e-9, 7e-9])
 def test_straight_strip_is_uniform_with_exact_resistance(vertical, cell_size):
     length, width = 412e-9, 100e-9
-    s = solve_current(strip(length, width, vertical), J, source="a", sink="b",
-                      cell_size=cell_size)
+    s = solve_current(strip(length, width, vertical), J, source="a", sink="b", cell_size=cell_size)
     # nodes inside and a little outside the strip
     lo = -(length / 2 + 20e-9) * 1e9
     grid = Grid(lo, lo, 3.7, int(-2 * lo / 3.7) + 1, int(-2 * lo / 3.7) + 1)
@@ -110,8 +113,10 @@ def test_annular_sector_radial_flow():
     a = np.linspace(0, theta, 200)
     inner = np.c_[np.cos(a), np.sin(a)] * r1 * 1e9
     outer = np.c_[np.cos(a), np.sin(a)] * r2 * 1e9
-    outline = Outline(Polygon(np.vstack([inner, outer[::-1]])),
-                      {"inner": LineString(inner), "outer": LineString(outer)})
+    outline = Outline(
+        Polygon(np.vstack([inner, outer[::-1]])),
+        {"inner": LineString(inner), "outer": LineString(outer)},
+    )
     s = solve_current(outline, J, source="inner", sink="outer", cell_size=10e-9)
     expected = s.resistivity * math.log(r2 / r1) / (theta * s.conductor_thickness)
     assert s.resistance == pytest.approx(expected, rel=5e-3)
@@ -134,7 +139,7 @@ def test_linear_scaling(chamber, chamber_solution):
     assert s2.total_current == pytest.approx(2 * s1.total_current, rel=1e-12)
     assert s2.voltage == pytest.approx(2 * s1.voltage, rel=1e-12)
     assert s2.power == pytest.approx(4 * s1.power, rel=1e-12)
-    assert s1.power == pytest.approx(s1.total_current ** 2 * s1.resistance, rel=1e-12)
+    assert s1.power == pytest.approx(s1.total_current**2 * s1.resistance, rel=1e-12)
     assert s1.power == pytest.approx(s1.voltage * s1.total_current, rel=1e-12)
 
 
@@ -158,13 +163,13 @@ def test_reversed_current_and_swapped_ports(chamber, chamber_solution):
 
 
 def test_resistance_scales_with_material_not_field(chamber, chamber_solution):
-    thick = solve_current(chamber, J, cell_size=COARSE, conductor_thickness=10e-9,
-                          resistivity=4e-7)
+    thick = solve_current(chamber, J, cell_size=COARSE, conductor_thickness=10e-9, resistivity=4e-7)
     s = chamber_solution
     assert thick.resistance == pytest.approx(s.resistance * (4e-7 / 2e-7) / 2, rel=1e-12)
     assert thick.total_current == pytest.approx(2 * s.total_current, rel=1e-12)
-    np.testing.assert_allclose(thick.current_density_at(0.0, 0.0),
-                               s.current_density_at(0.0, 0.0), rtol=1e-12)
+    np.testing.assert_allclose(
+        thick.current_density_at(0.0, 0.0), s.current_density_at(0.0, 0.0), rtol=1e-12
+    )
 
 
 # -- walls -----------------------------------------------------------------------------------
@@ -219,18 +224,21 @@ def test_plot_current_writes_png(tmp_path, chamber, chamber_solution):
 
 
 # -- bad input -------------------------------------------------------------------------------
-@pytest.mark.parametrize("kwargs, field", [
-    ({"conductor_thickness": 0.0}, "conductor_thickness"),
-    ({"conductor_thickness": -5e-9}, "conductor_thickness"),
-    ({"resistivity": 0.0}, "resistivity"),
-    ({"resistivity": float("nan")}, "resistivity"),
-    ({"cell_size": -1e-9}, "cell_size"),
-    ({"cell_size": 1e-12}, "cell_size"),      # far too many cells: refused before allocating
-    ({"source": "inlet"}, "source"),
-    ({"sink": ["output", "drain"]}, "sink"),
-    ({"source": "input", "sink": "input"}, "sink"),
-    ({"source": []}, "source"),
-])
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        ({"conductor_thickness": 0.0}, "conductor_thickness"),
+        ({"conductor_thickness": -5e-9}, "conductor_thickness"),
+        ({"resistivity": 0.0}, "resistivity"),
+        ({"resistivity": float("nan")}, "resistivity"),
+        ({"cell_size": -1e-9}, "cell_size"),
+        ({"cell_size": 1e-12}, "cell_size"),  # far too many cells: refused before allocating
+        ({"source": "inlet"}, "source"),
+        ({"sink": ["output", "drain"]}, "sink"),
+        ({"source": "input", "sink": "input"}, "sink"),
+        ({"source": []}, "source"),
+    ],
+)
 def test_bad_input_raises(chamber, kwargs, field):
     with pytest.raises(InputError) as info:
         solve_current(chamber, J, **kwargs)
@@ -253,11 +261,14 @@ def test_outline_without_ports_raises():
 def test_electrodes_cut_apart_by_coarse_cells_raise():
     """A 3 nm neck between two pads is not resolved by 10 nm cells: refused, not a singular
     matrix or a silent zero current."""
-    pads = (rectangle(195e-9, 100e-9, center=(-102.5e-9, 0.0))
-            | rectangle(12e-9, 3e-9)
-            | rectangle(195e-9, 100e-9, center=(102.5e-9, 0.0)))
-    device = (pads.with_port("a", (-200e-9, -50e-9), (-200e-9, 50e-9))
-              .with_port("b", (200e-9, -50e-9), (200e-9, 50e-9)))
+    pads = (
+        rectangle(195e-9, 100e-9, center=(-102.5e-9, 0.0))
+        | rectangle(12e-9, 3e-9)
+        | rectangle(195e-9, 100e-9, center=(102.5e-9, 0.0))
+    )
+    device = pads.with_port("a", (-200e-9, -50e-9), (-200e-9, 50e-9)).with_port(
+        "b", (200e-9, -50e-9), (200e-9, 50e-9)
+    )
     with pytest.raises(InputError) as info:
         solve_current(device, J, source="a", sink="b", cell_size=10e-9)
     assert info.value.field == "cell_size"

@@ -45,8 +45,16 @@ def setup_values():
 
 def arrays(values):
     wall, solution, drift = values
-    return [wall.wall_distance, wall.normal_x, wall.normal_y, wall.domain_distance,
-            solution._jx, solution._jy, solution._phi, *drift]
+    return [
+        wall.wall_distance,
+        wall.normal_x,
+        wall.normal_y,
+        wall.domain_distance,
+        solution._jx,
+        solution._jy,
+        solution._phi,
+        *drift,
+    ]
 
 
 def uncached():
@@ -64,8 +72,10 @@ def assert_same_arrays(a, b):
 
 
 def disk_hits() -> dict[str, int]:
-    return {name: memo_stats()[name]["disk_hits"]
-            for name in ("wall_field", "current", "drift_unit_sample")}
+    return {
+        name: memo_stats()[name]["disk_hits"]
+        for name in ("wall_field", "current", "drift_unit_sample")
+    }
 
 
 def test_loaded_setup_is_identical_read_only_and_not_rebuilt(cache_dir):

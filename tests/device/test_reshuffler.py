@@ -13,8 +13,11 @@ from skygas.cli import main
 from skygas.errors import InputError
 from skygas.reshuffler import ReshufflerRun, parse_reshuffler_config, summarize
 
-FAST = {"spin_drift_coefficient": 1.83e-10, "current_density": 3.8e11,
-        "output": {"trajectory_window": 0.0, "snapshot_interval": 200e-9}}
+FAST = {
+    "spin_drift_coefficient": 1.83e-10,
+    "current_density": 3.8e11,
+    "output": {"trajectory_window": 0.0, "snapshot_interval": 200e-9},
+}
 
 
 def run_config(**fields) -> tuple[ReshufflerRun, dict]:
@@ -27,8 +30,12 @@ def run_config(**fields) -> tuple[ReshufflerRun, dict]:
 def test_zero_temperature_output_repeats_the_input():
     """Without noise every skyrmion follows the same current line from the same site, so the
     read-out order is the injection order: ρ = 1 and the output bits equal the input bits."""
-    run, s = run_config(temperature=0.0, duration=1e-6, spin_drift_coefficient=1e-9,
-                        signal={"kind": "bernoulli", "p": 0.5})
+    run, s = run_config(
+        temperature=0.0,
+        duration=1e-6,
+        spin_drift_coefficient=1e-9,
+        signal={"kind": "bernoulli", "p": 0.5},
+    )
     det = run.detections()
     bits = run.injector.log.bit
     assert s["n_detected"] > 150
@@ -60,8 +67,7 @@ def test_output_p_value_matches_the_input(p):
 def test_counts_are_conserved_and_the_occupied_site_rule_is_followed():
     """A weak current leaves each new skyrmion near the site for longer than an injection
     interval, so later nucleations find the site occupied."""
-    slow = {"current_density": 2e10, "duration": 0.5e-6,
-            "signal": {"kind": "bernoulli", "p": 0.5}}
+    slow = {"current_density": 2e10, "duration": 0.5e-6, "signal": {"kind": "bernoulli", "p": 0.5}}
     run, s = run_config(**slow, injection={"occupied_rule": "delay", "max_pending": 5})
     log = run.injector.log
     assert s["n_injected"] == s["n_detected"] + s["n_present"] + s["n_annihilated"]
@@ -101,13 +107,16 @@ def test_nucleation_never_lands_on_another_skyrmion():
     assert len(seen) > 20 and min(seen) >= clearance
 
 
-@pytest.mark.parametrize("fields, field", [
-    ({"device": {"chamber_diameter": 30e-9}}, "chamber_diameter"),
-    ({"device": {"conduit_width": 2e-6}}, "conduit_width"),
-    ({"time_step": 3e-11}, "time_step"),
-    ({"signal": {"p": 1.5}}, "signal.p"),
-    ({"temperature": -1.0}, "temperature"),
-])
+@pytest.mark.parametrize(
+    "fields, field",
+    [
+        ({"device": {"chamber_diameter": 30e-9}}, "chamber_diameter"),
+        ({"device": {"conduit_width": 2e-6}}, "conduit_width"),
+        ({"time_step": 3e-11}, "time_step"),
+        ({"signal": {"p": 1.5}}, "signal.p"),
+        ({"temperature": -1.0}, "temperature"),
+    ],
+)
 def test_bad_input_is_refused_before_running(fields, field):
     with pytest.raises(InputError) as err:
         ReshufflerRun.build(parse_reshuffler_config({**FAST, "duration": 1e-7, **fields}))
@@ -120,8 +129,9 @@ def test_bad_signal_files_are_refused(tmp_path):
     empty = tmp_path / "empty.csv"
     empty.write_text("")
     for path in (bad, empty):
-        config = parse_reshuffler_config({**FAST, "duration": 1e-7,
-                                          "signal": {"kind": "file", "path": str(path)}})
+        config = parse_reshuffler_config(
+            {**FAST, "duration": 1e-7, "signal": {"kind": "file", "path": str(path)}}
+        )
         with pytest.raises(InputError):
             ReshufflerRun.build(config)
 
@@ -157,19 +167,58 @@ def test_resume_from_a_checkpoint_is_bit_identical():
 
 
 def test_cli_json_summary_has_the_documented_fields(tmp_path, capsys):
-    code = main(["reshuffle", "--out", str(tmp_path), "--json", "--duration", "3e-7",
-                 "--current-density", "3.8e11", "--spin-drift-coefficient", "1.83e-10",
-                 "--p", "0.3", "--seed", "2", "--temperature", "300"])
+    code = main(
+        [
+            "reshuffle",
+            "--out",
+            str(tmp_path),
+            "--json",
+            "--duration",
+            "3e-7",
+            "--current-density",
+            "3.8e11",
+            "--spin-drift-coefficient",
+            "1.83e-10",
+            "--p",
+            "0.3",
+            "--seed",
+            "2",
+            "--temperature",
+            "300",
+        ]
+    )
     assert code == 0
     summary = json.loads(capsys.readouterr().out)
-    for key in ["correlation", "correlation_max_lag", "scc", "p_in", "p_out", "n_injected",
-                "n_detected", "n_skipped", "n_present", "max_occupancy", "mean_transit_s",
-                "current_density_A_m2", "chamber_diameter_m", "temperature_K", "power_W",
-                "energy_per_bit_J", "simulated_time_s", "time_step_s", "wall_time_s"]:
+    for key in [
+        "correlation",
+        "correlation_max_lag",
+        "scc",
+        "p_in",
+        "p_out",
+        "n_injected",
+        "n_detected",
+        "n_skipped",
+        "n_present",
+        "max_occupancy",
+        "mean_transit_s",
+        "current_density_A_m2",
+        "chamber_diameter_m",
+        "temperature_K",
+        "power_W",
+        "energy_per_bit_J",
+        "simulated_time_s",
+        "time_step_s",
+        "wall_time_s",
+    ]:
         assert key in summary
     assert summary["current_density_A_m2"] == 3.8e11
-    for name in ["reshuffler.nc", "summary.json", "device.png", "running_correlation.png",
-                 "occupancy.png"]:
+    for name in [
+        "reshuffler.nc",
+        "summary.json",
+        "device.png",
+        "running_correlation.png",
+        "occupancy.png",
+    ]:
         assert (tmp_path / name).exists()
     import xarray as xr
 
@@ -186,21 +235,29 @@ def test_nucleations_made_in_the_kernel_follow_the_python_rule_exactly(rule):
     same nucleation for every event as a run that returns to Python at every tick, and end
     with the same skyrmions at the same places (to rounding: lists are rebuilt at other
     moments, so pair sums are added in another order)."""
-    config = parse_reshuffler_config({
-        **FAST, "temperature": 0.0, "current_density": 6e10, "duration": 0.4e-6,
-        "signal": {"kind": "bernoulli", "p": 0.5},
-        "injection": {"occupied_rule": rule, "max_pending": 5}})
+    config = parse_reshuffler_config(
+        {
+            **FAST,
+            "temperature": 0.0,
+            "current_density": 6e10,
+            "duration": 0.4e-6,
+            "signal": {"kind": "bernoulli", "p": 0.5},
+            "injection": {"occupied_rule": rule, "max_pending": 5},
+        }
+    )
     planned, python = ReshufflerRun.build(config), ReshufflerRun.build(config)
     python.injector.plan_insertions = lambda step, limit: None
     made_in_kernel = []
     report = planned.injector.planned_insertions_made
-    planned.injector.planned_insertions_made = \
-        lambda sim, ids: (made_in_kernel.extend(ids), report(sim, ids))
+    planned.injector.planned_insertions_made = lambda sim, ids: (
+        made_in_kernel.extend(ids),
+        report(sim, ids),
+    )
     planned.advance()
     python.advance()
     a, b = planned.injector.log, python.injector.log
     assert (a.delayed | a.skipped).sum() >= 10  # the rule was exercised (35 / 14 events)
-    assert len(made_in_kernel) >= 10            # and so was the kernel (11 / 31 events)
+    assert len(made_in_kernel) >= 10  # and so was the kernel (11 / 31 events)
     for name in ("skyrmion", "injection_step", "delayed", "skipped"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
     ids_a, pos_a = planned.sim.positions()
@@ -214,26 +271,31 @@ def test_snapshots_recorded_in_the_kernel_equal_positions_read_at_each_snapshot_
     """The kernel records the snapshots itself (frames with the id in each slot), also while it
     makes planned nucleations and removes read-out skyrmions. They must equal what
     ``Simulation.positions`` returns when the run stops at every snapshot step and returns to
-    Python for every nucleation, read before a nucleation due at the same step (T = 0, so the runs differ only by rounding: pair sums are
-    added in another order)."""
+    Python for every nucleation, read before a nucleation due at the same step (T = 0, so the
+    runs differ only by rounding: pair sums are added in another order)."""
     from skygas.engine import Periodic
 
-    config = parse_reshuffler_config({
-        **FAST, "temperature": 0.0, "duration": 0.4e-6,
-        "output": {"trajectory_window": 50e-9, "snapshot_interval": 20e-9}})
+    config = parse_reshuffler_config(
+        {
+            **FAST,
+            "temperature": 0.0,
+            "duration": 0.4e-6,
+            "output": {"trajectory_window": 50e-9, "snapshot_interval": 20e-9},
+        }
+    )
     recorded, reference = ReshufflerRun.build(config), ReshufflerRun.build(config)
     reference.injector.plan_insertions = lambda step, limit: None
     read = []
     # first in the list: it reads the positions before a nucleation due at the same step
     reference.sim.operations.insert(
-        0, Periodic(reference.snapshot_steps, lambda sim: read.append((sim.time,
-                                                                       *sim.positions()))))
+        0, Periodic(reference.snapshot_steps, lambda sim: read.append((sim.time, *sim.positions())))
+    )
     recorded.advance()
     reference.advance()
     snaps = recorded.snapshots
     assert len(snaps) == len(read) == 20
     assert recorded.counts()["detected"] >= 5  # skyrmions left between snapshots
-    for (t_a, ids_a, pos_a), (t_b, ids_b, pos_b) in zip(snaps, read):
+    for (t_a, ids_a, pos_a), (t_b, ids_b, pos_b) in zip(snaps, read, strict=True):
         assert t_a == pytest.approx(t_b, rel=1e-12)
         assert np.array_equal(ids_a, ids_b)
         assert np.abs(pos_a - pos_b).max(initial=0.0) < 1e-15  # metres
@@ -256,9 +318,9 @@ def test_snapshots_recorded_in_the_kernel_equal_positions_read_at_each_snapshot_
 def test_one_long_kernel_call_records_more_exits_than_the_storage_capacity():
     """Without snapshots or checkpoints to stop it, one kernel call nucleates and reads out
     far more skyrmions than the state has slots (64): every exit must be recorded once."""
-    config = parse_reshuffler_config({
-        **FAST, "duration": 1e-6, "output": {"trajectory_window": 0.0,
-                                            "snapshot_interval": 1.0}})
+    config = parse_reshuffler_config(
+        {**FAST, "duration": 1e-6, "output": {"trajectory_window": 0.0, "snapshot_interval": 1.0}}
+    )
     run = ReshufflerRun.build(config)
     calls = []
     advance = run.sim._advance
@@ -277,12 +339,20 @@ def test_neighbour_list_edits_at_nucleation_and_read_out_miss_no_pair():
     by ≳ 1e-3 nm)."""
     runs = []
     for exact in (False, True):
-        run = ReshufflerRun.build(parse_reshuffler_config({
-            **FAST, "duration": 0.3e-6, "seed": 3,
-            "output": {"trajectory_window": 0.0, "snapshot_interval": 1.0}}))
+        run = ReshufflerRun.build(
+            parse_reshuffler_config(
+                {
+                    **FAST,
+                    "duration": 0.3e-6,
+                    "seed": 3,
+                    "output": {"trajectory_window": 0.0, "snapshot_interval": 1.0},
+                }
+            )
+        )
         if exact:
             run.sim.neighbor_cells = run.sim.neighbor_cells._replace(
-                skin=0.0, margin_steps=0.0, margin_max=0.0)
+                skin=0.0, margin_steps=0.0, margin_max=0.0
+            )
         run.advance()
         runs.append(run)
     edited, exact = runs

@@ -61,21 +61,40 @@ def assert_identical(a, b):
 
 
 # -- nearest wall point --------------------------------------------------------------------------
-@pytest.mark.parametrize("outline", [ReshufflerGeometry().device_outline(),
-                                     SMALL.device_outline(),
-                                     chamber_with_conduits(300e-9, 100e-9, 50e-9),
-                                     rectangle(400e-9, 100e-9)])
+@pytest.mark.parametrize(
+    "outline",
+    [
+        ReshufflerGeometry().device_outline(),
+        SMALL.device_outline(),
+        chamber_with_conduits(300e-9, 100e-9, 50e-9),
+        rectangle(400e-9, 100e-9),
+    ],
+)
 def test_bucketed_nearest_segment_equals_the_scan(outline):
     segs = _segments(outline.walls)
     x0, y0, x1, y1 = outline.bounds_nm
     rng = np.random.default_rng(3)
     gx, gy = np.meshgrid(np.arange(x0 - 10, x1 + 10, 3.7), np.arange(y0 - 10, y1 + 10, 3.7))
     # grid nodes, random points far outside, segment ends and midpoints (exact ties)
-    px = np.concatenate([gx.ravel(), rng.uniform(x0 - 900, x1 + 900, 5000), segs[:, 0],
-                         (segs[:, 0] + segs[:, 2]) / 2])
-    py = np.concatenate([gy.ravel(), rng.uniform(y0 - 900, y1 + 900, 5000), segs[:, 1],
-                         (segs[:, 1] + segs[:, 3]) / 2])
-    for fast, slow in zip(nearest_segment(px, py, segs), nearest_segment_brute(px, py, segs)):
+    px = np.concatenate(
+        [
+            gx.ravel(),
+            rng.uniform(x0 - 900, x1 + 900, 5000),
+            segs[:, 0],
+            (segs[:, 0] + segs[:, 2]) / 2,
+        ]
+    )
+    py = np.concatenate(
+        [
+            gy.ravel(),
+            rng.uniform(y0 - 900, y1 + 900, 5000),
+            segs[:, 1],
+            (segs[:, 1] + segs[:, 3]) / 2,
+        ]
+    )
+    for fast, slow in zip(
+        nearest_segment(px, py, segs), nearest_segment_brute(px, py, segs), strict=True
+    ):
         assert fast.dtype == slow.dtype and np.array_equal(fast, slow)
 
 
@@ -94,12 +113,15 @@ def test_wall_field_is_shared_and_identical():
         first.wall_distance[0, 0] = 1.0  # shared arrays are read-only
 
 
-@pytest.mark.parametrize("kwargs", [
-    {},
-    {"conductor_thickness": 7e-9, "resistivity": 3e-7},
-    {"source": "output", "sink": "input"},
-    {"cell_size": 4e-9},
-])
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {},
+        {"conductor_thickness": 7e-9, "resistivity": 3e-7},
+        {"source": "output", "sink": "input"},
+        {"cell_size": 4e-9},
+    ],
+)
 def test_current_solution_scaled_from_memo_is_identical(kwargs):
     chamber = SMALL.chamber()
     grid = Grid(-320.0, -300.0, 2.3, 280, 260)
@@ -109,7 +131,7 @@ def test_current_solution_scaled_from_memo_is_identical(kwargs):
         fresh = uncached(lambda j=j: solve_current(chamber, j, **base))
         memo = solve_current(SMALL.chamber(), j, **base)
         assert_identical(fresh, memo)
-        for a, b in zip(fresh.sample(grid), memo.sample(grid)):
+        for a, b in zip(fresh.sample(grid), memo.sample(grid), strict=True):
             assert np.array_equal(a, b)
     # the second J re-used the first's solve (and the very first call's, for the same key)
     same_key = kwargs in ({}, {"conductor_thickness": 7e-9, "resistivity": 3e-7})
@@ -118,12 +140,19 @@ def test_current_solution_scaled_from_memo_is_identical(kwargs):
 
 def test_solution_at_another_current_density_is_a_fresh_solve():
     chamber = SMALL.chamber()
-    settings = {"cell_size": 5e-9, "conductor_thickness": 7e-9, "resistivity": 3e-7,
-                "source": "output", "sink": "input"}
+    settings = {
+        "cell_size": 5e-9,
+        "conductor_thickness": 7e-9,
+        "resistivity": 3e-7,
+        "source": "output",
+        "sink": "input",
+    }
     solution = solve_current(chamber, 1.7e11, **settings)
     for j in (1.0, -2.9e11):
-        assert_identical(solution.at_current_density(j),
-                         uncached(lambda j=j: solve_current(chamber, j, **settings)))
+        assert_identical(
+            solution.at_current_density(j),
+            uncached(lambda j=j: solve_current(chamber, j, **settings)),
+        )
 
 
 def test_drift_field_from_memo_is_identical():
@@ -166,8 +195,11 @@ def test_force_tables_and_packed_wall_channels_are_shared_and_identical():
         assert b.values is not c.values and b.values.flags.writeable  # private copies
     assert counts("force_tables") == {"hits": 1, "misses": 1, "entries": 1}
     outline = SMALL.device_outline()
-    sims = [uncached(lambda: Simulation(outline, "S2")), Simulation(outline, "S2"),
-            Simulation(outline, "S2")]
+    sims = [
+        uncached(lambda: Simulation(outline, "S2")),
+        Simulation(outline, "S2"),
+        Simulation(outline, "S2"),
+    ]
     for sim in sims[1:]:
         fields = sim.force_terms.grid.fields
         assert np.array_equal(fields, sims[0].force_terms.grid.fields) and fields.flags.writeable
@@ -177,10 +209,17 @@ def test_force_tables_and_packed_wall_channels_are_shared_and_identical():
 
 # -- a whole run ---------------------------------------------------------------------------------
 def _summary(current_density: float) -> dict:
-    config = parse_reshuffler_config({
-        "preset": "paper", "duration": 3e-7, "current_density": current_density, "seed": 5,
-        "device": {"chamber_diameter": 5e-7}, "current": {"cell_size": 5e-9},
-        "output": {"trajectory_window": 0.0}})
+    config = parse_reshuffler_config(
+        {
+            "preset": "paper",
+            "duration": 3e-7,
+            "current_density": current_density,
+            "seed": 5,
+            "device": {"chamber_diameter": 5e-7},
+            "current": {"cell_size": 5e-9},
+            "output": {"trajectory_window": 0.0},
+        }
+    )
     run = ReshufflerRun.build(config)
     run.advance()
     summary = summarize(run).summary

@@ -19,20 +19,28 @@ def thin_wall_profile(radius: float, wall_width: float, n: int = 120):
     return rho, 1.0 - np.cos(theta)
 
 
-def calibrated_data(n_pair: int = 400, n_wall: int = 400, stray: bool = True,
-                    film: float | None = FILM) -> dict:
+def calibrated_data(
+    n_pair: int = 400, n_wall: int = 400, stray: bool = True, film: float | None = FILM
+) -> dict:
     """The mapping of a calibrated S2: tables = the paper laws at the default F₀ and d_sk."""
     s2 = preset("S2")
     thiele = derive_thiele(s2)
     d_sk, f0 = thiele.skyrmion_diameter, thiele.force_scale
     r_pair = np.linspace(0.0, 6.0, n_pair) * d_sk
     r_wall = np.linspace(0.0, 7.5, n_wall) * d_sk
-    data = {**s2.model_dump(), "name": "calibrated-S2",
-            "gyromagnetic_ratio": 1.7595e11,
-            "pair_table": {"distance": r_pair.tolist(),
-                           "force": (f0 * paper_pair_force(r_pair / d_sk, *s2.pair_law)).tolist()},
-            "wall_table": {"distance": r_wall.tolist(),
-                           "force": (f0 * paper_wall_force(r_wall / d_sk, s2.wall_law)).tolist()}}
+    data = {
+        **s2.model_dump(),
+        "name": "calibrated-S2",
+        "gyromagnetic_ratio": 1.7595e11,
+        "pair_table": {
+            "distance": r_pair.tolist(),
+            "force": (f0 * paper_pair_force(r_pair / d_sk, *s2.pair_law)).tolist(),
+        },
+        "wall_table": {
+            "distance": r_wall.tolist(),
+            "force": (f0 * paper_wall_force(r_wall / d_sk, s2.wall_law)).tolist(),
+        },
+    }
     if film is not None:
         data["film_thickness"] = film
     if stray:

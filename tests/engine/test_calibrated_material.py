@@ -7,6 +7,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from tests.engine.calibrated_model import calibrated_data, calibrated_material, model_toml
 
 from skygas.cli import main
 from skygas.config import parse_config
@@ -18,7 +19,6 @@ from skygas.materials import derive_thiele, load_material, preset
 from skygas.neuron.config import NeuronConfig
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.sweep.spec import _field_exists
-from tests.engine.calibrated_model import calibrated_data, calibrated_material, model_toml
 
 CHAMBER_TOML = """\
 material = "model.toml"
@@ -66,8 +66,11 @@ def test_model_runs_in_skygas_simulate(model_file, tmp_path):
     with xr.open_dataset(out / "trajectories.nc") as ds:
         params = json.loads(ds.attrs["parameters_json"])
         assert np.all(np.isfinite(ds.x.values[-1]))
-    assert (params["pair_law"], params["wall_law"], params["edge_stray_field"]) == \
-        ("table", "table", True)
+    assert (params["pair_law"], params["wall_law"], params["edge_stray_field"]) == (
+        "table",
+        "table",
+        True,
+    )
     assert params["thiele"]["thiele_film_thickness"] == 3e-9
     assert params["landscape"][-1]["kind"] == "edge_stray_field"
     assert params["landscape"][-1]["thickness"] == 3e-9
@@ -84,8 +87,7 @@ def test_configs_adopt_the_models_film_thickness(model_file):
     assert NeuronConfig(material=str(model_file)).film_thickness == 3e-9
     # a material without film_thickness keeps the default (and any explicit value)
     assert parse_config({**data, "material": "S2"}).film_thickness == 2e-9
-    assert parse_config({**data, "material": "S2", "film_thickness": 5e-9}).film_thickness \
-        == 5e-9
+    assert parse_config({**data, "material": "S2", "film_thickness": 5e-9}).film_thickness == 5e-9
 
 
 def test_another_film_thickness_is_refused_in_one_line(model_file):
@@ -105,7 +107,8 @@ def test_another_film_thickness_is_refused_in_one_line(model_file):
     assert err.value.field == "thiele.film_thickness"
     # within the relative tolerance 1e-9: the same film
     assert derive_thiele(model, 3e-9 * (1 + 1e-12)).film_thickness == pytest.approx(
-        3e-9, rel=1e-11, abs=0)
+        3e-9, rel=1e-11, abs=0
+    )
     assert derive_thiele(model).film_thickness == 3e-9
 
 
@@ -174,11 +177,15 @@ def test_the_time_step_counts_the_stray_field_where_skyrmions_can_be():
     field = with_field.landscape
     everywhere = field._samples[0]
     h = field.grid.spacing
-    steepest = max(float(np.max(np.abs(np.diff(g, axis=a)))) / h
-                   for g in (everywhere.ux, everywhere.uy) for a in (0, 1))
+    steepest = max(
+        float(np.max(np.abs(np.diff(g, axis=a)))) / h
+        for g in (everywhere.ux, everywhere.uy)
+        for a in (0, 1)
+    )
     assert field.max_curvature() < steepest
-    assert with_field.time_step == pytest.approx(0.1 * with_field.relaxation_time(), rel=1e-12,
-                                                 abs=0)
+    assert with_field.time_step == pytest.approx(
+        0.1 * with_field.relaxation_time(), rel=1e-12, abs=0
+    )
 
 
 def test_sweeps_and_devices_can_choose_the_wall_law(model_file):
@@ -187,8 +194,9 @@ def test_sweeps_and_devices_can_choose_the_wall_law(model_file):
     config = ReshufflerConfig(material=str(model_file), forces={"wall_law": "paper"})
     assert config.forces.simulation_arguments()["wall_law"] == "paper"
     with pytest.raises(InputError) as err:
-        from skygas.config_types import to_input_error
         from pydantic import ValidationError
+
+        from skygas.config_types import to_input_error
 
         try:
             ReshufflerConfig(forces={"wall_law": "lin-reichhardt"})

@@ -60,17 +60,20 @@ def _refused(data: dict, tmp_path) -> InputError:
 
 
 # -- invalid inputs -----------------------------------------------------------------------------
-@pytest.mark.parametrize("update, field", [
-    ({"temperature": -1.0}, "temperature"),
-    ({"temperature": "hot"}, "temperature"),         # wrong type
-    ({"seed": -3}, "seed"),
-    ({"seed": 1.5}, "seed"),                         # wrong type
-    ({"duration": -1e-9}, "duration"),
-    ({"duration": "long"}, "duration"),              # wrong type
-    ({"tempreature": 300.0}, "tempreature"),         # unknown extra field
-    ({"integrator": "rk4"}, "integrator"),
-    ({"film_thickness": 0.0}, "film_thickness"),
-])
+@pytest.mark.parametrize(
+    "update, field",
+    [
+        ({"temperature": -1.0}, "temperature"),
+        ({"temperature": "hot"}, "temperature"),  # wrong type
+        ({"seed": -3}, "seed"),
+        ({"seed": 1.5}, "seed"),  # wrong type
+        ({"duration": -1e-9}, "duration"),
+        ({"duration": "long"}, "duration"),  # wrong type
+        ({"tempreature": 300.0}, "tempreature"),  # unknown extra field
+        ({"integrator": "rk4"}, "integrator"),
+        ({"film_thickness": 0.0}, "film_thickness"),
+    ],
+)
 def test_invalid_top_level_values_are_named(update, field, no_stepping):
     with pytest.raises(InputError) as err:
         parse_config({**tiny_config(), **update})
@@ -79,15 +82,21 @@ def test_invalid_top_level_values_are_named(update, field, no_stepping):
     assert ": expected" in str(err.value)
 
 
-@pytest.mark.parametrize("section, update, field", [
-    ("skyrmions", {"positions": "here"}, "skyrmions.positions"),      # wrong type
-    ("skyrmions", {"random_count": -2}, "skyrmions.random_count"),
-    ("skyrmions", {"colour": "red"}, "skyrmions.colour"),             # unknown extra field
-    ("geometry", {"kind": "blob"}, "geometry.kind"),                   # unknown tag
-    # pydantic puts the union tags in the path: geometry.<kind>.shapes.<i>.<kind>.radius
-    ("geometry", {"shapes": [{"kind": "disk", "radius": -1e-7}]},
-     "geometry.shapes.shapes.0.disk.radius"),
-])
+@pytest.mark.parametrize(
+    "section, update, field",
+    [
+        ("skyrmions", {"positions": "here"}, "skyrmions.positions"),  # wrong type
+        ("skyrmions", {"random_count": -2}, "skyrmions.random_count"),
+        ("skyrmions", {"colour": "red"}, "skyrmions.colour"),  # unknown extra field
+        ("geometry", {"kind": "blob"}, "geometry.kind"),  # unknown tag
+        # pydantic puts the union tags in the path: geometry.<kind>.shapes.<i>.<kind>.radius
+        (
+            "geometry",
+            {"shapes": [{"kind": "disk", "radius": -1e-7}]},
+            "geometry.shapes.shapes.0.disk.radius",
+        ),
+    ],
+)
 def test_invalid_nested_values_are_named(section, update, field, no_stepping):
     data = tiny_config()
     data[section] = {**data[section], **update}
@@ -253,22 +262,28 @@ def test_cli_same_seed_is_reproducible(tmp_path):
     config.write_text(TINY_TOML.replace("duration = 5e-9", "duration = 2e-9"))
     for name in ("a", "b"):
         assert main(["simulate", str(config), "--out", str(tmp_path / name), "--quiet"]) == 0
-    with xr.open_dataset(tmp_path / "a" / "trajectories.nc") as a, \
-            xr.open_dataset(tmp_path / "b" / "trajectories.nc") as b:
+    with (
+        xr.open_dataset(tmp_path / "a" / "trajectories.nc") as a,
+        xr.open_dataset(tmp_path / "b" / "trajectories.nc") as b,
+    ):
         np.testing.assert_array_equal(a.x.values, b.x.values)
         np.testing.assert_array_equal(a.y.values, b.y.values)
 
 
-@pytest.mark.parametrize("old, new, field", [
-    ("temperature = 300.0", "temperature = -4.0", "temperature"),
-    ('material = "S2"', 'material = "S9"', "material"),
-    ("duration = 5e-9\n", "", "duration"),
-    ("seed = 7", "seed = 7\nwobble = 1", "wobble"),
-    ("[0.0, 0.0], [70e-9, 0.0]", "[0.0, 0.0], [0.0, 0.0]", "skyrmions[1]"),
-    ("[-40e-9, 60e-9]", "[-400e-9, 60e-9]", "skyrmions[2]"),
-])
-def test_cli_invalid_config_exits_2_naming_the_field(old, new, field, tmp_path, capsys,
-                                                     no_stepping):
+@pytest.mark.parametrize(
+    "old, new, field",
+    [
+        ("temperature = 300.0", "temperature = -4.0", "temperature"),
+        ('material = "S2"', 'material = "S9"', "material"),
+        ("duration = 5e-9\n", "", "duration"),
+        ("seed = 7", "seed = 7\nwobble = 1", "wobble"),
+        ("[0.0, 0.0], [70e-9, 0.0]", "[0.0, 0.0], [0.0, 0.0]", "skyrmions[1]"),
+        ("[-40e-9, 60e-9]", "[-400e-9, 60e-9]", "skyrmions[2]"),
+    ],
+)
+def test_cli_invalid_config_exits_2_naming_the_field(
+    old, new, field, tmp_path, capsys, no_stepping
+):
     assert old in TINY_TOML
     config = tmp_path / "bad.toml"
     config.write_text(TINY_TOML.replace(old, new))

@@ -51,8 +51,9 @@ def test_free_diffusion_msd_is_4Dt(antiferromagnetic):
     # Skyrmions 500 nm apart (pair cutoff ≈ 194 nm) and > 1 µm from walls: they are free
     # as long as the rms displacement stays well below ~300 nm.
     interval = 60e-9 if not antiferromagnetic else 3e-9
-    sim = Simulation(rectangle(16e-6, 16e-6), material, temperature=300.0, seed=11,
-                     grid_spacing=30e-9)
+    sim = Simulation(
+        rectangle(16e-6, 16e-6), material, temperature=300.0, seed=11, grid_spacing=30e-9
+    )
     sim.add_skyrmions(lattice(28, 500.0) * 1e-9)
     dx = displacements(sim, interval, 6)
     sq = np.sum(dx**2, axis=1)
@@ -82,8 +83,9 @@ def drift_solution(thiele, v_s) -> np.ndarray:
     """Velocity from solving (G ε + α𝒟k I)·v = μ (G ε + η𝒟k I)·v_s directly."""
     eps = np.array([[0.0, 1.0], [-1.0, 0.0]])
     lhs = thiele.gyrocoupling * eps + thiele.friction * np.eye(2)
-    rhs = thiele.mu * (thiele.gyrocoupling * eps
-                       + thiele.eta * thiele.dissipation * thiele.k * np.eye(2))
+    rhs = thiele.mu * (
+        thiele.gyrocoupling * eps + thiele.eta * thiele.dissipation * thiele.k * np.eye(2)
+    )
     return np.linalg.solve(lhs, rhs @ np.asarray(v_s))
 
 
@@ -91,8 +93,14 @@ def drift_solution(thiele, v_s) -> np.ndarray:
 def test_uniform_drift_matches_thiele_solution_at_zero_temperature(eta_factor):
     thiele = derive_thiele(S2, eta=eta_factor * S2.damping, mu=0.8)
     v_s = np.array([12.0, -5.0])  # m/s
-    sim = Simulation(rectangle(6e-6, 6e-6), S2, temperature=0.0, thiele=thiele,
-                     drift_velocity=v_s, grid_spacing=30e-9)
+    sim = Simulation(
+        rectangle(6e-6, 6e-6),
+        S2,
+        temperature=0.0,
+        thiele=thiele,
+        drift_velocity=v_s,
+        grid_spacing=30e-9,
+    )
     sim.add_skyrmions([[-1e-6, 0.0]])
     _, start = sim.positions()
     sim.run(100e-9)
@@ -111,8 +119,15 @@ def test_uniform_drift_matches_thiele_solution_at_zero_temperature(eta_factor):
 def test_drift_with_noise_has_the_thiele_mean_velocity():
     thiele = derive_thiele(S2, eta=2 * S2.damping)
     v_s = np.array([20.0, 0.0])
-    sim = Simulation(rectangle(16e-6, 16e-6), S2, temperature=300.0, thiele=thiele,
-                     drift_velocity=v_s, seed=5, grid_spacing=30e-9)
+    sim = Simulation(
+        rectangle(16e-6, 16e-6),
+        S2,
+        temperature=300.0,
+        thiele=thiele,
+        drift_velocity=v_s,
+        seed=5,
+        grid_spacing=30e-9,
+    )
     sim.add_skyrmions(lattice(20, 500.0) * 1e-9)
     duration = 100e-9
     dx = displacements(sim, duration, 1) * 1e-9  # m
@@ -134,13 +149,19 @@ def test_single_skyrmion_in_disk_samples_boltzmann_density():
     n = 300
     g_tilde = 4 * math.pi
     thiele = derive_thiele(S2, dissipation=g_tilde / S2.damping)
-    sim = Simulation(disk(radius_nm * 1e-9), S2, temperature=300.0, thiele=thiele, seed=3,
-                     time_step=1e-10, **NO_PAIRS)
+    sim = Simulation(
+        disk(radius_nm * 1e-9),
+        S2,
+        temperature=300.0,
+        thiele=thiele,
+        seed=3,
+        time_step=1e-10,
+        **NO_PAIRS,
+    )
     rng = np.random.default_rng(0)
     r0 = radius_nm * 0.6 * np.sqrt(rng.uniform(size=n))
     phi = rng.uniform(0, 2 * np.pi, size=n)
-    sim.add_skyrmions(np.column_stack([r0 * np.cos(phi), r0 * np.sin(phi)]) * 1e-9,
-                      validate=False)
+    sim.add_skyrmions(np.column_stack([r0 * np.cos(phi), r0 * np.sin(phi)]) * 1e-9, validate=False)
     d_diff = thiele.diffusion_constant(300.0) * units.M2_PER_S_TO_NM2_PER_NS
     relax_ns = radius_nm**2 / d_diff  # a few relaxation times of the radial coordinate
     sim.run(relax_ns * 1e-9)
@@ -211,8 +232,15 @@ def test_skyrmion_at_wall_moves_along_and_away_clockwise():
 
 # -- convergence ---------------------------------------------------------------------------------
 def final_positions(integrator, dt, temperature=0.0, substeps=1, seed=0):
-    sim = Simulation(disk(400e-9), S2, temperature=temperature, time_step=dt, seed=seed,
-                     integrator=integrator, brownian_substeps=substeps)
+    sim = Simulation(
+        disk(400e-9),
+        S2,
+        temperature=temperature,
+        time_step=dt,
+        seed=seed,
+        integrator=integrator,
+        brownian_substeps=substeps,
+    )
     rng = np.random.default_rng(42)
     from skygas.geometry import random_positions
 
@@ -263,7 +291,7 @@ def test_strong_order_with_additive_noise():
 
 # -- robustness and reproducibility --------------------------------------------------------------
 def dense_chamber_run(seed: int, duration=30e-9):
-    from skygas.geometry import chamber_with_conduits, Outline, random_positions
+    from skygas.geometry import Outline, chamber_with_conduits, random_positions
 
     outline = Outline(chamber_with_conduits().region)  # closed conduits
     sim = Simulation(outline, S2, temperature=300.0, seed=seed)
@@ -291,9 +319,9 @@ def test_dense_run_stays_inside_and_finite_and_is_reproducible():
 def test_noise_does_not_depend_on_other_skyrmions_or_insertions():
     """Two skyrmions far beyond the cutoff: A's path is the same whether or not B is
     inserted midway (and B then occupies a storage slot next to A's)."""
+
     def run(insert_b: bool):
-        sim = Simulation(rectangle(4e-6, 2e-6), S2, temperature=300.0, seed=9,
-                         grid_spacing=20e-9)
+        sim = Simulation(rectangle(4e-6, 2e-6), S2, temperature=300.0, seed=9, grid_spacing=20e-9)
         a_id = sim.add_skyrmions([[-1.2e-6, 0.0]])[0]
         sim.run(10e-9)
         if insert_b:
@@ -325,8 +353,7 @@ def test_checkpoint_resume_is_bit_identical():
 
 def test_exit_through_port_is_recorded_and_removes_the_skyrmion():
     outline = rectangle(2e-6, 200e-9).with_port("right", (1e-6, -100e-9), (1e-6, 100e-9))
-    sim = Simulation(outline, S2, temperature=0.0, drift_velocity=(50.0, 0.0),
-                     grid_spacing=5e-9)
+    sim = Simulation(outline, S2, temperature=0.0, drift_velocity=(50.0, 0.0), grid_spacing=5e-9)
     sim.add_skyrmions([[0.5e-6, 0.0]])
     sim.run(30e-9)
     assert sim.count == 0
@@ -346,14 +373,13 @@ def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypat
         from skygas.geometry import random_positions
 
         d_sk = sim.thiele.skyrmion_diameter_internal
-        pts = random_positions(sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk,
-                               np.random.default_rng(3))
+        pts = random_positions(sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk, np.random.default_rng(3))
         sim.state.insert_nm(pts)
         sim.run(2e-9)
         return sim.positions()
 
     ids_a, pos_a = run(10**9)  # never sorted
-    ids_b, pos_b = run(0)      # sorted before every kernel call
+    ids_b, pos_b = run(0)  # sorted before every kernel call
     assert np.array_equal(ids_a, ids_b)
     np.testing.assert_allclose(pos_a, pos_b, rtol=0, atol=1e-15)  # metres: 1e-6 nm
     assert np.array_equal(pos_b, run(0)[1])  # and sorting is deterministic

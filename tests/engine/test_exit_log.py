@@ -16,8 +16,11 @@ def test_batches_read_back_as_arrays_and_tuples_in_order():
     assert a["skyrmion"].tolist() == [4, 7, 9]
     assert a["time"].tolist() == [1e-9, 2e-9, 3e-9]
     assert log.port_labels().tolist() == ["out", "in", "out"]
-    assert list(log) == [(4, 1e-9, "out", 1e-7, 3e-7), (7, 2e-9, "in", 2e-7, 4e-7),
-                         (9, 3e-9, "out", 5e-7, 6e-7)]
+    assert list(log) == [
+        (4, 1e-9, "out", 1e-7, 3e-7),
+        (7, 2e-9, "in", 2e-7, 4e-7),
+        (9, 3e-9, "out", 5e-7, 6e-7),
+    ]
     assert log[1] == (7, 2e-9, "in", 2e-7, 4e-7)
     with pytest.raises(ValueError):
         a["time"][0] = 0.0  # the merged columns are read-only
@@ -34,6 +37,12 @@ def test_a_batch_is_copied_so_reused_buffers_do_not_change_the_log():
 def test_rebuilt_from_saved_columns():
     log = ExitLog(["a", "b"])
     log.append([3, 5], [1.0, 2.0], [1, 0], [0.1, 0.2], [0.3, 0.4])
-    back = ExitLog.from_arrays(["a", "b"], log.arrays()["skyrmion"], log.arrays()["time"],
-                               log.port_labels(), log.arrays()["x"], log.arrays()["y"])
+    back = ExitLog.from_arrays(
+        ["a", "b"],
+        log.arrays()["skyrmion"],
+        log.arrays()["time"],
+        log.port_labels(),
+        log.arrays()["x"],
+        log.arrays()["y"],
+    )
     assert list(back) == list(log)

@@ -25,8 +25,12 @@ def bilinear(f, fx, fy):
     i, j = fx.astype(int), fy.astype(int)
     tx, ty = (fx - i)[:, None], (fy - j)[:, None]
     f = f.astype(float)
-    return ((1 - tx) * (1 - ty) * f[j, i] + tx * (1 - ty) * f[j, i + 1]
-            + (1 - tx) * ty * f[j + 1, i] + tx * ty * f[j + 1, i + 1])
+    return (
+        (1 - tx) * (1 - ty) * f[j, i]
+        + tx * (1 - ty) * f[j, i + 1]
+        + (1 - tx) * ty * f[j + 1, i]
+        + tx * ty * f[j + 1, i + 1]
+    )
 
 
 def test_all_channels_match_the_bilinear_formula_inside_and_clamped_outside():

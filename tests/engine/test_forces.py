@@ -45,7 +45,8 @@ def test_pair_law_equals_its_closed_form(coeffs):
     np.testing.assert_allclose(got, expected, rtol=1e-13)
     # scalar input, and the callable built by pair_law("paper", …)
     assert float(paper_pair_force(1.3, *coeffs)) == pytest.approx(
-        pair_closed_form(1.3, *coeffs), rel=1e-13)
+        pair_closed_form(1.3, *coeffs), rel=1e-13
+    )
     np.testing.assert_allclose(pair_law("paper", coeffs)(d), expected, rtol=1e-13)
 
 
@@ -59,8 +60,9 @@ def test_s2_pair_law_is_repulsive_and_decays_beyond_one_diameter():
 
 def test_wall_law_equals_its_closed_form_highest_power_first():
     d = np.array([0.0, 0.25, 1.0, 2.0, 3.5, 5.0, 6.5])
-    np.testing.assert_allclose(paper_wall_force(d, WALL_B),
-                               [wall_closed_form(x, WALL_B) for x in d], rtol=1e-12)
+    np.testing.assert_allclose(
+        paper_wall_force(d, WALL_B), [wall_closed_form(x, WALL_B) for x in d], rtol=1e-12
+    )
     np.testing.assert_allclose(wall_law(WALL_B)(d), paper_wall_force(d, WALL_B), rtol=0)
     # at the wall p(0) = b[-1]: |F|/F0 = exp(2.1786)
     assert float(paper_wall_force(0.0, WALL_B)) == pytest.approx(math.exp(2.1786), rel=1e-12)
@@ -84,9 +86,11 @@ def test_wall_law_decreases_and_the_reversed_reading_grows():
 @pytest.mark.parametrize("law_name", ["pair", "wall", "lin-reichhardt"])
 @pytest.mark.parametrize("fraction", [1e-2, DEFAULT_CUTOFF_FRACTION, 1e-5])
 def test_cutoff_distance_brackets_the_fraction(law_name, fraction):
-    law = {"pair": pair_law("paper", S2_PAIR), "wall": wall_law(WALL_B),
-           "lin-reichhardt": pair_law("lin-reichhardt", None, amplitude=2.0,
-                                      decay_length=0.4)}[law_name]
+    law = {
+        "pair": pair_law("paper", S2_PAIR),
+        "wall": wall_law(WALL_B),
+        "lin-reichhardt": pair_law("lin-reichhardt", None, amplitude=2.0, decay_length=0.4),
+    }[law_name]
     cutoff = cutoff_distance(law, fraction)
     small = 1e-3
     assert cutoff > 0
@@ -137,8 +141,9 @@ def test_force_table_is_accurate_beyond_a_quarter_diameter(law_name, squared):
     law = _law(law_name)
     # the engine tabulates the pair law with 8192 nodes in r², the wall law with 4096 in r
     n_points = 8192 if squared else 4096
-    table = ForceTable.from_law(law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION,
-                                n_points=n_points, squared=squared)
+    table = ForceTable.from_law(
+        law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION, n_points=n_points, squared=squared
+    )
     assert table.squared is squared
     assert table.cutoff == pytest.approx(cutoff_distance(law) * D_SK_NM, rel=1e-12)
     r_min = 0.25 * D_SK_NM
@@ -156,8 +161,9 @@ def test_force_table_is_accurate_from_half_a_diameter(law_name, squared):
     law = _law(law_name)
     # the engine tabulates the pair law with 8192 nodes in r², the wall law with 4096 in r
     n_points = 8192 if squared else 4096
-    table = ForceTable.from_law(law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION,
-                                n_points=n_points, squared=squared)
+    table = ForceTable.from_law(
+        law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION, n_points=n_points, squared=squared
+    )
     r = np.linspace(0.5 * D_SK_NM, table.cutoff * (1 - 1e-9), 50_001)
     exact = F0_PN * law(r / D_SK_NM)
     assert np.max(np.abs(table(r) - exact) / exact) < 1e-4
@@ -169,10 +175,10 @@ def test_force_table_is_zero_beyond_the_cutoff(law_name, squared):
     law = _law(law_name)
     # the engine tabulates the pair law with 8192 nodes in r², the wall law with 4096 in r
     n_points = 8192 if squared else 4096
-    table = ForceTable.from_law(law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION,
-                                n_points=n_points, squared=squared)
-    r = np.concatenate([[table.cutoff], table.cutoff + np.linspace(1e-6, 5 * D_SK_NM, 1001),
-                        [1e6]])
+    table = ForceTable.from_law(
+        law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION, n_points=n_points, squared=squared
+    )
+    r = np.concatenate([[table.cutoff], table.cutoff + np.linspace(1e-6, 5 * D_SK_NM, 1001), [1e6]])
     assert np.all(table(r) == 0.0)
     # just inside, the force is the law's (about the cutoff fraction of F0, not zero)
     inside = table.cutoff * (1 - 1e-6)
@@ -182,8 +188,9 @@ def test_force_table_is_zero_beyond_the_cutoff(law_name, squared):
 
 def test_squared_table_layout_stores_force_over_r_on_r_squared_nodes():
     law = _law("pair")
-    table = ForceTable.from_law(law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION, squared=True,
-                                n_points=1001)
+    table = ForceTable.from_law(
+        law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION, squared=True, n_points=1001
+    )
     assert table.spacing == pytest.approx(table.cutoff**2 / 1000, rel=1e-12)
     i = np.array([10, 200, 777])
     r = np.sqrt(i * table.spacing)
@@ -197,8 +204,9 @@ def test_linear_table_layout_stores_force_on_r_nodes():
     table = ForceTable.from_law(law, F0_PN, D_SK_NM, DEFAULT_CUTOFF_FRACTION, n_points=1001)
     assert table.spacing == pytest.approx(table.cutoff / 1000, rel=1e-12)
     i = np.array([0, 10, 500, 999])
-    np.testing.assert_allclose(table.values[i], F0_PN * law(i * table.spacing / D_SK_NM),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        table.values[i], F0_PN * law(i * table.spacing / D_SK_NM), rtol=1e-12
+    )
 
 
 # -- potential ----------------------------------------------------------------------------------
@@ -225,14 +233,16 @@ def test_wall_potential_is_the_integral_of_the_force():
 def test_lin_reichhardt_law_is_amplitude_times_k1(amplitude, decay):
     d = np.array([0.1, 0.5, 1.0, 2.0, 3.0])
     expected = amplitude * special.k1(d / decay)
-    np.testing.assert_allclose(lin_reichhardt_pair_force(d, amplitude, decay), expected,
-                               rtol=1e-13)
+    np.testing.assert_allclose(lin_reichhardt_pair_force(d, amplitude, decay), expected, rtol=1e-13)
     np.testing.assert_allclose(
         pair_law("lin-reichhardt", S2_PAIR, amplitude=amplitude, decay_length=decay)(d),
-        expected, rtol=1e-13)
+        expected,
+        rtol=1e-13,
+    )
     # K1(x) ~ 1/x near contact; the law is held at d = 0.05 λ below that
     assert float(lin_reichhardt_pair_force(0.0, amplitude, decay)) == pytest.approx(
-        amplitude * special.k1(0.05), rel=1e-13)
+        amplitude * special.k1(0.05), rel=1e-13
+    )
 
 
 def test_lin_reichhardt_defaults_and_unknown_law():

@@ -7,8 +7,8 @@ the analytic ones of the ideal shapes (circle, rectangle).
 import math
 
 import numpy as np
-import shapely
 import pytest
+import shapely
 
 from skygas.errors import InputError
 from skygas.geometry import (
@@ -27,10 +27,13 @@ SPACING_NM = D_SK_NM / 16  # the engine's default grid spacing
 
 
 # -- the paper's chamber ------------------------------------------------------------------------
-@pytest.mark.parametrize("diameter, width, length, center", [
-    (1024e-9, 100e-9, 50e-9, (0.0, 0.0)),
-    (400e-9, 60e-9, 120e-9, (1e-6, -2e-7)),
-])
+@pytest.mark.parametrize(
+    "diameter, width, length, center",
+    [
+        (1024e-9, 100e-9, 50e-9, (0.0, 0.0)),
+        (400e-9, 60e-9, 120e-9, (1e-6, -2e-7)),
+    ],
+)
 def test_chamber_ports_sit_at_the_conduit_ends(diameter, width, length, center):
     outline = chamber_with_conduits(diameter, width, length, center)
     r, half_w, l_nm = diameter / 2 * 1e9, width / 2 * 1e9, length * 1e9
@@ -46,8 +49,7 @@ def test_chamber_ports_sit_at_the_conduit_ends(diameter, width, length, center):
     assert x0 == pytest.approx(cx - x_end, abs=1e-9) and x1 == pytest.approx(cx + x_end, abs=1e-9)
     assert y1 - y0 == pytest.approx(2 * r, abs=1e-6)
     # the ports are open: no wall at a conduit's end
-    assert float(outline.wall_distance_nm(cx + x_end - 1e-3, cy)) == pytest.approx(
-        half_w, abs=1e-6)
+    assert float(outline.wall_distance_nm(cx + x_end - 1e-3, cy)) == pytest.approx(half_w, abs=1e-6)
 
 
 def test_chamber_area_is_disk_plus_conduits():
@@ -86,29 +88,35 @@ def test_rounded_junctions_are_arcs_tangent_to_both_walls():
         assert rounded.ports[name].equals(sharp.ports[name])
 
 
-@pytest.mark.parametrize("kwargs, field", [
-    ({"conduit_width": 1024e-9}, "conduit_width"),
-    ({"conduit_width": 2e-6}, "conduit_width"),
-    ({"chamber_diameter": 0.0}, "chamber_diameter"),
-    ({"chamber_diameter": -1e-6}, "chamber_diameter"),
-    ({"conduit_width": 0.0}, "conduit_width"),
-    ({"conduit_length": -50e-9}, "conduit_length"),
-    ({"conduit_length": float("nan")}, "conduit_length"),
-])
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        ({"conduit_width": 1024e-9}, "conduit_width"),
+        ({"conduit_width": 2e-6}, "conduit_width"),
+        ({"chamber_diameter": 0.0}, "chamber_diameter"),
+        ({"chamber_diameter": -1e-6}, "chamber_diameter"),
+        ({"conduit_width": 0.0}, "conduit_width"),
+        ({"conduit_length": -50e-9}, "conduit_length"),
+        ({"conduit_length": float("nan")}, "conduit_length"),
+    ],
+)
 def test_bad_chamber_sizes_are_refused(kwargs, field):
     with pytest.raises(InputError) as err:
         chamber_with_conduits(**kwargs)
     assert err.value.field == field and field in str(err.value)
 
 
-@pytest.mark.parametrize("make, field", [
-    (lambda: disk(0.0), "radius"),
-    (lambda: disk(-1e-7), "radius"),
-    (lambda: rectangle(-1e-7, 1e-7), "width"),
-    (lambda: rectangle(1e-7, 0.0), "height"),
-    (lambda: polygon([(0, 0), (1e-7, 0)]), "vertices"),
-    (lambda: polygon([(0, 0), (1e-7, 1e-7), (1e-7, 0), (0, 1e-7)]), "geometry"),  # bow tie
-])
+@pytest.mark.parametrize(
+    "make, field",
+    [
+        (lambda: disk(0.0), "radius"),
+        (lambda: disk(-1e-7), "radius"),
+        (lambda: rectangle(-1e-7, 1e-7), "width"),
+        (lambda: rectangle(1e-7, 0.0), "height"),
+        (lambda: polygon([(0, 0), (1e-7, 0)]), "vertices"),
+        (lambda: polygon([(0, 0), (1e-7, 1e-7), (1e-7, 0), (0, 1e-7)]), "geometry"),  # bow tie
+    ],
+)
 def test_bad_shapes_are_refused(make, field):
     with pytest.raises(InputError) as err:
         make()
@@ -208,8 +216,13 @@ def test_interpolation_error_report(disk_field):
     outline, field, radius, band = disk_field
     report = field.interpolation_error(outline, n_samples=2000)
     assert report["samples"] == 2000
-    assert 0 <= report["distance_error_median_nm"] <= report["distance_error_p99_nm"] \
-        <= report["distance_error_max_nm"] < 0.03
+    assert (
+        0
+        <= report["distance_error_median_nm"]
+        <= report["distance_error_p99_nm"]
+        <= report["distance_error_max_nm"]
+        < 0.03
+    )
     assert 0 <= report["normal_error_median_rad"] <= report["normal_error_max_rad"] < 0.05
 
 
@@ -217,7 +230,7 @@ def test_disk_field_sign_outside_and_far_nodes():
     radius, band = 150.0, 40.0
     field = WallField.build(disk(radius * 1e-9), SPACING_NM, band)
     d, nx, ny = field.interpolate(np.array([radius + 5.0]), np.array([0.0]))
-    assert d[0] == pytest.approx(-5.0, abs=0.1)   # beyond a wall: negative distance
+    assert d[0] == pytest.approx(-5.0, abs=0.1)  # beyond a wall: negative distance
     assert nx[0] == pytest.approx(-1.0, abs=1e-3)  # normal still points back inside
     # the centre is far beyond the band: an approximate distance, no normal
     d, nx, ny = field.interpolate(np.array([0.0]), np.array([0.0]))
@@ -229,7 +242,8 @@ def test_rectangle_port_is_not_a_wall():
     width, height, band = 400.0, 200.0, 60.0
     # the whole right edge is an open port
     outline = rectangle(width * 1e-9, height * 1e-9).with_port(
-        "exit", (200e-9, -100e-9), (200e-9, 100e-9))
+        "exit", (200e-9, -100e-9), (200e-9, 100e-9)
+    )
     field = WallField.build(outline, SPACING_NM, band)
     rng = np.random.default_rng(3)
     x = rng.uniform(-width / 2 + 0.5, width / 2 - 0.5, 20_000)
@@ -249,8 +263,7 @@ def test_rectangle_port_is_not_a_wall():
     # in test_normal_next_to_a_wall_on_grid_nodes_points_inward)
     normals = np.array([[1.0, 0.0], [0.0, -1.0], [0.0, 1.0]])[dists.argmin(axis=0)[clean]]
     away = exact[clean] > SPACING_NM
-    np.testing.assert_allclose(np.column_stack([nx, ny])[away], normals[away], rtol=0,
-                               atol=1e-6)
+    np.testing.assert_allclose(np.column_stack([nx, ny])[away], normals[away], rtol=0, atol=1e-6)
     # next to the port the distance is to the top/bottom walls, not to the opening
     px = np.array([width / 2 - 1.0, width / 2 - 3.0, width / 2 - 1.0])
     py = np.array([10.0, 30.0, -80.0])  # off the medial axis y = 0
@@ -300,10 +313,13 @@ def test_grid_bilinear_is_exact_for_linear_fields():
 
 
 # -- random placement ---------------------------------------------------------------------------
-@pytest.mark.parametrize("outline", [
-    disk(300e-9),
-    chamber_with_conduits(600e-9, 100e-9, 50e-9),
-])
+@pytest.mark.parametrize(
+    "outline",
+    [
+        disk(300e-9),
+        chamber_with_conduits(600e-9, 100e-9, 50e-9),
+    ],
+)
 def test_random_positions_respect_separation_and_walls(outline):
     sep, wall = 1.5 * D_SK_NM, 1.0 * D_SK_NM
     pts = random_positions(outline, 25, sep, wall, np.random.default_rng(11))

@@ -115,24 +115,40 @@ def test_positive_charge_reverses_the_gyrocoupling():
 
 
 def test_overrides_replace_the_defaults():
-    th = derive_thiele(preset("S2"), 2e-9, dissipation=7.5, force_scale=2e-12,
-                       skyrmion_diameter=50e-9, eta=0.3, mu=0.5)
+    th = derive_thiele(
+        preset("S2"),
+        2e-9,
+        dissipation=7.5,
+        force_scale=2e-12,
+        skyrmion_diameter=50e-9,
+        eta=0.3,
+        mu=0.5,
+    )
     assert (th.dissipation, th.force_scale, th.skyrmion_diameter, th.eta, th.mu) == (
-        7.5, 2e-12, 50e-9, 0.3, 0.5)
+        7.5,
+        2e-12,
+        50e-9,
+        0.3,
+        0.5,
+    )
     # a wall width given on the material replaces √(A/K) in the thin-wall estimate
     mat = preset("S2").model_copy(update={"wall_width": 5e-9})
     r = 19.1e-9
     assert derive_thiele(mat).dissipation == pytest.approx(
-        2 * math.pi * (r / 5e-9 + 5e-9 / r), rel=1e-12)
+        2 * math.pi * (r / 5e-9 + 5e-9 / r), rel=1e-12
+    )
 
 
-@pytest.mark.parametrize("kwargs, field", [
-    ({"film_thickness": 0.0}, "film_thickness"),
-    ({"film_thickness": -2e-9}, "film_thickness"),
-    ({"dissipation": -1.0}, "dissipation"),
-    ({"force_scale": 0.0}, "force_scale"),
-    ({"skyrmion_diameter": -1e-9}, "skyrmion_diameter"),
-])
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        ({"film_thickness": 0.0}, "film_thickness"),
+        ({"film_thickness": -2e-9}, "film_thickness"),
+        ({"dissipation": -1.0}, "dissipation"),
+        ({"force_scale": 0.0}, "force_scale"),
+        ({"skyrmion_diameter": -1e-9}, "skyrmion_diameter"),
+    ],
+)
 def test_invalid_derivation_arguments_are_refused(kwargs, field):
     with pytest.raises(InputError) as err:
         derive_thiele(preset("S2"), **kwargs)
@@ -169,7 +185,8 @@ def test_antiferromagnetic_variant_has_no_gyrocoupling_and_faster_diffusion():
     ad = 0.1 * thin_wall_d(PAPER_TABLE["S2"])
     ratio = ((4 * math.pi) ** 2 + ad**2) / ad**2
     assert th_afm.diffusion_constant(300.0) / th_fm.diffusion_constant(300.0) == pytest.approx(
-        ratio, rel=1e-12)
+        ratio, rel=1e-12
+    )
     # without gyrocoupling there is no Hall angle, whatever η
     afm_eta = derive_thiele(afm, 2e-9, eta=0.5)
     assert afm_eta.hall_angle() == 0.0
@@ -253,8 +270,11 @@ def test_user_toml_material_round_trip(tmp_path, table):
 
 
 def test_base_preset_with_overrides(tmp_path):
-    path = _write_toml(tmp_path / "thin.toml",
-                       {"base": "S2", "name": "S2-thick", "skyrmion_radius": 30e-9}, "material")
+    path = _write_toml(
+        tmp_path / "thin.toml",
+        {"base": "S2", "name": "S2-thick", "skyrmion_radius": 30e-9},
+        "material",
+    )
     mat = load_material(path)
     s2 = preset("S2")
     assert mat.name == "S2-thick"
@@ -262,7 +282,8 @@ def test_base_preset_with_overrides(tmp_path):
     assert mat.saturation_magnetization == s2.saturation_magnetization
     assert mat.pair_law == s2.pair_law and mat.wall_law == s2.wall_law
     assert load_material({"base": "S3", "damping": 0.05}) == preset("S3").model_copy(
-        update={"damping": 0.05})
+        update={"damping": 0.05}
+    )
 
 
 def test_unknown_preset_is_refused():
@@ -308,15 +329,18 @@ def test_wall_law_with_negative_leading_coefficient_is_refused():
         Material(**{**USER_MATERIAL, "wall_law": [-0.5, 1.0]})
 
 
-@pytest.mark.parametrize("key, value", [
-    ("exchange_stiffness", 0.0),
-    ("anisotropy", -1.0),
-    ("skyrmion_radius", 0.0),
-    ("damping", -0.1),
-    ("topological_charge", 2),
-    ("pair_law", [1.0, 2.0]),
-    ("colour", "blue"),
-])
+@pytest.mark.parametrize(
+    "key, value",
+    [
+        ("exchange_stiffness", 0.0),
+        ("anisotropy", -1.0),
+        ("skyrmion_radius", 0.0),
+        ("damping", -0.1),
+        ("topological_charge", 2),
+        ("pair_law", [1.0, 2.0]),
+        ("colour", "blue"),
+    ],
+)
 def test_other_invalid_material_fields_are_named(key, value):
     with pytest.raises(InputError) as err:
         load_material({**USER_MATERIAL, key: value})

@@ -32,14 +32,14 @@ def _gas(exact_list: bool) -> Simulation:
     rounding differences between the two runs. ``exact_list`` shrinks every margin to zero:
     the list is then rebuilt before every force evaluation and holds exactly the pairs inside
     the cutoff."""
-    sim = Simulation(disk(400e-9), "S2", temperature=300.0, seed=5,
-                     drift_velocity=(8.0, 0.0), capacity=64)
+    sim = Simulation(
+        disk(400e-9), "S2", temperature=300.0, seed=5, drift_velocity=(8.0, 0.0), capacity=64
+    )
     rng = np.random.default_rng(3)
     d_sk = sim.thiele.skyrmion_diameter_internal
     sim.state.insert_nm(random_positions(sim.outline, 40, 1.3 * d_sk, 0.7 * d_sk, rng))
     if exact_list:
-        sim.neighbor_cells = sim.neighbor_cells._replace(skin=0.0, margin_steps=0.0,
-                                                         margin_max=0.0)
+        sim.neighbor_cells = sim.neighbor_cells._replace(skin=0.0, margin_steps=0.0, margin_max=0.0)
     return sim
 
 
@@ -98,17 +98,19 @@ def test_pair_forces_equal_a_direct_sum_over_all_pairs(n):
     radius = 512e-9 * np.sqrt(n / 45)  # half-full chamber density, as in the benchmark
     sim = Simulation(disk(radius), "S2", temperature=300.0, seed=1, capacity=n)
     d_sk = sim.thiele.skyrmion_diameter_internal
-    sim.state.insert_nm(random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk,
-                                         np.random.default_rng(n)))
+    sim.state.insert_nm(
+        random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(n))
+    )
     fx, fy, evaluated = repeated_pair_pass(sim, 1)
     table = sim.forces.pair
     x, y = _store(sim).x, _store(sim).y
     dx = x[:, None] - x[None, :]
     dy = y[:, None] - y[None, :]
     r2 = dx * dx + dy * dy
-    inside = (r2 < table.cutoff ** 2) & ~np.eye(n, dtype=bool)
-    f = np.where(inside, np.interp(r2 / table.spacing, np.arange(len(table.values)),
-                                   table.values), 0.0)  # |F|/r
+    inside = (r2 < table.cutoff**2) & ~np.eye(n, dtype=bool)
+    f = np.where(
+        inside, np.interp(r2 / table.spacing, np.arange(len(table.values)), table.values), 0.0
+    )  # |F|/r
     assert evaluated == inside.sum() // 2
     scale = np.abs(f * np.hypot(dx, dy)).max()
     assert np.abs(fx - (f * dx).sum(axis=1)).max() < 1e-12 * n * scale
@@ -122,26 +124,33 @@ def test_list_build_holds_exactly_the_pairs_within_their_margins():
     the pair (i, j) is listed once, under the owner met first, iff |x_i − x_j| <
     cutoff + s_i + s_j. A list array that is too small is reported (−1), not overrun."""
     n = 400
-    sim = Simulation(disk(512e-9 * np.sqrt(n / 45)), "S2", temperature=300.0, seed=1,
-                     capacity=n)
+    sim = Simulation(disk(512e-9 * np.sqrt(n / 45)), "S2", temperature=300.0, seed=1, capacity=n)
     d_sk = sim.thiele.skyrmion_diameter_internal
-    sim.state.insert_nm(random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk,
-                                         np.random.default_rng(4)))
+    sim.state.insert_nm(
+        random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(4))
+    )
     cells, cutoff = sim.neighbor_cells, sim.force_terms.pair.cutoff
     margin = np.random.default_rng(5).uniform(0.0, cells.margin_max, n)
-    work = (np.empty(cells.ncx * cells.ncy, np.int64), np.empty(n, np.int64),
-            np.empty(n, np.int64), np.empty(n + 1, np.int64))
+    work = (
+        np.empty(cells.ncx * cells.ncy, np.int64),
+        np.empty(n, np.int64),
+        np.empty(n, np.int64),
+        np.empty(n + 1, np.int64),
+    )
     store = _store(sim)
     args = (store.x, store.y, store.alive, margin, cells, cutoff, *work)
     assert build_neighbor_list(*args, np.full(100, -7, np.int64)) == -1
     pair_j = np.empty(64 * n, np.int64)
     n_owners = build_neighbor_list(*args, pair_j)
     owner, start = work[2], work[3]
-    listed = [tuple(sorted((owner[e], j))) for e in range(n_owners)
-              for j in pair_j[start[e]:start[e + 1]]]
+    listed = [
+        tuple(sorted((owner[e], j)))
+        for e in range(n_owners)
+        for j in pair_j[start[e] : start[e + 1]]
+    ]
     reach = cutoff + margin[:, None] + margin[None, :]
     r = np.hypot(store.x[:, None] - store.x[None, :], store.y[:, None] - store.y[None, :])
-    expected = {(i, j) for i, j in zip(*np.nonzero(np.triu(r < reach, k=1)))}
+    expected = {(i, j) for i, j in zip(*np.nonzero(np.triu(r < reach, k=1)), strict=True)}
     assert len(listed) == len(set(listed)) == len(expected) > 2 * n
     assert set(listed) == expected
 
@@ -156,10 +165,15 @@ def test_simd_logarithm_is_within_one_ulp_of_libm():
 
     rng = np.random.default_rng(0)
     # the polar method's arguments: (0, 1), down to 2⁻⁶² (its smallest), and near 1 and √½
-    w = np.concatenate([rng.random(200_000), 2.0 ** rng.uniform(-62, 0, 200_000),
-                        1 - rng.random(10_000) * 1e-6,
-                        np.sqrt(0.5) * (1 + rng.normal(0, 1e-9, 1000)),
-                        [2.0**-62, 0.5, 1 - 2**-53]])
+    w = np.concatenate(
+        [
+            rng.random(200_000),
+            2.0 ** rng.uniform(-62, 0, 200_000),
+            1 - rng.random(10_000) * 1e-6,
+            np.sqrt(0.5) * (1 + rng.normal(0, 1e-9, 1000)),
+            [2.0**-62, 0.5, 1 - 2**-53],
+        ]
+    )
     ref = np.log(w)
     ulps = np.abs(logs(w) - ref) / np.spacing(np.abs(ref))
     assert ulps.max() <= 1.0

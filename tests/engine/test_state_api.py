@@ -19,8 +19,9 @@ def _sim(seed=2) -> Simulation:
 def test_view_reads_positions_in_metres_ordered_by_id_and_cannot_write():
     sim = _sim()
     np.testing.assert_array_equal(sim.state.ids, [0, 1, 2])
-    np.testing.assert_allclose(sim.state.positions, [[-150e-9, 0.0], [0.0, 120e-9],
-                                                     [150e-9, -40e-9]], rtol=1e-15)
+    np.testing.assert_allclose(
+        sim.state.positions, [[-150e-9, 0.0], [0.0, 120e-9], [150e-9, -40e-9]], rtol=1e-15
+    )
     arrays = sim.state.arrays_nm()
     assert arrays.alive.sum() == 3 and arrays.x[arrays.alive].max() == pytest.approx(150.0)
     for array in arrays:
@@ -59,10 +60,10 @@ def test_resume_from_a_checkpoint_is_bit_identical_and_keeps_every_counter():
     outline = chamber_with_conduits(chamber_diameter=400e-9)
 
     def build():
-        sim = Simulation(outline, "S2", temperature=300.0, seed=8,
-                         drift_velocity=(15.0, 0.0))
-        sim.add_skyrmions([[-100e-9, 0.0], [0.0, 80e-9], [50e-9, -60e-9], [120e-9, 40e-9],
-                           [-60e-9, -90e-9]])
+        sim = Simulation(outline, "S2", temperature=300.0, seed=8, drift_velocity=(15.0, 0.0))
+        sim.add_skyrmions(
+            [[-100e-9, 0.0], [0.0, 80e-9], [50e-9, -60e-9], [120e-9, 40e-9], [-60e-9, -90e-9]]
+        )
         return sim
 
     def half_run(sim):
@@ -81,7 +82,7 @@ def test_resume_from_a_checkpoint_is_bit_identical_and_keeps_every_counter():
     assert len(alone.exits) > 0 and len(alone.annihilations) == 2 and alone.count > 0
     for name in ("step", "wall_escapes", "pair_evaluations", "neighbor_rebuilds", "ids_issued"):
         assert getattr(resumed, name) == getattr(alone, name), name
-    for a, b in zip(alone.positions(), resumed.positions()):
+    for a, b in zip(alone.positions(), resumed.positions(), strict=True):
         np.testing.assert_array_equal(a, b)
     ta, tb = alone.trajectories(), resumed.trajectories()
     for var in ("x", "y", "time", "exit_time", "exit_skyrmion"):

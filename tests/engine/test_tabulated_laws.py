@@ -5,6 +5,7 @@ run uses."""
 import numpy as np
 import pytest
 from scipy.interpolate import PchipInterpolator
+from tests.engine.calibrated_model import calibrated_data, calibrated_material
 
 from skygas.engine import ForceModel, Simulation
 from skygas.engine.force_model import resolve_law_names
@@ -18,10 +19,9 @@ from skygas.forces import (
 )
 from skygas.geometry import disk
 from skygas.materials import Material, derive_thiele, preset
-from tests.engine.calibrated_model import calibrated_data, calibrated_material
 
-D_SK = 38.2e-9       # [m]
-F0 = 1.44e-12        # [N]
+D_SK = 38.2e-9  # [m]
+F0 = 1.44e-12  # [N]
 # an irregular table: a rise, a plateau, a fall (PCHIP keeps each interval monotone)
 DIST = np.array([10.0, 14.0, 20.0, 31.0, 45.0, 70.0, 90.0]) * 1e-9
 FORCE = np.array([2.0, 3.5, 3.5, 1.2, 0.4, 0.05, 0.01]) * 1e-12
@@ -47,7 +47,8 @@ def test_table_law_is_constant_below_and_zero_beyond():
     assert np.all(law(beyond) == 0.0)
     # scalar input, and the one-call form
     assert float(tabulated_force(DIST[3] / D_SK, DIST, FORCE, D_SK, F0)) == pytest.approx(
-        FORCE[3] / F0, rel=1e-12, abs=0)
+        FORCE[3] / F0, rel=1e-12, abs=0
+    )
 
 
 def test_table_law_is_physical_whatever_d_sk_and_f0():
@@ -58,17 +59,23 @@ def test_table_law_is_physical_whatever_d_sk_and_f0():
     np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-30)
 
 
-@pytest.mark.parametrize("field, value", [
-    ("distance", [1e-9, 2e-9, 3e-9]),                    # fewer than 4 points
-    ("distance", [1e-9, 3e-9, 2e-9, 4e-9]),              # not increasing
-    ("distance", [-1e-9, 1e-9, 2e-9, 3e-9]),             # negative
-    ("force", [1e-12, -1e-12, 1e-12, 0.0]),              # negative force
-    ("force", [1e-12, 1e-12, 1e-12]),                    # one per distance
-    ("force", [1e-12, float("nan"), 1e-12, 0.0]),        # not finite
-])
+@pytest.mark.parametrize(
+    "field, value",
+    [
+        ("distance", [1e-9, 2e-9, 3e-9]),  # fewer than 4 points
+        ("distance", [1e-9, 3e-9, 2e-9, 4e-9]),  # not increasing
+        ("distance", [-1e-9, 1e-9, 2e-9, 3e-9]),  # negative
+        ("force", [1e-12, -1e-12, 1e-12, 0.0]),  # negative force
+        ("force", [1e-12, 1e-12, 1e-12]),  # one per distance
+        ("force", [1e-12, float("nan"), 1e-12, 0.0]),  # not finite
+    ],
+)
 def test_bad_tables_are_refused_with_the_field_named(field, value):
-    table = {"distance": [1e-9, 2e-9, 3e-9, 4e-9], "force": [3e-12, 2e-12, 1e-12, 0.0],
-             field: value}
+    table = {
+        "distance": [1e-9, 2e-9, 3e-9, 4e-9],
+        "force": [3e-12, 2e-12, 1e-12, 0.0],
+        field: value,
+    }
     with pytest.raises(InputError) as err:
         from skygas.materials import material_from_mapping
 
@@ -95,10 +102,18 @@ def test_force_model_of_tables_that_sample_the_paper_laws_matches_the_paper_laws
         assert np.max(np.abs(a(r) - b(r))) < 1e-3 * f0
     # and the exact laws (not only the engine's tables) agree as closely
     r = np.linspace(0.5, 5.0, 500)
-    pair = tabulated_law(model.pair_table.distance, model.pair_table.force,
-                         thiele.skyrmion_diameter, thiele.force_scale)
-    wall = tabulated_law(model.wall_table.distance, model.wall_table.force,
-                         thiele.skyrmion_diameter, thiele.force_scale)
+    pair = tabulated_law(
+        model.pair_table.distance,
+        model.pair_table.force,
+        thiele.skyrmion_diameter,
+        thiele.force_scale,
+    )
+    wall = tabulated_law(
+        model.wall_table.distance,
+        model.wall_table.force,
+        thiele.skyrmion_diameter,
+        thiele.force_scale,
+    )
     assert np.max(np.abs(pair(r) - paper_pair_force(r, *s2.pair_law))) < 1e-3
     assert np.max(np.abs(wall(r) - paper_wall_force(r, s2.wall_law))) < 1e-3
 
@@ -123,8 +138,10 @@ def test_the_memo_key_holds_the_table_d_sk_and_f0():
     data = calibrated_data()
     thiele = derive_thiele(Material(**data))
     first = ForceModel.build(Material(**data), thiele)
-    data["wall_table"] = {**data["wall_table"],
-                          "force": [2 * f for f in data["wall_table"]["force"]]}
+    data["wall_table"] = {
+        **data["wall_table"],
+        "force": [2 * f for f in data["wall_table"]["force"]],
+    }
     doubled = ForceModel.build(Material(**data), thiele)
     # twice the force (the tables' nodes differ: the doubled law reaches 1e-3 F0 later)
     r = np.linspace(0.0, 200.0, 101)
@@ -132,8 +149,10 @@ def test_the_memo_key_holds_the_table_d_sk_and_f0():
     np.testing.assert_allclose(doubled.wall(r), 2 * first.wall(r), rtol=1e-4, atol=1e-6)
     from dataclasses import replace
 
-    other = ForceModel.build(Material(**data), replace(thiele, force_scale=2 * thiele.force_scale,
-                                                       skyrmion_diameter=1.1e-7))
+    other = ForceModel.build(
+        Material(**data),
+        replace(thiele, force_scale=2 * thiele.force_scale, skyrmion_diameter=1.1e-7),
+    )
     # the same physical table whatever F0 and d_sk: |F| at a distance is unchanged
     r = np.linspace(20.0, 150.0, 50)
     np.testing.assert_allclose(other.wall(r), doubled.wall(r), rtol=2e-3)
@@ -144,10 +163,12 @@ def test_law_names_resolve_to_the_materials_own():
     assert resolve_law_names(s2) == ("paper", "paper")
     assert resolve_law_names(model) == ("table", "table")
     assert resolve_law_names(model, "lin-reichhardt", "paper") == ("lin-reichhardt", "paper")
-    for pair, wall, field in (("table", None, "forces.pair_law"),
-                              (None, "table", "forces.wall_law"),
-                              ("spline", None, "forces.pair_law"),
-                              (None, "lin-reichhardt", "forces.wall_law")):
+    for pair, wall, field in (
+        ("table", None, "forces.pair_law"),
+        (None, "table", "forces.wall_law"),
+        ("spline", None, "forces.pair_law"),
+        (None, "lin-reichhardt", "forces.wall_law"),
+    ):
         with pytest.raises(InputError) as err:
             resolve_law_names(s2, pair, wall)
         assert err.value.field == field

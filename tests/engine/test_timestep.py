@@ -7,7 +7,9 @@ from skygas.errors import InputError
 from skygas.timestep import check_config_time_step
 
 CONFIG = {
-    "seed": 4, "temperature": 300.0, "duration": 2e-9,
+    "seed": 4,
+    "temperature": 300.0,
+    "duration": 2e-9,
     "geometry": {"kind": "chamber", "chamber_diameter": 400e-9, "closed": True},
     "skyrmions": {"random_count": 12, "min_separation": 1.1},
 }

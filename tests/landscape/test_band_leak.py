@@ -44,15 +44,16 @@ from .tracks import Tracks
 
 S2 = preset("S2")
 NO_PAIRS = {"pair_law": "lin-reichhardt", "pair_law_params": {"amplitude": 0.0}}
-EDGE = 5e-9        # edge width e [m]
-TILT_KT = 0.5      # f·e in k_BT: the drive's work over one edge width
-B_NM = 50.0        # the absorbing point b: the band's middle (it spans x = 0 … 100 nm)
+EDGE = 5e-9  # edge width e [m]
+TILT_KT = 0.5  # f·e in k_BT: the drive's work over one edge width
+B_NM = 50.0  # the absorbing point b: the band's middle (it spans x = 0 … 100 nm)
 
 
 def band(height_kt: float) -> Band:
     # centre line along y far beyond the device: U depends on x only
-    return Band(height_kT=height_kt, edge_width=EDGE, start=(50e-9, -5e-6), end=(50e-9, 5e-6),
-                width=100e-9)
+    return Band(
+        height_kT=height_kt, edge_width=EDGE, start=(50e-9, -5e-6), end=(50e-9, 5e-6), width=100e-9
+    )
 
 
 def exact_escape(sim: Simulation, f: float, mobility: float, kt: float):
@@ -60,15 +61,15 @@ def exact_escape(sim: Simulation, f: float, mobility: float, kt: float):
     prefactor ν [1/ns], from the interpolated landscape the engine uses (along y = 0)."""
     x = np.linspace(-300.0, B_NM, 35001)
     u, force = sim.landscape.energy_and_force(np.column_stack([x * 1e-9, np.zeros_like(x)]))
-    v = u * units.J_TO_PN_NM / kt - f * x / kt                 # V/k_BT
-    dv = -force[:, 0] * units.N_TO_PN / kt - f / kt           # V′/k_BT [1/nm]
-    lo = np.argmin(np.where(x < 0, v, np.inf))                # the well at the band's foot
-    hi = lo + np.argmax(v[lo:])                               # the top
+    v = u * units.J_TO_PN_NM / kt - f * x / kt  # V/k_BT
+    dv = -force[:, 0] * units.N_TO_PN / kt - f / kt  # V′/k_BT [1/nm]
+    lo = np.argmin(np.where(x < 0, v, np.inf))  # the well at the band's foot
+    hi = lo + np.argmax(v[lo:])  # the top
     d = kt * mobility
     inner = integrate.cumulative_trapezoid(np.exp(-(v - v[lo])), x, initial=0.0)
     outer = np.exp(v - v[lo]) * inner
     mfpt = integrate.trapezoid(outer[lo:], x[lo:]) / d
-    curv = np.gradient(dv, x) * kt                            # V″ [pN/nm]
+    curv = np.gradient(dv, x) * kt  # V″ [pN/nm]
     nu = mobility * math.sqrt(curv[lo] * abs(curv[hi])) / (2 * math.pi)
     return mfpt, x[lo], v[hi] - v[lo], nu
 
@@ -83,16 +84,23 @@ def measure_escapes(height_kt: float, n: int = 400, seed: int = 0, gyrotropic: b
     kt = units.thermal_energy_internal(300.0)
     a, g = thiele.friction_internal, thiele.gyrocoupling_internal
     b = thiele.drive_friction_internal
-    f = TILT_KT * kt / (EDGE * units.M_TO_NM)                         # [pN]
-    v_s = f / (thiele.mu * (b + g * g / a))                           # [nm/ns] = [m/s]
+    f = TILT_KT * kt / (EDGE * units.M_TO_NM)  # [pN]
+    v_s = f / (thiele.mu * (b + g * g / a))  # [nm/ns] = [m/s]
     mobility = a / (a * a + g * g)
-    sim = Simulation(rectangle(1e-6, 1e-6), material, temperature=300.0, seed=seed,
-                     landscape=[band(height_kt)], drift_velocity=(v_s, 0.0), **NO_PAIRS)
+    sim = Simulation(
+        rectangle(1e-6, 1e-6),
+        material,
+        temperature=300.0,
+        seed=seed,
+        landscape=[band(height_kt)],
+        drift_velocity=(v_s, 0.0),
+        **NO_PAIRS,
+    )
     mfpt, x_min, barrier, nu = exact_escape(sim, f, mobility, kt)
     rng = np.random.default_rng(seed)
     starts = np.column_stack([np.full(n, x_min * 1e-9), rng.uniform(-100e-9, 100e-9, n)])
-    tracks = Tracks(sim, starts, box=(1.0, 150e-9))   # y is brought back, x never
-    check = mfpt / 200 * 1e-9   # a crossing is seen at most one check late: < 1 % of T
+    tracks = Tracks(sim, starts, box=(1.0, 150e-9))  # y is brought back, x never
+    check = mfpt / 200 * 1e-9  # a crossing is seen at most one check late: < 1 % of T
     times = np.full(n, np.nan)
     while sim.count:
         sim.run(check)
@@ -108,7 +116,7 @@ def measure_escapes(height_kt: float, n: int = 400, seed: int = 0, gyrotropic: b
 def test_band_leak_rate_is_exact_and_arrhenius():
     heights = [2.0, 4.0, 6.0, 8.0]
     results = [measure_escapes(h, seed=10 + k) for k, h in enumerate(heights)]
-    for h, (times, mfpt, _, _) in zip(heights, results):
+    for h, (times, mfpt, _, _) in zip(heights, results, strict=True):
         se = times.std(ddof=1) / math.sqrt(len(times))
         assert abs(times.mean() - mfpt) < 4 * se, (h, times.mean(), mfpt, se)
         assert se < 0.07 * mfpt
@@ -116,17 +124,17 @@ def test_band_leak_rate_is_exact_and_arrhenius():
     barrier = np.array([r[2] for r in results[1:]])
     nu = np.array([r[3] for r in results[1:]])
     rate = np.array([1 / r[0].mean() for r in results[1:]])
-    rate_se = np.array([r[0].std(ddof=1) / math.sqrt(len(r[0])) / r[0].mean()
-                        for r in results[1:]])       # relative SE = SE of ln k
+    rate_se = np.array(
+        [r[0].std(ddof=1) / math.sqrt(len(r[0])) / r[0].mean() for r in results[1:]]
+    )  # relative SE = SE of ln k
     exact_rate = np.array([1 / r[1] for r in results[1:]])
     weights = 1 / rate_se**2
     (slope, _), cov = np.polyfit(barrier, np.log(rate / nu), 1, w=np.sqrt(weights), cov="unscaled")
     slope_se = math.sqrt(cov[0, 0])
     kramers_slope = np.polyfit(barrier, np.log(exact_rate / nu), 1)[0]
     assert barrier.min() > 2 and barrier.max() > barrier.min() + 3  # a real Arrhenius span
-    assert abs(slope + 1) < 4 * slope_se + abs(kramers_slope + 1), (slope, slope_se,
-                                                                     kramers_slope)
-    assert abs(kramers_slope + 1) < 0.1   # the exact result is Arrhenius here
+    assert abs(slope + 1) < 4 * slope_se + abs(kramers_slope + 1), (slope, slope_se, kramers_slope)
+    assert abs(kramers_slope + 1) < 0.1  # the exact result is Arrhenius here
     assert slope_se < 0.1
 
 

@@ -41,8 +41,15 @@ def test_skyrmions_in_gaussian_wells_sample_boltzmann_with_G():
     c = (np.arange(8) - 3.5) * spacing
     centres = np.array([(x, y) for y in c for x in c])
     wells = [Gaussian(amplitude_kT=-depth, center=tuple(p), sigma=sigma) for p in centres]
-    sim = Simulation(rectangle(4e-6, 4e-6), S2, temperature=300.0, seed=21, grid_spacing=5e-9,
-                     landscape=wells, **NO_PAIRS)
+    sim = Simulation(
+        rectangle(4e-6, 4e-6),
+        S2,
+        temperature=300.0,
+        seed=21,
+        grid_spacing=5e-9,
+        landscape=wells,
+        **NO_PAIRS,
+    )
     thiele = sim.thiele
     assert abs(thiele.gyrocoupling) > 4 * thiele.friction
     rng = np.random.default_rng(2)
@@ -61,14 +68,14 @@ def test_skyrmions_in_gaussian_wells_sample_boltzmann_with_G():
     assert np.mean(r > 6.0) < 0.02
     r = r[r <= 6.0]
     grid = np.linspace(0, 6.0, 6001)  # r/σ
-    density = grid * np.exp(depth * np.exp(-grid**2 / 2))
+    density = grid * np.exp(depth * np.exp(-(grid**2) / 2))
     cdf = integrate.cumulative_trapezoid(density, grid, initial=0.0)
     cdf /= cdf[-1]
     ks = stats.kstest(r, lambda x: np.interp(x, grid, cdf))
     assert ks.pvalue > 1e-3, ks
-    u = -depth * np.exp(-r**2 / 2)
+    u = -depth * np.exp(-(r**2) / 2)
     weights = density / np.trapezoid(density, grid)
-    u_exact = np.trapezoid(weights * -depth * np.exp(-grid**2 / 2), grid)
+    u_exact = np.trapezoid(weights * -depth * np.exp(-(grid**2) / 2), grid)
     se = u.std(ddof=1) / math.sqrt(len(u))
     assert abs(u.mean() - u_exact) < 4 * se, (u.mean(), u_exact, se)
     assert se < 0.05  # a sharp check: 4 SE is 0.2 k_BT out of ⟨U⟩ ≈ −9 k_BT
@@ -81,10 +88,15 @@ def lifson_jackson_estimate(antiferromagnetic: bool, u0_kt: float, seed: int):
     material = S2.antiferromagnetic_variant() if antiferromagnetic else S2
     thiele = derive_thiele(material)
     wavelength = 20e-9
-    sim = Simulation(rectangle(1e-6, 1e-6), material, temperature=300.0, seed=seed,
-                     grid_spacing=wavelength / 16,
-                     landscape=[Periodic(amplitude_kT=u0_kt, wavelength=wavelength)],
-                     **NO_PAIRS)
+    sim = Simulation(
+        rectangle(1e-6, 1e-6),
+        material,
+        temperature=300.0,
+        seed=seed,
+        grid_spacing=wavelength / 16,
+        landscape=[Periodic(amplitude_kT=u0_kt, wavelength=wavelength)],
+        **NO_PAIRS,
+    )
     d = thiele.diffusion_constant(300.0) * units.M2_PER_S_TO_NM2_PER_NS
     d_exact = d / special.i0(u0_kt) ** 2
     hop_time = (wavelength * units.M_TO_NM) ** 2 / d_exact  # λ²/D_eff [ns]

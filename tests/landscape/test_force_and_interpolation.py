@@ -48,23 +48,36 @@ def every_kind(tmp_path) -> dict:
     return {
         "gaussian": Gaussian(amplitude_kT=-5.0, center=(10e-9, -20e-9), sigma=25e-9),
         "periodic": Periodic(amplitude_kT=2.0, wavelength=60e-9, direction=(1.0, 2.0)),
-        "band": Band(height_kT=4.0, edge_width=8e-9, start=(-100e-9, -50e-9),
-                     end=(120e-9, 80e-9), width=60e-9),
-        "band-polygon": Band(height_kT=3.0, edge_width=10e-9,
-                             polygon=[(-80e-9, -80e-9), (90e-9, -60e-9), (0.0, 100e-9)]),
-        "random_pinning": RandomPinning(density=2e14, sigma=15e-9, depth_kT=3.0,
-                                        depth_spread_kT=1.0),
+        "band": Band(
+            height_kT=4.0,
+            edge_width=8e-9,
+            start=(-100e-9, -50e-9),
+            end=(120e-9, 80e-9),
+            width=60e-9,
+        ),
+        "band-polygon": Band(
+            height_kT=3.0,
+            edge_width=10e-9,
+            polygon=[(-80e-9, -80e-9), (90e-9, -60e-9), (0.0, 100e-9)],
+        ),
+        "random_pinning": RandomPinning(
+            density=2e14, sigma=15e-9, depth_kT=3.0, depth_spread_kT=1.0
+        ),
         "disorder": Disorder(rms_kT=2.0, correlation_length=40e-9),
         "grid": GridFile(path=grid_file(tmp_path), spacing=10e-9, origin=(-1e-6, -1e-6)),
         "edge_stray_field": EdgeStrayField(
-            saturation_magnetization=S2.saturation_magnetization, thickness=2e-9,
-            profile_radius=(0.0, 15e-9, 25e-9, 60e-9), profile_deficit=(2.0, 1.8, 0.1, 0.0)),
+            saturation_magnetization=S2.saturation_magnetization,
+            thickness=2e-9,
+            profile_radius=(0.0, 15e-9, 25e-9, 60e-9),
+            profile_deficit=(2.0, 1.8, 0.1, 0.0),
+        ),
     }
 
 
 def simulation(landscape, **kwargs) -> Simulation:
-    return Simulation(rectangle(400e-9, 400e-9), S2, temperature=300.0, seed=7,
-                      landscape=landscape, **kwargs)
+    return Simulation(
+        rectangle(400e-9, 400e-9), S2, temperature=300.0, seed=7, landscape=landscape, **kwargs
+    )
 
 
 def test_force_is_minus_the_gradient_of_the_interpolated_energy_for_every_kind(tmp_path):
@@ -91,10 +104,18 @@ def test_the_engine_moves_a_skyrmion_with_the_interpolants_force():
     """One Euler step at T = 0 far from the walls: Δr = dt·M·F with M the Thiele mobility
     (docs/physics.md) and F = −∇U from :meth:`LandscapeField.energy_and_force`; the only
     error is rounding (rtol 10⁻⁹)."""
-    well = Gaussian(amplitude=-8.0 * units.BOLTZMANN * 300.0, center=(0.0, 0.0),
-                    sigma=30e-9)  # joules: k_BT is zero at T = 0
-    sim_cold = Simulation(rectangle(1.2e-6, 1.2e-6), S2, temperature=0.0, seed=1,
-                          landscape=[well], integrator="euler-maruyama", **NO_PAIRS)
+    well = Gaussian(
+        amplitude=-8.0 * units.BOLTZMANN * 300.0, center=(0.0, 0.0), sigma=30e-9
+    )  # joules: k_BT is zero at T = 0
+    sim_cold = Simulation(
+        rectangle(1.2e-6, 1.2e-6),
+        S2,
+        temperature=0.0,
+        seed=1,
+        landscape=[well],
+        integrator="euler-maruyama",
+        **NO_PAIRS,
+    )
     start = np.array([[23e-9, -11e-9]])
     sim_cold.add_skyrmions(start)
     _, force = sim_cold.landscape.energy_and_force(start)
@@ -128,18 +149,20 @@ def gaussian_errors(sigma_over_h: float):
     exact_u = -depth * np.exp(-np.sum(d * d, axis=1) / (2 * sigma**2))
     exact_f = d / sigma**2 * exact_u[:, None]  # −∇U
     f_max = depth * math.exp(-0.5) / sigma
-    return (np.abs(u - exact_u).max() / depth,
-            np.abs(f - exact_f).max() / f_max)
+    return (np.abs(u - exact_u).max() / depth, np.abs(f - exact_f).max() / f_max)
 
 
-@pytest.mark.parametrize("sigma_over_h, u_bound, f_bound", [
-    # the figures of skygas/landscape/hermite.py's docstring, which states the measured
-    # maxima over 20 000 random points (5.4e-5, 6.2e-4 at σ = 4h; 3.7e-6, 7.6e-5 at σ = 8h;
-    # 2.3e-7, 9.5e-6 at σ = 16h); the bounds allow 1.5 times that for another draw of points
-    (4.0, 8e-5, 9e-4),
-    (8.0, 5.5e-6, 1.2e-4),
-    (16.0, 3.5e-7, 1.5e-5),
-])
+@pytest.mark.parametrize(
+    "sigma_over_h, u_bound, f_bound",
+    [
+        # the figures of skygas/landscape/hermite.py's docstring, which states the measured
+        # maxima over 20 000 random points (5.4e-5, 6.2e-4 at σ = 4h; 3.7e-6, 7.6e-5 at σ = 8h;
+        # 2.3e-7, 9.5e-6 at σ = 16h); the bounds allow 1.5 times that for another draw of points
+        (4.0, 8e-5, 9e-4),
+        (8.0, 5.5e-6, 1.2e-4),
+        (16.0, 3.5e-7, 1.5e-5),
+    ],
+)
 def test_hermite_interpolation_error_of_a_gaussian_well(sigma_over_h, u_bound, f_bound):
     err_u, err_f = gaussian_errors(sigma_over_h)
     assert err_u < u_bound and err_f < f_bound, (err_u, err_f)
@@ -153,8 +176,10 @@ def test_interpolation_error_falls_with_the_orders_of_a_cubic_hermite():
 
 
 def test_the_same_seed_gives_a_bit_identical_landscape():
-    terms = [Disorder(rms_kT=3.0, correlation_length=40e-9),
-             RandomPinning(density=1e14, sigma=12e-9, depth_kT=4.0, depth_spread_kT=1.0)]
+    terms = [
+        Disorder(rms_kT=3.0, correlation_length=40e-9),
+        RandomPinning(density=1e14, sigma=12e-9, depth_kT=4.0, depth_spread_kT=1.0),
+    ]
     sim = simulation(terms)
     grid = sim.wall_field.grid
     again = LandscapeField(terms, grid, 300.0, seed=7)
@@ -171,9 +196,14 @@ def test_disorder_has_the_requested_rms_and_correlation_length():
     ξ = 40 nm (about 600 correlation areas) the sample rms is within 15 % of the target, and the
     covariance at lag ξ along x is e^{-1/2} of the variance within 0.1 (absolute)."""
     xi, rms_kt = 40e-9, 2.0
-    sim = Simulation(rectangle(2e-6, 2e-6), S2, temperature=300.0, seed=5,
-                     grid_spacing=5e-9, landscape=[Disorder(rms_kT=rms_kt,
-                                                            correlation_length=xi)])
+    sim = Simulation(
+        rectangle(2e-6, 2e-6),
+        S2,
+        temperature=300.0,
+        seed=5,
+        grid_spacing=5e-9,
+        landscape=[Disorder(rms_kT=rms_kt, correlation_length=xi)],
+    )
     u = sim.landscape.nodes[..., 0] / units.thermal_energy_internal(300.0)
     assert abs(u.std() / rms_kt - 1) < 0.15
     lag = int(round(xi / 5e-9))

@@ -31,19 +31,21 @@ S2 = preset("S2")
 def test_orbit_in_a_well_conserves_energy_and_turns_with_the_sign_of_G(sign):
     thiele = derive_thiele(S2)
     # α = 0 (no dissipation); sign = −1 flips G (a skyrmion of the opposite charge)
-    thiele = dataclasses.replace(thiele, damping=0.0, eta=0.0,
-                                 gyrocoupling=sign * thiele.gyrocoupling)
-    depth = 10 * units.BOLTZMANN * 300.0   # [J]
+    thiele = dataclasses.replace(
+        thiele, damping=0.0, eta=0.0, gyrocoupling=sign * thiele.gyrocoupling
+    )
+    depth = 10 * units.BOLTZMANN * 300.0  # [J]
     sigma = 30e-9
     well = Gaussian(amplitude=-depth, center=(0.0, 0.0), sigma=sigma)
     r0 = sigma
     g = thiele.gyrocoupling_internal
     force_nm = depth * units.J_TO_PN_NM * math.exp(-0.5) / (sigma * units.M_TO_NM)  # |F(σ)| pN
     omega = force_nm / (abs(g) * r0 * units.M_TO_NM)  # rad/ns (v = |F|/|G| along the orbit)
-    period = 2 * math.pi / omega * 1e-9              # s
-    dt = 3e-3 / omega * 1e-9                          # θ = ω dt = 3×10⁻³
-    sim = Simulation(rectangle(1e-6, 1e-6), S2, temperature=0.0, thiele=thiele,
-                     time_step=dt, landscape=[well])
+    period = 2 * math.pi / omega * 1e-9  # s
+    dt = 3e-3 / omega * 1e-9  # θ = ω dt = 3×10⁻³
+    sim = Simulation(
+        rectangle(1e-6, 1e-6), S2, temperature=0.0, thiele=thiele, time_step=dt, landscape=[well]
+    )
     assert sim.time_step == dt  # the step rule copes with α = 0: τ_min uses hypot(α𝒟k, G)
     sim.add_skyrmions([[r0, 0.0]])
     u0, _ = sim.landscape.energy_and_force([[r0, 0.0]])

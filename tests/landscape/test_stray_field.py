@@ -15,13 +15,14 @@ from skygas.landscape.stray_field import (
     stray_field_energy,
 )
 
-T = 2e-9            # film thickness [m]
+T = 2e-9  # film thickness [m]
 H = T / 2
-MS = 1.0e6          # [A/m]
+MS = 1.0e6  # [A/m]
 
 
 def solid_angle(x0, x1, y0, y1, x, y, h=H):
     """∫∫_[x0,x1]×[y0,y1] h/((x'−x)² + (y'−y)² + h²)^{3/2} dA' in closed form (corner sum)."""
+
     def f(a, b):
         return np.arctan(a * b / (h * np.sqrt(a * a + b * b + h * h)))
 
@@ -32,9 +33,15 @@ def solid_angle(x0, x1, y0, y1, x, y, h=H):
 @pytest.mark.parametrize("height", [0.2, 0.5, 2.0])
 def test_cell_kernel_is_the_integral_over_the_cell(offset, height):
     ox, oy = offset
-    exact, _ = integrate.dblquad(lambda y, x: height / (x * x + y * y + height**2) ** 1.5,
-                                 ox - 0.5, ox + 0.5, oy - 0.5, oy + 0.5,
-                                 epsabs=0, epsrel=1e-12)
+    exact, _ = integrate.dblquad(
+        lambda y, x: height / (x * x + y * y + height**2) ** 1.5,
+        ox - 0.5,
+        ox + 0.5,
+        oy - 0.5,
+        oy + 0.5,
+        epsabs=0,
+        epsrel=1e-12,
+    )
     assert float(cell_kernel(ox, oy, height)) == pytest.approx(exact, rel=1e-9, abs=0)
 
 
@@ -52,11 +59,20 @@ def test_rectangular_film_field_is_exact_at_every_node():
     np.testing.assert_allclose(field, MS * (1 - omega / (2 * np.pi)), rtol=0, atol=1e-12 * MS)
     # the mean over 3 × 3 points of each cell: the mean of the closed form at those points
     points = (np.arange(3) + 0.5) / 3 - 0.5
-    mean = np.mean([solid_angle(19.5 * s, 74.5 * s, 9.5 * s, 49.5 * s,
-                                x[None, :] + px * s, y + py * s)
-                    for px in points for py in points], axis=0)
-    np.testing.assert_allclose(edge_field(inside, s, T, MS, subsamples=3),
-                               MS * (1 - mean / (2 * np.pi)), rtol=0, atol=1e-12 * MS)
+    mean = np.mean(
+        [
+            solid_angle(19.5 * s, 74.5 * s, 9.5 * s, 49.5 * s, x[None, :] + px * s, y + py * s)
+            for px in points
+            for py in points
+        ],
+        axis=0,
+    )
+    np.testing.assert_allclose(
+        edge_field(inside, s, T, MS, subsamples=3),
+        MS * (1 - mean / (2 * np.pi)),
+        rtol=0,
+        atol=1e-12 * MS,
+    )
 
 
 def test_half_plane_field_is_the_straight_edge_formula():
@@ -82,8 +98,8 @@ def test_disk_centre_field_is_the_two_sheet_disk_formula():
     field = edge_field(inside, s, T, MS)
     assert field[n, n] == pytest.approx(MS * H / math.sqrt(a * a + H * H), rel=5e-4, abs=0)
     # and the field grows towards the rim along every axis
-    assert np.all(np.diff(field[n, n:n + 190]) > 0)
-    np.testing.assert_allclose(field[n, n:n + 190], field[n:n + 190, n], rtol=1e-12)
+    assert np.all(np.diff(field[n, n : n + 190]) > 0)
+    np.testing.assert_allclose(field[n, n : n + 190], field[n : n + 190, n], rtol=1e-12)
 
 
 def test_cell_averages_converge_to_the_node_values_far_from_edges():
@@ -102,13 +118,13 @@ def test_stray_field_energy_against_direct_quadrature():
     s = 2e-9
     ny, nx = 80, 120
     inside = np.zeros((ny, nx), bool)
-    x0, x1, y0, y1 = 9.5 * s, 109.5 * s, 9.5 * s, 69.5 * s   # the film's corners
+    x0, x1, y0, y1 = 9.5 * s, 109.5 * s, 9.5 * s, 69.5 * s  # the film's corners
     inside[10:70, 10:110] = True
     radius = np.linspace(0.0, 60e-9, 61)
     deficit = np.interp(radius, [0.0, 15e-9, 25e-9, 60e-9], [2.0, 1.8, 0.1, 0.0])
     energy = stray_field_energy(inside, s, T, MS, radius, deficit)
     fine = 0.25e-9
-    for i in (12, 15, 20, 30, 50):   # node x = i·s, 5 to 81 nm from the left edge
+    for i in (12, 15, 20, 30, 50):  # node x = i·s, 5 to 81 nm from the left edge
         j = 40
         cx, cy = i * s, j * s
         xs = np.arange(max(x0, cx - 60e-9) + fine / 2, min(x1, cx + 60e-9), fine)
@@ -120,17 +136,24 @@ def test_stray_field_energy_against_direct_quadrature():
         assert energy[j, i] == pytest.approx(reference, rel=3e-3, abs=0)
 
 
-@pytest.mark.parametrize("call, field", [
-    (lambda: edge_field(np.ones(5, bool), 1e-9, T, MS), "inside"),
-    (lambda: edge_field(np.full((4, 4), 2.0), 1e-9, T, MS), "inside"),
-    (lambda: edge_field(np.ones((4, 4)), 1e-9, -T, MS), "thickness"),
-    (lambda: edge_field(np.ones((4, 4)), float("nan"), T, MS), "spacing"),
-    (lambda: edge_field(np.ones((4, 4)), 1e-9, T, MS, subsamples=0), "subsamples"),
-    (lambda: stray_field_energy(np.ones((4, 4)), 1e-9, T, MS, [1e-9, 2e-9], [1.0, 0.0]),
-     "profile_radius"),
-    (lambda: stray_field_energy(np.ones((4, 4)), 1e-9, T, MS, [0.0, 2e-9], [1.0]),
-     "profile_deficit"),
-])
+@pytest.mark.parametrize(
+    "call, field",
+    [
+        (lambda: edge_field(np.ones(5, bool), 1e-9, T, MS), "inside"),
+        (lambda: edge_field(np.full((4, 4), 2.0), 1e-9, T, MS), "inside"),
+        (lambda: edge_field(np.ones((4, 4)), 1e-9, -T, MS), "thickness"),
+        (lambda: edge_field(np.ones((4, 4)), float("nan"), T, MS), "spacing"),
+        (lambda: edge_field(np.ones((4, 4)), 1e-9, T, MS, subsamples=0), "subsamples"),
+        (
+            lambda: stray_field_energy(np.ones((4, 4)), 1e-9, T, MS, [1e-9, 2e-9], [1.0, 0.0]),
+            "profile_radius",
+        ),
+        (
+            lambda: stray_field_energy(np.ones((4, 4)), 1e-9, T, MS, [0.0, 2e-9], [1.0]),
+            "profile_deficit",
+        ),
+    ],
+)
 def test_bad_arguments_are_refused_in_one_line(call, field):
     with pytest.raises(InputError) as err:
         call()

@@ -50,32 +50,49 @@ def write_grids(folder):
     """Energy maps [J] next to the configuration."""
     np.save(folder / "flat.npy", np.zeros(50))
     np.save(folder / "small.npy", np.zeros((3, 3)))
-    np.save(folder / "tiny.npy", np.zeros((10, 10)))     # 90 nm at 10 nm: not the device
+    np.save(folder / "tiny.npy", np.zeros((10, 10)))  # 90 nm at 10 nm: not the device
     np.save(folder / "nan.npy", np.full((120, 120), np.nan))
     np.save(folder / "map.npy", 1e-21 * np.random.default_rng(0).random((120, 120)))
 
 
-@pytest.mark.parametrize("table, field, hint", [
-    (GAUSSIAN + "amplitude_kT = -3.0\nsigma = -1e-8", "potentials.1.sigma", "a number > 0"),
-    (GAUSSIAN + "amplitude_kT = nan\nsigma = 1e-8", "potentials.1.amplitude_kT", "finite"),
-    (GAUSSIAN + "sigma = 1e-8", "potentials.1", "amplitude"),
-    ('kind = "gausian"\namplitude_kT = 1.0', "potentials.1.kind", "'gaussian'"),
-    ('kind = "disorder"\nrms_kT = -1.0\ncorrelation_length = 4e-8', "potentials.1.rms_kT",
-     "a number >= 0"),
-    ('kind = "periodic"\namplitude_kT = 1.0\nwavelength = 0.0', "potentials.1.wavelength",
-     "a number > 0"),
-    ('kind = "band"\nheight_kT = 3.0\nedge_width = 5e-9\nstart = [0.0, 0.0]\nend = [0.0, 0.0]'
-     '\nwidth = 1e-7', "potentials.1", "start and end must differ"),
-    (GRID.format(file="flat.npy") + "spacing = 1e-8", "potentials.1.path", "2-D array"),
-    (GRID.format(file="small.npy") + "spacing = 1e-8", "potentials.1.path", "4×4"),
-    (GRID.format(file="nan.npy") + "spacing = 1e-8", "potentials.1.path", "finite"),
-    (GRID.format(file="nothere.npy") + "spacing = 1e-8", "potentials.1.path", "existing"),
-    (GRID.format(file="map.npy"), "potentials.1.spacing", "required"),
-    (GRID.format(file="tiny.npy") + "spacing = 1e-8\norigin = [-5e-8, -5e-8]",
-     "potentials.1.path", "covering the device"),
-])
-def test_bad_potentials_get_one_line_before_any_work(table, field, hint, tmp_path, capsys,
-                                                       no_stepping):
+@pytest.mark.parametrize(
+    "table, field, hint",
+    [
+        (GAUSSIAN + "amplitude_kT = -3.0\nsigma = -1e-8", "potentials.1.sigma", "a number > 0"),
+        (GAUSSIAN + "amplitude_kT = nan\nsigma = 1e-8", "potentials.1.amplitude_kT", "finite"),
+        (GAUSSIAN + "sigma = 1e-8", "potentials.1", "amplitude"),
+        ('kind = "gausian"\namplitude_kT = 1.0', "potentials.1.kind", "'gaussian'"),
+        (
+            'kind = "disorder"\nrms_kT = -1.0\ncorrelation_length = 4e-8',
+            "potentials.1.rms_kT",
+            "a number >= 0",
+        ),
+        (
+            'kind = "periodic"\namplitude_kT = 1.0\nwavelength = 0.0',
+            "potentials.1.wavelength",
+            "a number > 0",
+        ),
+        (
+            'kind = "band"\nheight_kT = 3.0\nedge_width = 5e-9\nstart = [0.0, 0.0]\n'
+            "end = [0.0, 0.0]\nwidth = 1e-7",
+            "potentials.1",
+            "start and end must differ",
+        ),
+        (GRID.format(file="flat.npy") + "spacing = 1e-8", "potentials.1.path", "2-D array"),
+        (GRID.format(file="small.npy") + "spacing = 1e-8", "potentials.1.path", "4×4"),
+        (GRID.format(file="nan.npy") + "spacing = 1e-8", "potentials.1.path", "finite"),
+        (GRID.format(file="nothere.npy") + "spacing = 1e-8", "potentials.1.path", "existing"),
+        (GRID.format(file="map.npy"), "potentials.1.spacing", "required"),
+        (
+            GRID.format(file="tiny.npy") + "spacing = 1e-8\norigin = [-5e-8, -5e-8]",
+            "potentials.1.path",
+            "covering the device",
+        ),
+    ],
+)
+def test_bad_potentials_get_one_line_before_any_work(
+    table, field, hint, tmp_path, capsys, no_stepping
+):
     write_grids(tmp_path)
     config = tmp_path / "run.toml"
     config.write_text(CONFIG.format(table=table))
@@ -90,8 +107,9 @@ def test_bad_potentials_get_one_line_before_any_work(table, field, hint, tmp_pat
 def test_a_relative_grid_path_is_taken_from_the_configurations_folder(tmp_path, monkeypatch):
     write_grids(tmp_path)
     config = tmp_path / "run.toml"
-    config.write_text(CONFIG.format(table=GRID.format(file="map.npy") +
-                                    "spacing = 1e-8\norigin = [-6e-7, -6e-7]"))
+    config.write_text(
+        CONFIG.format(table=GRID.format(file="map.npy") + "spacing = 1e-8\norigin = [-6e-7, -6e-7]")
+    )
     monkeypatch.chdir(tmp_path.parent)  # not the configuration's folder
     cfg = load_config(config)
     assert cfg.potentials[1].path == str(tmp_path / "map.npy")
@@ -101,9 +119,12 @@ def test_a_relative_grid_path_is_taken_from_the_configurations_folder(tmp_path, 
 
 def test_the_python_api_names_the_same_fields():
     with pytest.raises(InputError) as err:
-        parse_potentials([Gaussian(amplitude_kT=-1.0, center=(0, 0), sigma=1e-8),
-                          {"kind": "gaussian", "amplitude_kT": 1.0, "center": [0, 0],
-                           "sigma": float("nan")}])
+        parse_potentials(
+            [
+                Gaussian(amplitude_kT=-1.0, center=(0, 0), sigma=1e-8),
+                {"kind": "gaussian", "amplitude_kT": 1.0, "center": [0, 0], "sigma": float("nan")},
+            ]
+        )
     assert err.value.field == "potentials.1.sigma"
     with pytest.raises(InputError) as err:
         parse_potentials(["gaussian"])

@@ -24,7 +24,7 @@ class Tracks:
         self.starts = np.asarray(starts, float)
         self.box = box
         self.period_x = period_x
-        self.offset = np.zeros_like(self.starts)   # unwrapped = present + offset
+        self.offset = np.zeros_like(self.starts)  # unwrapped = present + offset
         ids = sim.add_skyrmions(self.starts, validate=False)
         self.track_of = {int(i): k for k, i in enumerate(ids)}
 
@@ -56,22 +56,20 @@ class Tracks:
         for k in tracks:
             del self.track_of[by_track[k]]
         self.offset[tracks] += present[tracks] - new_positions
-        for k, i in zip(tracks, self.sim.add_skyrmions(new_positions, validate=False)):
+        for k, i in zip(tracks, self.sim.add_skyrmions(new_positions, validate=False), strict=True):
             self.track_of[int(i)] = int(k)
 
     def recentre(self) -> None:
         """Bring back the skyrmions that left the box."""
         p = self.positions()
         with np.errstate(invalid="ignore"):  # NaN: ended tracks
-            far = np.nonzero((np.abs(p[:, 0]) > self.box[0]) |
-                             (np.abs(p[:, 1]) > self.box[1]))[0]
+            far = np.nonzero((np.abs(p[:, 0]) > self.box[0]) | (np.abs(p[:, 1]) > self.box[1]))[0]
         if len(far) == 0:
             return
         new = p[far].copy()
         new[:, 1] = self.starts[far, 1]
         if self.period_x is not None:
-            new[:, 0] -= np.round((new[:, 0] - self.starts[far, 0]) / self.period_x) * \
-                self.period_x
+            new[:, 0] -= np.round((new[:, 0] - self.starts[far, 0]) / self.period_x) * self.period_x
         else:
             new[:, 0] = p[far, 0]
         self.replace(far, new)

@@ -18,7 +18,7 @@ def test_inspect_json(tmp_path, two_skyrmions, profile, capsys):
     report = json.loads(capsys.readouterr().out)
     assert report["total_charge"] == pytest.approx(-2.0, abs=1e-3)
     found = sorted(report["skyrmions"], key=lambda s: s["x_m"])
-    for sk, (x, y) in zip(found, sorted(profile.centres)):
+    for sk, (x, y) in zip(found, sorted(profile.centres), strict=True):
         assert set(sk) >= {"charge", "x_m", "y_m", "radius_m", "dissipation"}
         assert sk["charge"] == pytest.approx(-1.0, abs=1e-3)
         assert abs(sk["x_m"] - x) < 0.05 * profile.cell and abs(sk["y_m"] - y) < 0.05 * profile.cell
@@ -41,16 +41,21 @@ def _pair_snapshots(folder, pair_law, duration, frames, cells, start=1.2):
     radius = material.skyrmion_radius
     dis = synthetic.ansatz_dissipation(radius, wall_width)  # what the detector will measure
     coeffs = thiele_coefficients(-1.0, dis, material, film)
-    system = synthetic.ThieleSystem(coeffs["gyrocoupling"], coeffs["friction"],
-                                    material.exchange_stiffness * film / (2 * radius), 2 * radius)
+    system = synthetic.ThieleSystem(
+        coeffs["gyrocoupling"],
+        coeffs["friction"],
+        material.exchange_stiffness * film / (2 * radius),
+        2 * radius,
+    )
     box = cells * cell
     times = np.linspace(0.0, duration, frames)
     half = start * radius  # half the separation [m]
     start = [(box / 2 - half, box / 2), (box / 2 + half, box / 2)]
-    positions = synthetic.integrate_thiele(system, start, times,
-                                           synthetic.pair_forces(system, pair_law))
+    positions = synthetic.integrate_thiele(
+        system, start, times, synthetic.pair_forces(system, pair_law)
+    )
     folder.mkdir()
-    for i, (t, p) in enumerate(zip(times, positions)):
+    for i, (t, p) in enumerate(zip(times, positions, strict=True)):
         field = synthetic.skyrmion_field((cells, cells), cell, p, radius, wall_width, time=t)
         write_ovf(folder / f"m{i:06d}.ovf", field, fmt="bin4")
     return material, folder
@@ -70,8 +75,9 @@ def test_fit_from_ovf_snapshots(tmp_path, capsys):
     # a₁, a₀ are strongly correlated, so the check is on the force the fitted law gives, over
     # the sampled range (and the coefficients only loosely).
     d = np.linspace(1.3, 2.9, 40)
-    np.testing.assert_allclose(pair_law_magnitude(d, fitted.pair_law),
-                               pair_law_magnitude(d, material.pair_law), rtol=0.02)
+    np.testing.assert_allclose(
+        pair_law_magnitude(d, fitted.pair_law), pair_law_magnitude(d, material.pair_law), rtol=0.02
+    )
     np.testing.assert_allclose(fitted.pair_law, material.pair_law, rtol=0.1)
     assert fitted.skyrmion_radius == pytest.approx(radius, rel=0.01)
     record = json.loads((out / "fit.json").read_text())
@@ -112,8 +118,9 @@ def test_fit_constrains_a_pair_law_that_grows_outside_the_data(tmp_path, capsys)
     assert fitted.pair_law[0] >= 0.01 and law_problem("pair", fitted.pair_law) is None
     assert "# pair law fitted with a₂ ≥ 0.01" in (out / "material.toml").read_text()
     d = np.linspace(1.25, 2.1, 30)  # inside the data, the constrained law is still the data's
-    np.testing.assert_allclose(pair_law_magnitude(d, fitted.pair_law),
-                               pair_law_magnitude(d, (-0.3, 8.0, -9.0)), rtol=0.03)
+    np.testing.assert_allclose(
+        pair_law_magnitude(d, fitted.pair_law), pair_law_magnitude(d, (-0.3, 8.0, -9.0)), rtol=0.03
+    )
 
 
 # --- Data that do not fix a law's far field -------------------------------------------------
@@ -135,8 +142,9 @@ def _csv(path):
     return np.genfromtxt(path, delimiter=",", names=True)
 
 
-def test_fit_writes_what_the_data_fix_when_the_far_field_is_not_fixed(narrow_pair, tmp_path,
-                                                                      capsys):
+def test_fit_writes_what_the_data_fix_when_the_far_field_is_not_fixed(
+    narrow_pair, tmp_path, capsys
+):
     """Exit 0 with one warning; the tracks, the forces and the law tabulated over the measured
     range (within 2 % of the true law); no material.toml, and fit.json says why."""
     material, snaps = narrow_pair
@@ -152,8 +160,16 @@ def test_fit_writes_what_the_data_fix_when_the_far_field_is_not_fixed(narrow_pai
     assert not (out / "material.toml").exists()
 
     tracks = _csv(out / "tracks.csv")
-    assert tracks.dtype.names == ("track", "frame", "time_s", "x_m", "y_m", "radius_m",
-                                  "charge", "dissipation")
+    assert tracks.dtype.names == (
+        "track",
+        "frame",
+        "time_s",
+        "x_m",
+        "y_m",
+        "radius_m",
+        "charge",
+        "dissipation",
+    )
     assert sorted(set(tracks["track"].astype(int))) == [0, 1]
     for track in (0, 1):
         frames = tracks["frame"][tracks["track"] == track].astype(int)
@@ -168,8 +184,12 @@ def test_fit_writes_what_the_data_fix_when_the_far_field_is_not_fixed(narrow_pai
     assert np.all(table["force_N"] <= table["force_q75_N"])
     # the true law in its own units: d_sk = 2R and F₀ = A_ex t_F / d_sk of the drawn profiles
     diameter = 2 * material.skyrmion_radius
-    true = material.exchange_stiffness * 2e-9 / diameter \
+    true = (
+        material.exchange_stiffness
+        * 2e-9
+        / diameter
         * pair_law_magnitude(table["distance_m"] / diameter, NARROW_LAW)
+    )
     np.testing.assert_allclose(table["force_N"], true, rtol=0.02)
 
     record = json.loads((out / "fit.json").read_text())
@@ -213,15 +233,26 @@ def _grid(tmp_path, shape=(30, 40), cell=1e-9, origin=(0.0, 0.0, 0.0)):
     return field_from_array(field.values, cell, origin=origin)
 
 
-@pytest.mark.parametrize("odd, expected", [
-    ({"shape": (30, 50)}, "m000002.ovf has 50 × 30 cells of 1 nm, m000000.ovf 40 × 30 cells "
-                          "of 1 nm"),
-    ({"cell": 2e-9}, "m000002.ovf has 40 × 30 cells of 2 nm, m000000.ovf 40 × 30 cells of "
-                     "1 nm"),
-    ({"origin": (10e-9, 0.0, 0.0)}, "m000002.ovf has 40 × 30 cells of 1 nm, corner at (10, 0, "
-                                    "0) nm, m000000.ovf 40 × 30 cells of 1 nm, corner at (0, 0, "
-                                    "0) nm"),
-], ids=["nodes", "cell", "corner"])
+@pytest.mark.parametrize(
+    "odd, expected",
+    [
+        (
+            {"shape": (30, 50)},
+            "m000002.ovf has 50 × 30 cells of 1 nm, m000000.ovf 40 × 30 cells of 1 nm",
+        ),
+        (
+            {"cell": 2e-9},
+            "m000002.ovf has 40 × 30 cells of 2 nm, m000000.ovf 40 × 30 cells of 1 nm",
+        ),
+        (
+            {"origin": (10e-9, 0.0, 0.0)},
+            "m000002.ovf has 40 × 30 cells of 1 nm, corner at (10, 0, "
+            "0) nm, m000000.ovf 40 × 30 cells of 1 nm, corner at (0, 0, "
+            "0) nm",
+        ),
+    ],
+    ids=["nodes", "cell", "corner"],
+)
 def test_fit_refuses_snapshots_of_several_grids(tmp_path, capsys, odd, expected):
     """Before reading any data: one line that names the first file on another grid and how."""
     snaps = tmp_path / "run.out"
@@ -233,7 +264,8 @@ def test_fit_refuses_snapshots_of_several_grids(tmp_path, capsys, odd, expected)
     assert main(["micromag", "fit", str(snaps), "--out", str(out)]) == 2
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1
-    assert lines[0].startswith(f"skygas: error: snapshot_dir = '{snaps}': expected snapshots "
-                               "of one grid; ")
+    assert lines[0].startswith(
+        f"skygas: error: snapshot_dir = '{snaps}': expected snapshots of one grid; "
+    )
     assert expected in lines[0]
     assert not out.exists()

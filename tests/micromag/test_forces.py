@@ -33,15 +33,19 @@ def system():
     material = preset("S2")
     coeffs = thiele_coefficients(-1.0, DISSIPATION, material, FILM)
     diameter = material.skyrmion_diameter
-    return synthetic.ThieleSystem(coeffs["gyrocoupling"], coeffs["friction"],
-                                  material.exchange_stiffness * FILM / diameter, diameter)
+    return synthetic.ThieleSystem(
+        coeffs["gyrocoupling"],
+        coeffs["friction"],
+        material.exchange_stiffness * FILM / diameter,
+        diameter,
+    )
 
 
 def _trajectories(times, positions, radius):
     tracks = []
     for k in range(positions.shape[1]):
         track = Trajectory(k)
-        for f, (t, (x, y)) in enumerate(zip(times, positions[:, k])):
+        for f, (t, (x, y)) in enumerate(zip(times, positions[:, k], strict=True)):
             track.add(f, t, Skyrmion(x, y, radius, -1.0, DISSIPATION, 0.0, 1.0, k + 1))
         tracks.append(track)
     return tracks
@@ -72,10 +76,12 @@ def test_exact_samples_give_the_coefficients_back():
 def test_pair_law_fitted_back_from_a_two_skyrmion_trajectory(system, tmp_path):
     times = np.linspace(0.0, 60e-9, 601)
     start = [(-0.55 * system.skyrmion_diameter, 0.0), (0.55 * system.skyrmion_diameter, 0.0)]
-    positions = synthetic.integrate_thiele(system, start, times,
-                                           synthetic.pair_forces(system, PAPER_PAIR))
-    result = fit_trajectories(_trajectories(times, positions, system.skyrmion_diameter / 2),
-                              "S2", film_thickness=FILM)
+    positions = synthetic.integrate_thiele(
+        system, start, times, synthetic.pair_forces(system, PAPER_PAIR)
+    )
+    result = fit_trajectories(
+        _trajectories(times, positions, system.skyrmion_diameter / 2), "S2", film_thickness=FILM
+    )
     assert result.wall is None
     low, high = result.pair.distance_range
     assert low < 1.2 and high > 2.5  # the spiral covers the range the law is fitted over
@@ -94,10 +100,19 @@ def test_wall_law_fitted_back_near_a_straight_wall(system):
     b = (0.5, 0.8, -0.3)
     wall = synthetic.straight_wall(0.0)
     times = np.linspace(0.0, 200e-9, 401)
-    positions = synthetic.integrate_thiele(system, [(0.6 * system.skyrmion_diameter, 0.0)],
-                                           times, synthetic.wall_forces(system, b, wall))
-    result = fit_trajectories(_trajectories(times, positions, system.skyrmion_diameter / 2),
-                              "S2", film_thickness=FILM, boundary=wall, wall_degree=2)
+    positions = synthetic.integrate_thiele(
+        system,
+        [(0.6 * system.skyrmion_diameter, 0.0)],
+        times,
+        synthetic.wall_forces(system, b, wall),
+    )
+    result = fit_trajectories(
+        _trajectories(times, positions, system.skyrmion_diameter / 2),
+        "S2",
+        film_thickness=FILM,
+        boundary=wall,
+        wall_degree=2,
+    )
     assert result.pair is None
     np.testing.assert_allclose(result.wall.coefficients, b, rtol=0.02)
 
@@ -109,10 +124,16 @@ def test_paper_wall_law_reproduced_in_a_disk(system):
     b = preset("S2").wall_law
     times = np.linspace(0.0, 400e-9, 801)
     start = [(512e-9 - 0.6 * system.skyrmion_diameter, 0.0)]
-    positions = synthetic.integrate_thiele(system, start, times,
-                                           synthetic.wall_forces(system, b, disk))
-    result = fit_trajectories(_trajectories(times, positions, system.skyrmion_diameter / 2),
-                              "S2", film_thickness=FILM, boundary=disk, wall_degree=5)
+    positions = synthetic.integrate_thiele(
+        system, start, times, synthetic.wall_forces(system, b, disk)
+    )
+    result = fit_trajectories(
+        _trajectories(times, positions, system.skyrmion_diameter / 2),
+        "S2",
+        film_thickness=FILM,
+        boundary=disk,
+        wall_degree=5,
+    )
     d = np.linspace(*result.wall.distance_range, 50)
     expected = system.force_scale * wall_law_magnitude(d, b)
     np.testing.assert_allclose(result.wall.magnitude(d), expected, rtol=0.01)
@@ -179,8 +200,9 @@ def test_pair_law_rising_inside_the_data_is_refused():
 def test_pair_law_that_no_constraint_repairs_is_refused():
     # decreasing over the data but so slowly that no decaying law falls to 10⁻³ F₀ in 50 d_sk
     force = 2e-12 * pair_law_magnitude(D_NARROW, (-0.02, 0.5, 0.0))
-    with pytest.raises(UnfixedLawError, match="pair_law.*do not fix how the force decays "
-                       "beyond 2.60 d_sk") as refused:
+    with pytest.raises(
+        UnfixedLawError, match="pair_law.*do not fix how the force decays beyond 2.60 d_sk"
+    ) as refused:
         fit_pair_law(D_NARROW, force, 2e-12)
     assert refused.value.fit.coefficients == pytest.approx((-0.02, 0.5, 0.0), abs=1e-6)
 
@@ -203,8 +225,9 @@ def test_exact_samples_tabulate_on_the_law():
     table = tabulate_law("pair", d, force, 40e-9, 2e-12)
     # ⌈√49⌉ = 7 bins of 7: odd counts, so each median is one of the samples
     assert table.count.tolist() == [7] * 7
-    np.testing.assert_allclose(table.force, 2e-12 * pair_law_magnitude(table.distance,
-                                                                       PAPER_PAIR), rtol=1e-12)
+    np.testing.assert_allclose(
+        table.force, 2e-12 * pair_law_magnitude(table.distance, PAPER_PAIR), rtol=1e-12
+    )
     assert table.distance_range == pytest.approx((1.2, 2.6))
     rows = table.rows()
     assert rows[0]["distance_m"] == pytest.approx(rows[0]["distance_diameters"] * 40e-9)
@@ -220,8 +243,12 @@ def test_wall_law_not_fixed_beyond_the_data_leaves_the_table(system):
     b = (-0.2, 1.5, 0.0)  # decreasing up to 3.75 d_sk, rising beyond
     wall = synthetic.straight_wall(0.0)
     times = np.linspace(0.0, 60e-9, 121)
-    positions = synthetic.integrate_thiele(system, [(0.6 * system.skyrmion_diameter, 0.0)],
-                                           times, synthetic.wall_forces(system, b, wall))
+    positions = synthetic.integrate_thiele(
+        system,
+        [(0.6 * system.skyrmion_diameter, 0.0)],
+        times,
+        synthetic.wall_forces(system, b, wall),
+    )
     tracks = _trajectories(times, positions, system.skyrmion_diameter / 2)
     result = fit_trajectories(tracks, "S2", film_thickness=FILM, boundary=wall, wall_degree=2)
     assert result.wall is None and result.material is None
@@ -230,19 +257,22 @@ def test_wall_law_not_fixed_beyond_the_data_leaves_the_table(system):
     assert warning.startswith("wall law: the samples (d = 0.60–") and "no material.toml" in warning
     assert "refit with a lower --wall-degree (now 2)" in warning
     table = result.tables["wall"]
-    np.testing.assert_allclose(table.force, system.force_scale
-                               * wall_law_magnitude(table.distance, b), rtol=0.01)
+    np.testing.assert_allclose(
+        table.force, system.force_scale * wall_law_magnitude(table.distance, b), rtol=0.01
+    )
     assert "wall law" in result.no_material_reason
     with pytest.raises(UnfixedLawError, match="wall_law"):
-        fit_trajectories(tracks, "S2", film_thickness=FILM, boundary=wall, wall_degree=2,
-                         strict=True)
+        fit_trajectories(
+            tracks, "S2", film_thickness=FILM, boundary=wall, wall_degree=2, strict=True
+        )
 
 
 def test_a_pair_law_rising_inside_the_data_is_refused_without_strict(system):
     times = np.linspace(0.0, 5e-9, 41)
     start = [(-0.6 * system.skyrmion_diameter, 0.0), (0.6 * system.skyrmion_diameter, 0.0)]
-    positions = synthetic.integrate_thiele(system, start, times,
-                                           synthetic.pair_forces(system, (-1.0, 0.0, 0.0)))
+    positions = synthetic.integrate_thiele(
+        system, start, times, synthetic.pair_forces(system, (-1.0, 0.0, 0.0))
+    )
     tracks = _trajectories(times, positions, system.skyrmion_diameter / 2)
     with pytest.raises(InputError, match="inside the data") as refused:
         fit_trajectories(tracks, "S2", film_thickness=FILM)

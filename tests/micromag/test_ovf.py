@@ -40,16 +40,44 @@ def test_text_bin4_bin8_read_to_the_same_array(tmp_path, field, version):
 
 
 def test_mumax3_header_with_desc_time_and_nm_units(tmp_path):
-    text = "\n".join([
-        "# OOMMF OVF 2.0", "# Segment count: 1", "# Begin: Segment", "# Begin: Header",
-        "# Title: m", "# meshtype: rectangular", "# meshunit: nm",
-        "# xmin: 0", "# ymin: 0", "# zmin: 0", "# xmax: 4", "# ymax: 2", "# zmax: 1",
-        "# valuedim: 3", "# valuelabels: m_x m_y m_z", "# valueunits: 1 1 1",
-        "## a comment line", "# Desc: Total simulation time:  3e-10  s",
-        "# xbase: 1", "# ybase: 1", "# zbase: 0.5", "# xnodes: 2", "# ynodes: 1",
-        "# znodes: 1", "# xstepsize: 2", "# ystepsize: 2", "# zstepsize: 1",
-        "# End: Header", "# Begin: Data Text", "0 0 1", "1 0 0",
-        "# End: Data Text", "# End: Segment", ""])
+    text = "\n".join(
+        [
+            "# OOMMF OVF 2.0",
+            "# Segment count: 1",
+            "# Begin: Segment",
+            "# Begin: Header",
+            "# Title: m",
+            "# meshtype: rectangular",
+            "# meshunit: nm",
+            "# xmin: 0",
+            "# ymin: 0",
+            "# zmin: 0",
+            "# xmax: 4",
+            "# ymax: 2",
+            "# zmax: 1",
+            "# valuedim: 3",
+            "# valuelabels: m_x m_y m_z",
+            "# valueunits: 1 1 1",
+            "## a comment line",
+            "# Desc: Total simulation time:  3e-10  s",
+            "# xbase: 1",
+            "# ybase: 1",
+            "# zbase: 0.5",
+            "# xnodes: 2",
+            "# ynodes: 1",
+            "# znodes: 1",
+            "# xstepsize: 2",
+            "# ystepsize: 2",
+            "# zstepsize: 1",
+            "# End: Header",
+            "# Begin: Data Text",
+            "0 0 1",
+            "1 0 0",
+            "# End: Data Text",
+            "# End: Segment",
+            "",
+        ]
+    )
     path = tmp_path / "m000001.ovf"
     path.write_text(text)
     with pytest.warns(OVFUnitWarning, match="'nm'"):
@@ -114,7 +142,7 @@ def test_data_block_shorter_than_mesh(tmp_path, field, fmt):
         start = raw.index(b"# Begin: Data Binary 4\n") + len(b"# Begin: Data Binary 4\n")
         end = raw.index(b"# End: Data")
         # keep the check value and all but the last cell, then the closing lines
-        path.write_bytes(raw[:start] + raw[start:end - 1 - 12] + b"\n" + raw[end:])
+        path.write_bytes(raw[:start] + raw[start : end - 1 - 12] + b"\n" + raw[end:])
     with pytest.raises(InputError, match="210 values"):  # 7·5·2 cells × 3
         read_ovf(path)
 
@@ -132,9 +160,12 @@ def test_wrong_check_value_names_endianness(tmp_path, field):
     path = write_ovf(tmp_path / "m.ovf", field, fmt="bin8", version=2)
     raw = path.read_bytes()
     # An OVF 2.0 file with big-endian data (as OVF 1.0 would have) must not be read silently.
-    path.write_bytes(raw.replace(b"# OOMMF OVF 2.0", b"# OOMMF: rectangular mesh v1.0", 1)
-                     .replace(b"# valuedim: 3\n", b"").replace(b"# valuelabels: m_x m_y m_z\n", b"")
-                     .replace(b"# valueunits: 1 1 1\n", b""))
+    path.write_bytes(
+        raw.replace(b"# OOMMF OVF 2.0", b"# OOMMF: rectangular mesh v1.0", 1)
+        .replace(b"# valuedim: 3\n", b"")
+        .replace(b"# valuelabels: m_x m_y m_z\n", b"")
+        .replace(b"# valueunits: 1 1 1\n", b"")
+    )
     with pytest.raises(InputError, match="check value"):
         read_ovf(path)
 
@@ -165,47 +196,73 @@ def test_files_of_independent_writers(name):
             warnings.simplefilter("error")  # a metre mesh gives no warning
             field = read_ovf(path)
     assert field.shape == (2, 4, 5, 3)
-    np.testing.assert_allclose(field.x.values, (-3.0 + 1.5 * (np.arange(5) + 0.5)) * 1e-9,
-                               rtol=1e-12)
-    np.testing.assert_allclose(field.y.values, (1.0 + 2.0 * (np.arange(4) + 0.5)) * 1e-9,
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        field.x.values, (-3.0 + 1.5 * (np.arange(5) + 0.5)) * 1e-9, rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        field.y.values, (1.0 + 2.0 * (np.arange(4) + 0.5)) * 1e-9, rtol=1e-12
+    )
     np.testing.assert_allclose(field.z.values, (np.arange(2) + 0.5) * 1e-9, rtol=1e-12)
     assert (field.attrs["dx"], field.attrs["dy"], field.attrs["dz"]) == pytest.approx(
-        (1.5e-9, 2e-9, 1e-9), rel=1e-12)
-    zz, yy, xx = np.meshgrid(field.z.values * 1e9, field.y.values * 1e9, field.x.values * 1e9,
-                             indexing="ij")
+        (1.5e-9, 2e-9, 1e-9), rel=1e-12
+    )
+    zz, yy, xx = np.meshgrid(
+        field.z.values * 1e9, field.y.values * 1e9, field.x.values * 1e9, indexing="ij"
+    )
     # text: 12 (spirit) or 17 digits; binary 4: float32 rounding, ≤ 2⁻²⁴ per unit component
     tolerance = 2.0**-24 if "bin4" in name else 1e-11
-    np.testing.assert_allclose(field.values, _writer_expected_m(xx, yy, zz), rtol=0,
-                               atol=tolerance)
+    np.testing.assert_allclose(field.values, _writer_expected_m(xx, yy, zz), rtol=0, atol=tolerance)
 
 
 def _hand_written(lines_before_data, data="0 0 1\n1 0 0\n"):
-    return "\n".join(["# OOMMF OVF 2.0", *lines_before_data, "# Begin: Data Text"]) + "\n" + \
-        data + "# End: Data Text\n# End: Segment\n"
+    return (
+        "\n".join(["# OOMMF OVF 2.0", *lines_before_data, "# Begin: Data Text"])
+        + "\n"
+        + data
+        + "# End: Data Text\n# End: Segment\n"
+    )
 
 
-_MESH = ["# meshunit: m", "# xbase: 5e-10", "# ybase: 5e-10", "# zbase: 5e-10",
-         "# xstepsize: 1e-9", "# ystepsize: 1e-9", "# zstepsize: 1e-9", "# xnodes: 2",
-         "# ynodes: 1", "# znodes: 1", "# valuedim: 3"]
+_MESH = [
+    "# meshunit: m",
+    "# xbase: 5e-10",
+    "# ybase: 5e-10",
+    "# zbase: 5e-10",
+    "# xstepsize: 1e-9",
+    "# ystepsize: 1e-9",
+    "# zstepsize: 1e-9",
+    "# xnodes: 2",
+    "# ynodes: 1",
+    "# znodes: 1",
+    "# valuedim: 3",
+]
 
 
-@pytest.mark.parametrize("variant", ["zero-padded", "inline-comments", "shuffled", "case",
-                                     "crlf"])
+@pytest.mark.parametrize("variant", ["zero-padded", "inline-comments", "shuffled", "case", "crlf"])
 def test_header_variants(tmp_path, variant):
-    lines = ["# Segment count: 1", "# Begin: Segment", "# Begin: Header", "# Title: m",
-             *_MESH, "# End: Header"]
+    lines = [
+        "# Segment count: 1",
+        "# Begin: Segment",
+        "# Begin: Header",
+        "# Title: m",
+        *_MESH,
+        "# End: Header",
+    ]
     if variant == "zero-padded":
-        lines = [line.replace("count: 1", "count: 000001").replace("nodes: 2", "nodes: 0002")
-                 for line in lines]
+        lines = [
+            line.replace("count: 1", "count: 000001").replace("nodes: 2", "nodes: 0002")
+            for line in lines
+        ]
     elif variant == "inline-comments":
         lines = [f"{line}   ## comment: with a colon" if ":" in line else line for line in lines]
         lines.insert(1, "## a whole-line comment")
     elif variant == "shuffled":
         lines = lines[:3] + lines[3:-1][::-1] + lines[-1:]
     elif variant == "case":
-        lines = [line.replace("nodes", "Nodes").replace("# x", "# X").replace("meshunit", "MeshUnit")
-                 for line in lines]
+        lines = [
+            line.replace("nodes", "Nodes").replace("# x", "# X").replace("meshunit", "MeshUnit")
+            for line in lines
+        ]
     text = _hand_written(lines)
     path = tmp_path / f"{variant}.ovf"
     path.write_bytes(text.replace("\n", "\r\n").encode() if variant == "crlf" else text.encode())
@@ -214,11 +271,14 @@ def test_header_variants(tmp_path, variant):
     np.testing.assert_array_equal(field.values[0, 0], [[0, 0, 1], [1, 0, 0]])
 
 
-@pytest.mark.parametrize("unit, scale", [("nm", 1e-9), ("um", 1e-6), ("µm", 1e-6),
-                                         ("mm", 1e-3), ("angstrom", 1e-10)])
+@pytest.mark.parametrize(
+    "unit, scale", [("nm", 1e-9), ("um", 1e-6), ("µm", 1e-6), ("mm", 1e-3), ("angstrom", 1e-10)]
+)
 def test_mesh_units_are_converted_with_a_warning(tmp_path, unit, scale):
-    lines = [line.replace("meshunit: m", f"meshunit: {unit}").replace("e-9", "").replace(
-        "5e-10", "0.5") for line in _MESH]
+    lines = [
+        line.replace("meshunit: m", f"meshunit: {unit}").replace("e-9", "").replace("5e-10", "0.5")
+        for line in _MESH
+    ]
     path = tmp_path / "m.ovf"
     path.write_text(_hand_written(lines), encoding="utf-8")
     with pytest.warns(OVFUnitWarning, match=f"'{unit}'"):
@@ -230,8 +290,9 @@ def test_mesh_units_are_converted_with_a_warning(tmp_path, unit, scale):
 
 def test_unknown_mesh_unit_and_several_segments_are_refused(tmp_path):
     path = tmp_path / "m.ovf"
-    path.write_text(_hand_written([line.replace("meshunit: m", "meshunit: furlong")
-                                   for line in _MESH]))
+    path.write_text(
+        _hand_written([line.replace("meshunit: m", "meshunit: furlong") for line in _MESH])
+    )
     with pytest.raises(InputError, match="m.ovf:meshunit = 'furlong'.*nm"):
         read_ovf(path)
     path.write_text(_hand_written(["# Segment count: 0002", *_MESH]))

@@ -39,7 +39,7 @@ def test_inspect_the_tilted_disk_sample(capsys):
     assert report["edge_band_width_m"] > 0
     found = sorted(report["skyrmions"], key=lambda s: s["x_m"])
     assert len(found) == 2
-    for sk, (x, y) in zip(found, samples.DISK_CENTRES):
+    for sk, (x, y) in zip(found, samples.DISK_CENTRES, strict=True):
         assert sk["charge"] == pytest.approx(-1.0, abs=2e-3)
         assert math.hypot(sk["x_m"] - x, sk["y_m"] - y) < 0.1e-9
 
@@ -51,5 +51,8 @@ def test_fit_the_pair_sample(tmp_path, capsys):
     assert "pair law (16 samples, d = 1.2" in capsys.readouterr().out
     fitted = load_material(out / "material.toml")
     d = np.linspace(1.25, 2.2, 20)
-    np.testing.assert_allclose(pair_law_magnitude(d, fitted.pair_law),
-                               pair_law_magnitude(d, preset("S2").pair_law), rtol=0.03)
+    np.testing.assert_allclose(
+        pair_law_magnitude(d, fitted.pair_law),
+        pair_law_magnitude(d, preset("S2").pair_law),
+        rtol=0.03,
+    )

@@ -29,14 +29,24 @@ def test_charge_per_skyrmion_and_total(two_skyrmions):
     assert topological_charge(two_skyrmions) == pytest.approx(snap.total_charge, abs=1e-12)
 
 
-@pytest.mark.parametrize("polarity, helicity, expected", [
-    (1, 0.0, -1.0),  # Néel, core down in an up film
-    (1, math.pi / 2, -1.0),  # Bloch: the helicity does not change Q
-    (-1, 0.0, 1.0),  # core up in a down film
-])
+@pytest.mark.parametrize(
+    "polarity, helicity, expected",
+    [
+        (1, 0.0, -1.0),  # Néel, core down in an up film
+        (1, math.pi / 2, -1.0),  # Bloch: the helicity does not change Q
+        (-1, 0.0, 1.0),  # core up in a down film
+    ],
+)
 def test_sign_convention(polarity, helicity, expected):
-    field = synthetic.skyrmion_field((80, 80), CELL, [(40.2e-9, 39.7e-9)], RADIUS, WALL_WIDTH,
-                                     polarity=polarity, helicity=helicity)
+    field = synthetic.skyrmion_field(
+        (80, 80),
+        CELL,
+        [(40.2e-9, 39.7e-9)],
+        RADIUS,
+        WALL_WIDTH,
+        polarity=polarity,
+        helicity=helicity,
+    )
     (sk,) = detect_skyrmions(field).skyrmions
     assert sk.charge == pytest.approx(expected, abs=1e-3)
 
@@ -51,8 +61,9 @@ def test_lattice_charge_is_an_integer_even_when_coarse():
 def test_dissipation_matches_the_ansatz_integral(two_skyrmions):
     expected = synthetic.ansatz_dissipation(RADIUS, WALL_WIDTH)
     # Thin-wall limit 2π(R/Δ + Δ/R) as a sanity check of the quadrature itself (≈ 5 % here).
-    assert expected == pytest.approx(2 * math.pi * (RADIUS / WALL_WIDTH + WALL_WIDTH / RADIUS),
-                                     rel=0.1)
+    assert expected == pytest.approx(
+        2 * math.pi * (RADIUS / WALL_WIDTH + WALL_WIDTH / RADIUS), rel=0.1
+    )
     for sk in detect_skyrmions(two_skyrmions).skyrmions:
         assert sk.dissipation == pytest.approx(expected, rel=0.02)
 
@@ -71,7 +82,7 @@ def test_dissipation_of_a_uniform_rotation_is_exact():
 def test_centres_within_five_hundredths_of_a_cell(two_skyrmions, profile):
     snap = detect_skyrmions(two_skyrmions)
     found = sorted((s.x, s.y) for s in snap.skyrmions)
-    for (x, y), (x0, y0) in zip(found, sorted(profile.centres)):
+    for (x, y), (x0, y0) in zip(found, sorted(profile.centres), strict=True):
         assert abs(x - x0) < 0.05 * CELL and abs(y - y0) < 0.05 * CELL
 
 
@@ -88,19 +99,22 @@ def test_per_region_values_sum_to_the_total(two_skyrmions):
     assert charges[2] == pytest.approx(0.0, abs=1e-4)  # neighbourhoods hold all the charge
     assert charges.sum() == pytest.approx(topological_charge(two_skyrmions), abs=1e-12)
     assert dissipation(two_skyrmions, labels).sum() == pytest.approx(
-        dissipation(two_skyrmions), rel=1e-12)
+        dissipation(two_skyrmions), rel=1e-12
+    )
 
 
 def test_empty_cells_outside_a_disk_are_left_out():
     ny = nx = 90
     yy, xx = np.mgrid[0:ny, 0:nx] + 0.5
     disk = np.hypot(xx - 45, yy - 45) < 42
-    field = synthetic.skyrmion_field((ny, nx), CELL, [(45.3e-9, 44.6e-9)], RADIUS, WALL_WIDTH,
-                                     mask=disk)
+    field = synthetic.skyrmion_field(
+        (ny, nx), CELL, [(45.3e-9, 44.6e-9)], RADIUS, WALL_WIDTH, mask=disk
+    )
     (sk,) = detect_skyrmions(field).skyrmions
     assert sk.charge == pytest.approx(-1.0, abs=1e-3)
-    assert sk.dissipation == pytest.approx(synthetic.ansatz_dissipation(RADIUS, WALL_WIDTH),
-                                           rel=0.02)
+    assert sk.dissipation == pytest.approx(
+        synthetic.ansatz_dissipation(RADIUS, WALL_WIDTH), rel=0.02
+    )
 
 
 def test_no_skyrmion_in_a_uniform_film():

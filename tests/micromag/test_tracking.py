@@ -11,8 +11,7 @@ from skygas.micromag import Skyrmion, Snapshot, detect_skyrmions, link, syntheti
 
 
 def _snap(points, time):
-    sks = tuple(Skyrmion(x, y, 1.0, -1.0, 20.0, 3.0, 1.0, i + 1) for i, (x, y) in
-                enumerate(points))
+    sks = tuple(Skyrmion(x, y, 1.0, -1.0, 20.0, 3.0, 1.0, i + 1) for i, (x, y) in enumerate(points))
     return Snapshot(sks, None, -float(len(sks)), time)
 
 
@@ -46,8 +45,12 @@ def test_assignment_minimises_total_displacement():
 
 
 def test_gate_and_memory():
-    frames = [_snap([(0.0, 0.0)], 0.0), _snap([], 1.0), _snap([(0.1, 0.0)], 2.0),
-              _snap([(5.0, 0.0)], 3.0)]
+    frames = [
+        _snap([(0.0, 0.0)], 0.0),
+        _snap([], 1.0),
+        _snap([(0.1, 0.0)], 2.0),
+        _snap([(5.0, 0.0)], 3.0),
+    ]
     assert [t.frames for t in link(frames, max_step=1.0)] == [[0], [2], [3]]
     assert [t.frames for t in link(frames, max_step=1.0, memory=1)] == [[0, 2], [3]]
 
@@ -73,22 +76,26 @@ def _tilted_frames(mask, angle, polarity, start, shift):
     frames, truth = [], []
     for f in range(4):
         centres = [(x + f * shift[0], y + f * shift[1]) for x, y in start]
-        field = synthetic.skyrmion_field((N, N), 1e-9, centres, RADIUS, WALL_WIDTH,
-                                         polarity=polarity, time=f * 1e-10, mask=mask)
+        field = synthetic.skyrmion_field(
+            (N, N), 1e-9, centres, RADIUS, WALL_WIDTH, polarity=polarity, time=f * 1e-10, mask=mask
+        )
         frames.append(detect_skyrmions(synthetic.edge_tilt(field, angle, WALL_WIDTH)))
         truth.append(centres)
     return frames, np.array(truth)
 
 
-@pytest.mark.parametrize("film, angle, polarity", [
-    ("disk", 0.5, 1), ("disk", -0.5, 1), ("disk", 0.8, -1), ("square", 0.8, 1)])
+@pytest.mark.parametrize(
+    "film, angle, polarity",
+    [("disk", 0.5, 1), ("disk", -0.5, 1), ("disk", 0.8, -1), ("square", 0.8, 1)],
+)
 def test_centres_and_charges_unbiased_by_tilted_edges(film, angle, polarity):
     """A tilted disk rim holds charge (1 − cos θ)/2 ≈ 0.06–0.15; it must not pull the centres
     (the whole-Voronoi-region centre was 0.4–0.6 nm off here). Skyrmions 25–40 nm from the
     edge, corners of the square film (mesh border) included."""
     start = [(40.37e-9, 66.81e-9), (88.13e-9, 60.52e-9)]
-    frames, truth = _tilted_frames(DISK if film == "disk" else None, angle, polarity, start,
-                                   (-1.3e-9, 0.7e-9))
+    frames, truth = _tilted_frames(
+        DISK if film == "disk" else None, angle, polarity, start, (-1.3e-9, 0.7e-9)
+    )
     if film == "disk":  # the rim's own charge is really there: (1 − cos θ)/2 with θ between
         # the tilt at the outermost cell centres (half a cell in) and at the edge itself
         rim = [0.5 * (1 - math.cos(angle * math.exp(-s * 1e-9 / WALL_WIDTH))) for s in (0.5, 0)]
@@ -104,8 +111,9 @@ def test_centres_and_charges_unbiased_by_tilted_edges(film, angle, polarity):
 
 
 def test_no_edge_band_without_tilt():
-    field = synthetic.skyrmion_field((N, N), 1e-9, [(60.3e-9, 64.2e-9)], RADIUS, WALL_WIDTH,
-                                     mask=DISK)
+    field = synthetic.skyrmion_field(
+        (N, N), 1e-9, [(60.3e-9, 64.2e-9)], RADIUS, WALL_WIDTH, mask=DISK
+    )
     snap = detect_skyrmions(field)
     assert snap.edge_band_width == 0.0
     (sk,) = snap.skyrmions

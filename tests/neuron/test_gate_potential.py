@@ -22,10 +22,15 @@ def test_a_skyrmion_rests_where_the_barrier_balances_the_drive():
     # wall's repulsion balances the Hall part −μ G ξ J, which shifts the skyrmion towards the
     # wall at y < 0 (by ~11 nm in this 80 nm conduit).
     # a long conduit: the skyrmion starts inside it, clear of the band's foot (2.5 e)
-    cfg = neuron_config({"device": {**SMALL, "conduit_length": 100e-9}, "temperature": 0.0,
-                         "inputs": [],
-                         "annihilation": {"enabled": False},
-                         "rule": {"threshold": 5, "reset_level": 1}})
+    cfg = neuron_config(
+        {
+            "device": {**SMALL, "conduit_length": 100e-9},
+            "temperature": 0.0,
+            "inputs": [],
+            "annihilation": {"enabled": False},
+            "rule": {"threshold": 5, "reset_level": 1},
+        }
+    )
     device = NeuronDevice(cfg)
     run = device.build(duration=200e-9)
     run.controller.threshold = math.inf
@@ -34,14 +39,15 @@ def test_a_skyrmion_rests_where_the_barrier_balances_the_drive():
     run.sim.add_skyrmions([[start_x, 0.0]])
     run.run()
     assert run.sim.count == 1 and not run.sim.exits
-    (x, y), = run.sim.state.positions
+    ((x, y),) = run.sim.state.positions
     th = run.sim.thiele
-    drive = th.mu * th.eta * th.dissipation * th.k * cfg.spin_drift_coefficient * \
-        cfg.current_density                                          # N
+    drive = (
+        th.mu * th.eta * th.dissipation * th.k * cfg.spin_drift_coefficient * cfg.current_density
+    )  # N
     _, force = run.sim.landscape.energy_and_force([[x, y]])
     assert force[0, 0] == pytest.approx(-drive, rel=0.03)
-    assert abs(force[0, 1]) < 0.01 * drive                          # flat across the conduit
-    assert x > start_x and y < -5e-9                                # moved up, Hall side
+    assert abs(force[0, 1]) < 0.01 * drive  # flat across the conduit
+    assert x > start_x and y < -5e-9  # moved up, Hall side
     # the same skyrmion with the gate open leaves through the read-out line
     run.gate.set(True)
     run.sim.run(100e-9)
@@ -82,5 +88,5 @@ def test_user_potentials_reach_the_neuron_under_the_gate():
     u, _ = run.sim.landscape.energy_and_force([[0.0, 0.0]])
     assert u[0] == pytest.approx(3.0 * units.BOLTZMANN * cfg.temperature, rel=1e-3)
     assert run.gate.term == 1 and run.sim.landscape.enabled == [True, True]
-    run.gate.set(True)                  # opening switches the gate only
+    run.gate.set(True)  # opening switches the gate only
     assert run.sim.landscape.enabled == [True, False]

@@ -21,12 +21,20 @@ def _chamber(seed: int, nucleations: float, base_rate: float, area):
     over DURATION in the area ``area(sim)`` [m²]; also records (time, count) every 100 ns."""
     sim = Simulation(disk(RADIUS), "S2", temperature=300.0, time_step=2.5e-10, seed=seed)
     # collapse distance far below any separation the placement allows: no collapse
-    model = AnnihilationModel(base_rate=base_rate, collapse_distance=1e-12,
-                              nucleation_rate=nucleations / (area(sim) * DURATION))
+    model = AnnihilationModel(
+        base_rate=base_rate,
+        collapse_distance=1e-12,
+        nucleation_rate=nucleations / (area(sim) * DURATION),
+    )
     op = Annihilator.for_simulation(model, sim)
     counts = []
-    sim.operations += [op, SimpleNamespace(next_step=lambda step: (step // 400 + 1) * 400,
-                                           act=lambda s: counts.append((s.time, s.count)))]
+    sim.operations += [
+        op,
+        SimpleNamespace(
+            next_step=lambda step: (step // 400 + 1) * 400,
+            act=lambda s: counts.append((s.time, s.count)),
+        ),
+    ]
     return sim, op, counts
 
 
@@ -41,7 +49,7 @@ def test_nucleation_attempts_are_poisson_in_the_chamber_area_and_none_is_lost():
     assert abs(attempts - expected) < 4 * math.sqrt(expected)
     assert op.n_annihilated == 0 and sim.count == op.n_nucleated > 20
     times = np.array([t for t, _, _ in op.nucleations])
-    for t, count in counts:                       # N(t) = nucleations up to t, all along
+    for t, count in counts:  # N(t) = nucleations up to t, all along
         assert count == np.count_nonzero(times <= t + 1e-15)
 
 
@@ -59,15 +67,23 @@ def test_nucleation_rate_in_a_sparse_chamber_is_nu_times_the_area_inside_one_dia
     d_sk = sim.thiele.skyrmion_diameter
     assert abs(op.n_nucleated - expected) < 4 * math.sqrt(expected)
     r = np.hypot(*np.array([(x, y) for _, x, y in op.nucleations]).T)
-    assert r.max() <= RADIUS - d_sk + 0.1e-9       # never within one diameter of the wall
-    assert r.max() > RADIUS - d_sk - 5e-9          # ... but right up to it
+    assert r.max() <= RADIUS - d_sk + 0.1e-9  # never within one diameter of the wall
+    assert r.max() > RADIUS - d_sk - 5e-9  # ... but right up to it
 
 
 def _quiet_device(**rule):
     """A small neuron with nothing moving: T = 0, no current, no annihilation, no input."""
-    cfg = neuron_config({"device": SMALL, "temperature": 0.0, "current_density": 0.0,
-                         "release_current_density": None, "inputs": [],
-                         "annihilation": {"enabled": False}, **rule})
+    cfg = neuron_config(
+        {
+            "device": SMALL,
+            "temperature": 0.0,
+            "current_density": 0.0,
+            "release_current_density": None,
+            "inputs": [],
+            "annihilation": {"enabled": False},
+            **rule,
+        }
+    )
     return NeuronDevice(cfg)
 
 
@@ -76,8 +92,10 @@ def test_read_noise_has_the_stated_standard_deviation():
     # Gaussian noise of σ = 0.7. Over n ≈ 2000 readings the mean is within 4σ/√n of 3 and the
     # sample standard deviation within 4/√(2n) (relative) of σ.
     sigma = 0.7
-    device = _quiet_device(rule={"threshold": 5, "reset_level": 1},
-                           sensor={"read_noise": sigma, "read_interval": 2.5e-10})
+    device = _quiet_device(
+        rule={"threshold": 5, "reset_level": 1},
+        sensor={"read_noise": sigma, "read_interval": 2.5e-10},
+    )
     run = device.build(duration=500e-9)
     run.controller.threshold = math.inf
     run.sim.add_skyrmions([[-100e-9, 0.0], [0.0, 80e-9], [90e-9, -60e-9]])
@@ -93,29 +111,41 @@ def test_read_noise_has_the_stated_standard_deviation():
 def _refractory_gaps(refractory: float) -> np.ndarray:
     """Gaps [s] between each closing and the next opening in a neuron whose gate closes only
     by timeout (4 ns) while input every 5 ns keeps the reading above the threshold."""
-    cfg = neuron_config({"device": SMALL, "duration": 600e-9, "annihilation": {"enabled": False},
-                         "inputs": [{"kind": "regular", "rate": 2e8}],
-                         "rule": {"threshold": 3, "reset_level": 0, "release_time": 4e-9,
-                                  "refractory_time": refractory}})
+    cfg = neuron_config(
+        {
+            "device": SMALL,
+            "duration": 600e-9,
+            "annihilation": {"enabled": False},
+            "inputs": [{"kind": "regular", "rate": 2e8}],
+            "rule": {
+                "threshold": 3,
+                "reset_level": 0,
+                "release_time": 4e-9,
+                "refractory_time": refractory,
+            },
+        }
+    )
     run = NeuronDevice(cfg).build().run()
     dt = run.sim.time_step
     opens = np.array(run.controller.openings) * dt
     closes = np.array(run.controller.closings) * dt
-    return opens[1:len(closes) + 1] - closes[:len(opens) - 1]
+    return opens[1 : len(closes) + 1] - closes[: len(opens) - 1]
 
 
 def test_no_opening_within_the_refractory_time_after_a_closing():
     gaps = _refractory_gaps(30e-9)
     assert len(gaps) >= 5
     assert gaps.min() >= 30e-9 - 1e-15
-    assert gaps.min() <= 30e-9 + 1e-9              # the rule binds: reopens at the next read
+    assert gaps.min() <= 30e-9 + 1e-9  # the rule binds: reopens at the next read
     # without it the same device reopens sooner, so the check above can fail
     assert _refractory_gaps(0.0).min() < 30e-9
 
 
 def test_a_gate_that_starts_open_closes_after_the_release_time():
-    device = _quiet_device(rule={"threshold": 5, "reset_level": 0, "release_time": 10e-9},
-                           gate={"initially_open": True})
+    device = _quiet_device(
+        rule={"threshold": 5, "reset_level": 0, "release_time": 10e-9},
+        gate={"initially_open": True},
+    )
     run = device.build(duration=30e-9)
     run.sim.add_skyrmions([[0.0, 0.0]])
     run.run()
@@ -124,10 +154,15 @@ def test_a_gate_that_starts_open_closes_after_the_release_time():
 
 def test_release_current_scales_the_open_drift_field():
     base = {"device": SMALL, "duration": 1e-9}
-    gate = NeuronDevice(neuron_config({**base, "current_density": 5e10,
-                                       "release_current_density": 2e11})).build().gate
+    gate = (
+        NeuronDevice(
+            neuron_config({**base, "current_density": 5e10, "release_current_density": 2e11})
+        )
+        .build()
+        .gate
+    )
     np.testing.assert_allclose(gate.open_field[0], 4 * gate.base[0], rtol=1e-12, atol=0)
-    assert np.abs(gate.base[0]).max() > 1.0          # a real current field, m/s
+    assert np.abs(gate.base[0]).max() > 1.0  # a real current field, m/s
     same = NeuronDevice(neuron_config({**base, "release_current_density": None})).build().gate
     np.testing.assert_array_equal(same.open_field[0], same.base[0])
 
@@ -136,19 +171,20 @@ def test_the_default_neuron_integrates_fires_and_resets():
     run = NeuronDevice(neuron_config({})).build().run()
     tr = run.trace()
     dt = run.sim.time_step
-    count_at = dict(zip(np.round(tr["time"] / dt).astype(int), tr["count"]))
+    count_at = dict(zip(np.round(tr["time"] / dt).astype(int), tr["count"], strict=True))
     at_open = [count_at[s] for s in run.controller.openings]
     at_close = [count_at[s] for s in run.controller.closings]
     threshold = run.controller.threshold
     assert len(at_open) >= 3
-    assert min(at_open) >= threshold                 # fires at the threshold ...
-    assert np.median(at_close) <= threshold / 2      # ... and the release empties the chamber
-    assert run.sim.exits                             # through the gate
+    assert min(at_open) >= threshold  # fires at the threshold ...
+    assert np.median(at_close) <= threshold / 2  # ... and the release empties the chamber
+    assert run.sim.exits  # through the gate
 
 
 def test_the_example_file_spells_out_the_defaults():
     from pathlib import Path
 
     from skygas.neuron import load_neuron_config
+
     example = Path(__file__).parents[2] / "examples" / "neuron.toml"
     assert load_neuron_config(example) == neuron_config({})

@@ -52,10 +52,21 @@ class Chromium:
     def __init__(self, executable: str, profile: Path, timeout: float = 60.0):
         self.timeout = timeout
         self.process = subprocess.Popen(
-            [executable, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-             "--remote-debugging-port=0", "--remote-debugging-address=127.0.0.1",
-             f"--user-data-dir={profile}", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            [
+                executable,
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--no-first-run",
+                "--remote-debugging-port=0",
+                "--remote-debugging-address=127.0.0.1",
+                f"--user-data-dir={profile}",
+                "about:blank",
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         url = self._devtools_url()
         from contextlib import ExitStack
 
@@ -66,8 +77,9 @@ class Chromium:
         self.next_id = 0
         self.events: list[dict] = []
         target = self.call("Target.createTarget", {"url": "about:blank"})["targetId"]
-        self.session = self.call("Target.attachToTarget",
-                                 {"targetId": target, "flatten": True})["sessionId"]
+        self.session = self.call("Target.attachToTarget", {"targetId": target, "flatten": True})[
+            "sessionId"
+        ]
         for domain in ("Page", "Runtime", "Log"):
             self.call(f"{domain}.enable", session=True)
 
@@ -115,8 +127,10 @@ class Chromium:
         for e in self.events:
             m, p = e.get("method"), e.get("params", {})
             if m == "Runtime.consoleAPICalled" and p.get("type") in ("error", "assert"):
-                out.append("console: " + " ".join(str(a.get("value", a.get("description")))
-                                                  for a in p.get("args", [])))
+                out.append(
+                    "console: "
+                    + " ".join(str(a.get("value", a.get("description"))) for a in p.get("args", []))
+                )
             elif m == "Runtime.exceptionThrown":
                 out.append("exception: " + json.dumps(p.get("exceptionDetails", {}))[:500])
             elif m == "Log.entryAdded" and p.get("entry", {}).get("level") == "error":
@@ -128,16 +142,26 @@ class Chromium:
         with the page's ``errors`` and a PNG ``screenshot`` (bytes)."""
         self.call("Page.navigate", {"url": url}, session=True)
         self.wait_for("Page.loadEventFired")
-        result = self.call("Runtime.evaluate", {"expression": PAGE_CHECK, "awaitPromise": True,
-                                                "returnByValue": True}, session=True)
+        result = self.call(
+            "Runtime.evaluate",
+            {"expression": PAGE_CHECK, "awaitPromise": True, "returnByValue": True},
+            session=True,
+        )
         value = result["result"].get("value", {})
         size = self.call("Page.getLayoutMetrics", session=True)["cssContentSize"]
         # the whole page, at half scale (a long report would make a huge image otherwise)
-        clip = {"x": 0, "y": 0, "width": size["width"], "height": min(size["height"], 12000),
-                "scale": 0.5}
-        shot = self.call("Page.captureScreenshot", {"format": "png", "clip": clip,
-                                                    "captureBeyondViewport": True},
-                         session=True)
+        clip = {
+            "x": 0,
+            "y": 0,
+            "width": size["width"],
+            "height": min(size["height"], 12000),
+            "scale": 0.5,
+        }
+        shot = self.call(
+            "Page.captureScreenshot",
+            {"format": "png", "clip": clip, "captureBeyondViewport": True},
+            session=True,
+        )
         value["screenshot"] = base64.b64decode(shot["data"])
         value["errors"] = self.errors()
         return value

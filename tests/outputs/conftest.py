@@ -5,10 +5,18 @@ from __future__ import annotations
 import pytest
 
 SIMULATION = {
-    "seed": 4, "temperature": 300.0, "duration": 30e-9, "record_interval": 1e-9,
+    "seed": 4,
+    "temperature": 300.0,
+    "duration": 30e-9,
+    "record_interval": 1e-9,
     "material": "S2",
-    "geometry": {"kind": "chamber", "chamber_diameter": 1024e-9, "conduit_width": 100e-9,
-                 "conduit_length": 50e-9, "closed": True},
+    "geometry": {
+        "kind": "chamber",
+        "chamber_diameter": 1024e-9,
+        "conduit_width": 100e-9,
+        "conduit_length": 50e-9,
+        "closed": True,
+    },
     "skyrmions": {"random_count": 20, "min_separation": 1.5},
 }
 
@@ -31,7 +39,8 @@ def reshuffler_run(tmp_path_factory):
     from skygas.reshuffler.files import run_reshuffler
 
     out = tmp_path_factory.mktemp("reshuffler")
-    config = load_reshuffler_config(overrides={"duration": 0.4e-6,
-                                               "output.snapshot_interval": 4e-9})
+    config = load_reshuffler_config(
+        overrides={"duration": 0.4e-6, "output.snapshot_interval": 4e-9}
+    )
     run_reshuffler(config, out, progress=False)
     return out

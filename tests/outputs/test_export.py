@@ -15,14 +15,24 @@ def recorded_frames(nc_path):
     with xr.open_dataset(nc_path) as ds:
         if "snapshot_count" in ds:
             edges = np.concatenate([[0], np.cumsum(ds.snapshot_count.values)])
-            return [(t, ds.snapshot_skyrmion.values[a:b],
-                     np.column_stack([ds.snapshot_x.values[a:b], ds.snapshot_y.values[a:b]]))
-                    for t, a, b in zip(ds.snapshot_time.values, edges[:-1], edges[1:])]
+            return [
+                (
+                    t,
+                    ds.snapshot_skyrmion.values[a:b],
+                    np.column_stack([ds.snapshot_x.values[a:b], ds.snapshot_y.values[a:b]]),
+                )
+                for t, a, b in zip(ds.snapshot_time.values, edges[:-1], edges[1:], strict=True)
+            ]
         out = []
         for f, t in enumerate(ds.time.values):
             ok = np.isfinite(ds.x.values[f])
-            out.append((t, ds.skyrmion.values[ok],
-                        np.column_stack([ds.x.values[f, ok], ds.y.values[f, ok]])))
+            out.append(
+                (
+                    t,
+                    ds.skyrmion.values[ok],
+                    np.column_stack([ds.x.values[f, ok], ds.y.values[f, ok]]),
+                )
+            )
         return out
 
 
@@ -37,7 +47,7 @@ def test_gsd_frames_equal_the_netcdf_record(run, request, tmp_path):
     expected = recorded_frames(nc)
     with gsd.hoomd.open(out) as traj:
         assert len(traj) == len(expected)
-        for frame, (t, ids, xy) in zip(traj, expected):
+        for frame, (t, ids, xy) in zip(traj, expected, strict=True):
             assert frame.particles.N == len(ids)
             assert frame.configuration.dimensions == 2
             assert frame.log["skygas/time_s"][0] == t
@@ -61,17 +71,20 @@ def test_extxyz_frames_equal_the_netcdf_record(reshuffler_run, tmp_path):
         header = lines[k + 1]
         assert "length_unit=nm" in header and "time_unit=s" in header and "Lattice=" in header
         assert float(header.split("Time=")[1].split()[0]) == pytest.approx(t, rel=1e-9)
-        rows = [line.split() for line in lines[k + 2:k + 2 + n]]
+        rows = [line.split() for line in lines[k + 2 : k + 2 + n]]
         assert n == len(ids)
         np.testing.assert_array_equal([int(r[4]) for r in rows], ids)
-        np.testing.assert_allclose([[float(r[1]), float(r[2])] for r in rows], xy * 1e9,
-                                   atol=1e-6)
+        np.testing.assert_allclose([[float(r[1]), float(r[2])] for r in rows], xy * 1e9, atol=1e-6)
         k += 2 + n
     assert k == len(lines)
 
 
 def test_export_refuses_a_missing_run_before_any_work(tmp_path, capsys):
-    assert main(["export", str(tmp_path / "none"), "--format", "gsd",
-                 "--out", str(tmp_path / "x.gsd")]) == 2
+    assert (
+        main(
+            ["export", str(tmp_path / "none"), "--format", "gsd", "--out", str(tmp_path / "x.gsd")]
+        )
+        == 2
+    )
     assert "skygas: error: RUN" in capsys.readouterr().err
     assert not (tmp_path / "x.gsd").exists()

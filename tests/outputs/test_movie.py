@@ -41,7 +41,7 @@ def test_disks_have_the_real_diameter_at_the_recorded_positions(reshuffler_run):
     assert radius_px == pytest.approx(canvas.radius_px)
     assert radius_px > 5  # a visible disk at this size
     centres = canvas.pixels(xy)
-    for (px, py), g in zip(centres, groups):
+    for (px, py), g in zip(centres, groups, strict=True):
         # inside the disk (half a radius off centre) the pixel has the group's colour
         colour = image[int(round(py)), int(round(px + 0.5 * radius_px))]
         np.testing.assert_allclose(colour, GROUP_COLOURS[g], atol=2)
@@ -59,8 +59,21 @@ def test_mp4_decodes_with_every_frame(simulation_run, tmp_path):
     import imageio_ffmpeg
 
     out = tmp_path / "movie.mp4"
-    assert main(["animate", str(simulation_run), "--out", str(out), "--window", "4.5e-9:24.5e-9",
-                 "--fps", "10"]) == 0
+    assert (
+        main(
+            [
+                "animate",
+                str(simulation_run),
+                "--out",
+                str(out),
+                "--window",
+                "4.5e-9:24.5e-9",
+                "--fps",
+                "10",
+            ]
+        )
+        == 0
+    )
     reader = imageio_ffmpeg.read_frames(str(out))
     meta = reader.__next__()
     frames = sum(1 for _ in reader)
@@ -82,11 +95,11 @@ def test_gif_fallback(simulation_run, tmp_path):
 def test_animate_refuses_bad_arguments_before_reading_the_run(tmp_path, capsys):
     assert main(["animate", str(tmp_path), "--out", str(tmp_path / "m.avi")]) == 2
     assert "--out" in capsys.readouterr().err
-    assert main(["animate", str(tmp_path), "--out", str(tmp_path / "m.mp4"),
-                 "--window", "3:1"]) == 2
+    assert (
+        main(["animate", str(tmp_path), "--out", str(tmp_path / "m.mp4"), "--window", "3:1"]) == 2
+    )
     assert "--window" in capsys.readouterr().err
-    assert main(["animate", str(tmp_path), "--out", str(tmp_path / "m.mp4"),
-                 "--stride", "0"]) == 2
+    assert main(["animate", str(tmp_path), "--out", str(tmp_path / "m.mp4"), "--stride", "0"]) == 2
     assert "--stride" in capsys.readouterr().err
     assert main(["animate", str(tmp_path), "--out", str(tmp_path / "m.mp4")]) == 2
     assert "RUN" in capsys.readouterr().err

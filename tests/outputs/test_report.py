@@ -15,10 +15,12 @@ import pytest
 
 from skygas._version import __version__
 from skygas.outputs.finish import finish_outputs
+
 from .browser import Chromium, find_chromium
 
-ARTIFACTS = Path(os.environ.get("SKYGAS_TEST_ARTIFACTS",
-                                Path(__file__).resolve().parents[2] / "test-artifacts"))
+ARTIFACTS = Path(
+    os.environ.get("SKYGAS_TEST_ARTIFACTS", Path(__file__).resolve().parents[2] / "test-artifacts")
+)
 
 
 class _Resources(HTMLParser):
@@ -130,8 +132,9 @@ def test_report_of_a_sweep_store_holds_the_fits(tmp_path):
     from sweep.test_analysis import fake_store
 
     grid = {"current_density": [1e11, 1.5e11, 2e11, 2.7e11, 3.8e11]}
-    store = fake_store(tmp_path / "j.zarr", grid,
-                       lambda c: 1 / (1 + (c.current_density / 1e11) ** -1.5))
+    store = fake_store(
+        tmp_path / "j.zarr", grid, lambda c: 1 / (1 + (c.current_density / 1e11) ** -1.5)
+    )
     out = tmp_path / "sweep.html"
     assert main(["report", str(store), "--out", str(out)]) == 0
     text = out.read_text()

@@ -29,14 +29,16 @@ min_separation = 1.5
 def test_simulate_writes_report_and_movie_when_asked(tmp_path, capsys):
     config = tmp_path / "run.toml"
     config.write_text(CONFIG)
-    assert main(["simulate", str(config), "--out", str(tmp_path / "a"), "--quiet",
-                 "--animate"]) == 0
+    assert (
+        main(["simulate", str(config), "--out", str(tmp_path / "a"), "--quiet", "--animate"]) == 0
+    )
     assert (tmp_path / "a" / "report.html").stat().st_size > 10_000
     assert (tmp_path / "a" / "movie.mp4").stat().st_size > 1_000
     outputs = json.loads((tmp_path / "a" / "outputs.json").read_text())
     assert outputs["movie"]["frames"] == 12 and outputs["movie"]["stride"] == 1
-    assert main(["simulate", str(config), "--out", str(tmp_path / "b"), "--quiet",
-                 "--no-report"]) == 0
+    assert (
+        main(["simulate", str(config), "--out", str(tmp_path / "b"), "--quiet", "--no-report"]) == 0
+    )
     assert not (tmp_path / "b" / "report.html").exists()
     assert not (tmp_path / "b" / "movie.mp4").exists()
     capsys.readouterr()
@@ -52,8 +54,21 @@ def test_simulate_writes_report_and_movie_when_asked(tmp_path, capsys):
 @pytest.mark.slow
 def test_neuron_records_frames_for_its_movie(tmp_path):
     out = tmp_path / "n"
-    assert main(["neuron", "--duration", "1e-7", "--no-transfer", "--json", "--animate",
-                 "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "neuron",
+                "--duration",
+                "1e-7",
+                "--no-transfer",
+                "--json",
+                "--animate",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     from skygas.outputs.records import load_run
 
     record = load_run(out)

@@ -29,8 +29,11 @@ def gas_in_chamber() -> dict[str, np.ndarray]:
     sim.add_skyrmions(pts * 1e-9)
     sim.run(600 * sim.time_step, record_interval=20 * sim.time_step)
     ds = sim.trajectories()
-    return {"gas_x": ds.x.values, "gas_y": ds.y.values,
-            "gas_counters": np.array([sim.step, sim.wall_escapes, sim.pair_evaluations])}
+    return {
+        "gas_x": ds.x.values,
+        "gas_y": ds.y.values,
+        "gas_counters": np.array([sim.step, sim.wall_escapes, sim.pair_evaluations]),
+    }
 
 
 def drifting_gas() -> dict[str, np.ndarray]:
@@ -42,18 +45,28 @@ def drifting_gas() -> dict[str, np.ndarray]:
 
     material = preset("S2")
     thiele = replace(derive_thiele(material), eta=0.3)
-    outline = rectangle(800e-9, 300e-9).with_port("exit", (400e-9, -150e-9),
-                                                          (400e-9, 150e-9))
-    sim = skygas.Simulation(outline, material, temperature=300.0, seed=9, thiele=thiele,
-                            drift_velocity=(40.0, 0.0), integrator="euler-maruyama",
-                            brownian_substeps=2, pair_law="lin-reichhardt")
+    outline = rectangle(800e-9, 300e-9).with_port("exit", (400e-9, -150e-9), (400e-9, 150e-9))
+    sim = skygas.Simulation(
+        outline,
+        material,
+        temperature=300.0,
+        seed=9,
+        thiele=thiele,
+        drift_velocity=(40.0, 0.0),
+        integrator="euler-maruyama",
+        brownian_substeps=2,
+        pair_law="lin-reichhardt",
+    )
     xs = np.linspace(-300e-9, 100e-9, 6)
     sim.add_skyrmions(np.column_stack([xs, np.zeros_like(xs)]))
     sim.run(2000 * sim.time_step, record_interval=50 * sim.time_step)
     ds = sim.trajectories()
-    return {"drift_x": ds.x.values, "drift_y": ds.y.values,
-            "drift_exit_time": ds.exit_time.values,
-            "drift_exit_skyrmion": ds.exit_skyrmion.values}
+    return {
+        "drift_x": ds.x.values,
+        "drift_y": ds.y.values,
+        "drift_exit_time": ds.exit_time.values,
+        "drift_exit_skyrmion": ds.exit_skyrmion.values,
+    }
 
 
 def reshuffler() -> dict[str, np.ndarray]:
@@ -63,13 +76,17 @@ def reshuffler() -> dict[str, np.ndarray]:
 
     out = {}
     for seed, current in ((0, 3.8e11), (1, 1.7e11)):
-        config = load_reshuffler_config(None, preset="paper", overrides={
-            "seed": seed, "current_density": current, "duration": 3e-6})
+        config = load_reshuffler_config(
+            None,
+            preset="paper",
+            overrides={"seed": seed, "current_density": current, "duration": 3e-6},
+        )
         result = run_reshuffler(config, None, progress=False, figures=False)
         s = result.summary
         out[f"reshuffler{seed}_numbers"] = np.array(
             [s["correlation"], s["p_out"], s["n_detected"], s["n_present"], s["max_occupancy"]],
-            dtype=float)
+            dtype=float,
+        )
         out[f"reshuffler{seed}_detection_time"] = result.dataset["detection_time"].values
     return out
 
@@ -81,10 +98,14 @@ def neuron() -> dict[str, np.ndarray]:
 
     config = load_neuron_config(None, seed=4, duration=2e-6)
     run = NeuronDevice(config).build().run()
-    return {"neuron_spikes": run.spike_times(), "neuron_emissions": run.emission_times(),
-            "neuron_counts": np.array([run.annihilator.n_annihilated,
-                                       run.injector.n_injected, run.sim.count]),
-            "neuron_trace_count": run.trace()["count"]}
+    return {
+        "neuron_spikes": run.spike_times(),
+        "neuron_emissions": run.emission_times(),
+        "neuron_counts": np.array(
+            [run.annihilator.n_annihilated, run.injector.n_injected, run.sim.count]
+        ),
+        "neuron_trace_count": run.trace()["count"],
+    }
 
 
 CASES = (gas_in_chamber, drifting_gas, reshuffler, neuron)

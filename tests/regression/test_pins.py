@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from tests.regression import pins
 
 pytestmark = pytest.mark.slow
@@ -43,7 +42,6 @@ def test_pinned_results_are_reproduced(case, pinned, same_processor):
         _assert_identical(now, pinned)
     elif case is pins.gas_in_chamber:
         for name in ("gas_x", "gas_y"):
-            np.testing.assert_allclose(now[name], pinned[name], rtol=0, atol=1e-12,
-                                       err_msg=name)
+            np.testing.assert_allclose(now[name], pinned[name], rtol=0, atol=1e-12, err_msg=name)
     else:
         pytest.skip(f"pins written on {pinned['host_cpu']}: bit-identity is per processor")

@@ -40,22 +40,29 @@ def test_quadrature_matches_the_exact_marginal_of_a_triangle(setting):
     pdf = boltzmann_wall_distance_pdf(triangle, material, thiele, 300.0, edges, 0.25)
     d = np.linspace(0, r, 2001)
     density = (1 - d / r) * np.exp(-wall_energy(d, material, thiele) / (BOLTZMANN * 300.0))
-    exact = np.array([np.trapezoid(density[(d >= a) & (d <= b)], d[(d >= a) & (d <= b)])
-                      for a, b in zip(edges[:-1], edges[1:])])
+    exact = np.array(
+        [
+            np.trapezoid(density[(d >= a) & (d <= b)], d[(d >= a) & (d <= b)])
+            for a, b in zip(edges[:-1], edges[1:], strict=True)
+        ]
+    )
     exact /= exact.sum()
     assert np.max(np.abs(pdf - exact)) < 4e-3
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("shape, tolerance", [
-    # a disk: d = R − r is smooth but at the centre, and the engine's wall field is exact to
-    # its interpolation error
-    ("disk", 5e-3),
-    # the triangle chamber: the engine interpolates the nearest-wall distance and normal
-    # bilinearly on a d_sk/16 grid, which rounds the ridges of d (the medial axis, where the
-    # nearest wall changes) and biases the bins near the inradius by up to ~1.5 %
-    ("triangle", 2e-2),
-])
+@pytest.mark.parametrize(
+    "shape, tolerance",
+    [
+        # a disk: d = R − r is smooth but at the centre, and the engine's wall field is exact to
+        # its interpolation error
+        ("disk", 5e-3),
+        # the triangle chamber: the engine interpolates the nearest-wall distance and normal
+        # bilinearly on a d_sk/16 grid, which rounds the ridges of d (the medial axis, where the
+        # nearest wall changes) and biases the bins near the inradius by up to ~1.5 %
+        ("triangle", 2e-2),
+    ],
+)
 def test_current_free_occupation_converges_to_boltzmann(setting, shape, tolerance):
     from skygas import geometry as geo
 

@@ -30,16 +30,21 @@ def _run(tmp_path, capsys, text, *extra):
     return code, out, err, time.perf_counter() - started
 
 
-@pytest.mark.parametrize("text, field", [
-    ("[chamber]\ncontacts = [{name = 'A', start = [0.0, 0.0], end = [1e-8, 0.0]},"
-     " {name = 'B', start = [-1.5e-7, -8.66e-8], end = [1.5e-7, -8.66e-8]}]",
-     "chamber.contacts[0]"),
-    ("n_skyrmions = 0", "n_skyrmions"),
-    ("hold_time = 1e-12", "hold_time"),
-    ("[drive]\ninput_contacts = ['A', 'X']", "drive.input_contacts[1]"),
-    ("[chamber]\ncontact_width = 2e-7", "chamber.contact_width"),
-    ("[sensors]\nsample_interval = 1e-5", "sensors.sample_interval"),
-])
+@pytest.mark.parametrize(
+    "text, field",
+    [
+        (
+            "[chamber]\ncontacts = [{name = 'A', start = [0.0, 0.0], end = [1e-8, 0.0]},"
+            " {name = 'B', start = [-1.5e-7, -8.66e-8], end = [1.5e-7, -8.66e-8]}]",
+            "chamber.contacts[0]",
+        ),
+        ("n_skyrmions = 0", "n_skyrmions"),
+        ("hold_time = 1e-12", "hold_time"),
+        ("[drive]\ninput_contacts = ['A', 'X']", "drive.input_contacts[1]"),
+        ("[chamber]\ncontact_width = 2e-7", "chamber.contact_width"),
+        ("[sensors]\nsample_interval = 1e-5", "sensors.sample_interval"),
+    ],
+)
 def test_bad_configurations_get_one_line_before_any_work(tmp_path, capsys, text, field):
     code, out, err, seconds = _run(tmp_path, capsys, text)
     assert code == 2 and out == ""
@@ -53,8 +58,14 @@ def test_short_run_writes_json_figures_and_report(tmp_path, capsys):
     code, out, err, _ = _run(tmp_path, capsys, FAST, "--json")
     assert code == 0
     summary = json.loads(out)
-    for key in ("task", "accuracy", "hold_time_s", "temperature_K", "n_skyrmions",
-                "energy_per_operation_J"):
+    for key in (
+        "task",
+        "accuracy",
+        "hold_time_s",
+        "temperature_K",
+        "n_skyrmions",
+        "energy_per_operation_J",
+    ):
         assert key in summary
     assert list(summary["accuracy"])[0] == "XOR" and len(summary["accuracy"]) == 16
     assert summary["energy_per_operation_J"] > 0

@@ -31,16 +31,17 @@ def test_superposition_equals_a_direct_solve(triangle, basis):
     assert np.max(np.abs(jy_s - jy_d)) < 1e-10 * scale
     assert np.max(np.abs(phi_s - phi_d)[inside]) < 1e-12
     for k in volts:
-        assert summed.contact_currents[k] == pytest.approx(direct.contact_currents[k],
-                                                           rel=1e-9, abs=1e-18)
+        assert summed.contact_currents[k] == pytest.approx(
+            direct.contact_currents[k], rel=1e-9, abs=1e-18
+        )
     assert basis.power(volts) == pytest.approx(direct.power, rel=1e-9)
 
 
 def test_contact_currents_obey_kirchhoff_and_the_conductance_is_symmetric(basis):
     g = basis.conductance
     assert np.abs(g.sum(axis=0)).max() < 1e-9 * np.abs(g).max()  # currents sum to zero
-    assert np.allclose(g, g.T, rtol=1e-9)                         # reciprocity
-    assert np.all(np.linalg.eigvalsh(g)[1:] > 0)                  # P = VᵀGV ≥ 0, one zero mode
+    assert np.allclose(g, g.T, rtol=1e-9)  # reciprocity
+    assert np.all(np.linalg.eigvalsh(g)[1:] > 0)  # P = VᵀGV ≥ 0, one zero mode
 
 
 def test_unit_solution_matches_the_source_sink_solver(triangle, basis):
@@ -53,8 +54,7 @@ def test_unit_solution_matches_the_source_sink_solver(triangle, basis):
     ratio = 1.0 / solution.voltage
     assert np.allclose(jx_u, jx_s * ratio, rtol=1e-9, atol=1e-6 * np.abs(jx_u).max())
     assert np.allclose(jy_u, jy_s * ratio, rtol=1e-9, atol=1e-6 * np.abs(jy_u).max())
-    assert unit.contact_currents["A"] == pytest.approx(solution.total_current * ratio,
-                                                       rel=1e-6)
+    assert unit.contact_currents["A"] == pytest.approx(solution.total_current * ratio, rel=1e-6)
 
 
 def test_equal_potentials_carry_no_current(triangle):
@@ -62,8 +62,9 @@ def test_equal_potentials_carry_no_current(triangle):
     assert flow.power == 0.0 and flow.mean_current_density() == 0.0
 
 
-@pytest.mark.parametrize("shape, contacts", [("triangle", "ABC"), ("square", "ABCD"),
-                                             ("disk", "ABC")])
+@pytest.mark.parametrize(
+    "shape, contacts", [("triangle", "ABC"), ("square", "ABCD"), ("disk", "ABC")]
+)
 def test_chambers_have_their_contacts_on_the_outline(shape, contacts):
     spec = ChamberSpec(shape=shape, size=300e-9, contact_width=60e-9)
     outline = build_chamber(spec)

@@ -17,11 +17,13 @@ def test_disk_overlap_area_exact_cases():
     # equal disks d apart: 2r² acos(d/2r) − (d/2)√(4r² − d²)
     d = np.array([0.0, 1.0, 3.0, 5.9, 6.0, 7.0])
     exact = 2 * r * r * np.arccos(np.minimum(d / (2 * r), 1)) - d / 2 * np.sqrt(
-        np.maximum(4 * r * r - d * d, 0))
+        np.maximum(4 * r * r - d * d, 0)
+    )
     assert np.allclose(disk_overlap_area(d, r, r), exact, rtol=1e-12, atol=1e-12)
     # a small disk inside a large one, touching from inside, and apart
     assert disk_overlap_area(np.array([0.5, 2.0, 7.0]), 1.0, 3.0) == pytest.approx(
-        [math.pi, math.pi, 0.0])
+        [math.pi, math.pi, 0.0]
+    )
 
 
 def test_disk_overlap_area_against_monte_carlo():
@@ -54,7 +56,7 @@ def test_readout_is_perfect_on_a_linearly_separable_task(model):
     x = rng.normal(size=(3000, 5))
     w = np.array([1.0, -2.0, 0.5, 0.0, 3.0])
     margin = x @ w
-    keep = np.abs(margin) > 3.0   # a clear gap between the classes (|w| = 3.8)
+    keep = np.abs(margin) > 3.0  # a clear gap between the classes (|w| = 3.8)
     x, label = x[keep], (margin[keep] > 0).astype(int)
     train, test = split(len(x), 0.4, seed=1)
     score = fit_and_score(x, label, train, test, model=model, regularization=1e-6)
@@ -68,7 +70,8 @@ def test_truth_tables_and_the_xor_of_separated_states():
     assert list(boolean_value(8, a, b)) == [0, 0, 0, 1]  # AND
     assert list(boolean_value(14, a, b)) == [0, 1, 1, 1]  # OR
     assert {tuple(boolean_value(k, a, b)) for k in range(16)} == {
-        tuple((k >> np.arange(4)) & 1) for k in range(16)}
+        tuple((k >> np.arange(4)) & 1) for k in range(16)
+    }
     # one-hot states per input symbol (plus noise): every function is linearly separable
     rng = np.random.default_rng(2)
     bits = rng.integers(0, 2, size=(400, 2))
@@ -83,10 +86,15 @@ def test_a_random_landscape_is_one_device_in_one_stream():
     from skygas.reservoir.config import reservoir_config
     from skygas.reservoir.device import run_streams
 
-    pinned = reservoir_config({
-        "hold_time": 1e-7, "sensors": {"sample_interval": 5e-9},
-        "study": {"n_inputs": 16, "temporal_inputs": 0, "workers": 2},
-        "potentials": [{"kind": "random_pinning", "density": 1.7e14, "sigma": 19e-9,
-                        "depth_kT": 2.0}]})
+    pinned = reservoir_config(
+        {
+            "hold_time": 1e-7,
+            "sensors": {"sample_interval": 5e-9},
+            "study": {"n_inputs": 16, "temporal_inputs": 0, "workers": 2},
+            "potentials": [
+                {"kind": "random_pinning", "density": 1.7e14, "sigma": 19e-9, "depth_kT": 2.0}
+            ],
+        }
+    )
     boolean, temporal = run_streams(pinned)
     assert len(boolean) == 1 and len(boolean[0].bits) == 16 and temporal == []

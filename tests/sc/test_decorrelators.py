@@ -15,8 +15,13 @@ from skygas.sc import (
     telegraph_stream,
 )
 
-DECORRELATORS = [DelayIsolator(1), DelayIsolator(8), ShuffleBuffer(16), ShuffleBuffer(128),
-                 Regenerator(64)]
+DECORRELATORS = [
+    DelayIsolator(1),
+    DelayIsolator(8),
+    ShuffleBuffer(16),
+    ShuffleBuffer(128),
+    Regenerator(64),
+]
 
 
 @pytest.mark.parametrize("decorrelator", DECORRELATORS, ids=lambda d: d.name)

@@ -19,8 +19,12 @@ from skygas.sweep.execute import LOCAL_CLUSTER_CONFIG
 from skygas.sweep.store import QUANTITIES, SweepStore
 
 # everything but the wall-clock time is a deterministic function of the sweep file
-COMPARED = [q for q in QUANTITIES if q != "wall_time_s"] + ["running_rho", "running_time",
-                                                            "seed", "done"]
+COMPARED = [q for q in QUANTITIES if q != "wall_time_s"] + [
+    "running_rho",
+    "running_time",
+    "seed",
+    "done",
+]
 
 
 def assert_same_results(a, b):
@@ -56,11 +60,14 @@ def test_dask_two_workers_match_serial(tiny_sweep_file, tmp_path):
     with start_local_cluster(2) as cluster, Client(cluster) as client:
         pids = list(client.run(os.getpid).values())
         done_at_kill = []
-        killer = threading.Thread(target=_kill_one_worker_after_first_run,
-                                  args=(tmp_path / "dask.zarr", pids, done_at_kill))
+        killer = threading.Thread(
+            target=_kill_one_worker_after_first_run,
+            args=(tmp_path / "dask.zarr", pids, done_at_kill),
+        )
         killer.start()
-        dask = run_sweep(sweep, tmp_path / "dask.zarr", scheduler=cluster.scheduler_address,
-                         progress=False)
+        dask = run_sweep(
+            sweep, tmp_path / "dask.zarr", scheduler=cluster.scheduler_address, progress=False
+        )
         killer.join()
         # every worker, the restarted one included, runs with the cluster's quiet settings
         client.wait_for_workers(2, timeout=120)
@@ -105,8 +112,9 @@ def test_a_new_store_reads_as_runs_not_yet_done(tiny_sweep_file, tmp_path):
 
 def test_store_of_another_sweep_is_refused(tiny_sweep_file, tmp_path):
     SweepStore(tmp_path / "s.zarr", load_sweep(tiny_sweep_file))  # created, nothing run
-    other = parse_sweep({"sweep": {"seed": 12}, "base": {"preset": "paper"},
-                         "grid": {"current_density": [1e11]}})
+    other = parse_sweep(
+        {"sweep": {"seed": 12}, "base": {"preset": "paper"}, "grid": {"current_density": [1e11]}}
+    )
     with pytest.raises(InputError, match="--out"):
         run_sweep(other, tmp_path / "s.zarr", serial=True, progress=False)
 
@@ -118,13 +126,17 @@ def _sweep_cli(*args):
 def test_killed_sweep_resumes_without_recomputing(tiny_sweep_file, tmp_path):
     # runs of 20 µs (not the tiny sweep's 1 µs): each takes a good fraction of a second, so the
     # poll below sees the first finished run before the others finish, even on a busy machine
-    tiny_sweep_file.write_text(tiny_sweep_file.read_text().replace("duration = 1e-6",
-                                                                   "duration = 2e-5"))
+    tiny_sweep_file.write_text(
+        tiny_sweep_file.read_text().replace("duration = 1e-6", "duration = 2e-5")
+    )
     store = tmp_path / "killed.zarr"
     # the client (and with it its local Dask cluster) is killed after the first finished run
-    proc = subprocess.Popen(_sweep_cli(tiny_sweep_file, "--out", store, "--workers", "1"),
-                            start_new_session=True, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        _sweep_cli(tiny_sweep_file, "--out", store, "--workers", "1"),
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     try:
         deadline = time.monotonic() + 60
         n_done = 0
@@ -143,8 +155,12 @@ def test_killed_sweep_resumes_without_recomputing(tiny_sweep_file, tmp_path):
     finished_before = np.asarray(partial["finished_at"][...])
     assert 1 <= done_before.sum() < 4, "the sweep was not interrupted midway"
 
-    resumed = subprocess.run(_sweep_cli(tiny_sweep_file, "--out", store, "--workers", "1"),
-                             capture_output=True, text=True, timeout=120)
+    resumed = subprocess.run(
+        _sweep_cli(tiny_sweep_file, "--out", store, "--workers", "1"),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert resumed.returncode == 0, resumed.stderr
     n_left = 4 - int(done_before.sum())
     assert f"{n_left} runs computed, {int(done_before.sum())} already done" in resumed.stdout
@@ -152,8 +168,9 @@ def test_killed_sweep_resumes_without_recomputing(tiny_sweep_file, tmp_path):
     final = open_sweep(store)
     raw = zarr.open_group(store)
     # runs finished before the kill were not computed again
-    np.testing.assert_array_equal(np.asarray(raw["finished_at"][...])[done_before],
-                                  finished_before[done_before])
+    np.testing.assert_array_equal(
+        np.asarray(raw["finished_at"][...])[done_before], finished_before[done_before]
+    )
     assert (np.asarray(raw["session"][...])[done_before] == 0).all()
     assert (np.asarray(raw["session"][...])[~done_before] == 1).all()
 

@@ -20,6 +20,18 @@ from skygas.analysis.observables import analyze
 from skygas.analysis.structure import PairCorrelation, pair_correlation
 from skygas.analysis.transport import MeanVelocity, hall_angle, mean_velocity
 
-__all__ = ["Frames", "MSDResult", "mean_squared_displacement", "PairCorrelation",
-           "pair_correlation", "MeanVelocity", "mean_velocity", "hall_angle", "FieldMap",
-           "density_map", "velocity_map", "occupancy", "analyze"]
+__all__ = [
+    "Frames",
+    "MSDResult",
+    "mean_squared_displacement",
+    "PairCorrelation",
+    "pair_correlation",
+    "MeanVelocity",
+    "mean_velocity",
+    "hall_angle",
+    "FieldMap",
+    "density_map",
+    "velocity_map",
+    "occupancy",
+    "analyze",
+]

@@ -37,12 +37,16 @@ class MSDResult:
     drift_subtracted: bool
 
     def as_dict(self) -> dict:
-        return {"lag_time_s": self.lag_time.tolist(), "msd_m2": self.msd.tolist(),
-                "msd_error_m2": self.msd_error.tolist(), "n_pairs": self.n_pairs.tolist(),
-                "diffusion_constant_m2_s": self.diffusion_constant,
-                "diffusion_constant_error_m2_s": self.diffusion_error,
-                "fit_lag_times_s": (self.fit_lags * self._dt).tolist(),
-                "drift_subtracted": self.drift_subtracted}
+        return {
+            "lag_time_s": self.lag_time.tolist(),
+            "msd_m2": self.msd.tolist(),
+            "msd_error_m2": self.msd_error.tolist(),
+            "n_pairs": self.n_pairs.tolist(),
+            "diffusion_constant_m2_s": self.diffusion_constant,
+            "diffusion_constant_error_m2_s": self.diffusion_error,
+            "fit_lag_times_s": (self.fit_lags * self._dt).tolist(),
+            "drift_subtracted": self.drift_subtracted,
+        }
 
     @property
     def _dt(self) -> float:
@@ -55,8 +59,9 @@ def default_lags(n_frames: int, count: int = 16) -> np.ndarray:
     return np.unique(np.round(np.geomspace(1, top, count)).astype(np.int64))
 
 
-def mean_squared_displacement(frames: Frames, lags=None, *, fit_lags=None,
-                              subtract_drift: bool = False) -> MSDResult:
+def mean_squared_displacement(
+    frames: Frames, lags=None, *, fit_lags=None, subtract_drift: bool = False
+) -> MSDResult:
     """MSD at ``lags`` (frames; default :func:`default_lags`) and D fitted over ``fit_lags``
     (default: the shortest lags, up to five, where the motion is still free in a crowded or
     confined gas). Frames must be evenly spaced in time."""
@@ -91,6 +96,14 @@ def mean_squared_displacement(frames: Frames, lags=None, *, fit_lags=None,
         return np.sum(tau[in_fit] * m, axis=-1) / (4.0 * np.sum(tau[in_fit] ** 2))
 
     total = sums.sum(axis=0)
-    return MSDResult(lags, tau, msd_of(total), jackknife_error(sums, msd_of),
-                     total[:, 0].astype(np.int64), float(d_of(total)),
-                     float(jackknife_error(sums, d_of)), lags[in_fit], subtract_drift)
+    return MSDResult(
+        lags,
+        tau,
+        msd_of(total),
+        jackknife_error(sums, msd_of),
+        total[:, 0].astype(np.int64),
+        float(d_of(total)),
+        float(jackknife_error(sums, d_of)),
+        lags[in_fit],
+        subtract_drift,
+    )

@@ -27,23 +27,31 @@ class Frames:
     y: np.ndarray
 
     def __post_init__(self):
-        if len(self.time) != len(self.count) or int(np.sum(self.count)) != len(self.ids) \
-                or not len(self.ids) == len(self.x) == len(self.y):
+        if (
+            len(self.time) != len(self.count)
+            or int(np.sum(self.count)) != len(self.ids)
+            or not len(self.ids) == len(self.x) == len(self.y)
+        ):
             raise ValueError("inconsistent frames: sum(count) must equal the number of entries")
 
     # -- construction -------------------------------------------------------------------------
     @classmethod
-    def from_dense(cls, time, ids, x, y) -> "Frames":
+    def from_dense(cls, time, ids, x, y) -> Frames:
         """From arrays x, y (time, skyrmion) [m], NaN where a skyrmion is absent; ``ids`` the
         skyrmion of each column."""
         x, y = np.asarray(x, float), np.asarray(y, float)
         present = np.isfinite(x) & np.isfinite(y)
         frame, column = np.nonzero(present)  # row-major: frame after frame
-        return cls(np.asarray(time, float), present.sum(axis=1).astype(np.int64),
-                   np.asarray(ids, np.int64)[column], x[frame, column], y[frame, column])
+        return cls(
+            np.asarray(time, float),
+            present.sum(axis=1).astype(np.int64),
+            np.asarray(ids, np.int64)[column],
+            x[frame, column],
+            y[frame, column],
+        )
 
     @classmethod
-    def from_trajectories(cls, ds) -> "Frames":
+    def from_trajectories(cls, ds) -> Frames:
         """From a :meth:`~skygas.engine.Simulation.trajectories` dataset."""
         return cls.from_dense(ds.time.values, ds.skyrmion.values, ds.x.values, ds.y.values)
 
@@ -66,16 +74,20 @@ class Frames:
         a, b = self.offsets[f], self.offsets[f + 1]
         return self.ids[a:b], np.column_stack([self.x[a:b], self.y[a:b]])
 
-    def select(self, frames) -> "Frames":
+    def select(self, frames) -> Frames:
         """The frames with the given indices (increasing), as a new :class:`Frames`."""
         frames = np.asarray(frames, dtype=np.int64)
         off = self.offsets
-        take = np.concatenate([np.arange(off[f], off[f + 1]) for f in frames]) \
-            if len(frames) else np.empty(0, np.int64)
-        return Frames(self.time[frames], self.count[frames], self.ids[take], self.x[take],
-                      self.y[take])
+        take = (
+            np.concatenate([np.arange(off[f], off[f + 1]) for f in frames])
+            if len(frames)
+            else np.empty(0, np.int64)
+        )
+        return Frames(
+            self.time[frames], self.count[frames], self.ids[take], self.x[take], self.y[take]
+        )
 
-    def window(self, start: float | None = None, end: float | None = None) -> "Frames":
+    def window(self, start: float | None = None, end: float | None = None) -> Frames:
         """The frames with start ≤ time ≤ end [s] (either bound may be None)."""
         keep = np.ones(self.n_frames, bool)
         if start is not None:

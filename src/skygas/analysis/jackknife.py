@@ -9,7 +9,7 @@ per-skyrmion sums (Efron & Stein): SE² = (P − 1)/P Σ_p (θ₋ₚ − θ̄₋
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

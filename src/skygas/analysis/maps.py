@@ -65,9 +65,12 @@ def velocity_map(frames: Frames, bins: int = 20, extent=None) -> FieldMap:
 def occupancy(frames: Frames, label_of=None, names=None) -> dict:
     """Skyrmions present per frame (``total``) and, with ``label_of`` (a function of x, y [m]
     giving an integer label per entry) and ``names``, per label; plus the time averages."""
-    out = {"time_s": frames.time.tolist(), "total": frames.count.tolist(),
-           "mean_total": float(frames.count.mean()) if frames.n_frames else float("nan"),
-           "max_total": int(frames.count.max(initial=0))}
+    out = {
+        "time_s": frames.time.tolist(),
+        "total": frames.count.tolist(),
+        "mean_total": float(frames.count.mean()) if frames.n_frames else float("nan"),
+        "max_total": int(frames.count.max(initial=0)),
+    }
     if label_of is not None:
         labels = np.asarray(label_of(frames.x, frames.y))
         frame = frames.frame_of_entry

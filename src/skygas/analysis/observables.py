@@ -35,10 +35,15 @@ def _free_diffusion_constant(record) -> float | None:
 def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
     """The observables of a :class:`~skygas.outputs.records.RunRecord` (SI units)."""
     frames = record.frames
-    out: dict = {"kind": record.kind, "file": str(record.path), "skygas_version":
-                 record.version, "seed": record.seed, "frames": frames.n_frames,
-                 "entries": int(len(frames.ids)), "skyrmion_diameter_m":
-                 record.skyrmion_diameter}
+    out: dict = {
+        "kind": record.kind,
+        "file": str(record.path),
+        "skygas_version": record.version,
+        "seed": record.seed,
+        "frames": frames.n_frames,
+        "entries": int(len(frames.ids)),
+        "skyrmion_diameter_m": record.skyrmion_diameter,
+    }
     even = frames.n_frames >= 3
     if even:
         try:
@@ -53,8 +58,9 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
     x0, y0, x1, y1 = record.outline.bounds_nm
     r_max = min(10 * record.skyrmion_diameter, 0.5 * min(x1 - x0, y1 - y0) * 1e-9)
     if frames.n_frames and frames.count.max(initial=0) >= 2:
-        out["pair_correlation"] = pair_correlation(frames, record.outline, r_max,
-                                                   bins=pair_bins).as_dict()
+        out["pair_correlation"] = pair_correlation(
+            frames, record.outline, r_max, bins=pair_bins
+        ).as_dict()
     groups = None
     if record.kind == "reshuffle":
         groups = (lambda x, y: np.where(y >= 0.0, 0, 1), ("up", "down"))
@@ -62,14 +68,20 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
     if maps and len(frames.ids):
         extent = (x0 * 1e-9, x1 * 1e-9, y0 * 1e-9, y1 * 1e-9)
         dm = density_map(frames, 40, extent)
-        out["density_map"] = {"x_edges_m": dm.x_edges.tolist(), "y_edges_m": dm.y_edges.tolist(),
-                              "density_per_m2": dm.values.tolist()}
+        out["density_map"] = {
+            "x_edges_m": dm.x_edges.tolist(),
+            "y_edges_m": dm.y_edges.tolist(),
+            "density_per_m2": dm.values.tolist(),
+        }
         if even:
             vm = velocity_map(frames, 20, extent)
-            out["velocity_map"] = {"x_edges_m": vm.x_edges.tolist(),
-                                   "y_edges_m": vm.y_edges.tolist(),
-                                   "vx_m_s": _nan_to_none(vm.u), "vy_m_s": _nan_to_none(vm.v),
-                                   "samples": vm.samples.astype(int).tolist()}
+            out["velocity_map"] = {
+                "x_edges_m": vm.x_edges.tolist(),
+                "y_edges_m": vm.y_edges.tolist(),
+                "vx_m_s": _nan_to_none(vm.u),
+                "vy_m_s": _nan_to_none(vm.v),
+                "samples": vm.samples.astype(int).tolist(),
+            }
     return out
 
 

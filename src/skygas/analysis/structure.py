@@ -41,8 +41,13 @@ class PairCorrelation:
     expected: np.ndarray
 
     def as_dict(self) -> dict:
-        return {"r_m": self.r.tolist(), "g": self.g.tolist(), "g_error": self.error.tolist(),
-                "pairs": self.pairs.tolist(), "expected_ideal_pairs": self.expected.tolist()}
+        return {
+            "r_m": self.r.tolist(),
+            "g": self.g.tolist(),
+            "g_error": self.error.tolist(),
+            "pairs": self.pairs.tolist(),
+            "expected_ideal_pairs": self.expected.tolist(),
+        }
 
 
 def isotropic_covariogram(region, r_nm, n_angles: int = 12) -> np.ndarray:
@@ -51,8 +56,12 @@ def isotropic_covariogram(region, r_nm, n_angles: int = 12) -> np.ndarray:
     angles = (np.arange(n_angles) + 0.5) * np.pi / n_angles
     out = np.empty(len(r_nm))
     for i, r in enumerate(np.asarray(r_nm, float)):
-        out[i] = np.mean([region.intersection(
-            affinity.translate(region, r * np.cos(a), r * np.sin(a))).area for a in angles])
+        out[i] = np.mean(
+            [
+                region.intersection(affinity.translate(region, r * np.cos(a), r * np.sin(a))).area
+                for a in angles
+            ]
+        )
     return out
 
 
@@ -68,8 +77,9 @@ def ideal_pair_probability(region, edges_nm, sub: int = 2, n_angles: int = 12) -
     return density.mean(axis=1) * width / region.area**2
 
 
-def pair_correlation(frames: Frames, region, r_max: float, bins: int = 40,
-                     max_frames: int = 400) -> PairCorrelation:
+def pair_correlation(
+    frames: Frames, region, r_max: float, bins: int = 40, max_frames: int = 400
+) -> PairCorrelation:
     """g(r) for 0 ≤ r ≤ ``r_max`` [m] from up to ``max_frames`` evenly chosen frames.
     ``region`` is the area the skyrmions' centres explore: an :class:`~skygas.geometry.Outline`
     (its region) or a shapely geometry in nm."""
@@ -77,14 +87,16 @@ def pair_correlation(frames: Frames, region, r_max: float, bins: int = 40,
 
     region = getattr(region, "region", region)
     edges_nm = np.linspace(0.0, r_max * M_TO_NM, bins + 1)
-    chosen = np.unique(np.linspace(0, frames.n_frames - 1,
-                                   min(max_frames, frames.n_frames)).astype(int)) \
-        if frames.n_frames else np.empty(0, int)
+    chosen = (
+        np.unique(np.linspace(0, frames.n_frames - 1, min(max_frames, frames.n_frames)).astype(int))
+        if frames.n_frames
+        else np.empty(0, int)
+    )
     block_of = (np.arange(len(chosen)) * ERROR_BLOCKS) // max(len(chosen), 1)
     counts = np.zeros((ERROR_BLOCKS, bins))
     pairs = np.zeros(ERROR_BLOCKS)
     off = frames.offsets
-    for f, block in zip(chosen, block_of):
+    for f, block in zip(chosen, block_of, strict=True):
         a, b = off[f], off[f + 1]
         n = b - a
         if n < 2:
@@ -99,9 +111,19 @@ def pair_correlation(frames: Frames, region, r_max: float, bins: int = 40,
         used = pairs > 0
         k = int(used.sum())
         left_out = (counts.sum(axis=0) - counts[used]) / (
-            (pairs.sum() - pairs[used])[:, None] * probability)
-        error = np.sqrt((k - 1) / k * np.sum((left_out - left_out.mean(axis=0)) ** 2, axis=0)) \
-            if k >= 2 else np.full(bins, np.nan)
+            (pairs.sum() - pairs[used])[:, None] * probability
+        )
+        error = (
+            np.sqrt((k - 1) / k * np.sum((left_out - left_out.mean(axis=0)) ** 2, axis=0))
+            if k >= 2
+            else np.full(bins, np.nan)
+        )
     counts = counts.sum(axis=0)
-    return PairCorrelation(edges_nm / M_TO_NM, 0.5 * (edges_nm[1:] + edges_nm[:-1]) / M_TO_NM,
-                           g, error, counts, expected)
+    return PairCorrelation(
+        edges_nm / M_TO_NM,
+        0.5 * (edges_nm[1:] + edges_nm[:-1]) / M_TO_NM,
+        g,
+        error,
+        counts,
+        expected,
+    )

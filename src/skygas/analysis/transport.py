@@ -42,12 +42,21 @@ class MeanVelocity:
         return float(np.hypot(v[1] * self.error[0], v[0] * self.error[1]) / max(v @ v, 1e-300))
 
     def as_dict(self, drive=None) -> dict:
-        out = {"velocity_m_s": self.velocity.tolist(), "velocity_error_m_s": self.error.tolist(),
-               "speed_m_s": self.speed, "displacements": self.n, "lag_time_s": self.lag_time}
+        out = {
+            "velocity_m_s": self.velocity.tolist(),
+            "velocity_error_m_s": self.error.tolist(),
+            "speed_m_s": self.speed,
+            "displacements": self.n,
+            "lag_time_s": self.lag_time,
+        }
         if drive is not None and np.any(drive):
-            out.update({"drive_direction": list(map(float, drive)),
-                        "hall_angle_rad": self.hall_angle(drive),
-                        "hall_angle_error_rad": self.hall_angle_error(drive)})
+            out.update(
+                {
+                    "drive_direction": list(map(float, drive)),
+                    "hall_angle_rad": self.hall_angle(drive),
+                    "hall_angle_error_rad": self.hall_angle_error(drive),
+                }
+            )
         return out
 
 
@@ -65,8 +74,9 @@ def mean_velocity(frames: Frames, lag: int = 1) -> MeanVelocity:
     a, b = frames.pairs_at_lag(lag)
     _, group = np.unique(frames.ids[a], return_inverse=True)
     n_groups = int(group.max()) + 1 if len(group) else 0
-    values = np.column_stack([np.ones(len(a)), frames.x[b] - frames.x[a],
-                              frames.y[b] - frames.y[a]])
+    values = np.column_stack(
+        [np.ones(len(a)), frames.x[b] - frames.x[a], frames.y[b] - frames.y[a]]
+    )
     sums = np.zeros((n_groups, 3))
     for c in range(3):
         sums[:, c] = np.bincount(group, weights=values[:, c], minlength=n_groups)

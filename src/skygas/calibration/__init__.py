@@ -11,8 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["calibrate", "CalibrationConfig", "MicromagneticMaterial",
-           "load_micromagnetic_material"]
+__all__ = ["calibrate", "CalibrationConfig", "MicromagneticMaterial", "load_micromagnetic_material"]
 
 
 def __getattr__(name: str):
@@ -27,9 +26,18 @@ def __getattr__(name: str):
     raise AttributeError(name)
 
 
-def calibrate(material, out: str | Path, *, workers: int | None = None, resume: bool = False,
-              overwrite: bool = False, progress: bool = True, strict: bool = False,
-              checkpoint_seconds: float = 60.0, **settings: Any) -> dict[str, Any]:
+def calibrate(
+    material,
+    out: str | Path,
+    *,
+    workers: int | None = None,
+    resume: bool = False,
+    overwrite: bool = False,
+    progress: bool = True,
+    strict: bool = False,
+    checkpoint_seconds: float = 60.0,
+    **settings: Any,
+) -> dict[str, Any]:
     """Calibrate ``material`` (a preset name, a TOML file, a mapping or a
     :class:`~skygas.calibration.material.MicromagneticMaterial`) into the folder ``out``;
     ``settings`` are fields of :class:`~skygas.calibration.plan.CalibrationConfig`
@@ -51,12 +59,23 @@ def calibrate(material, out: str | Path, *, workers: int | None = None, resume: 
         config = CalibrationConfig(material=load_micromagnetic_material(material), **settings)
     except ValidationError as err:
         raise to_input_error(err) from None
-    require(workers is None or (isinstance(workers, int) and workers >= 0), "--workers",
-            workers, "an integer >= 0 (0: solve in this process, as on a GPU)")
+    require(
+        workers is None or (isinstance(workers, int) and workers >= 0),
+        "--workers",
+        workers,
+        "an integer >= 0 (0: solve in this process, as on a GPU)",
+    )
     require_installed()
     job = CalibrationJob(config, workers=default_workers() if workers is None else workers)
     try:
-        return drive(job, out, resume=resume, overwrite=overwrite, progress=progress,
-                     checkpoint_seconds=checkpoint_seconds, strict=strict)
+        return drive(
+            job,
+            out,
+            resume=resume,
+            overwrite=overwrite,
+            progress=progress,
+            checkpoint_seconds=checkpoint_seconds,
+            strict=strict,
+        )
     finally:
         job.close()

@@ -76,12 +76,18 @@ class Calibration:
             "wall_width": iso.wall_width,
             "film_thickness": m.film_thickness,
             "gyromagnetic_ratio": m.gyromagnetic_ratio,
-            "pair_table": {"distance": self.pair.distance.tolist(),
-                           "force": self.pair.force.tolist()},
-            "wall_table": {"distance": self.wall.distance.tolist(),
-                           "force": self.wall.force.tolist()},
-            "stray_field": {"profile_radius": self.profile_radius.tolist(),
-                            "profile_deficit": self.profile_deficit.tolist()},
+            "pair_table": {
+                "distance": self.pair.distance.tolist(),
+                "force": self.pair.force.tolist(),
+            },
+            "wall_table": {
+                "distance": self.wall.distance.tolist(),
+                "force": self.wall.force.tolist(),
+            },
+            "stray_field": {
+                "profile_radius": self.profile_radius.tolist(),
+                "profile_deficit": self.profile_deficit.tolist(),
+            },
         }
 
     def particle_material(self, stray_field: bool = True):
@@ -109,15 +115,20 @@ def energy_curves(results: dict[str, dict], prefix: str = "laws"):
     """(pair curve, short-range wall curve) of a calibration film (see
     :mod:`skygas.calibration.laws`); a skyrmion that escaped through the edge or merged with
     its neighbour drops its point, with the reason."""
-    singles = {int(k.rsplit("/", 1)[1]): v for k, v in results.items()
-               if k.startswith(f"{prefix}/single/")}
-    pairs = {int(k.rsplit("/", 1)[1]): v for k, v in results.items()
-             if k.startswith(f"{prefix}/pair/")}
+    singles = {
+        int(k.rsplit("/", 1)[1]): v for k, v in results.items() if k.startswith(f"{prefix}/single/")
+    }
+    pairs = {
+        int(k.rsplit("/", 1)[1]): v for k, v in results.items() if k.startswith(f"{prefix}/pair/")
+    }
     uniform = results[f"{prefix}/uniform"]["energy"]
     centre = singles[max(singles)]
     if not _valid(centre, 1):
-        raise InputError("material", "the calibration film", "a skyrmion that stays one in "
-                         "the middle of the calibration film")
+        raise InputError(
+            "material",
+            "the calibration film",
+            "a skyrmion that stays one in the middle of the calibration film",
+        )
     wall_points, dropped = [], []
     for _, single in sorted(singles.items()):
         if _valid(single, 1):
@@ -132,8 +143,9 @@ def energy_curves(results: dict[str, dict], prefix: str = "laws"):
         elif i not in singles or not _valid(singles[i], 1):
             pair_dropped.append((nominal, "its reference single is not a skyrmion"))
         else:
-            pair_points.append((_distance(pair),
-                                pair["energy"] - 2 * singles[i]["energy"] + uniform))
+            pair_points.append(
+                (_distance(pair), pair["energy"] - 2 * singles[i]["energy"] + uniform)
+            )
     return laws.curve(pair_points, pair_dropped), laws.curve(wall_points, dropped)
 
 
@@ -153,8 +165,12 @@ def _isolated(job) -> tuple[IsolatedSkyrmion, Any]:
     prefix = job.isolated_prefix()
     single, uniform = job.results[f"{prefix}/single"], job.results[f"{prefix}/uniform"]
     film = job.isolated_film()
-    iso = measure_isolated(job.textures[f"{prefix}/single"], film, job.config.material,
-                           single["energy"] - uniform["energy"])
+    iso = measure_isolated(
+        job.textures[f"{prefix}/single"],
+        film,
+        job.config.material,
+        single["energy"] - uniform["energy"],
+    )
     return iso, film
 
 
@@ -164,12 +180,16 @@ def _check_enlarged(job, iso: IsolatedSkyrmion) -> dict:
         return {}
     radius = r["enlarged/single"]["skyrmions"][0]["radius"]
     energy = r["enlarged/single"]["energy"] - r["enlarged/uniform"]["energy"]
-    return {"film_side_m": job.isolated_film().size[0],
-            "enlarged_side_m": [s.film for s in job.planned()
-                                if s.name == "enlarged/single"][0].size[0],
-            "radius_m": [iso.radius, radius], "energy_J": [iso.energy, energy],
-            "radius_change": radius / iso.radius - 1.0,
-            "energy_change": energy / iso.energy - 1.0}
+    return {
+        "film_side_m": job.isolated_film().size[0],
+        "enlarged_side_m": [s.film for s in job.planned() if s.name == "enlarged/single"][0].size[
+            0
+        ],
+        "radius_m": [iso.radius, radius],
+        "energy_J": [iso.energy, energy],
+        "radius_change": radius / iso.radius - 1.0,
+        "energy_change": energy / iso.energy - 1.0,
+    }
 
 
 def _check_sensitivity(job, iso: IsolatedSkyrmion) -> dict:
@@ -179,23 +199,27 @@ def _check_sensitivity(job, iso: IsolatedSkyrmion) -> dict:
     plus = r["sensitivity/plus"]["skyrmions"][0]["radius"]
     minus = r["sensitivity/minus"]["skyrmions"][0]["radius"]
     slope = (plus - minus) / (2 * plan.SENSITIVITY_STEP)  # m/T
-    return {"field_step_T": plan.SENSITIVITY_STEP, "radius_plus_m": plus,
-            "radius_minus_m": minus, "radius_per_tesla_m": slope,
-            "relative_change_per_mT": slope * 1e-3 / iso.radius}
+    return {
+        "field_step_T": plan.SENSITIVITY_STEP,
+        "radius_plus_m": plus,
+        "radius_minus_m": minus,
+        "radius_per_tesla_m": slope,
+        "relative_change_per_mT": slope * 1e-3 / iso.radius,
+    }
 
 
-def _check_mesh(job, pair: laws.ForceLaw, pair_energy: laws.EnergyCurve,
-                diameter: float) -> dict:
+def _check_mesh(job, pair: laws.ForceLaw, pair_energy: laws.EnergyCurve, diameter: float) -> dict:
     r = job.results
     out = {}
     for label in ("coarse", "fine"):
         keys = [f"mesh/{label}/{k}" for k in ("uniform", "single", "pair")]
         if not all(k in r for k in keys) or not (_valid(r[keys[1]], 1) and _valid(r[keys[2]], 2)):
             return {}
-        out[label] = {"distance_m": _distance(r[keys[2]]),
-                      "energy_J": r[keys[2]]["energy"] - 2 * r[keys[1]]["energy"]
-                      + r[keys[0]]["energy"],
-                      "radius_m": r[keys[1]]["skyrmions"][0]["radius"]}
+        out[label] = {
+            "distance_m": _distance(r[keys[2]]),
+            "energy_J": r[keys[2]]["energy"] - 2 * r[keys[1]]["energy"] + r[keys[0]]["energy"],
+            "radius_m": r[keys[1]]["skyrmions"][0]["radius"],
+        }
     cell = job.config.material.cell_size
     out["cells_m"] = [cell, cell / 2]
     out["energy_change"] = out["fine"]["energy_J"] / out["coarse"]["energy_J"] - 1.0
@@ -209,15 +233,15 @@ def _check_stray(job, wall_energy: laws.EnergyCurve, profile, diameter: float) -
     stray field (:func:`~skygas.calibration.laws.halfplane_stray_energy`), both relative to
     the film's centre."""
     r = job.results
-    singles = {int(k.rsplit("/", 1)[1]): v for k, v in r.items()
-               if k.startswith("stray/single/")}
+    singles = {int(k.rsplit("/", 1)[1]): v for k, v in r.items() if k.startswith("stray/single/")}
     if not singles or not all(_valid(s, 1) for s in singles.values()):
         return {}
     m = job.config.material
 
     def model(x):
-        u = laws.halfplane_stray_energy(x, m.saturation_magnetization, m.film_thickness,
-                                        *profile)[0]
+        u = laws.halfplane_stray_energy(x, m.saturation_magnetization, m.film_thickness, *profile)[
+            0
+        ]
         return float(u + np.interp(x, wall_energy.distance, wall_energy.energy, right=0.0))
 
     centre = singles[max(singles)]
@@ -227,9 +251,15 @@ def _check_stray(job, wall_energy: laws.EnergyCurve, profile, diameter: float) -
         if i == max(singles):
             continue
         s = single["skyrmions"][0]
-        rows.append({"x_m": s["x"], "x_d_sk": s["x"] / diameter,
-                     "micromagnetic_J": single["energy"] - centre["energy"],
-                     "model_J": model(s["x"]) - model(c["x"]), "radius_m": s["radius"]})
+        rows.append(
+            {
+                "x_m": s["x"],
+                "x_d_sk": s["x"] / diameter,
+                "micromagnetic_J": single["energy"] - centre["energy"],
+                "model_J": model(s["x"]) - model(c["x"]),
+                "radius_m": s["radius"],
+            }
+        )
     return {"points": rows, "centre_radius_m": c["radius"]}
 
 
@@ -245,15 +275,32 @@ def analyse(job) -> Calibration:
         pair = laws.force_law(pair_energy, force_scale)
         wall = laws.force_law(wall_energy, force_scale)
     except ValueError as err:
-        raise InputError("material", material.name, f"a film whose skyrmions repel each other "
-                         f"and the edges ({err})") from None
+        raise InputError(
+            "material",
+            material.name,
+            f"a film whose skyrmions repel each other and the edges ({err})",
+        ) from None
     radius, deficit = stray_profile(iso)
     x = np.linspace(max(wall.distance[0], 0.5 * diameter), 5.0 * diameter, 60)
-    edge_force = laws.straight_edge_force(wall, x, material.saturation_magnetization,
-                                          material.film_thickness, radius, deficit)
+    edge_force = laws.straight_edge_force(
+        wall, x, material.saturation_magnetization, material.film_thickness, radius, deficit
+    )
     fits = laws.paper_form_fits(pair, x, edge_force, diameter, force_scale)
-    calibration = Calibration(config, iso, diameter, force_scale, pair_energy, wall_energy,
-                              pair, wall, radius, deficit, x, edge_force, fits)
+    calibration = Calibration(
+        config,
+        iso,
+        diameter,
+        force_scale,
+        pair_energy,
+        wall_energy,
+        pair,
+        wall,
+        radius,
+        deficit,
+        x,
+        edge_force,
+        fits,
+    )
     calibration.checks = {
         "enlarged": _check_enlarged(job, iso),
         "sensitivity": _check_sensitivity(job, iso),
@@ -264,19 +311,31 @@ def analyse(job) -> Calibration:
     if config.validate_dynamics and "validation/start" in job.results:
         from skygas.calibration.validation import compare
 
-        result = compare(calibration.particle_material(stray_field=False),
-                         job.validation_film(), job.results["validation/start"]["skyrmions"],
-                         job.llg["frames"], diameter, material.film_thickness)
+        result = compare(
+            calibration.particle_material(stray_field=False),
+            job.validation_film(),
+            job.results["validation/start"]["skyrmions"],
+            job.llg["frames"],
+            diameter,
+            material.film_thickness,
+        )
         calibration.validation = result
         if result is not None and len(result.times) > 8:
             # the same comparison restarted after the release (the hold let go at t = 0,
             # the skyrmions take up the shape of moving ones): what remains is the model's
             settle = min(RESTART_TIME, 0.25 * float(result.times[-1]))
             calibration.validation_restarted = compare(
-                calibration.particle_material(stray_field=False), job.validation_film(),
-                job.results["validation/start"]["skyrmions"], job.llg["frames"], diameter,
-                material.film_thickness, settle=settle)
+                calibration.particle_material(stray_field=False),
+                job.validation_film(),
+                job.results["validation/start"]["skyrmions"],
+                job.llg["frames"],
+                diameter,
+                material.film_thickness,
+                settle=settle,
+            )
         if result is None:
-            calibration.validation_note = ("a skyrmion of the micromagnetic run was lost "
-                                           "(annihilated or merged): nothing to compare")
+            calibration.validation_note = (
+                "a skyrmion of the micromagnetic run was lost "
+                "(annihilated or merged): nothing to compare"
+            )
     return calibration

@@ -59,7 +59,8 @@ class ForceLaw:
         """|F| [N] at ``d`` [m], as the engine interpolates it (PCHIP, held below, 0 beyond)."""
         d = np.asarray(d, float)
         f = interpolate.PchipInterpolator(self.distance, self.force)(
-            np.clip(d, self.distance[0], self.distance[-1]))
+            np.clip(d, self.distance[0], self.distance[-1])
+        )
         return np.where(d > self.distance[-1], 0.0, f)
 
 
@@ -92,8 +93,12 @@ def force_law(energy: EnergyCurve, force_scale: float) -> ForceLaw:
         reach = decay * math.log(force[-1] / (TABLE_FLOOR * force_scale))
         tail = np.linspace(d[-1], d[-1] + reach, 24)[1:]
     far = force[-1] * np.exp(-(np.asarray(tail) - d[-1]) / decay)
-    return ForceLaw(np.concatenate([nodes, tail]), np.concatenate([force, far]),
-                    (float(d[0]), float(d[-1])), float(decay))
+    return ForceLaw(
+        np.concatenate([nodes, tail]),
+        np.concatenate([force, far]),
+        (float(d[0]), float(d[-1])),
+        float(decay),
+    )
 
 
 def projected_profile(profile_radius, profile_deficit, u: np.ndarray) -> np.ndarray:
@@ -105,8 +110,9 @@ def projected_profile(profile_radius, profile_deficit, u: np.ndarray) -> np.ndar
     return 2.0 * np.trapezoid(np.interp(rho, r, w, right=0.0), v, axis=1)
 
 
-def halfplane_stray_energy(x, saturation_magnetization: float, thickness: float,
-                           profile_radius, profile_deficit) -> np.ndarray:
+def halfplane_stray_energy(
+    x, saturation_magnetization: float, thickness: float, profile_radius, profile_deficit
+) -> np.ndarray:
     """U(x) [J] of a skyrmion at distance x [m] from the straight edge of a half-plane film,
     first order in its deficit (module docstring); 0 far from the edge."""
     h = 0.5 * thickness
@@ -116,26 +122,38 @@ def halfplane_stray_energy(x, saturation_magnetization: float, thickness: float,
         xp = np.linspace(max(xc - reach, 0.0), xc + reach, 801)[1:]
         field = saturation_magnetization / math.pi * np.arctan(h / xp)
         weight = projected_profile(profile_radius, profile_deficit, xp - xc)
-        out.append(MU_0 * saturation_magnetization * thickness
-                   * np.trapezoid(field * weight, xp))
+        out.append(MU_0 * saturation_magnetization * thickness * np.trapezoid(field * weight, xp))
     return np.array(out)
 
 
-def straight_edge_force(wall: ForceLaw, x: np.ndarray, saturation_magnetization: float,
-                        thickness: float, profile_radius, profile_deficit) -> np.ndarray:
+def straight_edge_force(
+    wall: ForceLaw,
+    x: np.ndarray,
+    saturation_magnetization: float,
+    thickness: float,
+    profile_radius,
+    profile_deficit,
+) -> np.ndarray:
     """|F| [N] of a straight edge of a real film at distances ``x`` [m]: the short-range law
     plus −dU/dx of the edge's stray field (module docstring)."""
     x = np.asarray(x, float)
     step = 0.25e-9
-    u_plus = halfplane_stray_energy(x + step, saturation_magnetization, thickness,
-                                    profile_radius, profile_deficit)
-    u_minus = halfplane_stray_energy(np.maximum(x - step, 1e-12), saturation_magnetization,
-                                     thickness, profile_radius, profile_deficit)
+    u_plus = halfplane_stray_energy(
+        x + step, saturation_magnetization, thickness, profile_radius, profile_deficit
+    )
+    u_minus = halfplane_stray_energy(
+        np.maximum(x - step, 1e-12),
+        saturation_magnetization,
+        thickness,
+        profile_radius,
+        profile_deficit,
+    )
     return wall(x) + (u_minus - u_plus) / (2 * step)
 
 
-def paper_form_fits(pair: ForceLaw, edge_x: np.ndarray, edge_force: np.ndarray,
-                    diameter: float, force_scale: float) -> dict:
+def paper_form_fits(
+    pair: ForceLaw, edge_x: np.ndarray, edge_force: np.ndarray, diameter: float, force_scale: float
+) -> dict:
     """The paper's forms fitted to the tabulated laws over their measured ranges
     (:func:`skygas.micromag.fit_pair_law`, :func:`~skygas.micromag.fit_wall_law`): the
     coefficients, the range [d_sk] and the rms residual of ln|F|, or why there is no fit."""
@@ -149,12 +167,16 @@ def paper_form_fits(pair: ForceLaw, edge_x: np.ndarray, edge_force: np.ndarray,
     for law, (dist, force) in samples.items():
         try:
             fit = (fit_pair_law if law == "pair" else fit_wall_law)(
-                dist / diameter, force, force_scale)
+                dist / diameter, force, force_scale
+            )
         except InputError as err:
             out[law] = {"coefficients": None, "why": str(err)}
             continue
-        out[law] = {"coefficients": [float(c) for c in fit.coefficients],
-                    "uncertainties": [float(u) for u in fit.uncertainties],
-                    "range_d_sk": [float(dist.min() / diameter), float(dist.max() / diameter)],
-                    "rms_log_residual": float(fit.rms_log_residual), "note": fit.note}
+        out[law] = {
+            "coefficients": [float(c) for c in fit.coefficients],
+            "uncertainties": [float(u) for u in fit.uncertainties],
+            "range_d_sk": [float(dist.min() / diameter), float(dist.max() / diameter)],
+            "rms_log_residual": float(fit.rms_log_residual),
+            "note": fit.note,
+        }
     return out

@@ -78,7 +78,7 @@ class MicromagneticMaterial(StrictModel):
     @property
     def shape_anisotropy(self) -> float:
         """μ₀M_s²/2 [J/m³], the thin film's demagnetising energy density."""
-        return 0.5 * units.MU_0 * self.saturation_magnetization ** 2
+        return 0.5 * units.MU_0 * self.saturation_magnetization**2
 
     @property
     def effective_anisotropy(self) -> float:
@@ -88,14 +88,14 @@ class MicromagneticMaterial(StrictModel):
     @property
     def perpendicular_stiffness(self) -> float:
         """K_⊥ = K_eff + M_s B_z/2 [J/m³]: > 0 when the uniform film along +z is stable."""
-        return self.effective_anisotropy + 0.5 * self.saturation_magnetization \
-            * self.applied_field
+        return self.effective_anisotropy + 0.5 * self.saturation_magnetization * self.applied_field
 
     @property
     def exchange_length(self) -> float:
         """l_ex = √(2A/(μ₀M_s²)) [m]."""
-        return math.sqrt(2 * self.exchange_stiffness
-                         / (units.MU_0 * self.saturation_magnetization ** 2))
+        return math.sqrt(
+            2 * self.exchange_stiffness / (units.MU_0 * self.saturation_magnetization**2)
+        )
 
     @property
     def total_dmi(self) -> float:
@@ -116,15 +116,19 @@ class MicromagneticMaterial(StrictModel):
     def bare_wall_width(self) -> float:
         """Δ = √(A/K_u) [m], the wall width without the stray field (what the presets'
         thin-wall estimate of 𝒟 uses)."""
-        return math.sqrt(self.exchange_stiffness / self.anisotropy) \
-            if self.anisotropy > 0 else math.inf
+        return (
+            math.sqrt(self.exchange_stiffness / self.anisotropy)
+            if self.anisotropy > 0
+            else math.inf
+        )
 
     @property
     def critical_dmi(self) -> float:
         """D_c = 4√(A K_eff)/π [J/m²]: above it a film without field prefers spirals (0 for
         a film that is in-plane without field)."""
-        return 4 * math.sqrt(self.exchange_stiffness * max(self.effective_anisotropy, 0.0)) \
-            / math.pi
+        return (
+            4 * math.sqrt(self.exchange_stiffness * max(self.effective_anisotropy, 0.0)) / math.pi
+        )
 
     @property
     def largest_cell(self) -> float:
@@ -132,39 +136,51 @@ class MicromagneticMaterial(StrictModel):
         return min(self.exchange_length, self.wall_width, self.dmi_length)
 
     @model_validator(mode="after")
-    def _thin_perpendicular_film(self) -> "MicromagneticMaterial":
+    def _thin_perpendicular_film(self) -> MicromagneticMaterial:
         if self.dmi > 0 and self.bulk_dmi > 0:
-            raise ValueError("dmi|interfacial and bulk DMI at once|one of `dmi` (interfacial, "
-                             "Néel skyrmions) or `bulk_dmi` (Bloch skyrmions), the other 0")
+            raise ValueError(
+                "dmi|interfacial and bulk DMI at once|one of `dmi` (interfacial, "
+                "Néel skyrmions) or `bulk_dmi` (Bloch skyrmions), the other 0"
+            )
         if self.total_dmi == 0:
-            raise ValueError("dmi|0|a DMI constant > 0 (`dmi` for interfacial, `bulk_dmi` for "
-                             "bulk): without DMI there are no stable skyrmions")
+            raise ValueError(
+                "dmi|0|a DMI constant > 0 (`dmi` for interfacial, `bulk_dmi` for "
+                "bulk): without DMI there are no stable skyrmions"
+            )
         if self.perpendicular_stiffness <= 0:
             raise ValueError(
                 f"anisotropy|{self.anisotropy:g}|K_u + M_s B_z/2 > μ₀M_s²/2 = "
                 f"{self.shape_anisotropy:.4g} J/m³ (the stray field's shape anisotropy), "
-                "so that the film is magnetised out of plane (along +z; a larger B_z helps)")
+                "so that the film is magnetised out of plane (along +z; a larger B_z helps)"
+            )
         if self.film_thickness > self.exchange_length:
             raise ValueError(
                 f"film_thickness|{self.film_thickness:g}|at most the exchange length "
-                f"l_ex = {self.exchange_length:.3g} m: the film is modelled as one cell layer")
+                f"l_ex = {self.exchange_length:.3g} m: the film is modelled as one cell layer"
+            )
         if self.cell_size > self.largest_cell:
-            lengths = {"the exchange length": self.exchange_length,
-                       "the wall width √(A/K_⊥)": self.wall_width,
-                       "the DMI length A/D": self.dmi_length}
+            lengths = {
+                "the exchange length": self.exchange_length,
+                "the wall width √(A/K_⊥)": self.wall_width,
+                "the DMI length A/D": self.dmi_length,
+            }
             name, value = min(lengths.items(), key=lambda item: item[1])
-            raise ValueError(f"cell_size|{self.cell_size:g}|at most {name}, {value:.3g} m, so "
-                             "that the mesh resolves the skyrmion")
+            raise ValueError(
+                f"cell_size|{self.cell_size:g}|at most {name}, {value:.3g} m, so "
+                "that the mesh resolves the skyrmion"
+            )
         return self
 
     def as_record(self) -> dict[str, Any]:
         """The parameters with the derived length scales (SI), for result files."""
-        return {**self.model_dump(),
-                "effective_anisotropy": self.effective_anisotropy,
-                "exchange_length": self.exchange_length,
-                "wall_width_effective": self.wall_width,
-                "dmi_length": self.dmi_length,
-                "critical_dmi": self.critical_dmi}
+        return {
+            **self.model_dump(),
+            "effective_anisotropy": self.effective_anisotropy,
+            "exchange_length": self.exchange_length,
+            "wall_width_effective": self.wall_width,
+            "dmi_length": self.dmi_length,
+            "critical_dmi": self.critical_dmi,
+        }
 
 
 def _split_error(err: ValidationError, source: str) -> InputError:
@@ -182,10 +198,15 @@ def _preset_parameters(name: str) -> dict[str, Any]:
     from skygas.materials import preset
 
     m = preset(name)
-    return {"name": name, "saturation_magnetization": m.saturation_magnetization,
-            "exchange_stiffness": m.exchange_stiffness, "dmi": m.dmi,
-            "anisotropy": m.anisotropy, "applied_field": m.applied_field,
-            "damping": m.damping}
+    return {
+        "name": name,
+        "saturation_magnetization": m.saturation_magnetization,
+        "exchange_stiffness": m.exchange_stiffness,
+        "dmi": m.dmi,
+        "anisotropy": m.anisotropy,
+        "applied_field": m.applied_field,
+        "damping": m.damping,
+    }
 
 
 def micromagnetic_material(data: dict[str, Any], source: str = "") -> MicromagneticMaterial:
@@ -205,8 +226,9 @@ def micromagnetic_material(data: dict[str, Any], source: str = "") -> Micromagne
         raise _split_error(err, source) from None
 
 
-def load_micromagnetic_material(source: str | Path | dict | MicromagneticMaterial,
-                                **overrides: Any) -> MicromagneticMaterial:
+def load_micromagnetic_material(
+    source: str | Path | dict | MicromagneticMaterial, **overrides: Any
+) -> MicromagneticMaterial:
     """The film to calibrate: a preset name (``"S1"`` … ``"S7"``), a TOML file (its
     ``[micromagnetics]`` table, or its top level), a mapping or a material; ``overrides``
     (``cell_size=1e-9``) replace single fields and are validated like the rest."""
@@ -221,9 +243,12 @@ def load_micromagnetic_material(source: str | Path | dict | MicromagneticMateria
     else:
         path = Path(str(source))
         if path.suffix != ".toml" or not path.is_file():
-            raise InputError("MATERIAL", str(source),
-                             f"a preset ({', '.join(preset_names())}) or an existing .toml file "
-                             "of micromagnetic parameters")
+            raise InputError(
+                "MATERIAL",
+                str(source),
+                f"a preset ({', '.join(preset_names())}) or an existing .toml file "
+                "of micromagnetic parameters",
+            )
         try:
             table = tomllib.loads(path.read_text(encoding="utf-8"))
         except (UnicodeDecodeError, tomllib.TOMLDecodeError) as err:

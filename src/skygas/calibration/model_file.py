@@ -41,8 +41,7 @@ def _value(value: Any) -> str:
     raise InputError("model value", value, "a number, string, bool or list")
 
 
-def dumps(data: dict[str, Any], comments: dict[str, str] | None = None,
-          prefix: str = "") -> str:
+def dumps(data: dict[str, Any], comments: dict[str, str] | None = None, prefix: str = "") -> str:
     """``data`` (nested dicts of numbers, strings, bools and lists) as TOML; ``comments``
     maps a table's dotted name to a comment line written above it. ``None`` values are left
     out."""
@@ -59,14 +58,22 @@ def dumps(data: dict[str, Any], comments: dict[str, str] | None = None,
     out = "\n".join(lines)
     for key, value in tables:
         name = f"{prefix}{key}"
-        head = "" if not comments.get(name) else \
-            "".join(f"# {line}\n" for line in comments[name].splitlines())
+        head = (
+            ""
+            if not comments.get(name)
+            else "".join(f"# {line}\n" for line in comments[name].splitlines())
+        )
         out += f"\n\n{head}[{name}]\n" + dumps(value, comments, f"{name}.")
     return out.strip("\n") + "\n"
 
 
-def write_model(path: Path, material: dict[str, Any], sections: dict[str, dict],
-                header: list[str], comments: dict[str, str]) -> Path:
+def write_model(
+    path: Path,
+    material: dict[str, Any],
+    sections: dict[str, dict],
+    header: list[str],
+    comments: dict[str, str],
+) -> Path:
     """Write ``model.toml`` atomically: the ``[material]`` table (validated first as a
     :class:`skygas.materials.Material`, so the file always loads), then ``sections``."""
     from skygas.materials import material_from_mapping

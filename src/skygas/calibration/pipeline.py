@@ -55,8 +55,14 @@ class CalibrationJob:
         self.material_json = config.material.model_dump_json()
         self.results: dict[str, dict[str, Any]] = {}
         self.textures: dict[str, np.ndarray] = {}
-        self.llg: dict[str, Any] = {"frames": [], "time": 0.0, "next_step": 1e-14,
-                                    "seconds": 0.0, "steps": 0, "finished": False}
+        self.llg: dict[str, Any] = {
+            "frames": [],
+            "time": 0.0,
+            "next_step": 1e-14,
+            "seconds": 0.0,
+            "steps": 0,
+            "finished": False,
+        }
         self.llg_m: np.ndarray | None = None
         #: stage -> [first start, last end], seconds since 1970 (the wall clock)
         self.timeline: dict[str, list[float]] = {}
@@ -114,10 +120,16 @@ class CalibrationJob:
                 m = self.textures[task.name]
                 r_max = min(0.5 * min(film.size) - film.cell_size, 6 * s["radius"])
                 radii, mz = radial_profile(m, film, (s["x"], s["y"]), r_max)
-                template = plan.Template(tuple(map(float, radii)), tuple(map(float, mz)),
-                                         helicity(m, film, (s["x"], s["y"])))
-                self._measured[task.name] = (s["radius"], fit_wall_width(radii, mz, s["radius"]),
-                                             template)
+                template = plan.Template(
+                    tuple(map(float, radii)),
+                    tuple(map(float, mz)),
+                    helicity(m, film, (s["x"], s["y"])),
+                )
+                self._measured[task.name] = (
+                    s["radius"],
+                    fit_wall_width(radii, mz, s["radius"]),
+                    template,
+                )
         return self._measured[task.name]
 
     def planned(self) -> list[Relaxation]:
@@ -147,8 +159,16 @@ class CalibrationJob:
         # an LLG step's explicit-stability limit scales as cell²; ~7 LLG snapshots of 50 ps
         # on 20 000 cells of 2 nm take as long as one relaxation
         scale = (2e-9 / self.config.material.cell_size) ** 2
-        return film.nx * film.ny / 20_000 * scale * SNAPSHOTS_PER_PIECE \
-            * v.snapshot_interval / 50e-12 / 7.0
+        return (
+            film.nx
+            * film.ny
+            / 20_000
+            * scale
+            * SNAPSHOTS_PER_PIECE
+            * v.snapshot_interval
+            / 50e-12
+            / 7.0
+        )
 
     def _llg_pieces_left(self) -> int:
         if not self.config.validate_dynamics or self.llg["finished"]:
@@ -176,9 +196,16 @@ class CalibrationJob:
         v = self.config.validation
         if self.llg_m is None:
             self.llg_m = self.textures["validation/start"]
-        args = (self.material_json, self.validation_film(), self.llg_m, self.llg["time"],
-                self.llg["next_step"], SNAPSHOTS_PER_PIECE * v.snapshot_interval,
-                v.snapshot_interval, v.llg_tolerance)
+        args = (
+            self.material_json,
+            self.validation_film(),
+            self.llg_m,
+            self.llg["time"],
+            self.llg["next_step"],
+            SNAPSHOTS_PER_PIECE * v.snapshot_interval,
+            v.snapshot_interval,
+            v.llg_tolerance,
+        )
         return f"llg/{len(self.llg['frames'])}", "evolve", args
 
     # -- the run-driver protocol --------------------------------------------------------------
@@ -204,16 +231,21 @@ class CalibrationJob:
         """Tasks that can start now: the LLG chain and its start first, then the costliest
         relaxations (the longest first: the least idle time at the end)."""
         tasks = []
-        if self.config.validate_dynamics and "validation/start" in self.results \
-                and not self.llg["finished"] and not any(k.startswith("llg/")
-                                                        for k in self._in_flight):
+        if (
+            self.config.validate_dynamics
+            and "validation/start" in self.results
+            and not self.llg["finished"]
+            and not any(k.startswith("llg/") for k in self._in_flight)
+        ):
             tasks.append(self._llg_task())
-        pending = [s for s in self.planned()
-                   if s.name not in self.results and s.name not in self._in_flight]
+        pending = [
+            s
+            for s in self.planned()
+            if s.name not in self.results and s.name not in self._in_flight
+        ]
         # the validation's start first (the LLG chain waits for it), then the costliest
         for s in sorted(pending, key=lambda s: (s.name != "validation/start", -s.cost)):
-            tasks.append((s.name, "relax", (self.material_json, s,
-                                            self.config.torque_tolerance)))
+            tasks.append((s.name, "relax", (self.material_json, s, self.config.torque_tolerance)))
         return tasks
 
     def advance_piece(self) -> None:
@@ -272,8 +304,11 @@ class CalibrationJob:
         self._in_flight.clear()
 
     def state_dict(self) -> dict[str, np.ndarray]:
-        state = {"results": json_array(self.results), "llg": json_array(self.llg),
-                 "timeline": json_array(self.timeline)}
+        state = {
+            "results": json_array(self.results),
+            "llg": json_array(self.llg),
+            "timeline": json_array(self.timeline),
+        }
         for name, texture in self.textures.items():
             state[f"texture:{name}"] = texture
         if self.llg_m is not None:
@@ -284,8 +319,9 @@ class CalibrationJob:
         self.results = from_json_array(state["results"])
         self.llg = from_json_array(state["llg"])
         self.timeline = from_json_array(state["timeline"])
-        self.textures = {k.split(":", 1)[1]: np.asarray(v) for k, v in state.items()
-                         if k.startswith("texture:")}
+        self.textures = {
+            k.split(":", 1)[1]: np.asarray(v) for k, v in state.items() if k.startswith("texture:")
+        }
         self.llg_m = np.asarray(state["llg_m"]) if "llg_m" in state else None
 
     def config_json(self) -> str:
@@ -303,5 +339,10 @@ class CalibrationJob:
 
 def dump_raw(job: CalibrationJob, path: Path) -> None:
     """The raw results as JSON (for debugging and the benchmark)."""
-    path.write_text(json.dumps({"results": job.results, "llg": job.llg,
-                                "timeline": job.timeline}, default=float, indent=1))
+    path.write_text(
+        json.dumps(
+            {"results": job.results, "llg": job.llg, "timeline": job.timeline},
+            default=float,
+            indent=1,
+        )
+    )

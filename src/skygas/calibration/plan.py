@@ -133,11 +133,13 @@ class CalibrationConfig(StrictModel):
         return self.material.saturation_magnetization * h / math.hypot(a, h)
 
     @model_validator(mode="after")
-    def _ranges(self) -> "CalibrationConfig":
+    def _ranges(self) -> CalibrationConfig:
         lo, hi = self.pair_range
         if not 0.6 <= lo < hi <= 12:
-            raise ValueError(f"pair_range|{list(self.pair_range)}|two distances 0.6 ≤ closest < "
-                             "farthest ≤ 12 skyrmion diameters")
+            raise ValueError(
+                f"pair_range|{list(self.pair_range)}|two distances 0.6 ≤ closest < "
+                "farthest ≤ 12 skyrmion diameters"
+            )
         return self
 
     def seed(self) -> int:
@@ -193,17 +195,35 @@ def _cost(film: Film, cell: float) -> float:
     return film.nx * film.ny / 20_000 * cell / film.cell_size
 
 
-def reference_film(config: CalibrationConfig, nx: int, ny: int, cell: float | None = None,
-                   disk: bool = False, offset: float = 0.0,
-                   real_left_edge: bool = False) -> Film:
+def reference_film(
+    config: CalibrationConfig,
+    nx: int,
+    ny: int,
+    cell: float | None = None,
+    disk: bool = False,
+    offset: float = 0.0,
+    real_left_edge: bool = False,
+) -> Film:
     """A film in the reference environment (compensated, H_ref; ``offset`` [A/m] added;
     ``real_left_edge``: that edge keeps its stray field)."""
-    return Film(nx, ny, cell or config.material.cell_size, disk=disk, compensated=True,
-                reference_field=config.reference_field + offset, real_left_edge=real_left_edge)
+    return Film(
+        nx,
+        ny,
+        cell or config.material.cell_size,
+        disk=disk,
+        compensated=True,
+        reference_field=config.reference_field + offset,
+        real_left_edge=real_left_edge,
+    )
 
 
-def isolated_film(config: CalibrationConfig, radius: float | None = None,
-                  scale: float = 1.0, cell: float | None = None, offset: float = 0.0) -> Film:
+def isolated_film(
+    config: CalibrationConfig,
+    radius: float | None = None,
+    scale: float = 1.0,
+    cell: float | None = None,
+    offset: float = 0.0,
+) -> Film:
     """The square film of stage 1 (``radius``: the measured one, if known)."""
     material = config.material
     side = 20.0 * max(material.wall_width, material.dmi_length)
@@ -224,37 +244,62 @@ def _centre(film: Film) -> tuple[int, int]:
     return (film.nx - 1) // 2, (film.ny - 1) // 2
 
 
-def isolated_stage(config: CalibrationConfig, prefix: str, film: Film,
-                   template: Template | None = None) -> Stage:
+def isolated_stage(
+    config: CalibrationConfig, prefix: str, film: Film, template: Template | None = None
+) -> Stage:
     """The isolated skyrmion and the uniform film, in ``film``."""
     material = config.material
     cost = _cost(film, material.cell_size)
     width = max(material.bare_wall_width, 2 * film.cell_size)
-    return Stage(prefix, [
-        Relaxation(f"{prefix}/uniform", film, (), keep=True, cost=0.1 * cost),
-        Relaxation(f"{prefix}/single", film, (_centre(film),), initial_radius(material), width,
-                   template, keep=True, cost=cost)])
+    return Stage(
+        prefix,
+        [
+            Relaxation(f"{prefix}/uniform", film, (), keep=True, cost=0.1 * cost),
+            Relaxation(
+                f"{prefix}/single",
+                film,
+                (_centre(film),),
+                initial_radius(material),
+                width,
+                template,
+                keep=True,
+                cost=cost,
+            ),
+        ],
+    )
 
 
-def calibration_film(config: CalibrationConfig, diameter: float,
-                     pair_range: tuple[float, float], cell: float | None = None,
-                     real_left_edge: bool = False, margin: float = PAIR_MARGIN,
-                     height: float = FILM_HEIGHT) -> Film:
+def calibration_film(
+    config: CalibrationConfig,
+    diameter: float,
+    pair_range: tuple[float, float],
+    cell: float | None = None,
+    real_left_edge: bool = False,
+    margin: float = PAIR_MARGIN,
+    height: float = FILM_HEIGHT,
+) -> Film:
     """The stage-2 film: (farthest pair + 2 ``margin``) × ``height`` diameters, odd cells."""
     cell = cell or config.material.cell_size
     width = (pair_range[1] + 2 * margin) * diameter
-    return reference_film(config, odd(width / cell), odd(height * diameter / cell), cell,
-                          real_left_edge=real_left_edge)
+    return reference_film(
+        config,
+        odd(width / cell),
+        odd(height * diameter / cell),
+        cell,
+        real_left_edge=real_left_edge,
+    )
 
 
-def pair_cells(film: Film, diameter: float, pair_range: tuple[float, float],
-               count: int = 11) -> list[int]:
+def pair_cells(
+    film: Film, diameter: float, pair_range: tuple[float, float], count: int = 11
+) -> list[int]:
     """Cells i of the pairs (i, nx − 1 − i): ``count`` distances from the closest to the
     farthest of ``pair_range`` [d_sk], denser at short range where the law changes fastest."""
     lo, hi = pair_range
     targets = np.exp(np.linspace(math.log(lo), math.log(hi), count)) * diameter
-    cells = sorted({int(round((film.nx - 1 - d / film.cell_size) / 2)) for d in targets},
-                   reverse=True)
+    cells = sorted(
+        {int(round((film.nx - 1 - d / film.cell_size) / 2)) for d in targets}, reverse=True
+    )
     return [i for i in cells if 0 <= i < (film.nx - 1) // 2]
 
 
@@ -264,18 +309,26 @@ def edge_cells(film: Film, diameter: float, grid=EDGE_GRID) -> list[int]:
     return sorted(i for i in cells if 0 <= i <= (film.nx - 1) // 2)
 
 
-def _pair(name: str, film: Film, i: int, template: Template, radius: float, width: float,
-          cost: float) -> Relaxation:
+def _pair(
+    name: str, film: Film, i: int, template: Template, radius: float, width: float, cost: float
+) -> Relaxation:
     row = (film.ny - 1) // 2
     d = (film.nx - 1 - 2 * i) * film.cell_size
     # two full profiles overlapping at close range would merge: start them smaller
     scale = min(1.0, max(0.5 * d - width, 2 * film.cell_size) / radius)
-    return Relaxation(name, film, ((i, row), (film.nx - 1 - i, row)), radius, width, template,
-                      scale, cost=1.2 * cost)
+    return Relaxation(
+        name,
+        film,
+        ((i, row), (film.nx - 1 - i, row)),
+        radius,
+        width,
+        template,
+        scale,
+        cost=1.2 * cost,
+    )
 
 
-def laws_stage(config: CalibrationConfig, radius: float, width: float,
-               template: Template) -> Stage:
+def laws_stage(config: CalibrationConfig, radius: float, width: float, template: Template) -> Stage:
     """Stage 2: the calibration film's uniform state, singles and pairs."""
     diameter = 2 * radius
     film = calibration_film(config, diameter, config.pair_range)
@@ -285,8 +338,9 @@ def laws_stage(config: CalibrationConfig, radius: float, width: float,
     cost = _cost(film, config.material.cell_size)
     stage = Stage("laws", [Relaxation("laws/uniform", film, (), cost=0.1 * cost)])
     for i in singles:
-        stage.solves.append(Relaxation(f"laws/single/{i}", film, ((i, row),), radius, width,
-                                       template, cost=cost))
+        stage.solves.append(
+            Relaxation(f"laws/single/{i}", film, ((i, row),), radius, width, template, cost=cost)
+        )
     for i in pairs:
         stage.solves.append(_pair(f"laws/pair/{i}", film, i, template, radius, width, cost))
     return stage
@@ -297,15 +351,20 @@ def sensitivity_stage(config: CalibrationConfig, film: Film, template: Template)
     stage = Stage("sensitivity")
     cost = _cost(film, config.material.cell_size)
     for sign, label in ((1, "plus"), (-1, "minus")):
-        shifted = reference_film(config, film.nx, film.ny, film.cell_size,
-                                 offset=sign * SENSITIVITY_STEP / MU_0)
-        stage.solves.append(Relaxation(f"sensitivity/{label}", shifted, (_centre(shifted),),
-                                       template=template, cost=cost))
+        shifted = reference_film(
+            config, film.nx, film.ny, film.cell_size, offset=sign * SENSITIVITY_STEP / MU_0
+        )
+        stage.solves.append(
+            Relaxation(
+                f"sensitivity/{label}", shifted, (_centre(shifted),), template=template, cost=cost
+            )
+        )
     return stage
 
 
-def stray_check_stage(config: CalibrationConfig, radius: float, width: float,
-                      template: Template) -> Stage:
+def stray_check_stage(
+    config: CalibrationConfig, radius: float, width: float, template: Template
+) -> Stage:
     """Singles near the left edge of the calibration film whose compensation leaves that
     edge's stray field (a real straight edge), its uniform state and its centre single: to
     check the model's first-order stray-field energy."""
@@ -315,19 +374,21 @@ def stray_check_stage(config: CalibrationConfig, radius: float, width: float,
     cost = _cost(film, config.material.cell_size)
     stage = Stage("stray", [Relaxation("stray/uniform", film, (), cost=0.1 * cost)])
     for i in sorted(set(edge_cells(film, diameter, STRAY_CHECK_GRID)) | {(film.nx - 1) // 2}):
-        stage.solves.append(Relaxation(f"stray/single/{i}", film, ((i, row),), radius, width,
-                                       template, cost=cost))
+        stage.solves.append(
+            Relaxation(f"stray/single/{i}", film, ((i, row),), radius, width, template, cost=cost)
+        )
     return stage
 
 
-def mesh_stage(config: CalibrationConfig, radius: float, width: float,
-               template: Template) -> Stage:
+def mesh_stage(config: CalibrationConfig, radius: float, width: float, template: Template) -> Stage:
     """The mesh check: a pair at ≈ 1.5 d_sk (pair, its single, uniform) at the calibration's
     cell and at half of it (the single is also the isolated skyrmion of the comparison)."""
     stage = Stage("mesh")
     diameter = 2 * radius
-    for label, cell in (("coarse", config.material.cell_size),
-                        ("fine", 0.5 * config.material.cell_size)):
+    for label, cell in (
+        ("coarse", config.material.cell_size),
+        ("fine", 0.5 * config.material.cell_size),
+    ):
         # a smaller film than the laws': the check compares two meshes in the same film
         film = calibration_film(config, diameter, (1.5, 1.5), cell, margin=1.0, height=2.5)
         row = (film.ny - 1) // 2
@@ -335,16 +396,17 @@ def mesh_stage(config: CalibrationConfig, radius: float, width: float,
         cost = _cost(film, config.material.cell_size)
         stage.solves += [
             Relaxation(f"mesh/{label}/uniform", film, (), cost=0.1 * cost),
-            Relaxation(f"mesh/{label}/single", film, ((i, row),), radius, width, template,
-                       cost=cost),
-            _pair(f"mesh/{label}/pair", film, i, template, radius, width, cost)]
+            Relaxation(
+                f"mesh/{label}/single", film, ((i, row),), radius, width, template, cost=cost
+            ),
+            _pair(f"mesh/{label}/pair", film, i, template, radius, width, cost),
+        ]
     return stage
 
 
 def enlarged_stage(config: CalibrationConfig, radius: float, template: Template) -> Stage:
     """The isolated skyrmion again in a film 1.25 times larger (were the edges far enough?)."""
-    return isolated_stage(config, "enlarged", isolated_film(config, radius, scale=1.25),
-                          template)
+    return isolated_stage(config, "enlarged", isolated_film(config, radius, scale=1.25), template)
 
 
 def validation_film(config: CalibrationConfig, diameter: float) -> Film:
@@ -370,22 +432,34 @@ def validation_positions(film: Film, diameter: float, count: int) -> list[tuple[
     for _ in range(20_000):
         r = reach * np.sqrt(rng.random(count))
         phi = 2 * math.pi * rng.random(count)
-        points = list(zip(cx + r * np.cos(phi), cy + r * np.sin(phi)))
-        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1:]]
+        points = list(zip(cx + r * np.cos(phi), cy + r * np.sin(phi), strict=True))
+        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
         if reach > 0 and (not gaps or 1.3 * diameter <= min(gaps) <= 1.8 * diameter):
             return [(float(x), float(y)) for x, y in points]
     from skygas.errors import InputError
 
-    raise InputError("validation.disk_radius", film.radius / diameter,
-                     f"a disk large enough for {count} skyrmions 1.3 diameters apart")
+    raise InputError(
+        "validation.disk_radius",
+        film.radius / diameter,
+        f"a disk large enough for {count} skyrmions 1.3 diameters apart",
+    )
 
 
-def validation_start(config: CalibrationConfig, radius: float, width: float,
-                     template: Template) -> Relaxation:
+def validation_start(
+    config: CalibrationConfig, radius: float, width: float, template: Template
+) -> Relaxation:
     """The validation's starting state: its skyrmions relaxed with their guiding centres
     held."""
     film = validation_film(config, 2 * radius)
     points = validation_positions(film, 2 * radius, config.validation.skyrmions)
     cores = tuple(film.cell_of(x, y) for x, y in points)
-    return Relaxation("validation/start", film, cores, radius, width, template, keep=True,
-                      cost=_cost(film, config.material.cell_size))
+    return Relaxation(
+        "validation/start",
+        film,
+        cores,
+        radius,
+        width,
+        template,
+        keep=True,
+        cost=_cost(film, config.material.cell_size),
+    )

@@ -37,8 +37,7 @@ def as_field(m: np.ndarray, film: Film, thickness: float):
     (dims z, y, x, component; origin at the mesh's lower-left corner)."""
     from skygas.micromag.ovf import field_from_array
 
-    return field_from_array(np.transpose(m, (1, 0, 2)),
-                            (film.cell_size, film.cell_size, thickness))
+    return field_from_array(np.transpose(m, (1, 0, 2)), (film.cell_size, film.cell_size, thickness))
 
 
 def detect(m: np.ndarray, film: Film, thickness: float):
@@ -48,8 +47,7 @@ def detect(m: np.ndarray, film: Film, thickness: float):
     return detect_skyrmions(as_field(m, film, thickness)).skyrmions
 
 
-def dissipation_tensor(m: np.ndarray, cell: float, region: np.ndarray | None = None
-                       ) -> np.ndarray:
+def dissipation_tensor(m: np.ndarray, cell: float, region: np.ndarray | None = None) -> np.ndarray:
     """𝒟_ij = ∫ ∂ᵢm·∂ⱼm dA over the cells of ``region`` (nx, ny; all cells if None), a 2×2
     dimensionless matrix; see the module docstring for the discretisation."""
     m = np.asarray(m, dtype=float)
@@ -63,15 +61,21 @@ def dissipation_tensor(m: np.ndarray, cell: float, region: np.ndarray | None = N
         angle = 2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0))
         # a link counts half for each of its two cells' regions
         weight = 0.5 * (region[tuple(lo)].astype(float) + region[tuple(hi)])
-        tensor[axis, axis] = float(np.sum(weight * angle ** 2))
+        tensor[axis, axis] = float(np.sum(weight * angle**2))
     gx = np.gradient(m, cell, axis=0)
     gy = np.gradient(m, cell, axis=1)
     tensor[0, 1] = tensor[1, 0] = float(np.sum(np.sum(gx * gy, axis=-1)[region]) * cell * cell)
     return tensor
 
 
-def radial_profile(m: np.ndarray, film: Film, centre: tuple[float, float], r_max: float,
-                   n_radii: int = 200, n_angles: int = 64) -> tuple[np.ndarray, np.ndarray]:
+def radial_profile(
+    m: np.ndarray,
+    film: Film,
+    centre: tuple[float, float],
+    r_max: float,
+    n_radii: int = 200,
+    n_angles: int = 64,
+) -> tuple[np.ndarray, np.ndarray]:
     """(r [m], ⟨m_z⟩(r)): m_z averaged over ``n_angles`` rays from ``centre`` [m], sampled by
     cubic interpolation between cell centres."""
     radii = np.linspace(0.0, r_max, n_radii)
@@ -105,6 +109,7 @@ def ansatz_mz(r, radius: float, wall_width: float):
 
 def fit_wall_width(r: np.ndarray, mz: np.ndarray, radius: float) -> float:
     """Δ of the ansatz m_z(r) with the measured R, fitted by least squares [m]."""
+
     def residual(log_width):
         return ansatz_mz(r, radius, math.exp(log_width[0])) - mz
 
@@ -158,8 +163,13 @@ class IsolatedSkyrmion:
         return record
 
 
-def measure_isolated(m: np.ndarray, film: Film, material: MicromagneticMaterial,
-                     energy: float, what: str = "isolated skyrmion") -> IsolatedSkyrmion:
+def measure_isolated(
+    m: np.ndarray,
+    film: Film,
+    material: MicromagneticMaterial,
+    energy: float,
+    what: str = "isolated skyrmion",
+) -> IsolatedSkyrmion:
     """Measure the one skyrmion of the relaxed texture ``m``; ``energy`` is its energy above
     the uniform film [J]. Refuses (one line) a texture without exactly one skyrmion of
     |Q| ≈ 1: the material does not hold an isolated skyrmion on this mesh."""
@@ -167,35 +177,52 @@ def measure_isolated(m: np.ndarray, film: Film, material: MicromagneticMaterial,
     if len(found) != 1 or abs(abs(found[0].charge) - 1.0) > 0.05:
         charges = ", ".join(f"{s.charge:+.2f}" for s in found) or "none"
         raise InputError(
-            "material", material.name,
+            "material",
+            material.name,
             f"a film that holds an isolated skyrmion (the relaxed {what} has skyrmion charges: "
-            f"{charges}, radius {found[0].radius * 1e9:.1f} nm)" if found else
-            f"a film that holds an isolated skyrmion (the {what} vanished while relaxing)",
+            f"{charges}, radius {found[0].radius * 1e9:.1f} nm)"
+            if found
+            else f"a film that holds an isolated skyrmion (the {what} vanished while relaxing)",
             "check M_s, A_ex, D, K_u and B_z: the skyrmion collapses when D is too small or the "
-            "field too large, and grows into a stripe domain when D is too large")
+            "field too large, and grows into a stripe domain when D is too large",
+        )
     s = found[0]
     cell = film.cell_size
     if s.radius < 2 * cell:
-        raise InputError("material", material.name,
-                         f"a skyrmion larger than two cells (radius {s.radius * 1e9:.2f} nm on "
-                         f"{cell * 1e9:g} nm cells)", "use a smaller cell_size")
+        raise InputError(
+            "material",
+            material.name,
+            f"a skyrmion larger than two cells (radius {s.radius * 1e9:.2f} nm on "
+            f"{cell * 1e9:g} nm cells)",
+            "use a smaller cell_size",
+        )
     r_max = min(0.5 * min(film.size) - cell, 6.0 * s.radius)
     radii, mz = radial_profile(m, film, (s.x, s.y), r_max)
     width = fit_wall_width(radii, mz, s.radius)
     x, y = film.centres()
     region = np.hypot(x - s.x, y - s.y) <= r_max
     tensor = dissipation_tensor(m, cell, region)
-    k = material.saturation_magnetization * material.film_thickness \
-        / material.gyromagnetic_ratio
+    k = material.saturation_magnetization * material.film_thickness / material.gyromagnetic_ratio
     # within r_max only: the film's tilted edges have a deficit of their own
     deficit = float(np.sum((1.0 - m[..., 2])[region & film.magnetic()]) * cell * cell)
     return IsolatedSkyrmion(
-        charge=s.charge, x=s.x, y=s.y, radius=s.radius, wall_width=width,
-        circularity=s.circularity, energy=float(energy),
-        dissipation_tensor=((float(tensor[0, 0]), float(tensor[0, 1])),
-                            (float(tensor[1, 0]), float(tensor[1, 1]))),
+        charge=s.charge,
+        x=s.x,
+        y=s.y,
+        radius=s.radius,
+        wall_width=width,
+        circularity=s.circularity,
+        energy=float(energy),
+        dissipation_tensor=(
+            (float(tensor[0, 0]), float(tensor[0, 1])),
+            (float(tensor[1, 0]), float(tensor[1, 1])),
+        ),
         dissipation=0.5 * float(tensor[0, 0] + tensor[1, 1]),
         thin_wall_dissipation=thin_wall_dissipation(s.radius, material.bare_wall_width),
         ansatz_dissipation=ansatz_dissipation(s.radius, width),
-        moment_deficit=deficit, k=k, gyrocoupling=-4.0 * math.pi * s.charge * k,
-        profile_radius=tuple(map(float, radii)), profile_mz=tuple(map(float, mz)))
+        moment_deficit=deficit,
+        k=k,
+        gyrocoupling=-4.0 * math.pi * s.charge * k,
+        profile_radius=tuple(map(float, radii)),
+        profile_mz=tuple(map(float, mz)),
+    )

@@ -44,14 +44,16 @@ def provenance(job) -> dict[str, Any]:
     return {
         "skygas_version": __version__,
         "solver": "magnum.np field terms (finite differences, FFT stray field); "
-                  "Barzilai-Borwein minimisation with guiding centres held by Lagrange "
-                  "multipliers; RKF45 LLG",
-        "magnumnp_version": _version("magnumnp"), "torch_version": _version("torch"),
+        "Barzilai-Borwein minimisation with guiding centres held by Lagrange "
+        "multipliers; RKF45 LLG",
+        "magnumnp_version": _version("magnumnp"),
+        "torch_version": _version("torch"),
         "device": ", ".join(devices) or "cpu",
-        "workers": job.workers, "compiled_field_terms": job.config.compile,
+        "workers": job.workers,
+        "compiled_field_terms": job.config.compile,
         "cell_size_m": job.config.material.cell_size,
         "film": "one cell layer of the film's thickness, open boundaries; laws in compensated "
-                "films with the reference field",
+        "films with the reference field",
         "torque_tolerance_A_per_m": job.config.torque_tolerance,
         "llg_tolerance": job.config.validation.llg_tolerance,
         "solves": len(job.results),
@@ -65,8 +67,7 @@ def provenance(job) -> dict[str, Any]:
 
 def record(cal: Calibration) -> dict[str, str]:
     """What every figure of the calibration records in its text chunks."""
-    return {"skygas_version": __version__, "seed": "0",
-            "config_json": cal.config.model_dump_json()}
+    return {"skygas_version": __version__, "seed": "0", "config_json": cal.config.model_dump_json()}
 
 
 # -- numbers -------------------------------------------------------------------------------------
@@ -78,42 +79,56 @@ def summary(cal: Calibration, job) -> dict[str, Any]:
         "material": cal.config.material.as_record(),
         "config": json.loads(cal.config.model_dump_json()),
         "reference_field_T": MU_0 * cal.config.reference_field,
-        "isolated": {**iso.as_record(), "diameter": cal.diameter,
-                     "force_scale_N": cal.force_scale,
-                     "profile_radius_m": list(iso.profile_radius),
-                     "profile_mz": list(iso.profile_mz)},
+        "isolated": {
+            **iso.as_record(),
+            "diameter": cal.diameter,
+            "force_scale_N": cal.force_scale,
+            "profile_radius_m": list(iso.profile_radius),
+            "profile_mz": list(iso.profile_mz),
+        },
         "pair": _law_record(cal.pair, cal.pair_energy, cal),
         "wall_short_range": _law_record(cal.wall, cal.wall_energy, cal),
-        "straight_edge": {"distance_m": cal.straight_edge_x.tolist(),
-                          "force_N": cal.straight_edge_force.tolist()},
+        "straight_edge": {
+            "distance_m": cal.straight_edge_x.tolist(),
+            "force_N": cal.straight_edge_force.tolist(),
+        },
         "fits": cal.fits,
         "checks": cal.checks,
         "provenance": provenance(job),
     }
     if cal.validation is not None:
         v = cal.validation
-        out["validation"] = {**v.summary(), "times_s": v.times.tolist(),
-                             "error_d_sk": v.error.tolist(),
-                             "micromagnetic_m": v.micromagnetic.tolist(),
-                             "particle_m": v.particle.tolist()}
+        out["validation"] = {
+            **v.summary(),
+            "times_s": v.times.tolist(),
+            "error_d_sk": v.error.tolist(),
+            "micromagnetic_m": v.micromagnetic.tolist(),
+            "particle_m": v.particle.tolist(),
+        }
         r = cal.validation_restarted
         if r is not None:
             out["validation"]["restarted"] = {
                 "from_s": float(v.times[-1] - r.times[-1]),
                 "rms_error_max_d_sk": float(r.error.max()),
                 "rms_error_final_d_sk": float(r.error[-1]),
-                "error_d_sk": r.error.tolist()}
+                "error_d_sk": r.error.tolist(),
+            }
     elif cal.config.validate_dynamics:
         out["validation"] = {"note": cal.validation_note}
     return out
 
 
 def _law_record(law, energy, cal: Calibration) -> dict[str, Any]:
-    return {"energy_distance_m": energy.distance.tolist(), "energy_J": energy.energy.tolist(),
-            "dropped": [{"distance_m": d, "why": why} for d, why in energy.dropped],
-            "table_distance_m": law.distance.tolist(), "table_force_N": law.force.tolist(),
-            "measured_range_m": list(law.measured), "tail_decay_length_m": law.decay,
-            "measured_range_d_sk": [x / cal.diameter for x in law.measured]}
+    return {
+        "energy_distance_m": energy.distance.tolist(),
+        "energy_J": energy.energy.tolist(),
+        "dropped": [{"distance_m": d, "why": why} for d, why in energy.dropped],
+        "table_distance_m": law.distance.tolist(),
+        "table_force_N": law.force.tolist(),
+        "measured_range_m": list(law.measured),
+        "tail_decay_length_m": law.decay,
+        "measured_range_d_sk": [x / cal.diameter for x in law.measured],
+    }
 
 
 # -- the model file ------------------------------------------------------------------------------
@@ -123,10 +138,10 @@ def write_model_file(cal: Calibration, job, path: Path) -> Path:
     fits = cal.fits
     header = [
         f"skygas {__version__} calibrated particle model of {m.name} (skygas calibrate).",
-        f"Use it as `material = \"{path.name}\"` (a path) in any configuration, or "
+        f'Use it as `material = "{path.name}"` (a path) in any configuration, or '
         f"`--material {path.name}` where a command takes one.",
         "The [material] table is what the engine reads: its tabulated laws (pair_table,",
-        "wall_table) are the default; forces.pair_law = \"paper\" / forces.wall_law = \"paper\"",
+        'wall_table) are the default; forces.pair_law = "paper" / forces.wall_law = "paper"',
         "use the paper's forms fitted to them (pair_law, wall_law) instead.",
         f"Laws measured for skyrmions in the interior of a device of "
         f"{cal.config.reference_diameter * 1e9:g} nm (reference field "
@@ -134,30 +149,40 @@ def write_model_file(cal: Calibration, job, path: Path) -> Path:
     ]
     sections = {
         "micromagnetics": {k: v for k, v in m.model_dump().items() if v is not None},
-        "thiele": {"charge": iso.charge, "k_kg_per_s": iso.k,
-                   "gyrocoupling_kg_per_s": iso.gyrocoupling,
-                   "dissipation": iso.dissipation,
-                   "dissipation_tensor": [list(row) for row in iso.dissipation_tensor],
-                   "thin_wall_dissipation": iso.thin_wall_dissipation,
-                   "radius_m": iso.radius, "wall_width_m": iso.wall_width,
-                   "diameter_m": cal.diameter, "force_scale_N": cal.force_scale,
-                   "energy_J": iso.energy, "moment_deficit_m2": iso.moment_deficit},
-        "laws": {"pair_measured_m": list(cal.pair.measured),
-                 "wall_measured_m": list(cal.wall.measured),
-                 "pair_tail_decay_m": cal.pair.decay, "wall_tail_decay_m": cal.wall.decay,
-                 "reference_diameter_m": cal.config.reference_diameter,
-                 "reference_field_T": MU_0 * cal.config.reference_field},
-        "fits": {law: {k: v for k, v in fit.items() if v not in (None, "")}
-                 for law, fit in fits.items()},
+        "thiele": {
+            "charge": iso.charge,
+            "k_kg_per_s": iso.k,
+            "gyrocoupling_kg_per_s": iso.gyrocoupling,
+            "dissipation": iso.dissipation,
+            "dissipation_tensor": [list(row) for row in iso.dissipation_tensor],
+            "thin_wall_dissipation": iso.thin_wall_dissipation,
+            "radius_m": iso.radius,
+            "wall_width_m": iso.wall_width,
+            "diameter_m": cal.diameter,
+            "force_scale_N": cal.force_scale,
+            "energy_J": iso.energy,
+            "moment_deficit_m2": iso.moment_deficit,
+        },
+        "laws": {
+            "pair_measured_m": list(cal.pair.measured),
+            "wall_measured_m": list(cal.wall.measured),
+            "pair_tail_decay_m": cal.pair.decay,
+            "wall_tail_decay_m": cal.wall.decay,
+            "reference_diameter_m": cal.config.reference_diameter,
+            "reference_field_T": MU_0 * cal.config.reference_field,
+        },
+        "fits": {
+            law: {k: v for k, v in fit.items() if v not in (None, "")} for law, fit in fits.items()
+        },
         "provenance": {k: v for k, v in provenance(job).items() if not isinstance(v, dict)},
     }
     comments = {
         "material.pair_table": "pair law |F|(d): d centre distance [m], force [N] (PCHIP; held "
-                               "below the first distance, 0 beyond the last)",
+        "below the first distance, 0 beyond the last)",
         "material.wall_table": "short-range wall law |F|(x): x distance to the nearest wall "
-                               "[m], force [N]; the long-range part is the stray field below",
+        "[m], force [N]; the long-range part is the stray field below",
         "material.stray_field": "the skyrmion's profile 1 - m_z(r) for its energy in the "
-                                "device's edge stray field (added with the table wall law)",
+        "device's edge stray field (added with the table wall law)",
         "fits": "the paper's forms fitted to the tables over their measured ranges (d_sk units)",
     }
     return write_model(path, cal.material_table(), sections, header, comments)
@@ -191,12 +216,21 @@ def plot_profile(cal: Calibration, path: Path) -> Path:
         fig, ax = plt.subplots(figsize=(6, 4))
         r = np.asarray(iso.profile_radius) * 1e9
         ax.plot(r, iso.profile_mz, "k.", ms=3, label="relaxed (azimuthal mean)")
-        ax.plot(r, ansatz_mz(np.asarray(iso.profile_radius), iso.radius, iso.wall_width), "r-",
-                lw=1, label=f"360° wall ansatz, R = {iso.radius * 1e9:.2f} nm, "
-                            f"Δ = {iso.wall_width * 1e9:.2f} nm")
+        ax.plot(
+            r,
+            ansatz_mz(np.asarray(iso.profile_radius), iso.radius, iso.wall_width),
+            "r-",
+            lw=1,
+            label=f"360° wall ansatz, R = {iso.radius * 1e9:.2f} nm, "
+            f"Δ = {iso.wall_width * 1e9:.2f} nm",
+        )
         ax.axvline(iso.radius * 1e9, color="0.6", lw=0.8, ls="--")
-        ax.set(xlabel="r [nm]", ylabel="m_z", title=f"{cal.config.material.name}: isolated "
-               f"skyrmion, Q = {iso.charge:+.4f}, $\\mathcal{{D}}$ = {iso.dissipation:.2f}")
+        ax.set(
+            xlabel="r [nm]",
+            ylabel="m_z",
+            title=f"{cal.config.material.name}: isolated "
+            f"skyrmion, Q = {iso.charge:+.4f}, $\\mathcal{{D}}$ = {iso.dissipation:.2f}",
+        )
         ax.legend(fontsize=8, loc="lower right")
         fig.tight_layout()
         fig.savefig(tmp, dpi=110)
@@ -226,32 +260,65 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
         fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4))
         lo, hi = law.measured
         inside = law.distance <= hi
-        ax.semilogy(law.distance[inside] * 1e9, law.force[inside] * 1e12, "k-", lw=1.5,
-                    label="calibrated (table)")
-        ax.semilogy(law.distance[~inside] * 1e9, law.force[~inside] * 1e12, "k:", lw=1.2,
-                    label="continuation (exponential)")
+        ax.semilogy(
+            law.distance[inside] * 1e9,
+            law.force[inside] * 1e12,
+            "k-",
+            lw=1.5,
+            label="calibrated (table)",
+        )
+        ax.semilogy(
+            law.distance[~inside] * 1e9,
+            law.force[~inside] * 1e12,
+            "k:",
+            lw=1.2,
+            label="continuation (exponential)",
+        )
         if which == "wall":
-            ax.semilogy(cal.straight_edge_x * 1e9, cal.straight_edge_force * 1e12, "b-", lw=1,
-                        label="straight edge of a real film (+ stray field)")
+            ax.semilogy(
+                cal.straight_edge_x * 1e9,
+                cal.straight_edge_force * 1e12,
+                "b-",
+                lw=1,
+                label="straight edge of a real film (+ stray field)",
+            )
         x = np.linspace(max(lo, d_sk), max(hi, 4 * d_sk), 200)
         if fit:
-            shape = paper_pair_force(x / d_sk, *fit) if which == "pair" else \
-                paper_wall_force(x / d_sk, fit)
-            ax.semilogy(x * 1e9, cal.force_scale * shape * 1e12, "r--", lw=1,
-                        label="paper's form fitted")
+            shape = (
+                paper_pair_force(x / d_sk, *fit)
+                if which == "pair"
+                else paper_wall_force(x / d_sk, fit)
+            )
+            ax.semilogy(
+                x * 1e9, cal.force_scale * shape * 1e12, "r--", lw=1, label="paper's form fitted"
+            )
         if paper is not None:
             p, pd, pf = paper
             xp = np.linspace(0.5 * pd if which == "wall" else pd, 5 * pd, 200)
-            shape = paper_pair_force(xp / pd, *p.pair_law) if which == "pair" else \
-                paper_wall_force(xp / pd, p.wall_law)
-            ax.semilogy(xp * 1e9, pf * shape * 1e12, "g-.", lw=1,
-                        label=f"paper's {p.name} law (d_sk = {pd * 1e9:.1f} nm)")
-        ax.set(xlabel=("centre distance" if which == "pair" else "distance to the edge")
-               + " [nm]", ylabel="|F| [pN]", title=f"{which} law")
+            shape = (
+                paper_pair_force(xp / pd, *p.pair_law)
+                if which == "pair"
+                else paper_wall_force(xp / pd, p.wall_law)
+            )
+            ax.semilogy(
+                xp * 1e9,
+                pf * shape * 1e12,
+                "g-.",
+                lw=1,
+                label=f"paper's {p.name} law (d_sk = {pd * 1e9:.1f} nm)",
+            )
+        ax.set(
+            xlabel=("centre distance" if which == "pair" else "distance to the edge") + " [nm]",
+            ylabel="|F| [pN]",
+            title=f"{which} law",
+        )
         ax.legend(fontsize=7)
         bx.plot(energy.distance * 1e9, energy.energy / (cal.force_scale * d_sk), "ko", ms=4)
-        bx.set(xlabel="distance [nm]", ylabel="E / (F₀ d_sk)",
-               title=f"energies (F₀ d_sk = {cal.force_scale * d_sk:.3g} J)")
+        bx.set(
+            xlabel="distance [nm]",
+            ylabel="E / (F₀ d_sk)",
+            title=f"energies (F₀ d_sk = {cal.force_scale * d_sk:.3g} J)",
+        )
         bx.set_yscale("log")
         fig.tight_layout()
         fig.savefig(tmp, dpi=110)
@@ -271,30 +338,45 @@ def plot_validation(cal: Calibration, path: Path) -> Path:
     def draw(tmp):
         fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.8))
         cx, cy = v.centre
-        ax.add_patch(plt.Circle((cx * 1e9, cy * 1e9), v.disk_radius * 1e9, fill=False,
-                                color="0.5"))
+        ax.add_patch(plt.Circle((cx * 1e9, cy * 1e9), v.disk_radius * 1e9, fill=False, color="0.5"))
         for k in range(v.micromagnetic.shape[1]):
             mm, pm = v.micromagnetic[:, k] * 1e9, v.particle[:, k] * 1e9
-            line, = ax.plot(mm[:, 0], mm[:, 1], "-", lw=1.5,
-                            label="micromagnetic (LLG)" if k == 0 else None)
-            ax.plot(pm[:, 0], pm[:, 1], "--", lw=1.2, color=line.get_color(),
-                    label="particle model" if k == 0 else None)
+            (line,) = ax.plot(
+                mm[:, 0], mm[:, 1], "-", lw=1.5, label="micromagnetic (LLG)" if k == 0 else None
+            )
+            ax.plot(
+                pm[:, 0],
+                pm[:, 1],
+                "--",
+                lw=1.2,
+                color=line.get_color(),
+                label="particle model" if k == 0 else None,
+            )
             ax.plot(*mm[0], "o", color=line.get_color(), ms=4)
         ax.set_aspect("equal")
         pad = 0.05 * v.disk_radius * 1e9
-        ax.set(xlim=((cx - v.disk_radius) * 1e9 - pad, (cx + v.disk_radius) * 1e9 + pad),
-               ylim=((cy - v.disk_radius) * 1e9 - pad, (cy + v.disk_radius) * 1e9 + pad),
-               xlabel="x [nm]", ylabel="y [nm]", title="trajectories (dots: start)")
+        ax.set(
+            xlim=((cx - v.disk_radius) * 1e9 - pad, (cx + v.disk_radius) * 1e9 + pad),
+            ylim=((cy - v.disk_radius) * 1e9 - pad, (cy + v.disk_radius) * 1e9 + pad),
+            xlabel="x [nm]",
+            ylabel="y [nm]",
+            title="trajectories (dots: start)",
+        )
         ax.legend(fontsize=8)
         bx.plot(v.times * 1e9, v.error, "k-", label="from the release")
         r = cal.validation_restarted
         if r is not None:
             start = v.times[-1] - r.times[-1]
-            bx.plot((r.times + start) * 1e9, r.error, "b--",
-                    label=f"model restarted at {start * 1e9:.2f} ns")
+            bx.plot(
+                (r.times + start) * 1e9,
+                r.error,
+                "b--",
+                label=f"model restarted at {start * 1e9:.2f} ns",
+            )
         bx.axhline(0.1, color="r", lw=0.8, ls="--", label="goal 0.1 d_sk")
-        bx.set(xlabel="t [ns]", ylabel="RMS centre error [d_sk]",
-               title=f"max {v.error.max():.3f} d_sk")
+        bx.set(
+            xlabel="t [ns]", ylabel="RMS centre error [d_sk]", title=f"max {v.error.max():.3f} d_sk"
+        )
         bx.legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(tmp, dpi=110)
@@ -334,8 +416,11 @@ def _save_textures(job, path: Path) -> None:
         arrays["validation_start"] = job.textures["validation/start"]
     if job.llg_m is not None:
         arrays["validation_end"] = job.llg_m
-    meta = {"skygas_version": np.array(__version__),
-            "config_json": np.array(job.config.model_dump_json()),
-            "layout": np.array("m[i, j, component], cell (i, j) centred at ((i + 1/2) cell, "
-                               "(j + 1/2) cell)")}
+    meta = {
+        "skygas_version": np.array(__version__),
+        "config_json": np.array(job.config.model_dump_json()),
+        "layout": np.array(
+            "m[i, j, component], cell (i, j) centred at ((i + 1/2) cell, (j + 1/2) cell)"
+        ),
+    }
     write_atomic(path, lambda tmp: np.savez_compressed(tmp, **arrays, **meta))

@@ -56,12 +56,17 @@ def require_installed() -> None:
     without importing them)."""
     from importlib.util import find_spec
 
-    for package, install in (("torch", "`pip install torch==2.13.0` (a CPU build; see the "
-                              "README for a GPU)"),
-                             ("magnumnp", "`pip install 'skygas[micromagnetics]'`")):
+    for package, install in (
+        ("torch", "`pip install torch==2.13.0` (a CPU build; see the README for a GPU)"),
+        ("magnumnp", "`pip install 'skygas[micromagnetics]'`"),
+    ):
         if find_spec(package) is None:
-            raise InputError("micromagnetics", f"{package} not installed",
-                             "torch and magnum.np for `skygas calibrate`", f"install {install}")
+            raise InputError(
+                "micromagnetics",
+                f"{package} not installed",
+                "torch and magnum.np for `skygas calibrate`",
+                f"install {install}",
+            )
 
 
 def gpu_available() -> bool:
@@ -87,24 +92,29 @@ def backend():
         try:
             import torch
         except ImportError:
-            raise InputError("micromagnetics", "not installed",
-                             "torch and magnum.np for `skygas calibrate`",
-                             "install them with `pip install torch==2.13.0` then "
-                             "`pip install 'skygas[micromagnetics]'` (see the README)") from None
+            raise InputError(
+                "micromagnetics",
+                "not installed",
+                "torch and magnum.np for `skygas calibrate`",
+                "install them with `pip install torch==2.13.0` then "
+                "`pip install 'skygas[micromagnetics]'` (see the README)",
+            ) from None
         torch.set_num_threads(_settings["threads"])
         # magnum.np otherwise starts a Python subprocess at import to find a GPU
         os.environ.setdefault("CUDA_DEVICE", "0" if torch.cuda.is_available() else "-1")
         # it logs its banner at import and renames the process: keep both as they were
         # (a filter survives the level magnum.np sets on its logger)
-        logging.getLogger("magnum.np").addFilter(
-            lambda record: record.levelno >= logging.ERROR)
+        logging.getLogger("magnum.np").addFilter(lambda record: record.levelno >= logging.ERROR)
         title = _process_title()
         try:
             import magnumnp  # noqa: F401
         except ImportError:
-            raise InputError("micromagnetics", "not installed", "magnum.np for `skygas "
-                             "calibrate`", "install it with `pip install "
-                             "'skygas[micromagnetics]'` (see the README)") from None
+            raise InputError(
+                "micromagnetics",
+                "not installed",
+                "magnum.np for `skygas calibrate`",
+                "install it with `pip install 'skygas[micromagnetics]'` (see the README)",
+            ) from None
         _process_title(title)
         if not torch.cuda.is_available():
             # magnum.np makes its device the default through a torch function mode, which
@@ -202,8 +212,10 @@ class Film:
     def cell_of(self, x: float, y: float) -> tuple[int, int]:
         """The cell whose centre is nearest to (x, y) [m]."""
         # round, not floor: 150e-9 / 2e-9 is 74.99999999999999 in floating point
-        return (min(max(int(round(x / self.cell_size - 0.5)), 0), self.nx - 1),
-                min(max(int(round(y / self.cell_size - 0.5)), 0), self.ny - 1))
+        return (
+            min(max(int(round(x / self.cell_size - 0.5)), 0), self.nx - 1),
+            min(max(int(round(y / self.cell_size - 0.5)), 0), self.ny - 1),
+        )
 
 
 @dataclass(frozen=True)
@@ -249,9 +261,14 @@ class FilmSolver:
         magnetic = torch.tensor(film.magnetic()[:, :, None])
         #: (nx, ny, 1, 1): broadcasts against the (nx, ny, 1, 3) magnetisation
         self._magnetic = magnetic[..., None]
-        parameters = {"Ms": material.saturation_magnetization, "A": material.exchange_stiffness,
-                      "Ku": material.anisotropy, "alpha": material.damping,
-                      "Di": material.dmi, "Db": material.bulk_dmi}
+        parameters = {
+            "Ms": material.saturation_magnetization,
+            "A": material.exchange_stiffness,
+            "Ku": material.anisotropy,
+            "alpha": material.damping,
+            "Di": material.dmi,
+            "Db": material.bulk_dmi,
+        }
         for key, value in parameters.items():
             field = self.state.Constant(0.0)
             field[magnetic] = value
@@ -263,16 +280,22 @@ class FilmSolver:
         self.state.m = self.state.Constant([0.0, 0.0, 1.0]) * self._magnetic
         if film.compensated:
             uniform_z = demag.h(self.state)[..., 2:3]
-            field[..., 2:3] += (film.reference_field - material.saturation_magnetization
-                                - uniform_z) * self._magnetic
+            field[..., 2:3] += (
+                film.reference_field - material.saturation_magnetization - uniform_z
+            ) * self._magnetic
             if film.real_left_edge:
                 x = torch.tensor(film.centres()[0][:, :, None, None], device=field.device)
                 h = 0.5 * material.film_thickness
-                field[..., 2:3] += material.saturation_magnetization / math.pi \
-                    * torch.atan(h / x) * self._magnetic
-        self.terms = {"exchange": mn.ExchangeField(), "dmi": dmi,
-                      "anisotropy": mn.UniaxialAnisotropyField(),
-                      "zeeman": mn.ExternalField(field), "demag": demag}
+                field[..., 2:3] += (
+                    material.saturation_magnetization / math.pi * torch.atan(h / x) * self._magnetic
+                )
+        self.terms = {
+            "exchange": mn.ExchangeField(),
+            "dmi": dmi,
+            "anisotropy": mn.UniaxialAnisotropyField(),
+            "zeeman": mn.ExternalField(field),
+            "demag": demag,
+        }
 
     # -- conversions ----------------------------------------------------------------------------
     def _set(self, m: np.ndarray) -> None:
@@ -297,9 +320,15 @@ class FilmSolver:
         self._set(m)
         return {name: float(term.E(self.state)) for name, term in self.terms.items()}
 
-    def relax(self, m0: np.ndarray, centres=(), *, reach: float = 0.0,
-              torque_tolerance: float = DEFAULT_TORQUE_TOLERANCE,
-              max_iterations: int = 200_000) -> Relaxed:
+    def relax(
+        self,
+        m0: np.ndarray,
+        centres=(),
+        *,
+        reach: float = 0.0,
+        torque_tolerance: float = DEFAULT_TORQUE_TOLERANCE,
+        max_iterations: int = 200_000,
+    ) -> Relaxed:
         """Minimise the energy from ``m0`` with the guiding centres of its skyrmions held at
         ``centres`` [(x, y), m], until max|m × (m × H')| < ``torque_tolerance`` [A/m].
 
@@ -330,8 +359,12 @@ class FilmSolver:
         x, y = (torch.tensor(c, device=state.device) for c in self.film.centres())
         weights = []
         if len(targets):
-            distance = np.stack([np.hypot(self.film.centres()[0] - tx,
-                                          self.film.centres()[1] - ty) for tx, ty in targets])
+            distance = np.stack(
+                [
+                    np.hypot(self.film.centres()[0] - tx, self.film.centres()[1] - ty)
+                    for tx, ty in targets
+                ]
+            )
             nearest = np.argmin(distance, axis=0)
             for a in range(len(targets)):
                 w = (nearest == a) & (distance[a] <= reach) & self.film.magnetic()
@@ -346,17 +379,24 @@ class FilmSolver:
             dmx[1:-1] = (mm[2:] - mm[:-2]) / (2 * cell)
             dmy[:, 1:-1] = (mm[:, 2:] - mm[:, :-2]) / (2 * cell)
             q = (mm * torch.linalg.cross(dmx, dmy)).sum(-1)
-            return torch.stack([torch.stack([(w * q * x).sum() / (w * q).sum(),
-                                             (w * q * y).sum() / (w * q).sum()])
-                                for w in weights])
+            return torch.stack(
+                [
+                    torch.stack(
+                        [(w * q * x).sum() / (w * q).sum(), (w * q * y).sum() / (w * q).sum()]
+                    )
+                    for w in weights
+                ]
+            )
 
         def constraint_gradients(m):
             """X_a and the fields ∂X_{a,i}/∂m, (n·2, nx, ny, 1, 3)."""
             m = m.detach().requires_grad_(True)
             centres_now = guiding_centres(m)
             flat = centres_now.reshape(-1)
-            grads = [torch.autograd.grad(flat[k], m, retain_graph=k + 1 < len(flat))[0]
-                     for k in range(len(flat))]
+            grads = [
+                torch.autograd.grad(flat[k], m, retain_graph=k + 1 < len(flat))[0]
+                for k in range(len(flat))
+            ]
             return centres_now.detach(), torch.stack(grads)
 
         magnetic = self._magnetic.to(state.device)
@@ -375,15 +415,17 @@ class FilmSolver:
             # the step m ← m + τ P(H') moves X by τ ⟨∂X, P(H')⟩: make that −½ the drift
             rhs = -torch.einsum("aijkl,ijkl->a", grads, tangent(h)) - 0.5 * drift / tau
             scale = torch.sqrt(torch.diagonal(a_matrix)).clamp(min=1e-300)
-            lam = torch.linalg.solve(a_matrix / scale[:, None] / scale[None, :],
-                                     rhs / scale) / scale
+            lam = (
+                torch.linalg.solve(a_matrix / scale[:, None] / scale[None, :], rhs / scale) / scale
+            )
             return h + torch.einsum("a,aijkl->ijkl", lam, grads), float(drift.abs().max())
 
         def midpoint(m, h, tau):
             mxh = torch.linalg.cross(m, h)
             n2 = (mxh * mxh).sum(-1, keepdim=True)
-            return ((4 - tau * tau * n2) * m - 4 * tau * torch.linalg.cross(m, mxh)) \
-                / (4 + tau * tau * n2)
+            return ((4 - tau * tau * n2) * m - 4 * tau * torch.linalg.cross(m, mxh)) / (
+                4 + tau * tau * n2
+            )
 
         started = time.perf_counter()
         tau_min, tau_max = 1e-13, 1e-5
@@ -410,11 +452,24 @@ class FilmSolver:
                 break
         state.m = m
         energies = {name: float(term.E(state)) for name, term in self.terms.items()}
-        return Relaxed(self._get(), energies, float(sum(energies.values())), iterations,
-                       converged, torque, time.perf_counter() - started)
+        return Relaxed(
+            self._get(),
+            energies,
+            float(sum(energies.values())),
+            iterations,
+            converged,
+            torque,
+            time.perf_counter() - started,
+        )
 
-    def evolve(self, m0: np.ndarray, t0: float, duration: float, first_step: float = 1e-14,
-               tolerance: float = 1e-5) -> Evolved:
+    def evolve(
+        self,
+        m0: np.ndarray,
+        t0: float,
+        duration: float,
+        first_step: float = 1e-14,
+        tolerance: float = 1e-5,
+    ) -> Evolved:
         """Integrate the LLG equation from ``m0`` at time ``t0`` [s] for ``duration`` [s] at
         T = 0, without current, with the material's α and γ:
 
@@ -448,12 +503,18 @@ class FilmSolver:
         t, m = solver.step(torch.tensor(float(t0)), state.m, duration, state=state)
         mn.normalize(m)
         state.m = m
-        return Evolved(self._get(), float(t), float(solver._dt), state._step - steps0,
-                       time.perf_counter() - started)
+        return Evolved(
+            self._get(),
+            float(t),
+            float(solver._dt),
+            state._step - steps0,
+            time.perf_counter() - started,
+        )
 
 
-def skyrmion_texture(film: Film, centres, radius: float, wall_width: float,
-                     helicity: float = 0.0) -> np.ndarray:
+def skyrmion_texture(
+    film: Film, centres, radius: float, wall_width: float, helicity: float = 0.0
+) -> np.ndarray:
     """Skyrmions (core −z, background +z) at ``centres`` [(x, y), m] with the 360° wall
     profile θ(r) = 2 atan[sinh(R/Δ)/sinh(r/Δ)], superposed as m = normalise(ẑ + Σ(mᵢ − ẑ));
     ``helicity`` 0 gives Néel walls (interfacial DMI), π/2 Bloch walls (bulk DMI). Shape
@@ -464,8 +525,9 @@ def skyrmion_texture(film: Film, centres, radius: float, wall_width: float,
     for cx, cy in centres:
         dx, dy = x - cx, y - cy
         r = np.hypot(dx, dy)
-        theta = 2 * np.arctan2(math.sinh(radius / wall_width),
-                               np.sinh(np.maximum(r, 1e-30) / wall_width))
+        theta = 2 * np.arctan2(
+            math.sinh(radius / wall_width), np.sinh(np.maximum(r, 1e-30) / wall_width)
+        )
         phi = np.arctan2(dy, dx) + helicity
         m[..., 0] += np.sin(theta) * np.cos(phi)
         m[..., 1] += np.sin(theta) * np.sin(phi)
@@ -474,8 +536,9 @@ def skyrmion_texture(film: Film, centres, radius: float, wall_width: float,
     return m * film.magnetic()[..., None]
 
 
-def template_texture(film: Film, centres, radius, mz, helicity: float,
-                     scale: float = 1.0) -> np.ndarray:
+def template_texture(
+    film: Film, centres, radius, mz, helicity: float, scale: float = 1.0
+) -> np.ndarray:
     """Skyrmions at ``centres`` [(x, y), m] with the measured profile m_z(r) (``radius`` [m],
     ``mz``; +1 beyond the last radius) stretched radially by ``scale``, and ``helicity``
     [rad], superposed as in :func:`skyrmion_texture`."""
@@ -486,7 +549,7 @@ def template_texture(film: Film, centres, radius, mz, helicity: float,
     for cx, cy in centres:
         dx, dy = x - cx, y - cy
         cos_theta = np.interp(np.hypot(dx, dy) / scale, radius, mz, right=1.0)
-        sin_theta = np.sqrt(np.maximum(1.0 - cos_theta ** 2, 0.0))
+        sin_theta = np.sqrt(np.maximum(1.0 - cos_theta**2, 0.0))
         phi = np.arctan2(dy, dx) + helicity
         m[..., 0] += sin_theta * np.cos(phi)
         m[..., 1] += sin_theta * np.sin(phi)

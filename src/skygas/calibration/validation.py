@@ -69,13 +69,16 @@ class Comparison:
     centre: tuple[float, float]
 
     def summary(self) -> dict:
-        return {"rms_error_max_d_sk": float(self.error.max()),
-                "rms_error_final_d_sk": float(self.error[-1]),
-                "rms_error_mean_d_sk": float(self.error.mean()),
-                "duration_s": float(self.times[-1]),
-                "path_length_d_sk": [float(x) for x in self.path_length],
-                "radius_range_m": [float(self.radius.min()), float(self.radius.max())],
-                "disk_radius_m": self.disk_radius, "skyrmions": int(self.micromagnetic.shape[1])}
+        return {
+            "rms_error_max_d_sk": float(self.error.max()),
+            "rms_error_final_d_sk": float(self.error[-1]),
+            "rms_error_mean_d_sk": float(self.error.mean()),
+            "duration_s": float(self.times[-1]),
+            "path_length_d_sk": [float(x) for x in self.path_length],
+            "radius_range_m": [float(self.radius.min()), float(self.radius.max())],
+            "disk_radius_m": self.disk_radius,
+            "skyrmions": int(self.micromagnetic.shape[1]),
+        }
 
 
 def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness: float):
@@ -86,12 +89,19 @@ def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness
 
     centre = (0.5 * film.size[0], 0.5 * film.size[1])
     radius = math.sqrt(film.magnetic().sum() / math.pi) * film.cell_size
-    sim = Simulation(geometry.disk(radius, centre), material, temperature=0.0,
-                     film_thickness=thickness, seed=0)
+    sim = Simulation(
+        geometry.disk(radius, centre), material, temperature=0.0, film_thickness=thickness, seed=0
+    )
     interval = float(times[1] - times[0])
     steps = max(1, round(interval / sim.suggested_time_step()))
-    sim = Simulation(geometry.disk(radius, centre), material, temperature=0.0,
-                     film_thickness=thickness, seed=0, time_step=interval / steps)
+    sim = Simulation(
+        geometry.disk(radius, centre),
+        material,
+        temperature=0.0,
+        film_thickness=thickness,
+        seed=0,
+        time_step=interval / steps,
+    )
     ids = sim.add_skyrmions(start)
     out = [np.asarray(start, float)]
     for _ in times[1:]:
@@ -103,8 +113,15 @@ def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness
     return np.array(out), radius, centre
 
 
-def compare(material, film, start: list[dict], frames: list[dict], diameter: float,
-            thickness: float, settle: float = 0.0) -> Comparison | None:
+def compare(
+    material,
+    film,
+    start: list[dict],
+    frames: list[dict],
+    diameter: float,
+    thickness: float,
+    settle: float = 0.0,
+) -> Comparison | None:
     """The particle model against the micromagnetic frames (module docstring), from the first
     frame at or after ``settle`` [s]; None if the micromagnetic run lost a skyrmion."""
     tracks = match_frames(start, frames, diameter)
@@ -119,7 +136,18 @@ def compare(material, film, start: list[dict], frames: list[dict], diameter: flo
     n = min(len(particle), len(tracks))
     error = np.sqrt(np.mean(np.sum((particle[:n] - tracks[:n]) ** 2, axis=-1), axis=1))
     steps = np.linalg.norm(np.diff(tracks, axis=0), axis=-1)
-    radii = np.array([np.mean([s["radius"] for s in start])]
-                     + [np.mean([s["radius"] for s in f["skyrmions"]]) for f in frames])
-    return Comparison(times[:n], tracks[:n], particle[:n], error / diameter,
-                      steps.sum(axis=0) / diameter, radii[:n], diameter, radius, centre)
+    radii = np.array(
+        [np.mean([s["radius"] for s in start])]
+        + [np.mean([s["radius"] for s in f["skyrmions"]]) for f in frames]
+    )
+    return Comparison(
+        times[:n],
+        tracks[:n],
+        particle[:n],
+        error / diameter,
+        steps.sum(axis=0) / diameter,
+        radii[:n],
+        diameter,
+        radius,
+        centre,
+    )

@@ -37,15 +37,18 @@ def _film_solver(material_json: str, film: Film) -> solver.FilmSolver:
         if len(_solvers) >= 4:  # a worker sees few films; keep the memory bounded
             _solvers.pop(next(iter(_solvers)))
         _solvers[key] = solver.FilmSolver(
-            MicromagneticMaterial.model_validate_json(material_json), film)
+            MicromagneticMaterial.model_validate_json(material_json), film
+        )
     return _solvers[key]
 
 
 def _skyrmions(m: np.ndarray, film: Film, thickness: float) -> list[dict[str, float]]:
     from skygas.calibration.profile import detect
 
-    return [{"x": s.x, "y": s.y, "radius": s.radius, "charge": s.charge,
-             "dissipation": s.dissipation} for s in detect(m, film, thickness)]
+    return [
+        {"x": s.x, "y": s.y, "radius": s.radius, "charge": s.charge, "dissipation": s.dissipation}
+        for s in detect(m, film, thickness)
+    ]
 
 
 def initial_texture(fs: solver.FilmSolver, centres, radius: float, width: float) -> np.ndarray:
@@ -70,21 +73,40 @@ def relax(material_json: str, task: Relaxation, torque_tolerance: float) -> dict
         m0 = solver.template_texture(task.film, centres, t.radius, t.mz, t.helicity, task.scale)
     else:
         m0 = initial_texture(fs, centres, task.radius, task.width)
-    result = fs.relax(m0, centres, reach=HOLD_REACH * max(task.radius, task.film.cell_size),
-                      torque_tolerance=torque_tolerance)
-    out = {"name": task.name, "energy": result.energy, "energies": result.energies,
-           "iterations": result.iterations, "converged": result.converged,
-           "torque": result.torque, "seconds": result.seconds,
-           "device": solver.device_name(),
-           "cells": [list(c) for c in task.cores], "centres": centres,
-           "skyrmions": _skyrmions(result.m, task.film, fs.material.film_thickness)}
+    result = fs.relax(
+        m0,
+        centres,
+        reach=HOLD_REACH * max(task.radius, task.film.cell_size),
+        torque_tolerance=torque_tolerance,
+    )
+    out = {
+        "name": task.name,
+        "energy": result.energy,
+        "energies": result.energies,
+        "iterations": result.iterations,
+        "converged": result.converged,
+        "torque": result.torque,
+        "seconds": result.seconds,
+        "device": solver.device_name(),
+        "cells": [list(c) for c in task.cores],
+        "centres": centres,
+        "skyrmions": _skyrmions(result.m, task.film, fs.material.film_thickness),
+    }
     if task.keep:
         out["m"] = result.m
     return out
 
 
-def evolve(material_json: str, film: Film, m: np.ndarray, time: float, next_step: float,
-           duration: float, snapshot_interval: float, tolerance: float) -> dict[str, Any]:
+def evolve(
+    material_json: str,
+    film: Film,
+    m: np.ndarray,
+    time: float,
+    next_step: float,
+    duration: float,
+    snapshot_interval: float,
+    tolerance: float,
+) -> dict[str, Any]:
     """Integrate LLG for ``duration`` [s] from (m, time, next_step), detecting the skyrmions
     at every multiple of ``snapshot_interval`` [s]; returns the end state and the frames."""
     fs = _film_solver(material_json, film)
@@ -95,10 +117,15 @@ def evolve(material_json: str, film: Film, m: np.ndarray, time: float, next_step
         m, time, next_step = piece.m, piece.time, piece.next_step
         seconds += piece.seconds
         steps += piece.steps
-        frames.append({"time": time,
-                       "skyrmions": _skyrmions(m, film, fs.material.film_thickness)})
-    return {"m": m, "time": time, "next_step": next_step, "frames": frames,
-            "seconds": seconds, "steps": steps}
+        frames.append({"time": time, "skyrmions": _skyrmions(m, film, fs.material.film_thickness)})
+    return {
+        "m": m,
+        "time": time,
+        "next_step": next_step,
+        "frames": frames,
+        "seconds": seconds,
+        "steps": steps,
+    }
 
 
 def _die_with_parent() -> None:
@@ -125,5 +152,6 @@ def start_pool(workers: int, threads: int, compile: bool):
     import multiprocessing
 
     context = multiprocessing.get_context("spawn")
-    return context.Pool(workers, initializer=init_worker, initargs=(threads, compile),
-                        maxtasksperchild=None)
+    return context.Pool(
+        workers, initializer=init_worker, initargs=(threads, compile), maxtasksperchild=None
+    )

@@ -4,14 +4,18 @@ velocity and Hall angle, occupancy, density and velocity maps; :mod:`skygas.anal
 from __future__ import annotations
 
 import math
+
 from skygas.commands.json_output import print_json
 
 
 def _pm(value, error, scale=1.0) -> str:
     if value is None or not math.isfinite(value):
         return "n/a"
-    return f"{value * scale:.4g} ± {error * scale:.2g}" if error is not None and \
-        math.isfinite(error) else f"{value * scale:.4g}"
+    return (
+        f"{value * scale:.4g} ± {error * scale:.2g}"
+        if error is not None and math.isfinite(error)
+        else f"{value * scale:.4g}"
+    )
 
 
 def _analyze(args) -> int:
@@ -29,13 +33,17 @@ def _analyze(args) -> int:
     msd = result.get("msd")
     if msd:
         free = result.get("free_diffusion_constant_m2_s")
-        print(f"  diffusion constant D = "
-              f"{_pm(msd['diffusion_constant_m2_s'], msd['diffusion_constant_error_m2_s'])} "
-              f"m²/s" + (f" (free skyrmion: {free:.4g} m²/s)" if free else ""))
+        print(
+            f"  diffusion constant D = "
+            f"{_pm(msd['diffusion_constant_m2_s'], msd['diffusion_constant_error_m2_s'])} "
+            f"m²/s" + (f" (free skyrmion: {free:.4g} m²/s)" if free else "")
+        )
     v = result.get("velocity")
     if v:
-        print(f"  mean velocity = ({_pm(v['velocity_m_s'][0], v['velocity_error_m_s'][0])}, "
-              f"{_pm(v['velocity_m_s'][1], v['velocity_error_m_s'][1])}) m/s")
+        print(
+            f"  mean velocity = ({_pm(v['velocity_m_s'][0], v['velocity_error_m_s'][0])}, "
+            f"{_pm(v['velocity_m_s'][1], v['velocity_error_m_s'][1])}) m/s"
+        )
         if "hall_angle_rad" in v:
             angle = _pm(v["hall_angle_rad"], v["hall_angle_error_rad"], 180 / math.pi)
             print(f"  Hall angle = {angle}°")
@@ -53,6 +61,5 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("analyze", help="standard observables of a run (MSD, g(r), ...)")
     p.add_argument("run", help="run directory or result file")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--no-maps", action="store_true", help="leave out the density and "
-                                                          "velocity maps")
+    p.add_argument("--no-maps", action="store_true", help="leave out the density and velocity maps")
     p.set_defaults(func=_analyze)

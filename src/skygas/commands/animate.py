@@ -16,8 +16,7 @@ def parse_window(text: str | None) -> tuple[float | None, float | None]:
             raise ValueError
         start, end = (float(p) if p.strip() else None for p in parts)
     except ValueError:
-        raise InputError("--window", text, "START:END in seconds, e.g. 0:2e-6 or 1e-6:") \
-            from None
+        raise InputError("--window", text, "START:END in seconds, e.g. 0:2e-6 or 1e-6:") from None
     if start is not None and end is not None and end <= start:
         raise InputError("--window", text, "an END later than START")
     return start, end
@@ -45,25 +44,48 @@ def _animate(args) -> int:
     from skygas.outputs.movie import render_movie
     from skygas.outputs.records import load_run
 
-    info = render_movie(load_run(args.run), path, stride=args.stride, start=start, end=end,
-                        max_frames=args.max_frames, fps=args.fps, width_px=args.width)
-    print(f"wrote {info.path} ({info.frames} frames, every {info.stride}. recorded frame, "
-          f"{info.start * 1e6:.4g}–{info.end * 1e6:.4g} µs, {info.bytes / 1e6:.2f} MB)")
+    info = render_movie(
+        load_run(args.run),
+        path,
+        stride=args.stride,
+        start=start,
+        end=end,
+        max_frames=args.max_frames,
+        fps=args.fps,
+        width_px=args.width,
+    )
+    print(
+        f"wrote {info.path} ({info.frames} frames, every {info.stride}. recorded frame, "
+        f"{info.start * 1e6:.4g}–{info.end * 1e6:.4g} µs, {info.bytes / 1e6:.2f} MB)"
+    )
     return 0
 
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("animate", help="movie (MP4 or GIF) of a finished run")
-    p.add_argument("run", help="run directory or result file (trajectories.nc, reshuffler.nc, "
-                               "frames.nc)")
+    p.add_argument(
+        "run", help="run directory or result file (trajectories.nc, reshuffler.nc, frames.nc)"
+    )
     p.add_argument("--out", required=True, help="movie file, .mp4 (H.264) or .gif")
-    p.add_argument("--stride", type=int, default=None,
-                   help="show every N-th recorded frame (default: the smallest N that keeps "
-                        "the movie within --max-frames)")
-    p.add_argument("--window", default=None, metavar="START:END",
-                   help="time window in seconds, e.g. 0:2e-6 (default: the whole record)")
-    p.add_argument("--max-frames", type=int, default=None,
-                   help="most frames when --stride is not given (default 1200 MP4, 300 GIF)")
+    p.add_argument(
+        "--stride",
+        type=int,
+        default=None,
+        help="show every N-th recorded frame (default: the smallest N that keeps "
+        "the movie within --max-frames)",
+    )
+    p.add_argument(
+        "--window",
+        default=None,
+        metavar="START:END",
+        help="time window in seconds, e.g. 0:2e-6 (default: the whole record)",
+    )
+    p.add_argument(
+        "--max-frames",
+        type=int,
+        default=None,
+        help="most frames when --stride is not given (default 1200 MP4, 300 GIF)",
+    )
     p.add_argument("--fps", type=int, default=25, help="frames per second (default 25)")
     p.add_argument("--width", type=int, default=720, help="width in pixels (default 720)")
     p.set_defaults(func=_animate)

@@ -14,40 +14,71 @@ from skygas.commands.json_output import print_json
 from skygas.commands.run_options import add_run_options, named_by_flags, run_options
 
 #: configuration fields set by an option, to name the option in an error
-_FLAGS = {"cell_size": "cell_size", "temperature": "temperature",
-          "reference_diameter": "reference_diameter", "skyrmions": "validation.skyrmions",
-          "validation_duration": "validation.max_duration"}
+_FLAGS = {
+    "cell_size": "cell_size",
+    "temperature": "temperature",
+    "reference_diameter": "reference_diameter",
+    "skyrmions": "validation.skyrmions",
+    "validation_duration": "validation.max_duration",
+}
 
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
-        "calibrate", help="micromagnetics (magnum.np) → a calibrated particle model",
+        "calibrate",
+        help="micromagnetics (magnum.np) → a calibrated particle model",
         description="Relax the material's isolated skyrmion, pairs and skyrmions near an edge "
         "with magnum.np, tabulate the pair and edge laws, write DIR/model.toml (use it as "
-        "`material = \"DIR/model.toml\"` or `--material DIR/model.toml`), and check the "
-        "model against micromagnetic many-skyrmion dynamics. See docs/calibration.md.")
-    p.add_argument("material", metavar="MATERIAL",
-                   help="a preset (S1 … S7) or a TOML file of micromagnetic parameters")
+        '`material = "DIR/model.toml"` or `--material DIR/model.toml`), and check the '
+        "model against micromagnetic many-skyrmion dynamics. See docs/calibration.md.",
+    )
+    p.add_argument(
+        "material",
+        metavar="MATERIAL",
+        help="a preset (S1 … S7) or a TOML file of micromagnetic parameters",
+    )
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--cell-size", type=float, default=None,
-                   help="in-plane cell size [m] (default: the material's, 2e-9)")
-    p.add_argument("--reference-diameter", type=float, default=None,
-                   help="size of the device whose interior the laws are for [m] "
-                   "(default 1024e-9, the paper's chamber)")
-    p.add_argument("--no-validate", action="store_true",
-                   help="skip the micromagnetic many-skyrmion dynamics")
-    p.add_argument("--no-mesh-check", action="store_true",
-                   help="skip the relaxations at half the cell size")
-    p.add_argument("--skyrmions", type=int, default=None,
-                   help="skyrmions of the validation run (default 3)")
-    p.add_argument("--validation-duration", type=float, default=None,
-                   help="longest validation run [s] (default 10e-9)")
-    p.add_argument("--workers", type=int, default=None,
-                   help="solver processes (default: 2 on a CPU, or the number of cores if "
-                   "fewer; 0 on a GPU: one process drives it)")
-    p.add_argument("--compile", action="store_true",
-                   help="compile magnum.np's field terms (torch.compile: faster per step, "
-                   "about 20 s per process to compile, a C compiler needed)")
+    p.add_argument(
+        "--cell-size",
+        type=float,
+        default=None,
+        help="in-plane cell size [m] (default: the material's, 2e-9)",
+    )
+    p.add_argument(
+        "--reference-diameter",
+        type=float,
+        default=None,
+        help="size of the device whose interior the laws are for [m] "
+        "(default 1024e-9, the paper's chamber)",
+    )
+    p.add_argument(
+        "--no-validate", action="store_true", help="skip the micromagnetic many-skyrmion dynamics"
+    )
+    p.add_argument(
+        "--no-mesh-check", action="store_true", help="skip the relaxations at half the cell size"
+    )
+    p.add_argument(
+        "--skyrmions", type=int, default=None, help="skyrmions of the validation run (default 3)"
+    )
+    p.add_argument(
+        "--validation-duration",
+        type=float,
+        default=None,
+        help="longest validation run [s] (default 10e-9)",
+    )
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="solver processes (default: 2 on a CPU, or the number of cores if "
+        "fewer; 0 on a GPU: one process drives it)",
+    )
+    p.add_argument(
+        "--compile",
+        action="store_true",
+        help="compile magnum.np's field terms (torch.compile: faster per step, "
+        "about 20 s per process to compile, a C compiler needed)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     add_run_options(p, checkpoint_seconds=60.0)
     p.set_defaults(func=_calibrate)
@@ -55,8 +86,11 @@ def register(subparsers) -> None:
 
 def _settings(args) -> dict:
     """The calibration's settings given on the command line (CalibrationConfig fields)."""
-    settings = {"validate_dynamics": not args.no_validate, "mesh_check": not args.no_mesh_check,
-                "compile": args.compile}
+    settings = {
+        "validate_dynamics": not args.no_validate,
+        "mesh_check": not args.no_mesh_check,
+        "compile": args.compile,
+    }
     if args.reference_diameter is not None:
         settings["reference_diameter"] = args.reference_diameter
     validation = {}
@@ -76,15 +110,13 @@ def _calibrate(args: argparse.Namespace) -> int:
     options = run_options(args, progress=not args.json)
     with named_by_flags(args, _FLAGS):
         material = load_micromagnetic_material(args.material, cell_size=args.cell_size)
-        data = calibrate(material, args.out, workers=args.workers, **options,
-                         **_settings(args))
+        data = calibrate(material, args.out, workers=args.workers, **options, **_settings(args))
     if args.json:
         print_json(brief(data, args.out))
     else:
         for line in lines(data):
             print(line)
-        print(f"results in {Path(args.out).resolve()}: model.toml, report.html, "
-              "calibration.json")
+        print(f"results in {Path(args.out).resolve()}: model.toml, report.html, calibration.json")
     return 0
 
 
@@ -92,11 +124,15 @@ def brief(data: dict, out) -> dict:
     """The JSON summary of a calibration (the numbers of calibration.json without arrays)."""
     iso = data["isolated"]
     out_data = {
-        "model": str(Path(out) / "model.toml"), "report": str(Path(out) / "report.html"),
-        "radius_m": iso["radius"], "wall_width_m": iso["wall_width"],
-        "charge": iso["charge"], "gyrocoupling_kg_per_s": iso["gyrocoupling"],
-        "dissipation": iso["dissipation"], "thin_wall_dissipation":
-        iso["thin_wall_dissipation"], "energy_J": iso["energy"],
+        "model": str(Path(out) / "model.toml"),
+        "report": str(Path(out) / "report.html"),
+        "radius_m": iso["radius"],
+        "wall_width_m": iso["wall_width"],
+        "charge": iso["charge"],
+        "gyrocoupling_kg_per_s": iso["gyrocoupling"],
+        "dissipation": iso["dissipation"],
+        "thin_wall_dissipation": iso["thin_wall_dissipation"],
+        "energy_J": iso["energy"],
         "pair_measured_range_d_sk": data["pair"]["measured_range_d_sk"],
         "wall_measured_range_d_sk": data["wall_short_range"]["measured_range_d_sk"],
         "fits": {k: v.get("coefficients") for k, v in data["fits"].items()},
@@ -105,24 +141,29 @@ def brief(data: dict, out) -> dict:
         "skygas_version": data["skygas_version"],
     }
     validation = data.get("validation", {})
-    out_data["validation"] = {k: v for k, v in validation.items()
-                              if not isinstance(v, list) or k == "path_length_d_sk"}
+    out_data["validation"] = {
+        k: v for k, v in validation.items() if not isinstance(v, list) or k == "path_length_d_sk"
+    }
     return out_data
 
 
 def lines(data: dict) -> list[str]:
     iso = data["isolated"]
-    out = [f"isolated skyrmion: R = {iso['radius'] * 1e9:.2f} nm, Δ = "
-           f"{iso['wall_width'] * 1e9:.2f} nm, Q = {iso['charge']:+.4f}, G = "
-           f"{iso['gyrocoupling']:.4g} kg/s, 𝒟 = {iso['dissipation']:.3f} (thin-wall "
-           f"estimate {iso['thin_wall_dissipation']:.3f})"]
+    out = [
+        f"isolated skyrmion: R = {iso['radius'] * 1e9:.2f} nm, Δ = "
+        f"{iso['wall_width'] * 1e9:.2f} nm, Q = {iso['charge']:+.4f}, G = "
+        f"{iso['gyrocoupling']:.4g} kg/s, 𝒟 = {iso['dissipation']:.3f} (thin-wall "
+        f"estimate {iso['thin_wall_dissipation']:.3f})"
+    ]
     for key, name in (("pair", "pair law"), ("wall_short_range", "edge law (short range)")):
         lo, hi = data[key]["measured_range_d_sk"]
         out.append(f"{name}: tabulated from {lo:.2f} to {hi:.2f} d_sk")
     v = data.get("validation")
     if v and "rms_error_max_d_sk" in v:
-        out.append(f"validation: {v['skyrmions']} skyrmions, {v['duration_s'] * 1e9:.2f} ns of "
-                   f"LLG; RMS centre error max {v['rms_error_max_d_sk']:.3f} d_sk (goal 0.1)")
+        out.append(
+            f"validation: {v['skyrmions']} skyrmions, {v['duration_s'] * 1e9:.2f} ns of "
+            f"LLG; RMS centre error max {v['rms_error_max_d_sk']:.3f} d_sk (goal 0.1)"
+        )
     elif v:
         out.append(f"validation: {v.get('note', 'none')}")
     return out

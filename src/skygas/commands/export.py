@@ -29,7 +29,11 @@ def _export(args) -> int:
 def register(subparsers) -> None:
     p = subparsers.add_parser("export", help="trajectories as GSD or extended XYZ")
     p.add_argument("run", help="run directory or result file")
-    p.add_argument("--format", required=True, choices=FORMATS,
-                   help="gsd (HOOMD, OVITO) or extxyz (OVITO, ASE, VMD)")
+    p.add_argument(
+        "--format",
+        required=True,
+        choices=FORMATS,
+        help="gsd (HOOMD, OVITO) or extxyz (OVITO, ASE, VMD)",
+    )
     p.add_argument("--out", required=True, help="output file")
     p.set_defaults(func=_export)

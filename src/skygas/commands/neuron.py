@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from skygas.commands.json_output import print_json
 from skygas.commands.run_options import add_run_options, named_by_flags, run_options
 from skygas.errors import InputError
 from skygas.outputs.flags import add_output_flags
-from skygas.commands.json_output import print_json
 
 
 def _neuron(args) -> int:
@@ -20,26 +20,32 @@ def _neuron(args) -> int:
     with named_by_flags(args, {"seed": "seed", "duration": "duration"}):
         config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
     out = Path(args.out)
-    summary = run_neuron_to_files(config, out, transfer=not args.no_transfer,
-                                  record_interval=movie_record_interval(args.animate),
-                                  **run_options(args, progress=not args.json))
+    summary = run_neuron_to_files(
+        config,
+        out,
+        transfer=not args.no_transfer,
+        record_interval=movie_record_interval(args.animate),
+        **run_options(args, progress=not args.json),
+    )
     finish_outputs(out, animate=args.animate, report=not args.no_report)
     lif = summary["lif_fit"]
     if args.json:
         print_json(summary)
     else:
         s = summary
-        print(f"Skyrmion Neuron: {s['n_output_spikes']} output spikes in "
-              f"{s['simulated_time_s'] * 1e6:.3g} µs (firing rate {s['firing_rate_Hz']:.3g} Hz, "
-              f"input rate {s['input_rate_Hz']:.3g} Hz)\n"
-              f"  {s['n_injected']} injected, {s['n_annihilated']} annihilated, "
-              f"{s['n_emitted']} emitted; largest count {s['max_count']}, threshold "
-              f"{s['threshold']:g}; leak time {s['leak_time_s']:.3g} s\n"
-              f"  LIF fit: τ = {lif['tau_s']:.3g} s, θ = {lif['threshold']:g}, "
-              f"V_r = {lif['reset']:g}; {lif['lif_spikes']} LIF spikes, "
-              f"{_percent(lif['spike_match_fraction'])} of the device's matched, subthreshold "
-              f"NRMSE {_number(lif['subthreshold_nrmse'])}, transfer R² "
-              f"{_number(lif.get('transfer_r_squared'))}\nresults in {out.resolve()}")
+        print(
+            f"Skyrmion Neuron: {s['n_output_spikes']} output spikes in "
+            f"{s['simulated_time_s'] * 1e6:.3g} µs (firing rate {s['firing_rate_Hz']:.3g} Hz, "
+            f"input rate {s['input_rate_Hz']:.3g} Hz)\n"
+            f"  {s['n_injected']} injected, {s['n_annihilated']} annihilated, "
+            f"{s['n_emitted']} emitted; largest count {s['max_count']}, threshold "
+            f"{s['threshold']:g}; leak time {s['leak_time_s']:.3g} s\n"
+            f"  LIF fit: τ = {lif['tau_s']:.3g} s, θ = {lif['threshold']:g}, "
+            f"V_r = {lif['reset']:g}; {lif['lif_spikes']} LIF spikes, "
+            f"{_percent(lif['spike_match_fraction'])} of the device's matched, subthreshold "
+            f"NRMSE {_number(lif['subthreshold_nrmse'])}, transfer R² "
+            f"{_number(lif.get('transfer_r_squared'))}\nresults in {out.resolve()}"
+        )
     return 0
 
 
@@ -59,17 +65,24 @@ def _saturation(args) -> int:
         try:
             diameters.append(float(d))
         except ValueError:
-            raise InputError(f"diameters[{k}]", d, "a chamber diameter in metres (e.g. 1024e-9)") \
-                from None
+            raise InputError(
+                f"diameters[{k}]", d, "a chamber diameter in metres (e.g. 1024e-9)"
+            ) from None
     if args.repetitions < 1:
         raise InputError("repetitions", args.repetitions, "an integer >= 1")
     out = Path(args.out)
-    with named_by_flags(args, {name: name for name in ("repetitions", "seed", "relax_time",
-                                                       "temperature")}):
-        result = run_saturation_to_files(diameters, out, repetitions=args.repetitions,
-                                         seed=args.seed, relax_time=args.relax_time,
-                                         temperature=args.temperature,
-                                         **run_options(args, progress=not args.json))
+    with named_by_flags(
+        args, {name: name for name in ("repetitions", "seed", "relax_time", "temperature")}
+    ):
+        result = run_saturation_to_files(
+            diameters,
+            out,
+            repetitions=args.repetitions,
+            seed=args.seed,
+            relax_time=args.relax_time,
+            temperature=args.temperature,
+            **run_options(args, progress=not args.json),
+        )
     summary = result.summary()
     if not args.no_report:
         from skygas.outputs.report import write_report
@@ -78,10 +91,14 @@ def _saturation(args) -> int:
     if args.json:
         print_json(summary)
     else:
-        for d, n, e, cp in zip(result.diameters, result.max_count, result.max_count_error,
-                               result.close_packing):
-            print(f"{d * 1e9:7.0f} nm: {n:6.1f} ± {e:.1f} skyrmions "
-                  f"(close packing {cp:.0f})")
+        for d, n, e, cp in zip(
+            result.diameters,
+            result.max_count,
+            result.max_count_error,
+            result.close_packing,
+            strict=True,
+        ):
+            print(f"{d * 1e9:7.0f} nm: {n:6.1f} ± {e:.1f} skyrmions (close packing {cp:.0f})")
         print(f"results in {out.resolve()}")
     return 0
 
@@ -98,8 +115,7 @@ def register(subparsers) -> None:
     add_output_flags(p)
     p.set_defaults(func=_neuron)
 
-    s = subparsers.add_parser("saturation",
-                              help="maximum number of skyrmions in circular chambers")
+    s = subparsers.add_parser("saturation", help="maximum number of skyrmions in circular chambers")
     s.add_argument("--diameters", nargs="+", required=True, help="chamber diameters [m]")
     s.add_argument("--out", required=True, help="output directory")
     s.add_argument("--json", action="store_true", help="print one JSON object")

@@ -10,8 +10,9 @@ def _report(args) -> int:
     from skygas.outputs.report import check_report_path
 
     source = Path(args.source)
-    out = check_report_path(args.out or (source if source.is_dir() else source.parent)
-                            / "report.html")
+    out = check_report_path(
+        args.out or (source if source.is_dir() else source.parent) / "report.html"
+    )
     from skygas.outputs.report import SUMMARY_FILES, write_report
 
     summary_only = source.is_dir() and any((source / n).exists() for n in SUMMARY_FILES)
@@ -28,6 +29,7 @@ def _report(args) -> int:
 def register(subparsers) -> None:
     p = subparsers.add_parser("report", help="self-contained HTML report of a run or a sweep")
     p.add_argument("source", help="run directory, result file or sweep store")
-    p.add_argument("--out", default=None, help="HTML file (default: report.html in the run "
-                                               "directory)")
+    p.add_argument(
+        "--out", default=None, help="HTML file (default: report.html in the run directory)"
+    )
     p.set_defaults(func=_report)

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from skygas.commands.json_output import print_json
 from skygas.commands.run_options import add_run_options, named_by_flags, run_options
 from skygas.outputs.flags import add_output_flags
 from skygas.reshuffler.presets import PRESETS
-from skygas.commands.json_output import print_json
 
 # command-line option → configuration field it overrides
 OVERRIDES = {
@@ -40,7 +40,8 @@ def _format(summary: dict, out: Path) -> str:
         f"SCC = {s['scc']:.4f}",
         f"  p_in = {s['p_in']:.4f}, p_out = {s['p_out']:.4f} "
         f"(95 % interval {s['p_out_interval'][0]:.4f}–{s['p_out_interval'][1]:.4f})"
-        if s["p_out_interval"] else f"  p_in = {s['p_in']:.4f}, no output yet",
+        if s["p_out_interval"]
+        else f"  p_in = {s['p_in']:.4f}, no output yet",
         f"  skyrmions: {s['n_injected']} injected = {s['n_detected']} detected + "
         f"{s['n_present']} present + {s['n_annihilated']} annihilated; "
         f"{s['n_delayed']} delayed, {s['n_skipped']} skipped, {s['n_pending']} pending",
@@ -54,8 +55,8 @@ def _format(summary: dict, out: Path) -> str:
 
 def _reshuffle(args) -> int:
     # imported here: building the command line (every skygas call) imports no numerics
-    from skygas.reshuffler.config import load_reshuffler_config
     from skygas.outputs.finish import finish_outputs, recording_overrides
+    from skygas.reshuffler.config import load_reshuffler_config
     from skygas.reshuffler.files import run_reshuffler
 
     overrides = {field: getattr(args, opt) for opt, field in OVERRIDES.items()}
@@ -73,11 +74,16 @@ def _reshuffle(args) -> int:
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("reshuffle", help="run the Skyrmion Reshuffler")
-    p.add_argument("config", nargs="?", default=None,
-                   help="TOML configuration (default: the chosen preset)")
+    p.add_argument(
+        "config", nargs="?", default=None, help="TOML configuration (default: the chosen preset)"
+    )
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--preset", choices=PRESETS, default=None,
-                   help="start from a preset (the config file's values override it)")
+    p.add_argument(
+        "--preset",
+        choices=PRESETS,
+        default=None,
+        help="start from a preset (the config file's values override it)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object, no progress bar")
     add_run_options(p, checkpoint_seconds=60.0)
     add_output_flags(p)

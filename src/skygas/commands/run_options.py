@@ -11,20 +11,34 @@ from skygas.errors import InputError, require
 
 def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True) -> None:
     """Add the run driver's options to a sub-command's parser."""
-    parser.add_argument("--resume", action="store_true",
-                        help="continue the interrupted run saved in OUT/checkpoint.npz")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace the finished results (or the interrupted run) of the same "
-                        "command in OUT; other files in OUT are kept")
-    parser.add_argument("--strict", action="store_true",
-                        help="refuse a run that the sanity checks only warn about (a "
-                        "temperature or current outside the model's range, a large drift per "
-                        "time step, wall escapes; docs/physics.md §5)")
+    parser.add_argument(
+        "--resume",
+        action="store_true",
+        help="continue the interrupted run saved in OUT/checkpoint.npz",
+    )
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace the finished results (or the interrupted run) of the same "
+        "command in OUT; other files in OUT are kept",
+    )
+    parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="refuse a run that the sanity checks only warn about (a "
+        "temperature or current outside the model's range, a large drift per "
+        "time step, wall escapes; docs/physics.md §5)",
+    )
     if quiet:
         parser.add_argument("--quiet", action="store_true", help="no progress bar")
-    parser.add_argument("--checkpoint-seconds", type=float, default=checkpoint_seconds,
-                        metavar="S", help="wall time between periodic checkpoints [s] "
-                        f"(default {checkpoint_seconds:g}; 0: after every piece of the run)")
+    parser.add_argument(
+        "--checkpoint-seconds",
+        type=float,
+        default=checkpoint_seconds,
+        metavar="S",
+        help="wall time between periodic checkpoints [s] "
+        f"(default {checkpoint_seconds:g}; 0: after every piece of the run)",
+    )
 
 
 def run_options(args, progress: bool = True) -> dict:
@@ -32,9 +46,13 @@ def run_options(args, progress: bool = True) -> dict:
     ``progress=False`` when the command prints machine-readable output instead."""
     seconds = args.checkpoint_seconds
     require(seconds >= 0, "--checkpoint-seconds", seconds, "a wall time >= 0 in seconds")
-    return {"resume": args.resume, "overwrite": args.overwrite, "strict": args.strict,
-            "checkpoint_seconds": seconds,
-            "progress": progress and not getattr(args, "quiet", False)}
+    return {
+        "resume": args.resume,
+        "overwrite": args.overwrite,
+        "strict": args.strict,
+        "checkpoint_seconds": seconds,
+        "progress": progress and not getattr(args, "quiet", False),
+    }
 
 
 @contextmanager
@@ -42,8 +60,11 @@ def named_by_flags(args, flags: dict[str, str]):
     """Name a configuration error after the command-line option that set the field:
     ``flags`` maps an option's attribute (``"current_density"``) to the configuration field it
     sets (``"current_density"``, ``"device.chamber_diameter"``); only options given count."""
-    given = {field: "--" + option.replace("_", "-") for option, field in flags.items()
-             if getattr(args, option, None) is not None}
+    given = {
+        field: "--" + option.replace("_", "-")
+        for option, field in flags.items()
+        if getattr(args, option, None) is not None
+    }
     try:
         yield
     except InputError as err:

@@ -31,6 +31,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     demo.add_argument("--out", required=True, help="output directory")
     demo.add_argument("--seed", type=int, default=2024, help="master seed (default 2024)")
     demo.add_argument("--n-bits", type=int, default=4096, help="stream length N (default 4096)")
-    demo.add_argument("--reshuffler", action="store_true",
-                      help="also run the skyrmion reshuffler device (about 5 s more)")
+    demo.add_argument(
+        "--reshuffler",
+        action="store_true",
+        help="also run the skyrmion reshuffler device (about 5 s more)",
+    )
     demo.set_defaults(func=_demo)

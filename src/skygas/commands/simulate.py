@@ -9,9 +9,9 @@ from __future__ import annotations
 from importlib import resources
 from pathlib import Path
 
+from skygas.commands.json_output import print_json
 from skygas.commands.run_options import add_run_options, run_options
 from skygas.outputs.flags import add_output_flags
-from skygas.commands.json_output import print_json
 
 
 def _simulate(args) -> int:
@@ -31,9 +31,12 @@ def _check_timestep(args) -> int:
     from skygas.config import load_config
     from skygas.timestep import check_config_time_step
 
-    report = check_config_time_step(load_config(args.config), duration=args.duration,
-                                    time_step=args.time_step,
-                                    tolerance_diameters=args.tolerance)
+    report = check_config_time_step(
+        load_config(args.config),
+        duration=args.duration,
+        time_step=args.time_step,
+        tolerance_diameters=args.tolerance,
+    )
     if args.json:
         print_json(report.as_dict())
     else:
@@ -76,13 +79,18 @@ def register(subparsers) -> None:
     add_output_flags(p)
     p.set_defaults(func=_simulate)
 
-    c = subparsers.add_parser("check-timestep",
-                              help="compare a configuration's time step with its half")
+    c = subparsers.add_parser(
+        "check-timestep", help="compare a configuration's time step with its half"
+    )
     c.add_argument("config", help="TOML configuration")
     c.add_argument("--time-step", type=float, default=None, help="step to check [s]")
     c.add_argument("--duration", type=float, default=2e-9, help="compared duration [s]")
-    c.add_argument("--tolerance", type=float, default=0.01,
-                   help="largest accepted difference [skyrmion diameters]")
+    c.add_argument(
+        "--tolerance",
+        type=float,
+        default=0.01,
+        help="largest accepted difference [skyrmion diameters]",
+    )
     c.add_argument("--json", action="store_true", help="print the report as JSON")
     c.set_defaults(func=_check_timestep)
 

@@ -5,6 +5,7 @@ reshuffler figures from it and prints the fitted exponents."""
 from __future__ import annotations
 
 import sys
+
 from skygas.commands.json_output import print_json
 
 
@@ -12,16 +13,26 @@ def _sweep(args) -> int:
     from skygas.sweep import load_sweep, run_sweep  # Dask and zarr load only when used
 
     sweep = load_sweep(args.sweep, args.set)  # every point is validated before anything runs
-    report = run_sweep(sweep, args.out, scheduler=args.scheduler, workers=args.workers,
-                       serial=args.serial, progress=not args.quiet)
-    print(f"{len(report.computed)} runs computed, {report.skipped} already done, "
-          f"{len(sweep.runs)} in all ({sweep.n_points} points × {sweep.replicas} replicas) "
-          f"in {report.wall_time_s:.1f} s; results in {report.store.resolve()}")
+    report = run_sweep(
+        sweep,
+        args.out,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        serial=args.serial,
+        progress=not args.quiet,
+    )
+    print(
+        f"{len(report.computed)} runs computed, {report.skipped} already done, "
+        f"{len(sweep.runs)} in all ({sweep.n_points} points × {sweep.replicas} replicas) "
+        f"in {report.wall_time_s:.1f} s; results in {report.store.resolve()}"
+    )
     for index, replica, error in report.failed:
         print(f"skygas: run {index} replica {replica} failed: {error}", file=sys.stderr)
     if report.failed:
-        print(f"skygas: {len(report.failed)} runs failed; run the same command again to retry "
-              "them", file=sys.stderr)
+        print(
+            f"skygas: {len(report.failed)} runs failed; run the same command again to retry them",
+            file=sys.stderr,
+        )
         return 1
     return 0
 
@@ -41,12 +52,16 @@ def _plot(args) -> int:
         return 0
     if "current" in result:
         b = result["current"]["beta"]
-        print(f"ρ/(1−ρ) ∝ J^β: β = {b['exponent']:.3f} ± {b['exponent_error']:.3f} "
-              f"(paper 3/2, {b['n_points']} points)")
+        print(
+            f"ρ/(1−ρ) ∝ J^β: β = {b['exponent']:.3f} ± {b['exponent_error']:.3f} "
+            f"(paper 3/2, {b['n_points']} points)"
+        )
     if "chamber" in result:
         g = result["chamber"]["gamma"]
-        print(f"ρ/(1−ρ) ∝ L^γ: γ = {g['exponent']:.3f} ± {g['exponent_error']:.3f} "
-              f"(paper −1/2, {g['n_points']} points)")
+        print(
+            f"ρ/(1−ρ) ∝ L^γ: γ = {g['exponent']:.3f} ± {g['exponent_error']:.3f} "
+            f"(paper −1/2, {g['n_points']} points)"
+        )
     print("wrote " + ", ".join(result["figures"]))
     return 0
 
@@ -55,21 +70,36 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("sweep", help="run a reshuffler parameter sweep (Dask, resumable)")
     p.add_argument("sweep", help="sweep file (TOML; see docs/sweeps.md)")
     p.add_argument("--out", required=True, help="zarr store (created, or resumed if it exists)")
-    p.add_argument("--scheduler", default=None,
-                   help="address of a running Dask scheduler (default: a local cluster)")
-    p.add_argument("--workers", type=int, default=None,
-                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        help="address of a running Dask scheduler (default: a local cluster)",
+    )
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="worker processes of the local cluster (default: one per core)",
+    )
     p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--set", action="append", default=[], metavar="TABLE.KEY=VALUE",
-                   help="change the sweep file before it runs (TOML value; repeatable), e.g. "
-                        "--set base.duration=1e-5 --set sweep.replicas=2")
+    p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="TABLE.KEY=VALUE",
+        help="change the sweep file before it runs (TOML value; repeatable), e.g. "
+        "--set base.duration=1e-5 --set sweep.replicas=2",
+    )
     p.set_defaults(func=_sweep)
 
     q = subparsers.add_parser("plot", help="figures and fits of a sweep store")
-    q.add_argument("store", nargs="+",
-                   help="zarr store written by `skygas sweep`; several stores over the same "
-                        "swept fields but different points are drawn and fitted together")
+    q.add_argument(
+        "store",
+        nargs="+",
+        help="zarr store written by `skygas sweep`; several stores over the same "
+        "swept fields but different points are drawn and fitted together",
+    )
     q.add_argument("--out", required=True, help="directory for the PNG figures and fits.json")
     q.add_argument("--json", action="store_true", help="print the fits as one JSON object")
     q.set_defaults(func=_plot)

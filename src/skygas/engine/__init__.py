@@ -53,10 +53,18 @@ from skygas.engine.state import StateView
 #: its order without noise, and the stochastic calculus it converges to (the noise is
 #: additive, so Itô and Stratonovich coincide).
 INTEGRATOR_ORDERS = {
-    "heun": {"strong": 1.0, "weak": 2.0, "deterministic": 2.0,
-             "calculus": "Itô = Stratonovich (additive noise)"},
-    "euler-maruyama": {"strong": 1.0, "weak": 1.0, "deterministic": 1.0,
-                       "calculus": "Itô = Stratonovich (additive noise)"},
+    "heun": {
+        "strong": 1.0,
+        "weak": 2.0,
+        "deterministic": 2.0,
+        "calculus": "Itô = Stratonovich (additive noise)",
+    },
+    "euler-maruyama": {
+        "strong": 1.0,
+        "weak": 1.0,
+        "deterministic": 1.0,
+        "calculus": "Itô = Stratonovich (additive noise)",
+    },
 }
 
 __all__ = [

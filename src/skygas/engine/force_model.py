@@ -45,28 +45,47 @@ WALL_LAWS = ("paper", "table")
 _FORCE_TABLES = Memo("force_tables", maxsize=8)
 
 
-def _resolve(name: str | None, table: ForceTableSpec | None, laws: tuple[str, ...],
-             field: str, table_field: str, material: Material) -> str:
+def _resolve(
+    name: str | None,
+    table: ForceTableSpec | None,
+    laws: tuple[str, ...],
+    field: str,
+    table_field: str,
+    material: Material,
+) -> str:
     if name is None:  # the material's own law
         return "paper" if table is None else "table"
     if name not in laws:
-        raise InputError(field, name, " or ".join(f"'{n}'" for n in laws)
-                         + " (default: 'table' when the material has a table, else 'paper')")
+        raise InputError(
+            field,
+            name,
+            " or ".join(f"'{n}'" for n in laws)
+            + " (default: 'table' when the material has a table, else 'paper')",
+        )
     if name == "table" and table is None:
-        raise InputError(field, name, f"a law the material '{material.name}' has: it has no "
-                         f"{table_field} (use 'paper', or a calibrated model)")
+        raise InputError(
+            field,
+            name,
+            f"a law the material '{material.name}' has: it has no "
+            f"{table_field} (use 'paper', or a calibrated model)",
+        )
     return name
 
 
-def resolve_law_names(material: Material, pair_law_name: str | None = None,
-                      wall_law_name: str | None = None) -> tuple[str, str]:
+def resolve_law_names(
+    material: Material, pair_law_name: str | None = None, wall_law_name: str | None = None
+) -> tuple[str, str]:
     """The pair and wall laws a run uses: a name given, or ``None`` for the material's own
     (``"table"`` when it has ``pair_table`` / ``wall_table``, else ``"paper"``). ``"table"``
     for a material without that table is refused."""
-    return (_resolve(pair_law_name, material.pair_table, PAIR_LAWS, "forces.pair_law",
-                     "pair_table", material),
-            _resolve(wall_law_name, material.wall_table, WALL_LAWS, "forces.wall_law",
-                     "wall_table", material))
+    return (
+        _resolve(
+            pair_law_name, material.pair_table, PAIR_LAWS, "forces.pair_law", "pair_table", material
+        ),
+        _resolve(
+            wall_law_name, material.wall_table, WALL_LAWS, "forces.wall_law", "wall_table", material
+        ),
+    )
 
 
 def _table_key(table: ForceTableSpec) -> str:
@@ -95,51 +114,81 @@ class ForceModel:
     wall_law: str = "paper"
 
     @classmethod
-    def build(cls, material: Material, thiele: ThieleParameters,
-              pair_law_name: str | None = None, pair_law_params: dict | None = None,
-              cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
-              wall_law_name: str | None = None) -> "ForceModel":
+    def build(
+        cls,
+        material: Material,
+        thiele: ThieleParameters,
+        pair_law_name: str | None = None,
+        pair_law_params: dict | None = None,
+        cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
+        wall_law_name: str | None = None,
+    ) -> ForceModel:
         """Tabulate the laws of ``material`` with F₀ and d_sk of ``thiele``; ``None`` names
         take the material's own law (:func:`resolve_law_names`)."""
         pair_law_name, wall_law_name = resolve_law_names(material, pair_law_name, wall_law_name)
         params = dict(pair_law_params or {})
         f0 = thiele.force_scale_internal
         d_sk = thiele.skyrmion_diameter_internal
-        key = (pair_law_name, tuple(material.pair_law), tuple(material.wall_law),
-               repr(sorted(params.items())), f0, d_sk, float(cutoff_fraction))
+        key = (
+            pair_law_name,
+            tuple(material.pair_law),
+            tuple(material.wall_law),
+            repr(sorted(params.items())),
+            f0,
+            d_sk,
+            float(cutoff_fraction),
+        )
         if "table" in (pair_law_name, wall_law_name):  # the paper-law keys stay as they were
-            key += (wall_law_name,
-                    _table_key(material.pair_table) if pair_law_name == "table" else None,
-                    _table_key(material.wall_table) if wall_law_name == "table" else None)
+            key += (
+                wall_law_name,
+                _table_key(material.pair_table) if pair_law_name == "table" else None,
+                _table_key(material.wall_table) if wall_law_name == "table" else None,
+            )
 
         def table_law(table: ForceTableSpec):
-            return tabulated_law(table.distance, table.force, thiele.skyrmion_diameter,
-                                 thiele.force_scale)
+            return tabulated_law(
+                table.distance, table.force, thiele.skyrmion_diameter, thiele.force_scale
+            )
 
         def tabulate() -> tuple[ForceTable, ForceTable]:
             # 8192 nodes in r²: relative error < 5e-5 from r = d_sk/4 on (64 kB, in L2 cache)
             if pair_law_name == "table":
-                pair = ForceTable.from_law(table_law(material.pair_table), f0, d_sk,
-                                           cutoff_fraction, n_points=8192, squared=True,
-                                           d_max=_search_range(material.pair_table, d_sk))
+                pair = ForceTable.from_law(
+                    table_law(material.pair_table),
+                    f0,
+                    d_sk,
+                    cutoff_fraction,
+                    n_points=8192,
+                    squared=True,
+                    d_max=_search_range(material.pair_table, d_sk),
+                )
             else:
-                pair = ForceTable.from_law(pair_law(pair_law_name, material.pair_law, **params),
-                                           f0, d_sk, cutoff_fraction, n_points=8192,
-                                           squared=True)
+                pair = ForceTable.from_law(
+                    pair_law(pair_law_name, material.pair_law, **params),
+                    f0,
+                    d_sk,
+                    cutoff_fraction,
+                    n_points=8192,
+                    squared=True,
+                )
             if wall_law_name == "table":
-                wall = ForceTable.from_law(table_law(material.wall_table), f0, d_sk,
-                                           cutoff_fraction,
-                                           d_max=_search_range(material.wall_table, d_sk))
+                wall = ForceTable.from_law(
+                    table_law(material.wall_table),
+                    f0,
+                    d_sk,
+                    cutoff_fraction,
+                    d_max=_search_range(material.wall_table, d_sk),
+                )
             else:
-                wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk,
-                                           cutoff_fraction)
+                wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)
             frozen(pair.values, wall.values)
             return pair, wall
 
         # each model gets its own (writable) copy of the shared tables: the kernels take
         # writable arrays (a read-only one would compile a second variant of every kernel)
-        pair, wall = (replace(table, values=table.values.copy())
-                      for table in _FORCE_TABLES.get(key, tabulate))
+        pair, wall = (
+            replace(table, values=table.values.copy()) for table in _FORCE_TABLES.get(key, tabulate)
+        )
         return cls(pair, wall, pair_law_name, params, cutoff_fraction, wall_law_name)
 
     def max_stiffness(self, closest: float = 0.0) -> float:
@@ -168,8 +217,9 @@ def _last_force_node(table: ForceTable) -> float:
     return min(float(np.sqrt(coord) if table.squared else coord), table.cutoff)
 
 
-def relaxation_time(thiele: ThieleParameters, forces: ForceModel,
-                    landscape_curvature: float = 0.0) -> float:
+def relaxation_time(
+    thiele: ThieleParameters, forces: ForceModel, landscape_curvature: float = 0.0
+) -> float:
     """τ_min [s]: the fastest force relaxation, 1/(κ_max |M|).
 
     κ_max is the steepest slope |dF/dr| of either force law at distances of at least
@@ -187,8 +237,9 @@ def relaxation_time(thiele: ThieleParameters, forces: ForceModel,
     return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 
-def default_time_step(thiele: ThieleParameters, forces: ForceModel, interval: float,
-                      landscape_curvature: float = 0.0) -> float:
+def default_time_step(
+    thiele: ThieleParameters, forces: ForceModel, interval: float, landscape_curvature: float = 0.0
+) -> float:
     """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s], shortened so that ``interval``
     [s] (a recording or injection interval) is a whole number of steps."""
     suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, forces, landscape_curvature)

@@ -40,7 +40,7 @@ from skygas.landscape.hermite import prefetch_cell
 class Frames(NamedTuple):
     """Where one call records its frames: positions [nm] (NaN = empty slot) and ids (−1)."""
 
-    x: np.ndarray     # (frames, slots)
+    x: np.ndarray  # (frames, slots)
     y: np.ndarray
     ids: np.ndarray
 
@@ -49,15 +49,31 @@ class Exits(NamedTuple):
     """Where one call records its exits (one row per skyrmion that left through a port)."""
 
     ids: np.ndarray
-    step: np.ndarray   # global step at which it had left
-    port: np.ndarray   # index into the outline's ports
-    x: np.ndarray      # position past the port [nm]
+    step: np.ndarray  # global step at which it had left
+    port: np.ndarray  # index into the outline's ports
+    x: np.ndarray  # position past the port [nm]
     y: np.ndarray
 
 
 @numba.njit(**JIT)
-def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, cells, ports,
-            frames, exits, plan, counters_array):
+def advance(
+    x,
+    y,
+    alive,
+    ids,
+    step0,
+    n_steps,
+    stepper,
+    noise,
+    mobility,
+    terms,
+    cells,
+    ports,
+    frames,
+    exits,
+    plan,
+    counters_array,
+):
     """Advance the store (``x, y`` [nm], ``alive``, ``ids``) by ``n_steps`` steps from global
     step ``step0``. Returns the number of exits written to ``exits``.
 
@@ -121,10 +137,24 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
             vx1[slot] = 0.0
             vy1[slot] = 0.0
             if n_owners >= 0:  # add it to the list (−1 if there is no room: rebuild)
-                n_owners = list_append(slot, x, y, alive, ref_x, ref_y, margin, cells, cutoff,
-                                       owner, start, pair_j, n_owners)
-                floor[slot] = interior_floor(x[slot], y[slot], margin[slot], terms,
-                                             terms.wall.cutoff)
+                n_owners = list_append(
+                    slot,
+                    x,
+                    y,
+                    alive,
+                    ref_x,
+                    ref_y,
+                    margin,
+                    cells,
+                    cutoff,
+                    owner,
+                    start,
+                    pair_j,
+                    n_owners,
+                )
+                floor[slot] = interior_floor(
+                    x[slot], y[slot], margin[slot], terms, terms.wall.cutoff
+                )
         # -- noise ----------------------------------------------------------------------------
         if noise.thermal:
             draw_noise(noise, ids, alive, step, cand, nx_, ny_)
@@ -144,8 +174,9 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
                     prefetch_at(grid.fields, (ax - grid.x0) * inv_gh, (ay - grid.y0) * inv_gh)
                 if land.active:  # and the landscape's cells there (measured: the landscape
                     # term's cost falls by a fifth)
-                    prefetch_cell(land.coefficients, (ax - land.x0) * inv_lh,
-                                  (ay - land.y0) * inv_lh)
+                    prefetch_cell(
+                        land.coefficients, (ax - land.x0) * inv_lh, (ay - land.y0) * inv_lh
+                    )
         # -- force passes: Heun's predictor and corrector (Euler: the first only) -------------
         for stage in range(2 if heun else 1):
             px = x if stage == 0 else xp
@@ -157,8 +188,19 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
                 else:
                     margins(vx1, vy1, alive, cells, dt, margin)
                 while True:
-                    n_owners = build_neighbor_list(px, py, alive, margin, cells, cutoff,
-                                                   cell_head, cell_next, owner, start, pair_j)
+                    n_owners = build_neighbor_list(
+                        px,
+                        py,
+                        alive,
+                        margin,
+                        cells,
+                        cutoff,
+                        cell_head,
+                        cell_next,
+                        owner,
+                        start,
+                        pair_j,
+                    )
                     if n_owners >= 0:
                         break
                     capacity *= 2
@@ -168,14 +210,42 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
                 interior_floors(px, py, alive, terms, margin, floor)
                 counters.neighbor_rebuilds += 1
             if stage == 0:
-                force_pass(x, y, alive, terms, mobility, owner, start, pair_j, n_owners, vx0,
-                           vy0, counters, domain, floor)
+                force_pass(
+                    x,
+                    y,
+                    alive,
+                    terms,
+                    mobility,
+                    owner,
+                    start,
+                    pair_j,
+                    n_owners,
+                    vx0,
+                    vy0,
+                    counters,
+                    domain,
+                    floor,
+                )
                 for i in range(n):
                     xp[i] = x[i] + vx0[i] * dt + nx_[i]
                     yp[i] = y[i] + vy0[i] * dt + ny_[i]
             else:
-                force_pass(xp, yp, alive, terms, mobility, owner, start, pair_j, n_owners, vx1,
-                           vy1, counters, domain, floor)
+                force_pass(
+                    xp,
+                    yp,
+                    alive,
+                    terms,
+                    mobility,
+                    owner,
+                    start,
+                    pair_j,
+                    n_owners,
+                    vx1,
+                    vy1,
+                    counters,
+                    domain,
+                    floor,
+                )
                 for i in range(n):
                     xp[i] = x[i] + 0.5 * (vx0[i] + vx1[i]) * dt + nx_[i]
                     yp[i] = y[i] + 0.5 * (vy0[i] + vy1[i]) * dt + ny_[i]
@@ -192,8 +262,9 @@ def advance(x, y, alive, ids, step0, n_steps, stepper, noise, mobility, terms, c
             else:
                 mx = xp[i] - x[i]
                 my = yp[i] - y[i]
-            if (domain[i] > 0.0 and domain[i] * domain[i] > 2.0 * (mx * mx + my * my)) \
-                    or is_inside(grid, xp[i], yp[i]):
+            if (domain[i] > 0.0 and domain[i] * domain[i] > 2.0 * (mx * mx + my * my)) or is_inside(
+                grid, xp[i], yp[i]
+            ):
                 x[i] = xp[i]
                 y[i] = yp[i]
                 continue

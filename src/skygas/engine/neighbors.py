@@ -38,8 +38,9 @@ def margins(vx, vy, alive, cells, dt, margin):
 
 
 @numba.njit(**JIT)
-def build_neighbor_list(x, y, alive, margin, cells, cutoff, cell_head, cell_next, owner, start,
-                        pair_j):
+def build_neighbor_list(
+    x, y, alive, margin, cells, cutoff, cell_head, cell_next, owner, start, pair_j
+):
     """Half neighbour list of all alive pairs closer than ``cutoff`` + s_i + s_j (``margin``).
     Returns the number of owners, or −1 if ``pair_j`` is too small (the caller grows it and
     calls again)."""
@@ -114,8 +115,9 @@ def list_remove(k, owner, start, pair_j, n_owners):
 
 
 @numba.njit(inline="always")
-def list_append(k, x, y, alive, ref_x, ref_y, margin, cells, cutoff, owner, start, pair_j,
-                n_owners):
+def list_append(
+    k, x, y, alive, ref_x, ref_y, margin, cells, cutoff, owner, start, pair_j, n_owners
+):
     """Add skyrmion ``k``, just inserted at rest, to a valid list: it gets the base margin and
     its position as reference, and becomes an owner whose partners are all other skyrmions j
     with |x_k − ref_j| < cutoff + s_k + s_j, which is the build's criterion, so the list's

@@ -27,11 +27,11 @@ class FrameBlock(NamedTuple):
     ``x``, ``y`` [nm] are NaN and ``ids`` is −1 where a slot was empty. The id in a slot can
     change from frame to frame (a skyrmion leaves, a new one is inserted in its slot)."""
 
-    step: np.ndarray   # (f,) global step numbers
-    time: np.ndarray   # (f,) [s]
-    x: np.ndarray      # (f, slots) [nm]
-    y: np.ndarray      # (f, slots) [nm]
-    ids: np.ndarray    # (f, slots)
+    step: np.ndarray  # (f,) global step numbers
+    time: np.ndarray  # (f,) [s]
+    x: np.ndarray  # (f, slots) [nm]
+    y: np.ndarray  # (f, slots) [nm]
+    ids: np.ndarray  # (f, slots)
 
     def positions(self, f: int) -> tuple[np.ndarray, np.ndarray]:
         """Frame ``f`` as :meth:`Simulation.positions` gives the live state: (ids, positions
@@ -55,11 +55,17 @@ class Recorder:
         """Room for ``n_frames`` frames of ``slots`` slots; when there are none, a dummy sized
         for the store's ``capacity`` (reused while it stays the same)."""
         if n_frames:
-            return Frames(np.empty((n_frames, slots)), np.empty((n_frames, slots)),
-                          np.empty((n_frames, slots), dtype=np.int64))
+            return Frames(
+                np.empty((n_frames, slots)),
+                np.empty((n_frames, slots)),
+                np.empty((n_frames, slots), dtype=np.int64),
+            )
         if self._no_frames is None or self._no_frames.x.shape[1] != capacity:
-            self._no_frames = Frames(np.empty((1, capacity)), np.empty((1, capacity)),
-                                     np.empty((1, capacity), dtype=np.int64))
+            self._no_frames = Frames(
+                np.empty((1, capacity)),
+                np.empty((1, capacity)),
+                np.empty((1, capacity), dtype=np.int64),
+            )
         return self._no_frames
 
     def exit_buffer(self, most: int) -> Exits:
@@ -68,24 +74,41 @@ class Recorder:
         buf = self._exit_buffer
         if buf is None or len(buf.ids) < most:
             size = max(most, 2 * (len(buf.ids) if buf is not None else 0), 1)
-            buf = self._exit_buffer = Exits(np.empty(size, np.int64), np.empty(size, np.int64),
-                                            np.empty(size, np.int64), np.empty(size),
-                                            np.empty(size))
+            buf = self._exit_buffer = Exits(
+                np.empty(size, np.int64),
+                np.empty(size, np.int64),
+                np.empty(size, np.int64),
+                np.empty(size),
+                np.empty(size),
+            )
         return buf
 
     # -- what a call recorded ----------------------------------------------------------------
     def add_exits(self, buf: Exits, n: int, time_step: float) -> None:
         if n:
-            self.exits.append(buf.ids[:n], buf.step[:n] * time_step, buf.port[:n],
-                              buf.x[:n] / units.M_TO_NM, buf.y[:n] / units.M_TO_NM)
+            self.exits.append(
+                buf.ids[:n],
+                buf.step[:n] * time_step,
+                buf.port[:n],
+                buf.x[:n] / units.M_TO_NM,
+                buf.y[:n] / units.M_TO_NM,
+            )
 
-    def add_frames(self, frames: Frames, recorded: int, first_step: int, every: int,
-                   time_step: float) -> None:
+    def add_frames(
+        self, frames: Frames, recorded: int, first_step: int, every: int, time_step: float
+    ) -> None:
         """Keep the first ``recorded`` frames of a call, the first at ``first_step``."""
         if recorded:
             steps = first_step + every * np.arange(recorded, dtype=np.int64)
-            self.blocks.append(FrameBlock(steps, steps * time_step, frames.x[:recorded],
-                                          frames.y[:recorded], frames.ids[:recorded]))
+            self.blocks.append(
+                FrameBlock(
+                    steps,
+                    steps * time_step,
+                    frames.x[:recorded],
+                    frames.y[:recorded],
+                    frames.ids[:recorded],
+                )
+            )
 
     def take_frames(self, first_block: int = 0) -> list[FrameBlock]:
         """Remove and return the blocks from index ``first_block`` on."""
@@ -101,8 +124,11 @@ class Recorder:
         times = np.concatenate([b.time for b in blocks]) if blocks else np.empty(0)
         # one column per skyrmion seen in a frame (a run that nucleates 10⁵ skyrmions but
         # records only its first microsecond has a few hundred)
-        seen = np.unique(np.concatenate([b.ids[b.ids >= 0] for b in blocks])) if blocks \
+        seen = (
+            np.unique(np.concatenate([b.ids[b.ids >= 0] for b in blocks]))
+            if blocks
             else np.empty(0, dtype=np.int64)
+        )
         x = np.full((len(times), len(seen)), np.nan)
         y = np.full((len(times), len(seen)), np.nan)
         row = 0
@@ -124,12 +150,16 @@ class Recorder:
                 "exit_time": ("exit", ex["time"].copy(), {"units": "s"}),
                 "exit_port": ("exit", self.exits.port_labels()),
             },
-            coords={"time": ("time", times, {"units": "s"}),
-                    "skyrmion": seen.astype(np.int64)},
+            coords={"time": ("time", times, {"units": "s"}), "skyrmion": seen.astype(np.int64)},
         )
-        ds.attrs.update({"title": "skygas skyrmion trajectories",
-                         "skygas_version": __version__, **attrs,
-                         "parameters_json": json.dumps(parameters)})
+        ds.attrs.update(
+            {
+                "title": "skygas skyrmion trajectories",
+                "skygas_version": __version__,
+                **attrs,
+                "parameters_json": json.dumps(parameters),
+            }
+        )
         return ds
 
     # -- checkpoints -------------------------------------------------------------------------
@@ -138,28 +168,46 @@ class Recorder:
         blocks = self.blocks
         widths = np.array([b.x.shape[1] for b in blocks], dtype=np.int64)
         lengths = np.array([len(b.step) for b in blocks], dtype=np.int64)
-        flat = lambda name, dtype: (np.concatenate([getattr(b, name).ravel() for b in blocks])  # noqa: E731
-                                    if blocks else np.empty(0, dtype))
+
+        def flat(name: str, dtype) -> np.ndarray:
+            if not blocks:
+                return np.empty(0, dtype)
+            return np.concatenate([getattr(b, name).ravel() for b in blocks])
+
         ex = self.exits.arrays()
-        return {"frame_widths": widths, "frame_lengths": lengths,
-                "frame_step": flat("step", np.int64), "frame_time": flat("time", float),
-                "frame_x": flat("x", float), "frame_y": flat("y", float),
-                "frame_ids": flat("ids", np.int64),
-                **{f"exit_{k}": v.copy() for k, v in ex.items()}}
+        return {
+            "frame_widths": widths,
+            "frame_lengths": lengths,
+            "frame_step": flat("step", np.int64),
+            "frame_time": flat("time", float),
+            "frame_x": flat("x", float),
+            "frame_y": flat("y", float),
+            "frame_ids": flat("ids", np.int64),
+            **{f"exit_{k}": v.copy() for k, v in ex.items()},
+        }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         self.blocks = []
         row = cell = 0
-        for width, length in zip(state["frame_widths"], state["frame_lengths"]):
+        for width, length in zip(state["frame_widths"], state["frame_lengths"], strict=True):
             cells = slice(cell, cell + width * length)
             rows = slice(row, row + length)
-            self.blocks.append(FrameBlock(
-                state["frame_step"][rows].copy(), state["frame_time"][rows].copy(),
-                state["frame_x"][cells].reshape(length, width).copy(),
-                state["frame_y"][cells].reshape(length, width).copy(),
-                state["frame_ids"][cells].reshape(length, width).copy()))
+            self.blocks.append(
+                FrameBlock(
+                    state["frame_step"][rows].copy(),
+                    state["frame_time"][rows].copy(),
+                    state["frame_x"][cells].reshape(length, width).copy(),
+                    state["frame_y"][cells].reshape(length, width).copy(),
+                    state["frame_ids"][cells].reshape(length, width).copy(),
+                )
+            )
             row += length
             cell += width * length
         self.exits = ExitLog(self.port_names)
-        self.exits.append(state["exit_skyrmion"], state["exit_time"], state["exit_port"],
-                          state["exit_x"], state["exit_y"])
+        self.exits.append(
+            state["exit_skyrmion"],
+            state["exit_time"],
+            state["exit_port"],
+            state["exit_x"],
+            state["exit_y"],
+        )

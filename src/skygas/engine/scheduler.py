@@ -10,7 +10,8 @@ without returning to Python.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable, Protocol
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -32,7 +33,7 @@ class Operation(Protocol):
 
     def next_step(self, step: int) -> int: ...
 
-    def act(self, sim: "Simulation") -> None: ...
+    def act(self, sim: Simulation) -> None: ...
 
 
 class PlannedInsertions(Protocol):
@@ -49,13 +50,13 @@ class PlannedInsertions(Protocol):
 
     def plan_insertions(self, step: int, limit: int): ...
 
-    def planned_insertions_made(self, sim: "Simulation", ids: np.ndarray) -> None: ...
+    def planned_insertions_made(self, sim: Simulation, ids: np.ndarray) -> None: ...
 
 
 class Periodic:
     """Call ``action(sim)`` every ``period_steps`` steps (a convenience :class:`Operation`)."""
 
-    def __init__(self, period_steps: int, action: Callable[["Simulation"], None]):
+    def __init__(self, period_steps: int, action: Callable[[Simulation], None]):
         require(period_steps >= 1, "period_steps", period_steps, "an integer >= 1")
         self.period_steps = int(period_steps)
         self.action = action
@@ -63,13 +64,12 @@ class Periodic:
     def next_step(self, step: int) -> int:
         return (step // self.period_steps + 1) * self.period_steps
 
-    def act(self, sim: "Simulation") -> None:
+    def act(self, sim: Simulation) -> None:
         self.action(sim)
 
 
 #: An empty plan, for kernel calls without planned insertions.
-NO_PLAN = InsertionPlan(np.empty(0, np.int64), np.empty(0), np.empty(0), np.empty(0, np.int64),
-                        0.0)
+NO_PLAN = InsertionPlan(np.empty(0, np.int64), np.empty(0), np.empty(0), np.empty(0, np.int64), 0.0)
 
 
 def first_plan(operations, due: list[int], step: int, horizon: int):
@@ -87,8 +87,12 @@ def first_plan(operations, due: list[int], step: int, horizon: int):
             continue
         steps, pos, clearance = planned
         due[k] = limit
-        plan = InsertionPlan(np.asarray(steps, np.int64), np.ascontiguousarray(pos[:, 0], float),
-                             np.ascontiguousarray(pos[:, 1], float),
-                             np.empty(len(steps), np.int64), float(clearance) ** 2)
+        plan = InsertionPlan(
+            np.asarray(steps, np.int64),
+            np.ascontiguousarray(pos[:, 0], float),
+            np.ascontiguousarray(pos[:, 1], float),
+            np.empty(len(steps), np.int64),
+            float(clearance) ** 2,
+        )
         return k, plan
     return None, None

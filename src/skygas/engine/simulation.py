@@ -13,7 +13,8 @@ It owns the parts that each do one job and wires them together:
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Callable
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -125,24 +126,46 @@ class Simulation:
     the material added to the landscape (its last term), or ``None``.
     """
 
-    def __init__(self, outline: Outline, material: Material | str = "S2", *,
-                 temperature: float = 300.0, time_step: float | None = None, seed: int = 0,
-                 film_thickness: float | None = None, thiele: ThieleParameters | None = None,
-                 drift_velocity=(0.0, 0.0), pair_law: str | None = None,
-                 pair_law_params: dict | None = None,
-                 cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
-                 grid_spacing: float | None = None, integrator: str = "heun",
-                 brownian_substeps: int = 1, capacity: int = 64, landscape=(),
-                 wall_law: str | None = None, step_interval: float | None = None):
+    def __init__(
+        self,
+        outline: Outline,
+        material: Material | str = "S2",
+        *,
+        temperature: float = 300.0,
+        time_step: float | None = None,
+        seed: int = 0,
+        film_thickness: float | None = None,
+        thiele: ThieleParameters | None = None,
+        drift_velocity=(0.0, 0.0),
+        pair_law: str | None = None,
+        pair_law_params: dict | None = None,
+        cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
+        grid_spacing: float | None = None,
+        integrator: str = "heun",
+        brownian_substeps: int = 1,
+        capacity: int = 64,
+        landscape=(),
+        wall_law: str | None = None,
+        step_interval: float | None = None,
+    ):
         require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
-        require(np.isfinite(temperature), "temperature", temperature,
-                "a finite number (not inf or nan)")
+        require(
+            np.isfinite(temperature), "temperature", temperature, "a finite number (not inf or nan)"
+        )
         require(temperature >= 0, "temperature", temperature, "a temperature >= 0 in kelvin")
-        require(isinstance(seed, (int, np.integer)) and 0 <= seed < 2**63, "seed", seed,
-                "an integer in [0, 2^63)")
+        require(
+            isinstance(seed, (int, np.integer)) and 0 <= seed < 2**63,
+            "seed",
+            seed,
+            "an integer in [0, 2^63)",
+        )
         require(integrator in INTEGRATORS, "integrator", integrator, f"one of {list(INTEGRATORS)}")
-        require(isinstance(brownian_substeps, (int, np.integer)) and brownian_substeps >= 1,
-                "brownian_substeps", brownian_substeps, "an integer >= 1")
+        require(
+            isinstance(brownian_substeps, (int, np.integer)) and brownian_substeps >= 1,
+            "brownian_substeps",
+            brownian_substeps,
+            "an integer >= 1",
+        )
         self.outline = outline
         self.material = load_material(material)
         if thiele is not None:  # a calibrated model holds for its own film only
@@ -152,29 +175,50 @@ class Simulation:
         self.seed = int(seed)
         self.integrator = integrator
         self.brownian_substeps = int(brownian_substeps)
-        self.forces = ForceModel.build(self.material, self.thiele, pair_law, pair_law_params,
-                                       cutoff_fraction, wall_law_name=wall_law)
+        self.forces = ForceModel.build(
+            self.material,
+            self.thiele,
+            pair_law,
+            pair_law_params,
+            cutoff_fraction,
+            wall_law_name=wall_law,
+        )
         d_sk = self.thiele.skyrmion_diameter_internal
         spacing = d_sk / 16 if grid_spacing is None else grid_spacing * units.M_TO_NM
-        require(spacing > 0 and spacing <= d_sk, "grid_spacing", grid_spacing,
-                f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)")
+        require(
+            spacing > 0 and spacing <= d_sk,
+            "grid_spacing",
+            grid_spacing,
+            f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)",
+        )
         band = self.forces.wall.cutoff + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
         self.landscape = self._build_landscape(parse_potentials(landscape))
         limit = self.max_time_step()
         if time_step is None and step_interval is not None:
-            require(np.isfinite(step_interval) and step_interval > 0, "step_interval",
-                    step_interval, "an interval > 0 in seconds")
+            require(
+                np.isfinite(step_interval) and step_interval > 0,
+                "step_interval",
+                step_interval,
+                "an interval > 0 in seconds",
+            )
             # the landscape's curvature counts when the material's stray field is in it; runs
             # without it keep the step they always had (the laws' stiffness alone)
-            time_step = default_time_step(self.thiele, self.forces, step_interval,
-                                          self.landscape.max_curvature()
-                                          if self.edge_stray_field is not None else 0.0)
+            time_step = default_time_step(
+                self.thiele,
+                self.forces,
+                step_interval,
+                self.landscape.max_curvature() if self.edge_stray_field is not None else 0.0,
+            )
         if time_step is None:
             time_step = self.suggested_time_step()
-        require(np.isfinite(time_step) and 0 < time_step <= limit, "time_step", time_step,
-                f"a step in (0, {limit:.3g}] s: longer steps do not resolve the fastest force "
-                f"relaxation τ_min = {limit:.3g} s (suggested ≤ {self.suggested_time_step():.3g} s)")
+        require(
+            np.isfinite(time_step) and 0 < time_step <= limit,
+            "time_step",
+            time_step,
+            f"a step in (0, {limit:.3g}] s: longer steps do not resolve the fastest force "
+            f"relaxation τ_min = {limit:.3g} s (suggested ≤ {self.suggested_time_step():.3g} s)",
+        )
         self.time_step = float(time_step)
 
         # -- the parts ------------------------------------------------------------------------
@@ -190,18 +234,24 @@ class Simulation:
         # -- the kernel's records -------------------------------------------------------------
         self._dt_ns = self.time_step * units.S_TO_NS
         self._mobility = T.mobility(self.thiele)
-        self._noise = T.noise_term(self.thiele, self.temperature, self._dt_ns, self.seed,
-                                   self.brownian_substeps)
+        self._noise = T.noise_term(
+            self.thiele, self.temperature, self._dt_ns, self.seed, self.brownian_substeps
+        )
         # Every per-node field in one interleaved float32 array: a bilinear lookup then reads
         # four 32-byte nodes (one vector load each, skygas._field_lookup) instead of twenty
         # scattered values.
         grid = self.wall_field.grid
         fields = empty_fields(grid.ny, grid.nx)
-        fields[...] = _WALL_CHANNELS.get(WallField.key(outline, spacing, band),
-                                         lambda: _packed_wall_channels(self.wall_field))
-        self._terms = T.ForceTerms(T.pair_term(self.forces.pair), T.wall_term(self.forces.wall),
-                                   T.drift_term(self.thiele), T.landscape_term(self.landscape),
-                                   T.field_grid(fields, grid))
+        fields[...] = _WALL_CHANNELS.get(
+            WallField.key(outline, spacing, band), lambda: _packed_wall_channels(self.wall_field)
+        )
+        self._terms = T.ForceTerms(
+            T.pair_term(self.forces.pair),
+            T.wall_term(self.forces.wall),
+            T.drift_term(self.thiele),
+            T.landscape_term(self.landscape),
+            T.field_grid(fields, grid),
+        )
         self._grid_drift_max = 0.0  # largest |v_s| on the grid [nm/ns] (set_drift_field)
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
@@ -221,13 +271,19 @@ class Simulation:
         self.edge_stray_field = None
         if stray is not None and self.forces.wall_law == "table":
             for k, term in enumerate(terms):
-                require(not isinstance(term, EdgeStrayField), f"potentials.{k}.kind",
-                        term.kind, f"another kind: the material '{self.material.name}' adds "
-                        "its own edge stray field with the table wall law")
+                require(
+                    not isinstance(term, EdgeStrayField),
+                    f"potentials.{k}.kind",
+                    term.kind,
+                    f"another kind: the material '{self.material.name}' adds "
+                    "its own edge stray field with the table wall law",
+                )
             self.edge_stray_field = EdgeStrayField(
                 saturation_magnetization=self.material.saturation_magnetization,
-                thickness=self.thiele.film_thickness, profile_radius=stray.profile_radius,
-                profile_deficit=stray.profile_deficit)
+                thickness=self.thiele.film_thickness,
+                profile_radius=stray.profile_radius,
+                profile_deficit=stray.profile_deficit,
+            )
             # appended last: the indices of the user's terms (a gate's band) stay as given
             terms = [*terms, self.edge_stray_field]
         inside = reachable = None
@@ -239,8 +295,14 @@ class Simulation:
             inside = np.clip(0.5 + distance / spacing, 0.0, 1.0)
             closest = MIN_PLACEMENT_SEPARATION * self.thiele.skyrmion_diameter_internal
             reachable = distance >= closest
-        return LandscapeField(terms, self.wall_field.grid, self.temperature, self.seed,
-                              inside=inside, reachable=reachable)
+        return LandscapeField(
+            terms,
+            self.wall_field.grid,
+            self.temperature,
+            self.seed,
+            inside=inside,
+            reachable=reachable,
+        )
 
     def _configure_neighbor_cells(self) -> None:
         """Largest neighbour-list margin and the cell list that goes with it.
@@ -264,8 +326,16 @@ class Simulation:
         height = grid.spacing * (grid.ny - 1)
         ncx = max(1, int(width // reach))
         ncy = max(1, int(height // reach))
-        self._neighbor_cells = T.NeighborCells(skin, NEIGHBOR_MARGIN_STEPS, margin_max, grid.x0, grid.y0,
-                                      max(width / ncx, height / ncy), ncx, ncy)
+        self._neighbor_cells = T.NeighborCells(
+            skin,
+            NEIGHBOR_MARGIN_STEPS,
+            margin_max,
+            grid.x0,
+            grid.y0,
+            max(width / ncx, height / ncy),
+            ncx,
+            ncy,
+        )
 
     @property
     def neighbor_cells(self) -> T.NeighborCells:
@@ -276,8 +346,12 @@ class Simulation:
 
     @neighbor_cells.setter
     def neighbor_cells(self, cells: T.NeighborCells) -> None:
-        require(isinstance(cells, T.NeighborCells), "neighbor_cells", cells,
-                "a skygas.engine.terms.NeighborCells record")
+        require(
+            isinstance(cells, T.NeighborCells),
+            "neighbor_cells",
+            cells,
+            "a skygas.engine.terms.NeighborCells record",
+        )
         self._neighbor_cells = cells
 
     @property
@@ -310,8 +384,12 @@ class Simulation:
     def set_uniform_drift(self, velocity) -> None:
         """Uniform spin-drift velocity v_s = (vx, vy) [m/s] (1 m/s = 1 nm/ns)."""
         v = np.asarray(velocity, dtype=float)
-        require(v.shape == (2,) and np.all(np.isfinite(v)), "drift_velocity", velocity,
-                "two finite numbers (vx, vy) in m/s")
+        require(
+            v.shape == (2,) and np.all(np.isfinite(v)),
+            "drift_velocity",
+            velocity,
+            "two finite numbers (vx, vy) in m/s",
+        )
         self._terms = self._terms._replace(drift=T.drift_term(self.thiele, v))
         self._configure_neighbor_cells()
 
@@ -319,8 +397,12 @@ class Simulation:
         """Spatial v_s [m/s] sampled on ``self.wall_field.grid`` (arrays of shape (ny, nx))."""
         shape = (self.wall_field.grid.ny, self.wall_field.grid.nx)
         for name, arr in (("vx", vx), ("vy", vy)):
-            require(np.shape(arr) == shape and np.all(np.isfinite(arr)), f"drift_field.{name}",
-                    np.shape(arr), f"a finite array of shape {shape} (the wall-field grid)")
+            require(
+                np.shape(arr) == shape and np.all(np.isfinite(arr)),
+                f"drift_field.{name}",
+                np.shape(arr),
+                f"a finite array of shape {shape} (the wall-field grid)",
+            )
         fields = self._terms.grid.fields
         fields[..., T.CH_DRIFT_X] = vx
         fields[..., T.CH_DRIFT_Y] = vy
@@ -359,22 +441,29 @@ class Simulation:
         """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
         return self.store.positions()
 
-    def validate_positions(self, positions_nm: np.ndarray, field_name: str = "skyrmions",
-                           check_existing: bool = True) -> None:
+    def validate_positions(
+        self, positions_nm: np.ndarray, field_name: str = "skyrmions", check_existing: bool = True
+    ) -> None:
         """Refuse positions [nm] outside the device or on top of another skyrmion."""
         p = np.asarray(positions_nm, dtype=float).reshape(-1, 2)
         inside = self.outline.contains_nm(p[:, 0], p[:, 1])
         for n in np.nonzero(~inside | ~np.all(np.isfinite(p), axis=1))[0]:
-            raise InputError(f"{field_name}[{n}]", (p[n] / units.M_TO_NM).tolist(),
-                             "a position (m) inside the device outline")
+            raise InputError(
+                f"{field_name}[{n}]",
+                (p[n] / units.M_TO_NM).tolist(),
+                "a position (m) inside the device outline",
+            )
         min_sep = MIN_PLACEMENT_SEPARATION * self.thiele.skyrmion_diameter_internal
         others = self.store.present_nm() if check_existing else np.empty((0, 2))
         for n in range(len(p)):
             ref = np.vstack([p[:n], others])
             if len(ref) and np.min(np.hypot(*(ref - p[n]).T)) < min_sep:
-                raise InputError(f"{field_name}[{n}]", (p[n] / units.M_TO_NM).tolist(),
-                                 f"a position at least {min_sep * 1e-9:.3g} m "
-                                 f"({MIN_PLACEMENT_SEPARATION} diameters) from other skyrmions")
+                raise InputError(
+                    f"{field_name}[{n}]",
+                    (p[n] / units.M_TO_NM).tolist(),
+                    f"a position at least {min_sep * 1e-9:.3g} m "
+                    f"({MIN_PLACEMENT_SEPARATION} diameters) from other skyrmions",
+                )
 
     def add_skyrmions(self, positions, *, validate: bool = True) -> np.ndarray:
         """Insert skyrmions at ``positions`` [m] (shape (n, 2)); returns their new ids."""
@@ -389,27 +478,41 @@ class Simulation:
         self.state.annihilate(ids, reason)
 
     # -- running -------------------------------------------------------------------------------
-    def run(self, duration: float, record_interval: float | None = None,
-            progress: Callable[[float], None] | None = None, chunk_steps: int = 20_000) -> None:
+    def run(
+        self,
+        duration: float,
+        record_interval: float | None = None,
+        progress: Callable[[float], None] | None = None,
+        chunk_steps: int = 20_000,
+    ) -> None:
         """Advance by ``duration`` [s], recording positions every ``record_interval`` [s].
 
         Operations in :attr:`operations` act at the steps they ask for (see
         :class:`~skygas.engine.scheduler.Operation`). ``progress(t)`` is called with the
         simulated time after each chunk.
         """
-        require(np.isfinite(duration) and duration >= 0, "duration", duration,
-                "a duration >= 0 in seconds")
+        require(
+            np.isfinite(duration) and duration >= 0,
+            "duration",
+            duration,
+            "a duration >= 0 in seconds",
+        )
         n_total = int(round(duration / self.time_step))
         record_every = 0
         if record_interval is not None:
-            require(record_interval >= self.time_step, "record_interval", record_interval,
-                    f"an interval >= the time step ({self.time_step:.3g} s)")
+            require(
+                record_interval >= self.time_step,
+                "record_interval",
+                record_interval,
+                f"an interval >= the time step ({self.time_step:.3g} s)",
+            )
             record_every = max(1, int(round(record_interval / self.time_step)))
         end = self.step + n_total
         while self.step < end:
             due = [op.next_step(self.step) for op in self.operations]
-            planner, plan = first_plan(self.operations, due, self.step,
-                                       min(end, self.step + chunk_steps))
+            planner, plan = first_plan(
+                self.operations, due, self.step, min(end, self.step + chunk_steps)
+            )
             target = max(self.step, min([end, self.step + chunk_steps, *due]))
             made = 0
             if target > self.step:
@@ -418,7 +521,7 @@ class Simulation:
                 op = self.operations[planner]
                 op.planned_insertions_made(self, plan.ids[:made])
                 due[planner] = op.next_step(self.step)
-            for op, when in zip(self.operations, due):
+            for op, when in zip(self.operations, due, strict=True):
                 if when <= self.step:
                     op.act(self)
             if progress is not None:
@@ -440,8 +543,9 @@ class Simulation:
         else:
             plan = NO_PLAN
         # frames fall on the global steps that are multiples of record_every
-        n_frames = ((self.step + n_steps) // record_every - self.step // record_every
-                    if record_every else 0)
+        n_frames = (
+            (self.step + n_steps) // record_every - self.step // record_every if record_every else 0
+        )
         frames = self.recorder.frame_buffer(n_frames, used, store.capacity)
         # each exit removes a skyrmion present at the start of the call or inserted during it
         exits = self.recorder.exit_buffer(used + len(plan.steps))
@@ -449,17 +553,36 @@ class Simulation:
         counters.fill(0)
         counters[0]["next_id"] = store.next_id
         stepper = T.Stepper(self._dt_ns, self.integrator == "heun", record_every)
-        n_exit = advance(store.x[:used], store.y[:used], store.alive[:used], store.ids[:used],
-                         self.step, n_steps, stepper, self._noise, self._mobility, self._terms,
-                         self._neighbor_cells, self._ports, frames, exits, plan, counters)
+        n_exit = advance(
+            store.x[:used],
+            store.y[:used],
+            store.alive[:used],
+            store.ids[:used],
+            self.step,
+            n_steps,
+            stepper,
+            self._noise,
+            self._mobility,
+            self._terms,
+            self._neighbor_cells,
+            self._ports,
+            frames,
+            exits,
+            plan,
+            counters,
+        )
         c = counters[0]
         store.next_id = int(c["next_id"])
         self.recorder.add_exits(exits, n_exit, self.time_step)
         if record_every:
             # fewer than n_frames if the call stopped early
-            self.recorder.add_frames(frames, int(c["frames"]),
-                                     (self.step // record_every + 1) * record_every,
-                                     record_every, self.time_step)
+            self.recorder.add_frames(
+                frames,
+                int(c["frames"]),
+                (self.step // record_every + 1) * record_every,
+                record_every,
+                self.time_step,
+            )
         self.step += int(c["steps"])
         self.wall_escapes += int(c["wall_escapes"])
         self.pair_evaluations += int(c["pair_evaluations"])
@@ -474,20 +597,23 @@ class Simulation:
         return {
             **{f"store_{k}": v for k, v in self.store.state_dict().items()},
             **{f"record_{k}": v for k, v in self.recorder.state_dict().items()},
-            "counters": np.array([self.step, self.wall_escapes, self.pair_evaluations,
-                                  self.neighbor_rebuilds], dtype=np.int64),
+            "counters": np.array(
+                [self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds],
+                dtype=np.int64,
+            ),
             # which landscape terms are switched on (a gate can be open or closed)
             "landscape_enabled": np.array(self.landscape.enabled, dtype=bool),
         }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Restore a state saved by :meth:`state_dict`."""
-        self.store.load_state_dict({k[6:]: v for k, v in state.items()
-                                    if k.startswith("store_")})
-        self.recorder.load_state_dict({k[7:]: v for k, v in state.items()
-                                       if k.startswith("record_")})
-        self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = \
-            (int(v) for v in state["counters"])
+        self.store.load_state_dict({k[6:]: v for k, v in state.items() if k.startswith("store_")})
+        self.recorder.load_state_dict(
+            {k[7:]: v for k, v in state.items() if k.startswith("record_")}
+        )
+        self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = (
+            int(v) for v in state["counters"]
+        )
         for term, on in enumerate(state.get("landscape_enabled", ())):
             self.landscape.set_enabled(term, bool(on))
 
@@ -528,14 +654,19 @@ class Simulation:
         simulation does not hold them all)."""
         return self.recorder.take_frames(first_block)
 
-    def trajectories(self) -> "xr.Dataset":
+    def trajectories(self) -> xr.Dataset:
         """Recorded positions as a Dataset: ``x``, ``y`` [m] with dims (time, skyrmion), NaN
         where a skyrmion does not exist, ``time`` [s]; the ``skyrmion`` coordinate holds the
         ids of the skyrmions present in at least one frame. Exits as variables on dim
         ``exit``; attributes hold every parameter (``parameters_json``), the seed and the
         version."""
         return self.recorder.trajectories(
-            {"seed": self.seed, "temperature_K": self.temperature,
-             "time_step_s": self.time_step, "simulated_time_s": self.time,
-             "wall_escapes": self.wall_escapes},
-            self.parameters())
+            {
+                "seed": self.seed,
+                "temperature_K": self.temperature,
+                "time_step_s": self.time_step,
+                "simulated_time_s": self.time,
+                "wall_escapes": self.wall_escapes,
+            },
+            self.parameters(),
+        )

@@ -101,8 +101,7 @@ def draw_noise(noise, ids, alive, step, cand, nx_, ny_):
                 sx = 0.0
                 sy = 0.0
                 for b in range(substeps):
-                    zx, zy = gaussian_pair(noise.seed, ids[i], step * substeps + b,
-                                           STREAM_THERMAL)
+                    zx, zy = gaussian_pair(noise.seed, ids[i], step * substeps + b, STREAM_THERMAL)
                     sx += zx
                     sy += zy
                 nx_[i] = amplitude * sx * inv_sqrt_sub
@@ -139,8 +138,7 @@ def interior_floors(x, y, alive, terms, margin, floor):
     """:func:`interior_floor` of every skyrmion (−1 for empty slots)."""
     wall_cutoff = terms.wall.cutoff
     for i in range(x.shape[0]):
-        floor[i] = interior_floor(x[i], y[i], margin[i], terms, wall_cutoff) if alive[i] \
-            else -1.0
+        floor[i] = interior_floor(x[i], y[i], margin[i], terms, wall_cutoff) if alive[i] else -1.0
 
 
 @numba.njit(inline="always")
@@ -201,8 +199,9 @@ def drive_force(drift, vsx, vsy):
 def landscape_force(landscape, xi, yi):
     """The landscape term's force −∇U [pN] at (xi, yi) [nm]."""
     inv_h = 1.0 / landscape.spacing
-    gx, gy = hermite_gradient(landscape.coefficients, (xi - landscape.x0) * inv_h,
-                              (yi - landscape.y0) * inv_h, inv_h)
+    gx, gy = hermite_gradient(
+        landscape.coefficients, (xi - landscape.x0) * inv_h, (yi - landscape.y0) * inv_h, inv_h
+    )
     return -gx, -gy
 
 
@@ -254,8 +253,9 @@ def add_landscape_forces(x, y, alive, landscape, fx, fy):
 
 
 @numba.njit(inline="always")
-def force_pass(x, y, alive, terms, mobility, owner, start, pair_j, n_owners, vx, vy, counters,
-               domain, floor):
+def force_pass(
+    x, y, alive, terms, mobility, owner, start, pair_j, n_owners, vx, vy, counters, domain, floor
+):
     """Deterministic velocity [nm/ns] of every alive skyrmion from the sum of all force
     terms (see :func:`add_one_body_forces` for ``domain`` and ``floor``)."""
     pair_forces(x, y, terms.pair, owner, start, pair_j, n_owners, vx, vy, counters)
@@ -288,8 +288,7 @@ def crossed_port(x0, y0, x1, y1, ports):
 def is_inside(grid, px, py):
     """True if (px, py) [nm] lies inside the device boundary (walls and ports)."""
     inv_gh = 1.0 / grid.spacing
-    return field_at(grid.fields, (px - grid.x0) * inv_gh,
-                    (py - grid.y0) * inv_gh)[CH_DOMAIN] >= 0.0
+    return field_at(grid.fields, (px - grid.x0) * inv_gh, (py - grid.y0) * inv_gh)[CH_DOMAIN] >= 0.0
 
 
 # -- recording -----------------------------------------------------------------------------------

@@ -46,7 +46,7 @@ def _read_only(array: np.ndarray) -> np.ndarray:
 class StateView:
     """The state of a :class:`~skygas.engine.Simulation`, for operations and devices."""
 
-    def __init__(self, sim: "Simulation"):
+    def __init__(self, sim: Simulation):
         self._sim = sim
 
     # -- reading ----------------------------------------------------------------------------
@@ -63,8 +63,9 @@ class StateView:
     def arrays_nm(self) -> StoreArrays:
         """Read-only views of the store's slots in nanometres (see the module docstring)."""
         store = self._sim.store
-        return StoreArrays(_read_only(store.x), _read_only(store.y), _read_only(store.alive),
-                           _read_only(store.ids))
+        return StoreArrays(
+            _read_only(store.x), _read_only(store.y), _read_only(store.alive), _read_only(store.ids)
+        )
 
     def is_site_clear(self, point, clearance: float) -> bool:
         """True if no skyrmion's centre lies closer than ``clearance`` [m] to ``point`` [m]."""

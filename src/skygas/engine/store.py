@@ -38,9 +38,16 @@ class AnnihilationLog:
         self.rows: list[tuple[int, float, float, float, str]] = []
 
     def append(self, ids, time: float, x_nm, y_nm, reason: str) -> None:
-        for ident, xi, yi in zip(ids, x_nm, y_nm):
-            self.rows.append((int(ident), float(time), float(xi) / units.M_TO_NM,
-                              float(yi) / units.M_TO_NM, str(reason)))
+        for ident, xi, yi in zip(ids, x_nm, y_nm, strict=True):
+            self.rows.append(
+                (
+                    int(ident),
+                    float(time),
+                    float(xi) / units.M_TO_NM,
+                    float(yi) / units.M_TO_NM,
+                    str(reason),
+                )
+            )
 
     def __len__(self) -> int:
         return len(self.rows)
@@ -51,23 +58,35 @@ class AnnihilationLog:
 
     def times(self, reason: str | None = None) -> np.ndarray:
         """Times [s] of the removals for ``reason`` (all when None), in order."""
-        return np.array([row[1] for row in self.rows if reason is None or row[4] == reason],
-                        dtype=float)
+        return np.array(
+            [row[1] for row in self.rows if reason is None or row[4] == reason], dtype=float
+        )
 
     def arrays(self) -> dict[str, np.ndarray]:
         """``skyrmion``, ``time`` [s], ``x``, ``y`` [m] and ``reason`` as arrays."""
-        columns = list(zip(*self.rows)) if self.rows else [[], [], [], [], []]
-        return {"skyrmion": np.array(columns[0], dtype=np.int64),
-                "time": np.array(columns[1], dtype=float),
-                "x": np.array(columns[2], dtype=float), "y": np.array(columns[3], dtype=float),
-                "reason": np.array(columns[4], dtype=str)}
+        columns = list(zip(*self.rows, strict=True)) if self.rows else [[], [], [], [], []]
+        return {
+            "skyrmion": np.array(columns[0], dtype=np.int64),
+            "time": np.array(columns[1], dtype=float),
+            "x": np.array(columns[2], dtype=float),
+            "y": np.array(columns[3], dtype=float),
+            "reason": np.array(columns[4], dtype=str),
+        }
 
     @classmethod
-    def from_arrays(cls, arrays: dict[str, np.ndarray]) -> "AnnihilationLog":
+    def from_arrays(cls, arrays: dict[str, np.ndarray]) -> AnnihilationLog:
         log = cls()
-        log.rows = [(int(i), float(t), float(x), float(y), str(r)) for i, t, x, y, r in
-                    zip(arrays["skyrmion"], arrays["time"], arrays["x"], arrays["y"],
-                        arrays["reason"])]
+        log.rows = [
+            (int(i), float(t), float(x), float(y), str(r))
+            for i, t, x, y, r in zip(
+                arrays["skyrmion"],
+                arrays["time"],
+                arrays["x"],
+                arrays["y"],
+                arrays["reason"],
+                strict=True,
+            )
+        ]
         return log
 
 
@@ -107,8 +126,9 @@ class SkyrmionStore:
 
     def is_site_clear(self, x_nm: float, y_nm: float, clearance_nm: float) -> bool:
         """True if no skyrmion's centre lies closer than ``clearance_nm`` to (x, y) [nm]."""
-        return not _site_occupied(self.x, self.y, self.alive, float(x_nm), float(y_nm),
-                                  float(clearance_nm) ** 2)
+        return not _site_occupied(
+            self.x, self.y, self.alive, float(x_nm), float(y_nm), float(clearance_nm) ** 2
+        )
 
     def slots_of(self, ids) -> np.ndarray:
         """The slots of the present skyrmions with ``ids`` (an unknown id raises)."""
@@ -184,9 +204,14 @@ class SkyrmionStore:
     # -- checkpoints -------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
         log = self.annihilations.arrays()
-        return {"x": self.x.copy(), "y": self.y.copy(), "alive": self.alive.copy(),
-                "ids": self.ids.copy(), "next_id": np.array(self.next_id),
-                **{f"annihilation_{k}": v for k, v in log.items()}}
+        return {
+            "x": self.x.copy(),
+            "y": self.y.copy(),
+            "alive": self.alive.copy(),
+            "ids": self.ids.copy(),
+            "next_id": np.array(self.next_id),
+            **{f"annihilation_{k}": v for k, v in log.items()},
+        }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         self.x, self.y = state["x"].copy(), state["y"].copy()
@@ -194,7 +219,11 @@ class SkyrmionStore:
         self.next_id = int(state["next_id"])
         if "annihilation_skyrmion" in state:
             self.annihilations = AnnihilationLog.from_arrays(
-                {k[len("annihilation_"):]: v for k, v in state.items()
-                 if k.startswith("annihilation_")})
+                {
+                    k[len("annihilation_") :]: v
+                    for k, v in state.items()
+                    if k.startswith("annihilation_")
+                }
+            )
         else:
             self.annihilations = AnnihilationLog()

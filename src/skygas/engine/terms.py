@@ -38,30 +38,30 @@ import numpy as np
 from skygas import units
 
 # The field grid's channels (float32, nm and nm/ns; 8 per node, see skygas._field_lookup).
-CH_WALL_DIST = 0     # signed distance to the nearest wall
-CH_NORMAL_X = 1      # inward wall normal
+CH_WALL_DIST = 0  # signed distance to the nearest wall
+CH_NORMAL_X = 1  # inward wall normal
 CH_NORMAL_Y = 2
-CH_DOMAIN = 3        # signed distance to the boundary (walls and ports), > 0 inside
-CH_DRIFT_X = 4       # spin-drift velocity v_s
-CH_DRIFT_Y = 5       # (channels 6 and 7 are free)
+CH_DOMAIN = 3  # signed distance to the boundary (walls and ports), > 0 inside
+CH_DRIFT_X = 4  # spin-drift velocity v_s
+CH_DRIFT_Y = 5  # (channels 6 and 7 are free)
 
 
 class Mobility(NamedTuple):
     """The inverse of the Thiele friction matrix (G ε + a I), a = α𝒟k, g = G [pN·ns/nm]:
     v = M·F = (a F − g εF)/(a² + g²), εF = (F_y, −F_x)."""
 
-    a: float   # a/(a² + g²) [nm/(pN·ns)]
-    g: float   # g/(a² + g²) [nm/(pN·ns)]
+    a: float  # a/(a² + g²) [nm/(pN·ns)]
+    g: float  # g/(a² + g²) [nm/(pN·ns)]
 
 
 class NoiseTerm(NamedTuple):
     """Thermal noise: an isotropic velocity noise of diffusion constant
     D = k_BT a/(a² + g²), drawn from Philox keyed on (seed, skyrmion id, step)."""
 
-    seed: int          # key of the counter-based generator
-    amplitude: float   # √(2 D dt) per axis [nm]
-    substeps: int      # Brownian sub-increments summed per step (1 = plain)
-    thermal: bool      # False at T = 0: no noise is drawn
+    seed: int  # key of the counter-based generator
+    amplitude: float  # √(2 D dt) per axis [nm]
+    substeps: int  # Brownian sub-increments summed per step (1 = plain)
+    thermal: bool  # False at T = 0: no noise is drawn
 
 
 class PairTerm(NamedTuple):
@@ -69,7 +69,7 @@ class PairTerm(NamedTuple):
 
     table: np.ndarray
     spacing_r2: float  # table spacing in r² [nm²]
-    cutoff: float      # [nm]
+    cutoff: float  # [nm]
 
 
 class WallTerm(NamedTuple):
@@ -77,17 +77,17 @@ class WallTerm(NamedTuple):
     distance k·spacing."""
 
     table: np.ndarray
-    spacing: float     # [nm]
-    cutoff: float      # [nm]
+    spacing: float  # [nm]
+    cutoff: float  # [nm]
 
 
 class DriftTerm(NamedTuple):
     """The current's drive force μ(g ε + b I)·v_s, b = η𝒟k, with v_s [nm/ns] uniform
     (``vs_x``, ``vs_y``) or read from the grid (``from_grid``)."""
 
-    drive_g: float     # μ g [pN·ns/nm]
-    drive_b: float     # μ b [pN·ns/nm]
-    vs_x: float        # uniform v_s [nm/ns] (ignored when from_grid)
+    drive_g: float  # μ g [pN·ns/nm]
+    drive_b: float  # μ b [pN·ns/nm]
+    vs_x: float  # uniform v_s [nm/ns] (ignored when from_grid)
     vs_y: float
     from_grid: bool
 
@@ -101,7 +101,7 @@ class LandscapeTerm(NamedTuple):
     x0: float
     y0: float
     spacing: float
-    active: bool       # False: no landscape (``nodes`` is a placeholder)
+    active: bool  # False: no landscape (``nodes`` is a placeholder)
 
 
 class FieldGrid(NamedTuple):
@@ -127,22 +127,22 @@ class ForceTerms(NamedTuple):
 class Stepper(NamedTuple):
     """The integrator of one kernel call: its step, scheme and recording interval."""
 
-    dt: float            # [ns]
-    heun: bool           # True: stochastic Heun; False: Euler–Maruyama
-    record_every: int    # steps between recorded frames (0 = never)
+    dt: float  # [ns]
+    heun: bool  # True: stochastic Heun; False: Euler–Maruyama
+    record_every: int  # steps between recorded frames (0 = never)
 
 
 class NeighborCells(NamedTuple):
     """The Verlet list's margins and the cell list that builds it (see
     :mod:`skygas.engine.neighbors`)."""
 
-    skin: float          # [nm]; the smallest margin s_i is half of it
+    skin: float  # [nm]; the smallest margin s_i is half of it
     margin_steps: float  # steps of motion at its latest velocity a margin should cover
-    margin_max: float    # largest margin s_i [nm] (cell size ≥ cutoff + 2·margin_max)
-    x0: float            # cell-list origin [nm]
+    margin_max: float  # largest margin s_i [nm] (cell size ≥ cutoff + 2·margin_max)
+    x0: float  # cell-list origin [nm]
     y0: float
-    size: float          # cell size [nm]
-    ncx: int             # cells along x and y
+    size: float  # cell size [nm]
+    ncx: int  # cells along x and y
     ncy: int
 
 
@@ -150,25 +150,27 @@ class PlannedInsertions(NamedTuple):
     """Insertions the kernel makes at the start of given steps while the site is clear (an
     injector's nucleations, see :class:`skygas.engine.scheduler.PlannedInsertions`)."""
 
-    steps: np.ndarray       # global step of each insertion (increasing)
-    x: np.ndarray           # [nm]
-    y: np.ndarray           # [nm]
-    ids: np.ndarray         # out: the id given to each insertion made
-    clearance2: float       # squared clearance [nm²]: no skyrmion closer than this
+    steps: np.ndarray  # global step of each insertion (increasing)
+    x: np.ndarray  # [nm]
+    y: np.ndarray  # [nm]
+    ids: np.ndarray  # out: the id given to each insertion made
+    clearance2: float  # squared clearance [nm²]: no skyrmion closer than this
 
 
 #: Counters one kernel call adds to (a one-element structured array).
-COUNTERS = np.dtype([
-    ("pair_evaluations", np.int64),  # pair forces evaluated inside the cutoff
-    ("wall_escapes", np.int64),      # steps that crossed a wall (undone)
-    ("exits", np.int64),             # skyrmions that left through a port
-    ("frames", np.int64),            # frames recorded
-    ("neighbor_rebuilds", np.int64),  # neighbour-list builds
-    ("steps", np.int64),             # steps taken (fewer than asked if a planned insertion
-                                     #   cannot be made)
-    ("inserted", np.int64),          # planned insertions made
-    ("next_id", np.int64),           # in: id of the next inserted skyrmion; out: the one after
-])
+COUNTERS = np.dtype(
+    [
+        ("pair_evaluations", np.int64),  # pair forces evaluated inside the cutoff
+        ("wall_escapes", np.int64),  # steps that crossed a wall (undone)
+        ("exits", np.int64),  # skyrmions that left through a port
+        ("frames", np.int64),  # frames recorded
+        ("neighbor_rebuilds", np.int64),  # neighbour-list builds
+        ("steps", np.int64),  # steps taken (fewer than asked if a planned insertion
+        #   cannot be made)
+        ("inserted", np.int64),  # planned insertions made
+        ("next_id", np.int64),  # in: id of the next inserted skyrmion; out: the one after
+    ]
+)
 
 
 def mobility(thiele) -> Mobility:
@@ -177,8 +179,7 @@ def mobility(thiele) -> Mobility:
     return Mobility(a / (a * a + g * g), g / (a * a + g * g))
 
 
-def noise_term(thiele, temperature: float, dt_ns: float, seed: int,
-               substeps: int) -> NoiseTerm:
+def noise_term(thiele, temperature: float, dt_ns: float, seed: int, substeps: int) -> NoiseTerm:
     """:class:`NoiseTerm` at ``temperature`` [K] for a step ``dt_ns`` [ns]."""
     a, g = thiele.friction_internal, thiele.gyrocoupling_internal
     kt = units.thermal_energy_internal(temperature)
@@ -199,9 +200,13 @@ def wall_term(table) -> WallTerm:
 
 def drift_term(thiele, velocity=(0.0, 0.0), from_grid: bool = False) -> DriftTerm:
     """:class:`DriftTerm`: uniform v_s = ``velocity`` [nm/ns], or from the grid."""
-    return DriftTerm(thiele.mu * thiele.gyrocoupling_internal,
-                     thiele.mu * thiele.drive_friction_internal, float(velocity[0]),
-                     float(velocity[1]), bool(from_grid))
+    return DriftTerm(
+        thiele.mu * thiele.gyrocoupling_internal,
+        thiele.mu * thiele.drive_friction_internal,
+        float(velocity[0]),
+        float(velocity[1]),
+        bool(from_grid),
+    )
 
 
 def landscape_term(field=None) -> LandscapeTerm:

@@ -20,8 +20,19 @@ from skygas.landscape.kinds import (
     RandomPinning,
 )
 
-__all__ = ["KINDS", "Band", "Disorder", "EdgeStrayField", "Gaussian", "GridFile", "LandscapeField", "Periodic",
-           "Potential", "RandomPinning", "parse_potentials"]
+__all__ = [
+    "KINDS",
+    "Band",
+    "Disorder",
+    "EdgeStrayField",
+    "Gaussian",
+    "GridFile",
+    "LandscapeField",
+    "Periodic",
+    "Potential",
+    "RandomPinning",
+    "parse_potentials",
+]
 
 
 def parse_potentials(potentials) -> list:
@@ -34,8 +45,12 @@ def parse_potentials(potentials) -> list:
 
     potentials = [] if potentials is None else list(potentials)
     for k, p in enumerate(potentials):
-        require(isinstance(p, (dict, *KINDS.values())), f"potentials.{k}", p,
-                f"a table with kind = one of {sorted(KINDS)}")
+        require(
+            isinstance(p, (dict, *KINDS.values())),
+            f"potentials.{k}",
+            p,
+            f"a table with kind = one of {sorted(KINDS)}",
+        )
     try:
         return TypeAdapter(list[Potential]).validate_python(potentials)
     except ValidationError as err:

@@ -26,7 +26,7 @@ def _aligned_cells(ny: int, nx: int) -> np.ndarray:
     each)."""
     raw = np.zeros(ny * nx * 16 + 16, dtype=np.float32)
     skip = (-raw.ctypes.data % 64) // 4
-    return raw[skip:skip + ny * nx * 16].reshape(ny, nx, 16)
+    return raw[skip : skip + ny * nx * 16].reshape(ny, nx, 16)
 
 
 def _max_curvature(gx: np.ndarray, gy: np.ndarray, h: float, where=None) -> float:
@@ -37,8 +37,10 @@ def _max_curvature(gx: np.ndarray, gy: np.ndarray, h: float, where=None) -> floa
         for axis in (0, 1):
             slope = np.abs(np.diff(g, axis=axis)) / h
             if where is not None:
-                both = np.logical_and(np.take(where, np.arange(where.shape[axis] - 1), axis),
-                                      np.take(where, np.arange(1, where.shape[axis]), axis))
+                both = np.logical_and(
+                    np.take(where, np.arange(where.shape[axis] - 1), axis),
+                    np.take(where, np.arange(1, where.shape[axis]), axis),
+                )
                 slope = slope[both]
             if slope.size:
                 out = max(out, float(slope.max()))
@@ -54,8 +56,7 @@ class LandscapeField:
     their curvature counts for the time step only at the nodes ``reachable`` (where skyrmion
     centres can be; every node if ``None``)."""
 
-    def __init__(self, terms, grid, temperature: float, seed: int, *, inside=None,
-                 reachable=None):
+    def __init__(self, terms, grid, temperature: float, seed: int, *, inside=None, reachable=None):
         self.terms = list(terms)
         self.grid = grid
         self.temperature = float(temperature)
@@ -69,8 +70,9 @@ class LandscapeField:
             try:
                 self._samples.append(term.sample(SampleContext(gx, gy, kt, seq, inside)))
             except InputError as err:  # a term's field, named as in the configuration
-                raise InputError(f"potentials.{index}.{err.field}", err.value,
-                                 err.allowed) from None
+                raise InputError(
+                    f"potentials.{index}.{err.field}", err.value, err.allowed
+                ) from None
         self.enabled = [True] * len(self.terms)
         self.nodes = np.zeros((grid.ny, grid.nx, 4))
         #: the interpolant's polynomial per cell (see skygas.landscape.hermite), what the
@@ -84,7 +86,7 @@ class LandscapeField:
     def _sum(self) -> None:
         h = self.grid.spacing
         self.nodes[...] = 0.0
-        for on, s in zip(self.enabled, self._samples):
+        for on, s in zip(self.enabled, self._samples, strict=True):
             if on:
                 self.nodes[..., 0] += s.u
                 self.nodes[..., 1] += h * s.ux
@@ -99,8 +101,12 @@ class LandscapeField:
         names = [getattr(t, "name", None) for t in self.terms]
         from skygas.errors import require
 
-        require(name_or_index in names, "landscape term", name_or_index,
-                f"one of the named terms {[n for n in names if n]}")
+        require(
+            name_or_index in names,
+            "landscape term",
+            name_or_index,
+            f"one of the named terms {[n for n in names if n]}",
+        )
         return names.index(name_or_index)
 
     def set_enabled(self, term, on: bool) -> None:
@@ -115,9 +121,17 @@ class LandscapeField:
         """U [J] and the force −∇U [N] (n, 2) of the interpolant at ``points`` [m] (n, 2)."""
         p = np.asarray(points, dtype=float).reshape(-1, 2) * units.M_TO_NM
         u, gx, gy = (np.empty(len(p)) for _ in range(3))
-        energy_and_gradient(self.coefficients, self.grid.x0, self.grid.y0, self.grid.spacing,
-                            np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]),
-                            u, gx, gy)
+        energy_and_gradient(
+            self.coefficients,
+            self.grid.x0,
+            self.grid.y0,
+            self.grid.spacing,
+            np.ascontiguousarray(p[:, 0]),
+            np.ascontiguousarray(p[:, 1]),
+            u,
+            gx,
+            gy,
+        )
         force = -np.column_stack([gx, gy]) / units.N_TO_PN
         return u / units.J_TO_PN_NM, force
 
@@ -132,20 +146,25 @@ class LandscapeField:
         if not self.terms:
             return 0.0
         h = self.grid.spacing
-        film = [k for k, t in enumerate(self.terms)
-                if getattr(t, "needs_film", False) and self.enabled[k]]
+        film = [
+            k
+            for k, t in enumerate(self.terms)
+            if getattr(t, "needs_film", False) and self.enabled[k]
+        ]
         if not film:
             return _max_curvature(self.nodes[..., 1] / h, self.nodes[..., 2] / h, h)
-        others = [k for k, t in enumerate(self.terms)
-                  if not getattr(t, "needs_film", False) and self.enabled[k]]
+        others = [
+            k
+            for k, t in enumerate(self.terms)
+            if not getattr(t, "needs_film", False) and self.enabled[k]
+        ]
         total = 0.0
         if others:
             gx = sum(self._samples[k].ux for k in others)
             gy = sum(self._samples[k].uy for k in others)
             total += _max_curvature(gx, gy, h)
         for k in film:
-            total += _max_curvature(self._samples[k].ux, self._samples[k].uy, h,
-                                    self.reachable)
+            total += _max_curvature(self._samples[k].ux, self._samples[k].uy, h, self.reachable)
         return total
 
     def describe(self) -> list[dict]:

@@ -49,22 +49,26 @@ from skygas._field_lookup import _prefetch
 
 #: The cubic Hermite matrix: the coefficients (a₀…a₃) of p(t) = Σ aᵢ tⁱ from
 #: (p(0), p(1), p'(0), p'(1)).
-HERMITE = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [-3.0, 3.0, -2.0, -1.0],
-                    [2.0, -2.0, 1.0, 1.0]])
+HERMITE = np.array(
+    [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [-3.0, 3.0, -2.0, -1.0], [2.0, -2.0, 1.0, 1.0]]
+)
 
 
 def cell_coefficients(nodes: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """The polynomial coefficients c[j, i, 4b + a] = α_ab (of tᵃ uᵇ) of every cell (ny − 1,
     nx − 1, 16) from the nodes (ny, nx, 4) = (U, h ∂U/∂x, h ∂U/∂y, h² ∂²U/∂x∂y)."""
-    n00, n10 = nodes[:-1, :-1], nodes[:-1, 1:]   # corners (t, u) = (0, 0), (1, 0)
-    n01, n11 = nodes[1:, :-1], nodes[1:, 1:]     # (0, 1), (1, 1)
+    n00, n10 = nodes[:-1, :-1], nodes[:-1, 1:]  # corners (t, u) = (0, 0), (1, 0)
+    n01, n11 = nodes[1:, :-1], nodes[1:, 1:]  # (0, 1), (1, 1)
     # F[a-row, b-column]: rows p(t=0), p(t=1), ∂t p(0), ∂t p(1); columns u = 0, 1, ∂u at 0, 1
-    F = np.stack([
-        np.stack([n00[..., 0], n01[..., 0], n00[..., 2], n01[..., 2]], axis=-1),
-        np.stack([n10[..., 0], n11[..., 0], n10[..., 2], n11[..., 2]], axis=-1),
-        np.stack([n00[..., 1], n01[..., 1], n00[..., 3], n01[..., 3]], axis=-1),
-        np.stack([n10[..., 1], n11[..., 1], n10[..., 3], n11[..., 3]], axis=-1),
-    ], axis=-2)
+    F = np.stack(
+        [
+            np.stack([n00[..., 0], n01[..., 0], n00[..., 2], n01[..., 2]], axis=-1),
+            np.stack([n10[..., 0], n11[..., 0], n10[..., 2], n11[..., 2]], axis=-1),
+            np.stack([n00[..., 1], n01[..., 1], n00[..., 3], n01[..., 3]], axis=-1),
+            np.stack([n10[..., 1], n11[..., 1], n10[..., 3], n11[..., 3]], axis=-1),
+        ],
+        axis=-2,
+    )
     alpha = np.einsum("ak,...kl,bl->...ba", HERMITE, F, HERMITE)  # [..., b, a] = α_ab
     shape = alpha.shape[:2] + (16,)
     if out is None:
@@ -109,9 +113,13 @@ def prefetch_cell(coefficients, fx, fy):
 # a 1 200² grid: 14.5 ns as scalar Horner code, 7.3 ns with the vector P and D, 6.4 ns with the
 # dot products too (benchmarks/bench_landscape.py gives the cost within a step).
 
+
 def _check_cells(coefficients):
-    return (isinstance(coefficients, types.Array) and coefficients.dtype == types.float32
-            and coefficients.layout == "C")
+    return (
+        isinstance(coefficients, types.Array)
+        and coefficients.dtype == types.float32
+        and coefficients.layout == "C"
+    )
 
 
 def _polynomials(context, builder, coefficients_type, args):
@@ -129,8 +137,10 @@ def _polynomials(context, builder, coefficients_type, args):
     p = builder.fadd(builder.fmul(c3, u), c2)
     p = builder.fadd(builder.fmul(p, u), c1)
     p = builder.fadd(builder.fmul(p, u), c0)
-    d = builder.fadd(builder.fmul(builder.fmul(c3, ir.Constant(_F64X4, [3.0] * 4)), u),
-                     builder.fmul(c2, ir.Constant(_F64X4, [2.0] * 4)))
+    d = builder.fadd(
+        builder.fmul(builder.fmul(c3, ir.Constant(_F64X4, [3.0] * 4)), u),
+        builder.fmul(c2, ir.Constant(_F64X4, [2.0] * 4)),
+    )
     d = builder.fadd(builder.fmul(d, u), c1)
     return p, d
 
@@ -155,8 +165,11 @@ def _polynomials_at(typingctx, coefficients, offset, u):
 
     def codegen(context, builder, sig, args):
         p, _ = _polynomials(context, builder, sig.args[0], args)
-        return context.make_tuple(builder, sig.return_type, [
-            builder.extract_element(p, ir.Constant(_I32, k)) for k in range(4)])
+        return context.make_tuple(
+            builder,
+            sig.return_type,
+            [builder.extract_element(p, ir.Constant(_I32, k)) for k in range(4)],
+        )
 
     return signature, codegen
 
@@ -174,21 +187,34 @@ def _gradient_at(typingctx, coefficients, offset, t, u):
         t = args[2]
         t2 = builder.fmul(t, t)
         one = ir.Constant(f64, 1.0)
-        along_t = builder.fmul(p, _vector(builder, [
-            ir.Constant(f64, 0.0), one, builder.fmul(ir.Constant(f64, 2.0), t),
-            builder.fmul(ir.Constant(f64, 3.0), t2)]))
+        along_t = builder.fmul(
+            p,
+            _vector(
+                builder,
+                [
+                    ir.Constant(f64, 0.0),
+                    one,
+                    builder.fmul(ir.Constant(f64, 2.0), t),
+                    builder.fmul(ir.Constant(f64, 3.0), t2),
+                ],
+            ),
+        )
         along_u = builder.fmul(d, _vector(builder, [one, t, t2, builder.fmul(t2, t)]))
         # (t₀ + t₁, u₀ + u₁, t₂ + t₃, u₂ + u₃), then the two halves added
         mask = ir.VectorType(_I32, 4)
         pairs = builder.fadd(
             builder.shuffle_vector(along_t, along_u, ir.Constant(mask, [0, 4, 2, 6])),
-            builder.shuffle_vector(along_t, along_u, ir.Constant(mask, [1, 5, 3, 7])))
+            builder.shuffle_vector(along_t, along_u, ir.Constant(mask, [1, 5, 3, 7])),
+        )
 
         def lane(k):
             return builder.extract_element(pairs, ir.Constant(_I32, k))
 
-        return context.make_tuple(builder, sig.return_type, [
-            builder.fadd(lane(0), lane(2)), builder.fadd(lane(1), lane(3))])
+        return context.make_tuple(
+            builder,
+            sig.return_type,
+            [builder.fadd(lane(0), lane(2)), builder.fadd(lane(1), lane(3))],
+        )
 
     return signature, codegen
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import hashlib
 import math
 from pathlib import Path
-from typing import Annotated, ClassVar, Literal, NamedTuple, Union
+from typing import Annotated, ClassVar, Literal, NamedTuple
 
 import numpy as np
 from pydantic import (
@@ -37,8 +37,9 @@ _STRAY_ENERGY = Memo("edge_stray_field", maxsize=4)
 
 Length = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 Energy = Annotated[float, Field(allow_inf_nan=False)]
-Point = tuple[Annotated[float, Field(allow_inf_nan=False)], Annotated[float, Field(
-    allow_inf_nan=False)]]
+Point = tuple[
+    Annotated[float, Field(allow_inf_nan=False)], Annotated[float, Field(allow_inf_nan=False)]
+]
 
 
 class Samples(NamedTuple):
@@ -85,8 +86,11 @@ def _energy(value_j, value_kt, kt: float, name: str) -> float:
         if kt <= 0:
             from skygas.errors import InputError
 
-            raise InputError(f"{name}_kT", value_kt, f"a temperature > 0 (or {name} in joules): "
-                             "k_BT is zero at T = 0")
+            raise InputError(
+                f"{name}_kT",
+                value_kt,
+                f"a temperature > 0 (or {name} in joules): k_BT is zero at T = 0",
+            )
         return float(value_kt) * kt
     return float(value_j) * units.J_TO_PN_NM
 
@@ -98,8 +102,8 @@ def _exactly_one(model, name: str) -> None:
 
 
 class _Amplitude(_Kind):
-    amplitude: Energy | None = None       # [J]
-    amplitude_kT: Energy | None = None    # [k_BT]
+    amplitude: Energy | None = None  # [J]
+    amplitude_kT: Energy | None = None  # [k_BT]
 
     @model_validator(mode="after")
     def _one_amplitude(self):
@@ -249,13 +253,17 @@ class RandomPinning(_Kind):
         centres = rng.uniform((x0, y0), (x1, y1), size=(count, 2))
         if self.depth_kT is not None:
             mean = _energy(None, self.depth_kT, ctx.kt, "depth")
-            spread = _energy(None, self.depth_spread_kT, ctx.kt, "depth_spread") \
-                if self.depth_spread_kT else 0.0
+            spread = (
+                _energy(None, self.depth_spread_kT, ctx.kt, "depth_spread")
+                if self.depth_spread_kT
+                else 0.0
+            )
         else:
             mean = self.depth * units.J_TO_PN_NM
             spread = self.depth_spread * units.J_TO_PN_NM
-        depths = np.maximum(rng.normal(mean, spread, count), 0.0) if spread else \
-            np.full(count, mean)
+        depths = (
+            np.maximum(rng.normal(mean, spread, count), 0.0) if spread else np.full(count, mean)
+        )
         return centres, depths
 
     def sample(self, ctx: SampleContext) -> Samples:
@@ -265,14 +273,15 @@ class RandomPinning(_Kind):
         reach = int(math.ceil(6 * s / spacing))  # exp(−18) of the depth beyond 6σ
         gx0, gy0 = float(ctx.x[0, 0]), float(ctx.y[0, 0])
         ny, nx = ctx.x.shape
-        for (cx, cy), depth in zip(*self.wells(ctx)):
+        for (cx, cy), depth in zip(*self.wells(ctx), strict=True):
             i, j = int(round((cx - gx0) / spacing)), int(round((cy - gy0) / spacing))
             rows = slice(max(j - reach, 0), min(j + reach + 1, ny))
             cols = slice(max(i - reach, 0), min(i + reach + 1, nx))
             dx, dy = ctx.x[rows, cols] - cx, ctx.y[rows, cols] - cy
             u = -depth * np.exp(-(dx * dx + dy * dy) / (2 * s * s))
-            for target, value in zip(out, (u, -dx / s**2 * u, -dy / s**2 * u,
-                                           dx * dy / s**4 * u)):
+            for target, value in zip(
+                out, (u, -dx / s**2 * u, -dy / s**2 * u, dx * dy / s**4 * u), strict=True
+            ):
                 target[rows, cols] += value
         return Samples(*out)
 
@@ -309,12 +318,15 @@ class Disorder(_Kind):
         oy = np.minimum(np.arange(shape[0]), shape[0] - np.arange(shape[0])) * h
         ox = np.minimum(np.arange(shape[1]), shape[1] - np.arange(shape[1])) * h
         kernel = np.exp(-(ox[None, :] ** 2 + oy[:, None] ** 2) / (2 * s * s))
-        spectrum = np.fft.fft2(white) * np.fft.fft2(kernel) * (rms / math.sqrt(
-            float(np.sum(kernel**2))))
-        KX, KY = np.meshgrid(2 * np.pi * np.fft.fftfreq(shape[1], d=h),
-                             2 * np.pi * np.fft.fftfreq(shape[0], d=h))
-        fields = [np.fft.ifft2(spectrum * factor).real for factor in
-                  (1.0, 1j * KX, 1j * KY, -KX * KY)]
+        spectrum = (
+            np.fft.fft2(white) * np.fft.fft2(kernel) * (rms / math.sqrt(float(np.sum(kernel**2))))
+        )
+        KX, KY = np.meshgrid(
+            2 * np.pi * np.fft.fftfreq(shape[1], d=h), 2 * np.pi * np.fft.fftfreq(shape[0], d=h)
+        )
+        fields = [
+            np.fft.ifft2(spectrum * factor).real for factor in (1.0, 1j * KX, 1j * KY, -KX * KY)
+        ]
         inner = (slice(pad, pad + ny), slice(pad, pad + nx))
         return Samples(*(f[inner] for f in fields))
 
@@ -334,8 +346,9 @@ def read_grid(path: str, array: str | None = None) -> tuple[np.ndarray, bool]:
                 names = list(data.files)
                 name = array or (names[0] if len(names) == 1 else None)
                 if name not in names:
-                    raise ValueError(f"an .npz with one array, or array = the name of one "
-                                     f"of {names}")
+                    raise ValueError(
+                        f"an .npz with one array, or array = the name of one of {names}"
+                    )
                 data = data[name]
             values, image = np.asarray(data, dtype=float), False
         else:
@@ -350,8 +363,10 @@ def read_grid(path: str, array: str | None = None) -> tuple[np.ndarray, bool]:
     except (OSError, SyntaxError, TypeError) as err:  # numpy's and Pillow's read errors
         raise ValueError(f"a readable .npy, .npz or image file ({err})") from None
     if values.ndim != 2 or min(values.shape) < 4:
-        raise ValueError(f"a 2-D array of at least 4×4 samples, rows along y (the file holds "
-                         f"shape {values.shape})")
+        raise ValueError(
+            f"a 2-D array of at least 4×4 samples, rows along y (the file holds "
+            f"shape {values.shape})"
+        )
     if not np.all(np.isfinite(values)):
         raise ValueError("finite values only (the file holds NaN or inf)")
     return values, image
@@ -386,8 +401,10 @@ class GridFile(_Kind):
     def _scale(self):
         image = Path(self.path).suffix.lower() not in (".npy", ".npz")
         if image and (self.amplitude is None) == (self.amplitude_kT is None):
-            raise ValueError("an image needs exactly one of amplitude (J) or amplitude_kT "
-                             "(k_BT) to scale its grey levels")
+            raise ValueError(
+                "an image needs exactly one of amplitude (J) or amplitude_kT "
+                "(k_BT) to scale its grey levels"
+            )
         return self
 
     def values(self, kt: float) -> np.ndarray:
@@ -398,8 +415,9 @@ class GridFile(_Kind):
         if image:
             return values * _energy(self.amplitude, self.amplitude_kT, kt, "amplitude")
         if self.unit == "kT" and kt <= 0:
-            raise InputError("unit", "kT", "a temperature > 0 (or unit = \"J\"): k_BT is "
-                             "zero at T = 0")
+            raise InputError(
+                "unit", "kT", 'a temperature > 0 (or unit = "J"): k_BT is zero at T = 0'
+            )
         return values * (kt if self.unit == "kT" else units.J_TO_PN_NM)
 
     def sample(self, ctx: SampleContext) -> Samples:
@@ -411,20 +429,28 @@ class GridFile(_Kind):
         h = self.spacing * units.M_TO_NM
         ys = self.origin[1] * units.M_TO_NM + h * np.arange(values.shape[0])
         xs = self.origin[0] * units.M_TO_NM + h * np.arange(values.shape[1])
-        if ctx.x.min() < xs[0] - 1e-9 or ctx.x.max() > xs[-1] + 1e-9 or \
-                ctx.y.min() < ys[0] - 1e-9 or ctx.y.max() > ys[-1] + 1e-9:
-            need = [ctx.x.min() * 1e-9, ctx.y.min() * 1e-9, ctx.x.max() * 1e-9,
-                    ctx.y.max() * 1e-9]
+        if (
+            ctx.x.min() < xs[0] - 1e-9
+            or ctx.x.max() > xs[-1] + 1e-9
+            or ctx.y.min() < ys[0] - 1e-9
+            or ctx.y.max() > ys[-1] + 1e-9
+        ):
+            need = [ctx.x.min() * 1e-9, ctx.y.min() * 1e-9, ctx.x.max() * 1e-9, ctx.y.max() * 1e-9]
             have = [xs[0] * 1e-9, ys[0] * 1e-9, xs[-1] * 1e-9, ys[-1] * 1e-9]
-            raise InputError("path", self.path,
-                             f"samples covering the device's grid, x0 y0 x1 y1 = "
-                             f"{np.round(need, 12).tolist()} m (the file covers "
-                             f"{np.round(have, 12).tolist()} m; check spacing and origin)")
+            raise InputError(
+                "path",
+                self.path,
+                f"samples covering the device's grid, x0 y0 x1 y1 = "
+                f"{np.round(need, 12).tolist()} m (the file covers "
+                f"{np.round(have, 12).tolist()} m; check spacing and origin)",
+            )
         # the spline's first axis is y: ev(y, x, dx=order in y, dy=order in x)
         spline = RectBivariateSpline(ys, xs, values, kx=3, ky=3)
         rows, cols = ctx.y.ravel(), ctx.x.ravel()
-        parts = [spline.ev(rows, cols, dx=order_y, dy=order_x).reshape(ctx.x.shape)
-                 for order_x, order_y in ((0, 0), (1, 0), (0, 1), (1, 1))]
+        parts = [
+            spline.ev(rows, cols, dx=order_y, dy=order_x).reshape(ctx.x.shape)
+            for order_x, order_y in ((0, 0), (1, 0), (0, 1), (1, 1))
+        ]
         return Samples(*parts)
 
 
@@ -466,9 +492,10 @@ class EdgeStrayField(_Kind):
     def _profile(self):
         r, w = self.profile_radius, self.profile_deficit
         if len(r) < 2 or len(w) != len(r):
-            raise ValueError("profile_radius and profile_deficit need the same number (>= 2) "
-                             "of values")
-        if r[0] != 0 or any(b <= a for a, b in zip(r, r[1:])):
+            raise ValueError(
+                "profile_radius and profile_deficit need the same number (>= 2) of values"
+            )
+        if r[0] != 0 or any(b <= a for a, b in zip(r, r[1:], strict=False)):
             raise ValueError("profile_radius must increase strictly from 0")
         return self
 
@@ -476,12 +503,20 @@ class EdgeStrayField(_Kind):
         from skygas.errors import InputError
 
         if ctx.inside is None:
-            raise InputError("kind", self.kind, "a term sampled by a Simulation, which knows "
-                             "the device's outline (SampleContext.inside)")
+            raise InputError(
+                "kind",
+                self.kind,
+                "a term sampled by a Simulation, which knows "
+                "the device's outline (SampleContext.inside)",
+            )
         spacing = float(ctx.x[0, 1] - ctx.x[0, 0])  # nm
         film = np.pad(np.asarray(ctx.inside, dtype=float), 2)
-        key = (hashlib.sha256(film.tobytes()).hexdigest(), film.shape, spacing,
-               self.model_dump_json())
+        key = (
+            hashlib.sha256(film.tobytes()).hexdigest(),
+            film.shape,
+            spacing,
+            self.model_dump_json(),
+        )
         u = _STRAY_ENERGY.get(key, lambda: self._energy(film, spacing))
         ux = _fourth_order_derivative(u, spacing, 1)
         uy = _fourth_order_derivative(u, spacing, 0)
@@ -494,16 +529,31 @@ class EdgeStrayField(_Kind):
         from skygas.landscape.stray_field import stray_field_energy
         from skygas.memo import frozen
 
-        u = stray_field_energy(film, spacing_nm / units.M_TO_NM, self.thickness,
-                               self.saturation_magnetization, self.profile_radius,
-                               self.profile_deficit) * units.J_TO_PN_NM
+        u = (
+            stray_field_energy(
+                film,
+                spacing_nm / units.M_TO_NM,
+                self.thickness,
+                self.saturation_magnetization,
+                self.profile_radius,
+                self.profile_deficit,
+            )
+            * units.J_TO_PN_NM
+        )
         frozen(u)
         return u
 
 
-Potential = Annotated[Union[Gaussian, Periodic, Band, RandomPinning, Disorder, GridFile,
-                            EdgeStrayField],
-                      Field(discriminator="kind")]
-KINDS = {"gaussian": Gaussian, "periodic": Periodic, "band": Band,
-         "random_pinning": RandomPinning, "disorder": Disorder, "grid": GridFile,
-         "edge_stray_field": EdgeStrayField}
+Potential = Annotated[
+    Gaussian | Periodic | Band | RandomPinning | Disorder | GridFile | EdgeStrayField,
+    Field(discriminator="kind"),
+]
+KINDS = {
+    "gaussian": Gaussian,
+    "periodic": Periodic,
+    "band": Band,
+    "random_pinning": RandomPinning,
+    "disorder": Disorder,
+    "grid": GridFile,
+    "edge_stray_field": EdgeStrayField,
+}

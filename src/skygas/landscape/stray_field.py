@@ -62,12 +62,23 @@ ENERGY_SUBSAMPLES = 4
 
 def _check(inside, spacing: float, thickness: float, saturation_magnetization: float):
     film = np.asarray(inside, dtype=float)
-    require(film.ndim == 2 and film.size > 0, "inside", f"an array of shape {film.shape}",
-            "a 2-D array (ny, nx) of the film's cells")
-    require(bool(np.all((film >= 0) & (film <= 1))), "inside", "values outside [0, 1]",
-            "booleans or film fractions between 0 and 1")
-    for name, value, unit in (("spacing", spacing, "m"), ("thickness", thickness, "m"),
-                              ("saturation_magnetization", saturation_magnetization, "A/m")):
+    require(
+        film.ndim == 2 and film.size > 0,
+        "inside",
+        f"an array of shape {film.shape}",
+        "a 2-D array (ny, nx) of the film's cells",
+    )
+    require(
+        bool(np.all((film >= 0) & (film <= 1))),
+        "inside",
+        "values outside [0, 1]",
+        "booleans or film fractions between 0 and 1",
+    )
+    for name, value, unit in (
+        ("spacing", spacing, "m"),
+        ("thickness", thickness, "m"),
+        ("saturation_magnetization", saturation_magnetization, "A/m"),
+    ):
         require(math.isfinite(value) and value > 0, name, value, f"a finite number > 0 ({unit})")
     return film
 
@@ -141,8 +152,14 @@ def _film_integrals(film: np.ndarray, height: float, subsamples: int):
             yield px, py, fft.irfft2(film_hat * fft.rfft2(kernel), shape)[:ny, :nx]
 
 
-def edge_field(inside, spacing: float, thickness: float, saturation_magnetization: float, *,
-               subsamples: int = 1) -> np.ndarray:
+def edge_field(
+    inside,
+    spacing: float,
+    thickness: float,
+    saturation_magnetization: float,
+    *,
+    subsamples: int = 1,
+) -> np.ndarray:
     """H_dev [A/m] of a film's edges at the nodes of a regular grid.
 
     Parameters
@@ -160,32 +177,54 @@ def edge_field(inside, spacing: float, thickness: float, saturation_magnetizatio
     """
     film = _check(inside, spacing, thickness, saturation_magnetization)
     subsamples = _count(subsamples)
-    integral = sum(part for _, _, part in _film_integrals(film, 0.5 * thickness / spacing,
-                                                          subsamples))
+    integral = sum(
+        part for _, _, part in _film_integrals(film, 0.5 * thickness / spacing, subsamples)
+    )
     integral = integral / (subsamples * subsamples)
     return saturation_magnetization * (1.0 - integral / (2.0 * np.pi))
 
 
 def _count(subsamples) -> int:
-    require(int(subsamples) == subsamples and subsamples >= 1, "subsamples", subsamples,
-            "an integer >= 1")
+    require(
+        int(subsamples) == subsamples and subsamples >= 1,
+        "subsamples",
+        subsamples,
+        "an integer >= 1",
+    )
     return int(subsamples)
 
 
 def _profile(profile_radius, profile_deficit) -> tuple[np.ndarray, np.ndarray]:
     radius = np.asarray(profile_radius, dtype=float)
     deficit = np.asarray(profile_deficit, dtype=float)
-    require(radius.ndim == 1 and len(radius) >= 2 and radius[0] == 0
-            and bool(np.all(np.diff(radius) > 0)), "profile_radius", radius.tolist(),
-            "at least 2 radii (m) increasing strictly from 0")
-    require(deficit.shape == radius.shape and bool(np.all(np.isfinite(deficit))),
-            "profile_deficit", deficit.tolist(), "one finite deficit 1 - m_z per radius")
+    require(
+        radius.ndim == 1
+        and len(radius) >= 2
+        and radius[0] == 0
+        and bool(np.all(np.diff(radius) > 0)),
+        "profile_radius",
+        radius.tolist(),
+        "at least 2 radii (m) increasing strictly from 0",
+    )
+    require(
+        deficit.shape == radius.shape and bool(np.all(np.isfinite(deficit))),
+        "profile_deficit",
+        deficit.tolist(),
+        "one finite deficit 1 - m_z per radius",
+    )
     return radius, deficit
 
 
-def stray_field_energy(inside, spacing: float, thickness: float,
-                       saturation_magnetization: float, profile_radius, profile_deficit, *,
-                       subsamples: int = ENERGY_SUBSAMPLES) -> np.ndarray:
+def stray_field_energy(
+    inside,
+    spacing: float,
+    thickness: float,
+    saturation_magnetization: float,
+    profile_radius,
+    profile_deficit,
+    *,
+    subsamples: int = ENERGY_SUBSAMPLES,
+) -> np.ndarray:
     """U [J] of a skyrmion centred at each node in the film's edge field.
 
     U(r) = μ₀ M_s t ∫_film w(|r' − r|) H_dev(r') dA', with w the deficit ``profile_deficit``

@@ -103,8 +103,9 @@ def _regions(mz: np.ndarray, magnetic: np.ndarray, threshold: float, min_cells: 
     return cores, regions, background
 
 
-def edge_band(mz: np.ndarray, magnetic: np.ndarray, background: float,
-              cores: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+def edge_band(
+    mz: np.ndarray, magnetic: np.ndarray, background: float, cores: np.ndarray | None = None
+) -> tuple[np.ndarray, int]:
     """The film-edge band (mask, ny × nx) and its width [cells] (see the module docstring).
 
     Distances to the edge are counted from each cell centre to the nearest empty cell or the
@@ -134,8 +135,9 @@ def _contour_rays(spline, background, cx_cells, cy_cells, max_r, n_rays):
     angles = np.linspace(0.0, 2 * np.pi, n_rays, endpoint=False)
     rows = cy_cells + np.outer(np.sin(angles), steps)
     cols = cx_cells + np.outer(np.cos(angles), steps)
-    values = background * ndimage.map_coordinates(spline, [rows.ravel(), cols.ravel()], order=3,
-                                                  prefilter=False, mode="nearest")
+    values = background * ndimage.map_coordinates(
+        spline, [rows.ravel(), cols.ravel()], order=3, prefilter=False, mode="nearest"
+    )
     values = values.reshape(rows.shape)
     radii = np.full(n_rays, np.nan)
     slopes = np.full(n_rays, np.nan)
@@ -188,7 +190,6 @@ def detect_skyrmions(
     yy, xx = np.mgrid[0 : mz.shape[0], 0 : mz.shape[1]]  # cell-index units
     core_sizes = np.bincount(cores.ravel(), minlength=count + 1)
     neighbourhoods = np.zeros_like(regions)
-    shapes = {}
     for label in range(1, count + 1):
         core = cores == label
         cy, cx = ndimage.center_of_mass(core)
@@ -211,14 +212,19 @@ def detect_skyrmions(
         radii = radii * math.sqrt(dx * dy)
         good = radii[np.isfinite(radii)]
         radius = float(np.sqrt(np.mean(good**2))) if good.size else math.nan
-        found.append(Skyrmion(
-            x=x0 + cx * dx, y=y0 + cy * dy, radius=radius, charge=float(charges[label - 1]),
-            dissipation=float(dissipations[label - 1]), area=float(core_sizes[label] * dx * dy),
-            circularity=float(good.min() / good.max()) if good.size else math.nan,
-            label=label,
-        ))
-    return Snapshot(tuple(found), neighbourhoods, total, time,
-                    width * math.sqrt(dx * dy))
+        found.append(
+            Skyrmion(
+                x=x0 + cx * dx,
+                y=y0 + cy * dy,
+                radius=radius,
+                charge=float(charges[label - 1]),
+                dissipation=float(dissipations[label - 1]),
+                area=float(core_sizes[label] * dx * dy),
+                circularity=float(good.min() / good.max()) if good.size else math.nan,
+                label=label,
+            )
+        )
+    return Snapshot(tuple(found), neighbourhoods, total, time, width * math.sqrt(dx * dy))
 
 
 def inspect_field(field: xr.DataArray, **options) -> dict:
@@ -232,15 +238,28 @@ def inspect_field(field: xr.DataArray, **options) -> dict:
     snap = detect_skyrmions(field, **options)
     return {
         "skyrmions": [
-            {"charge": s.charge, "x_m": s.x, "y_m": s.y, "radius_m": s.radius,
-             "dissipation": s.dissipation, "area_m2": s.area, "circularity": s.circularity}
+            {
+                "charge": s.charge,
+                "x_m": s.x,
+                "y_m": s.y,
+                "radius_m": s.radius,
+                "dissipation": s.dissipation,
+                "area_m2": s.area,
+                "circularity": s.circularity,
+            }
             for s in snap.skyrmions
         ],
         "total_charge": snap.total_charge,
         "time_s": None if math.isnan(snap.time) else snap.time,
         "edge_band_width_m": snap.edge_band_width,
-        "mesh": {"nx": field.sizes["x"], "ny": field.sizes["y"], "nz": field.sizes["z"],
-                 "dx_m": field.attrs["dx"], "dy_m": field.attrs["dy"], "dz_m": field.attrs["dz"]},
+        "mesh": {
+            "nx": field.sizes["x"],
+            "ny": field.sizes["y"],
+            "nz": field.sizes["z"],
+            "dx_m": field.attrs["dx"],
+            "dy_m": field.attrs["dy"],
+            "dz_m": field.attrs["dz"],
+        },
         "options": options,
         "skygas_version": __version__,
     }

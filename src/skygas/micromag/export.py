@@ -64,30 +64,44 @@ def plot_fits(path: str | Path, samples: dict, fits: dict, tables: dict | None =
 
     tables = tables or {}
     laws = [law for law in ("pair", "wall") if law in samples]
-    fig, axes = plt.subplots(1, max(len(laws), 1), figsize=(5 * max(len(laws), 1), 4),
-                             squeeze=False)
-    for ax, law in zip(axes[0], laws):
+    fig, axes = plt.subplots(
+        1, max(len(laws), 1), figsize=(5 * max(len(laws), 1), 4), squeeze=False
+    )
+    for ax, law in zip(axes[0], laws, strict=False):
         d, force = samples[law]
         positive = force > 0
-        ax.semilogy(d[positive], force[positive] * 1e12, ".", ms=3, color="0.6",
-                    label="Ĝ·ẋ (samples)")
+        ax.semilogy(
+            d[positive], force[positive] * 1e12, ".", ms=3, color="0.6", label="Ĝ·ẋ (samples)"
+        )
         table = tables.get(law)
         if table is not None:
             # the log axis shows positive medians only; the bars are the quartiles
             shown = table.force > 0
             low = np.clip(table.force - table.force_q25, 0, None)
             high = np.clip(table.force_q75 - table.force, 0, None)
-            ax.errorbar(table.distance[shown], table.force[shown] * 1e12,
-                        yerr=np.array([low[shown], high[shown]]) * 1e12, fmt="o", ms=4,
-                        color="C0", capsize=2, label="binned median (quartiles)")
+            ax.errorbar(
+                table.distance[shown],
+                table.force[shown] * 1e12,
+                yerr=np.array([low[shown], high[shown]]) * 1e12,
+                fmt="o",
+                ms=4,
+                color="C0",
+                capsize=2,
+                label="binned median (quartiles)",
+            )
         fit = fits.get(law)
         if fit is not None:
             grid = np.linspace(d.min(), d.max(), 200)
             coeffs = ", ".join(f"{c:.4g}" for c in fit.coefficients)
             ax.semilogy(grid, fit.magnitude(grid) * 1e12, "r-", label=f"fit [{coeffs}]")
         else:
-            ax.text(0.02, 0.02, "no law fixed by the data: tabulated only",
-                    transform=ax.transAxes, fontsize=7)
+            ax.text(
+                0.02,
+                0.02,
+                "no law fixed by the data: tabulated only",
+                transform=ax.transAxes,
+                fontsize=7,
+            )
         ax.set_xlabel("distance d (skyrmion diameters)")
         ax.set_ylabel("|F| (pN)")
         ax.set_title("skyrmion–skyrmion" if law == "pair" else "skyrmion–wall")

@@ -104,12 +104,16 @@ def disk_from_mask(magnetic: np.ndarray, x: np.ndarray, y: np.ndarray) -> DiskBo
     radius of equal area, √(A/π), which is exact up to the staircase of the cells."""
     magnetic = np.asarray(magnetic, bool)
     if magnetic.all():
-        raise InputError("boundary", "no empty cells", "a disk geometry (cells outside the "
-                         "disk written as m = 0) for a wall fit")
+        raise InputError(
+            "boundary",
+            "no empty cells",
+            "a disk geometry (cells outside the disk written as m = 0) for a wall fit",
+        )
     yy, xx = np.meshgrid(y, x, indexing="ij")
     area = magnetic.sum() * abs(x[1] - x[0]) * abs(y[1] - y[0])
-    return DiskBoundary((float(xx[magnetic].mean()), float(yy[magnetic].mean())),
-                        math.sqrt(area / math.pi))
+    return DiskBoundary(
+        (float(xx[magnetic].mean()), float(yy[magnetic].mean())), math.sqrt(area / math.pi)
+    )
 
 
 def velocities(times, positions, window: int = 9, order: int = 3) -> np.ndarray:
@@ -130,15 +134,21 @@ def velocities(times, positions, window: int = 9, order: int = 3) -> np.ndarray:
         raise InputError("window", window, f"an odd number of samples > order = {order}")
     window = min(window, times.size if times.size % 2 else times.size - 1)
     order = min(order, window - 1)
-    return signal.savgol_filter(positions, window, order, deriv=1, delta=steps.mean(), axis=0,
-                                mode="interp")
+    return signal.savgol_filter(
+        positions, window, order, deriv=1, delta=steps.mean(), axis=0, mode="interp"
+    )
 
 
 def thiele_forces(velocity, gyrocoupling: float, friction: float) -> np.ndarray:
     """F = (G ε + α𝒟k I)·ẋ [N] for velocities (n, 2) [m/s]; G, α𝒟k in kg/s."""
     v = np.asarray(velocity, dtype=np.float64)
-    return np.stack([friction * v[..., 0] + gyrocoupling * v[..., 1],
-                     -gyrocoupling * v[..., 0] + friction * v[..., 1]], axis=-1)
+    return np.stack(
+        [
+            friction * v[..., 0] + gyrocoupling * v[..., 1],
+            -gyrocoupling * v[..., 0] + friction * v[..., 1],
+        ],
+        axis=-1,
+    )
 
 
 def pair_samples(pos_a, force_a, pos_b, force_b, diameter: float):
@@ -188,12 +198,19 @@ class LawFit:
         return self.force_scale * shape(d, self.coefficients)
 
     def as_record(self) -> dict:
-        return {"law": self.law, "coefficients": list(self.coefficients),
-                "uncertainties": list(self.uncertainties), "force_scale_N": self.force_scale,
-                "n_points": self.n_points, "distance_range": list(self.distance_range),
-                "rms_log_residual": self.rms_log_residual, "n_rejected": self.n_rejected,
-                "covariance": self.covariance, "note": self.note,
-                "engine_range": list(engine_range(self.law, self.coefficients))}
+        return {
+            "law": self.law,
+            "coefficients": list(self.coefficients),
+            "uncertainties": list(self.uncertainties),
+            "force_scale_N": self.force_scale,
+            "n_points": self.n_points,
+            "distance_range": list(self.distance_range),
+            "rms_log_residual": self.rms_log_residual,
+            "n_rejected": self.n_rejected,
+            "covariance": self.covariance,
+            "note": self.note,
+            "engine_range": list(engine_range(self.law, self.coefficients)),
+        }
 
 
 class UnfixedLawError(InputError):
@@ -202,12 +219,16 @@ class UnfixedLawError(InputError):
     fails (``"the fit grows without bound far away …"``), ``unfixed`` what the samples do not
     fix (``"how the force decays beyond 2.25 d_sk"``), ``remedy`` what to record instead."""
 
-    def __init__(self, fit: "LawFit", why: str, unfixed: str, remedy: str):
+    def __init__(self, fit: LawFit, why: str, unfixed: str, remedy: str):
         self.fit, self.why, self.unfixed, self.remedy = fit, why, unfixed, remedy
         lo, hi = fit.distance_range
-        super().__init__(f"{fit.law}_law", _rounded(fit.coefficients),
-                         f"a force that decays with distance: {why}, so the samples do not "
-                         f"fix {unfixed} (data: d = {lo:.2f}–{hi:.2f} d_sk)", remedy)
+        super().__init__(
+            f"{fit.law}_law",
+            _rounded(fit.coefficients),
+            f"a force that decays with distance: {why}, so the samples do not "
+            f"fix {unfixed} (data: d = {lo:.2f}–{hi:.2f} d_sk)",
+            remedy,
+        )
 
 
 @dataclass(frozen=True)
@@ -232,17 +253,49 @@ class LawTable:
     force_q75: np.ndarray
     count: np.ndarray
 
-    COLUMNS = ("distance_m", "distance_diameters", "force_N", "force_over_F0", "n_samples",
-               "force_q25_N", "force_q75_N", "d_low_diameters", "d_high_diameters")
+    COLUMNS = (
+        "distance_m",
+        "distance_diameters",
+        "force_N",
+        "force_over_F0",
+        "n_samples",
+        "force_q25_N",
+        "force_q75_N",
+        "d_low_diameters",
+        "d_high_diameters",
+    )
 
     def rows(self) -> list[dict]:
         """One dict per bin, keyed by :attr:`COLUMNS` (SI units, d also in d_sk)."""
-        return [dict(zip(self.COLUMNS, (
-            float(d) * self.diameter, float(d), float(f), float(f) / self.force_scale, int(n),
-            float(lo_f), float(hi_f), float(lo), float(hi))))
+        return [
+            dict(
+                zip(
+                    self.COLUMNS,
+                    (
+                        float(d) * self.diameter,
+                        float(d),
+                        float(f),
+                        float(f) / self.force_scale,
+                        int(n),
+                        float(lo_f),
+                        float(hi_f),
+                        float(lo),
+                        float(hi),
+                    ),
+                    strict=True,
+                )
+            )
             for d, f, n, lo_f, hi_f, lo, hi in zip(
-                self.distance, self.force, self.count, self.force_q25, self.force_q75,
-                self.d_low, self.d_high)]
+                self.distance,
+                self.force,
+                self.count,
+                self.force_q25,
+                self.force_q75,
+                self.d_low,
+                self.d_high,
+                strict=True,
+            )
+        ]
 
     @property
     def distance_range(self) -> tuple[float, float]:
@@ -250,13 +303,19 @@ class LawTable:
         return float(self.d_low.min()), float(self.d_high.max())
 
     def as_record(self) -> dict:
-        return {"law": self.law, "skyrmion_diameter_m": self.diameter,
-                "force_scale_N": self.force_scale, "distance_range": list(self.distance_range),
-                "n_samples": int(self.count.sum()), "rows": self.rows()}
+        return {
+            "law": self.law,
+            "skyrmion_diameter_m": self.diameter,
+            "force_scale_N": self.force_scale,
+            "distance_range": list(self.distance_range),
+            "n_samples": int(self.count.sum()),
+            "rows": self.rows(),
+        }
 
 
-def tabulate_law(law: str, d, force, diameter: float, force_scale: float,
-                 bins: int | None = None) -> LawTable:
+def tabulate_law(
+    law: str, d, force, diameter: float, force_scale: float, bins: int | None = None
+) -> LawTable:
     """The samples (d [d_sk], force [N]) as a :class:`LawTable` of ``bins`` bins of equal
     counts (default: ⌈√n⌉ bins for n samples, at most 20: as many bins as samples per bin).
 
@@ -281,11 +340,18 @@ def tabulate_law(law: str, d, force, diameter: float, force_scale: float,
     def per_bin(values, statistic):
         return np.array([statistic(values[g]) for g in groups])
 
-    return LawTable(law, float(diameter), float(force_scale), per_bin(d, np.min),
-                    per_bin(d, np.max), per_bin(d, np.median), per_bin(force, np.median),
-                    per_bin(force, lambda v: np.percentile(v, 25)),
-                    per_bin(force, lambda v: np.percentile(v, 75)),
-                    np.array([g.size for g in groups]))
+    return LawTable(
+        law,
+        float(diameter),
+        float(force_scale),
+        per_bin(d, np.min),
+        per_bin(d, np.max),
+        per_bin(d, np.median),
+        per_bin(force, np.median),
+        per_bin(force, lambda v: np.percentile(v, 25)),
+        per_bin(force, lambda v: np.percentile(v, 75)),
+        np.array([g.size for g in groups]),
+    )
 
 
 def _clean(d, force, force_scale: float, need: int):
@@ -307,9 +373,17 @@ def _finish(law, model, d, y, start, force_scale, rejected) -> LawFit:
     except RuntimeError:  # keep the linear solution
         params, cov = start, np.full((len(start), len(start)), np.nan)
     residual = y - model(d, *params)
-    return LawFit(law, tuple(map(float, params)), tuple(map(float, np.sqrt(np.diag(cov)))),
-                  float(force_scale), int(d.size), (float(d.min()), float(d.max())),
-                  float(np.sqrt(np.mean(residual**2))), rejected, np.asarray(cov).tolist())
+    return LawFit(
+        law,
+        tuple(map(float, params)),
+        tuple(map(float, np.sqrt(np.diag(cov)))),
+        float(force_scale),
+        int(d.size),
+        (float(d.min()), float(d.max())),
+        float(np.sqrt(np.mean(residual**2))),
+        rejected,
+        np.asarray(cov).tolist(),
+    )
 
 
 def _pair_model(x, a2, a1, a0):
@@ -337,9 +411,11 @@ def fit_pair_law(d, force, force_scale: float, check: bool = True) -> LawFit:
     problem = law_problem("pair", constrained.coefficients)
     if problem is not None:
         raise UnfixedLawError(
-            fit, f"the fit {reason} and even the best decaying law {problem}",
+            fit,
+            f"the fit {reason} and even the best decaying law {problem}",
             f"how the force decays beyond {fit.distance_range[1]:.2f} d_sk",
-            "record snapshots until the skyrmions are farther apart")
+            "record snapshots until the skyrmions are farther apart",
+        )
     return constrained
 
 
@@ -356,8 +432,9 @@ def _constrained_pair_fit(d, y, free: LawFit, reason: str, rejected: int) -> Law
     def residual(x):
         return _pair_model(d, *(to_law @ x)) - y
 
-    solution = optimize.least_squares(residual, x0, bounds=([PAIR_A2_FLOOR, 0.0, -np.inf],
-                                                            np.inf), x_scale="jac")
+    solution = optimize.least_squares(
+        residual, x0, bounds=([PAIR_A2_FLOOR, 0.0, -np.inf], np.inf), x_scale="jac"
+    )
     coefficients = to_law @ solution.x
     dof = max(d.size - 3, 1)
     try:
@@ -366,15 +443,25 @@ def _constrained_pair_fit(d, y, free: LawFit, reason: str, rejected: int) -> Law
     except np.linalg.LinAlgError:
         cov = np.full((3, 3), np.nan)
     rms = float(np.sqrt(np.mean(residual(solution.x) ** 2)))
-    note = (f"pair law fitted with a₂ ≥ {PAIR_A2_FLOOR} and decreasing from "
-            f"{DECREASING_FROM:g} d_sk on: the unconstrained fit {_rounded(free.coefficients)} "
-            f"{reason} (outside the data, d = {free.distance_range[0]:.2f}–"
-            f"{free.distance_range[1]:.2f} d_sk); rms ln-residual "
-            f"{free.rms_log_residual:.3g} → {rms:.3g}")
-    return LawFit("pair", tuple(map(float, coefficients)),
-                  tuple(map(float, np.sqrt(np.abs(np.diag(cov))))), free.force_scale,
-                  int(d.size), free.distance_range, rms, rejected, np.asarray(cov).tolist(),
-                  note)
+    note = (
+        f"pair law fitted with a₂ ≥ {PAIR_A2_FLOOR} and decreasing from "
+        f"{DECREASING_FROM:g} d_sk on: the unconstrained fit {_rounded(free.coefficients)} "
+        f"{reason} (outside the data, d = {free.distance_range[0]:.2f}–"
+        f"{free.distance_range[1]:.2f} d_sk); rms ln-residual "
+        f"{free.rms_log_residual:.3g} → {rms:.3g}"
+    )
+    return LawFit(
+        "pair",
+        tuple(map(float, coefficients)),
+        tuple(map(float, np.sqrt(np.abs(np.diag(cov))))),
+        free.force_scale,
+        int(d.size),
+        free.distance_range,
+        rms,
+        rejected,
+        np.asarray(cov).tolist(),
+        note,
+    )
 
 
 def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = True) -> LawFit:
@@ -397,9 +484,12 @@ def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = Tr
     if problem is not None:
         _refuse_if_rising_in_data(fit)
         raise UnfixedLawError(
-            fit, f"the fit {problem}", "the force beyond them, where the engine uses the law "
-            "too", f"refit with a lower --wall-degree (now {degree}) or with snapshots that "
-            "cover more of the range")
+            fit,
+            f"the fit {problem}",
+            "the force beyond them, where the engine uses the law too",
+            f"refit with a lower --wall-degree (now {degree}) or with snapshots that "
+            "cover more of the range",
+        )
     return fit
 
 
@@ -410,9 +500,11 @@ def _rounded(coefficients) -> list[float]:
 def _refusal(fit: LawFit, why: str, remedy: str) -> InputError:
     """The one-line refusal of a fitted law: what is wrong, the data's range, what to do."""
     lo, hi = fit.distance_range
-    return InputError(f"{fit.law}_law", _rounded(fit.coefficients),
-                      f"a force that decays with distance: {why} (data: d = {lo:.2f}–{hi:.2f} "
-                      f"d_sk); {remedy}")
+    return InputError(
+        f"{fit.law}_law",
+        _rounded(fit.coefficients),
+        f"a force that decays with distance: {why} (data: d = {lo:.2f}–{hi:.2f} d_sk); {remedy}",
+    )
 
 
 def _magnitude(law: str, coefficients):
@@ -473,7 +565,10 @@ def _refuse_if_rising_in_data(fit: LawFit) -> None:
     lo, hi = fit.distance_range
     rising = _rising(fit.law, fit.coefficients, max(lo, DECREASING_FROM), hi)
     if rising is not None:
-        raise _refusal(fit, f"the fit rises at d = {rising[0]:.2f}–{rising[1]:.2f} d_sk, inside "
-                       "the data, so the samples do not show a decaying repulsion",
-                       "check that the snapshots hold one relaxing pair (no third skyrmion) "
-                       "or one skyrmion near the wall")
+        raise _refusal(
+            fit,
+            f"the fit rises at d = {rising[0]:.2f}–{rising[1]:.2f} d_sk, inside "
+            "the data, so the samples do not show a decaying repulsion",
+            "check that the snapshots hold one relaxing pair (no third skyrmion) "
+            "or one skyrmion near the wall",
+        )

@@ -40,19 +40,52 @@ _MAGIC = {"# oommf: rectangular mesh v1.0": 1, "# oommf ovf 2.0": 2}
 _IRREGULAR_MAGIC = "# oommf: irregular mesh v1.0"
 _CHECK_VALUE = {4: 1234567.0, 8: 123456789012345.0}
 #: Mesh units the reader converts to metres (factor to metres).
-MESH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6,
-              "nm": 1e-9, "angstrom": 1e-10, "å": 1e-10, "pm": 1e-12}
+MESH_UNITS = {
+    "m": 1.0,
+    "cm": 1e-2,
+    "mm": 1e-3,
+    "um": 1e-6,
+    "µm": 1e-6,
+    "μm": 1e-6,
+    "nm": 1e-9,
+    "angstrom": 1e-10,
+    "å": 1e-10,
+    "pm": 1e-12,
+}
 _DATA_FORMATS = {"text": "text", "binary 4": 4, "binary 8": 8}
 # The line that closes a data block; searched case-insensitively, spacing as writers vary it.
 _END_DATA = re.compile(rb"#[ \t]*end:[ \t]*data", re.I)
 # Header keys of both OVF versions (lower case). Anything else is an error: a key we do not
 # know might change how the data must be read.
 _KNOWN_KEYS = {
-    "title", "desc", "meshunit", "meshtype", "xbase", "ybase", "zbase",
-    "xstepsize", "ystepsize", "zstepsize", "xnodes", "ynodes", "znodes",
-    "xmin", "ymin", "zmin", "xmax", "ymax", "zmax", "valuedim", "valuelabels",
-    "valueunits", "valueunit", "valuemultiplier", "valuerangeminmag", "valuerangemaxmag",
-    "boundary", "segment count",
+    "title",
+    "desc",
+    "meshunit",
+    "meshtype",
+    "xbase",
+    "ybase",
+    "zbase",
+    "xstepsize",
+    "ystepsize",
+    "zstepsize",
+    "xnodes",
+    "ynodes",
+    "znodes",
+    "xmin",
+    "ymin",
+    "zmin",
+    "xmax",
+    "ymax",
+    "zmax",
+    "valuedim",
+    "valuelabels",
+    "valueunits",
+    "valueunit",
+    "valuemultiplier",
+    "valuerangeminmag",
+    "valuerangemaxmag",
+    "boundary",
+    "segment count",
 }
 _TIME_PATTERN = re.compile(r"total simulation time\s*:\s*([-+0-9.eE]+)\s*(\w*)", re.I)
 _TIME_UNITS = {"": 1.0, "s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12}
@@ -84,11 +117,20 @@ def _parse_header(path: Path, raw: bytes) -> tuple[dict, str, int]:
     first = raw[: first_end if first_end >= 0 else len(raw)].decode("latin-1").strip()
     magic = " ".join(first.lower().split())
     if magic == _IRREGULAR_MAGIC:
-        raise _bad(path, "meshtype", "irregular", "a rectangular mesh (irregular meshes are "
-                   "not supported; resample onto a rectangular mesh)")
+        raise _bad(
+            path,
+            "meshtype",
+            "irregular",
+            "a rectangular mesh (irregular meshes are "
+            "not supported; resample onto a rectangular mesh)",
+        )
     if magic not in _MAGIC:
-        raise _bad(path, "header", first[:60], "a first line '# OOMMF OVF 2.0' or "
-                   "'# OOMMF: rectangular mesh v1.0'")
+        raise _bad(
+            path,
+            "header",
+            first[:60],
+            "a first line '# OOMMF OVF 2.0' or '# OOMMF: rectangular mesh v1.0'",
+        )
     header: dict = {"version": _MAGIC[magic], "desc": [], "line": {}}
     pos = first_end + 1
     number = 1
@@ -149,21 +191,30 @@ class OVFMesh:
     cell: tuple[float, float, float]
     origin: tuple[float, float, float]
 
-    def same_grid(self, other: "OVFMesh") -> bool:
+    def same_grid(self, other: OVFMesh) -> bool:
         """Whether ``other`` is this mesh: equal node counts, cell sizes within 10⁻⁶ and
         corners within 10⁻³ of a cell (what rounding in a text header leaves)."""
-        return (self.nodes == other.nodes
-                and all(math.isclose(a, b, rel_tol=1e-6) for a, b in zip(self.cell, other.cell))
-                and all(abs(a - b) <= 1e-3 * c
-                        for a, b, c in zip(self.origin, other.origin, self.cell)))
+        return (
+            self.nodes == other.nodes
+            and all(
+                math.isclose(a, b, rel_tol=1e-6) for a, b in zip(self.cell, other.cell, strict=True)
+            )
+            and all(
+                abs(a - b) <= 1e-3 * c
+                for a, b, c in zip(self.origin, other.origin, self.cell, strict=True)
+            )
+        )
 
     def describe(self, origin: bool = False) -> str:
         """The mesh in words: ``200 × 125 cells of 2 nm`` (``2 × 2.5 nm`` for cells that are
         not square), the layers if there are several, and the corner if ``origin``."""
         nx, ny, nz = self.nodes
         dx, dy, dz = self.cell
-        cell = _length(dx) if math.isclose(dx, dy, rel_tol=1e-6) else \
-            f"{_number_nm(dx)} × {_length(dy)}"
+        cell = (
+            _length(dx)
+            if math.isclose(dx, dy, rel_tol=1e-6)
+            else f"{_number_nm(dx)} × {_length(dy)}"
+        )
         text = f"{nx} × {ny} cells of {cell}"
         if nz > 1:
             text += f", {nz} layers of {_length(dz)}"
@@ -197,15 +248,24 @@ def _mesh_of(path: Path, header: dict) -> tuple[list[int], list[float], list[flo
         raise _bad(path, "nodes/stepsize", (nodes, steps), "positive node counts and steps")
     # The mesh must agree with its own bounding box: xmax − xmin = xnodes·xstepsize and the
     # first cell centre xbase = xmin + xstepsize/2.
-    for axis, n, step, base in zip("xyz", nodes, steps, bases):
+    for axis, n, step, base in zip("xyz", nodes, steps, bases, strict=True):
         if f"{axis}min" in header and f"{axis}max" in header:
             lo, hi = _number(path, header, f"{axis}min"), _number(path, header, f"{axis}max")
             if not math.isclose(hi - lo, n * step, rel_tol=1e-4, abs_tol=1e-6 * step):
-                raise _bad(path, f"{axis}max", hi, f"{axis}min + {axis}nodes·{axis}stepsize "
-                           f"= {lo + n * step:g} (header inconsistent)")
+                raise _bad(
+                    path,
+                    f"{axis}max",
+                    hi,
+                    f"{axis}min + {axis}nodes·{axis}stepsize "
+                    f"= {lo + n * step:g} (header inconsistent)",
+                )
             if not math.isclose(base, lo + step / 2, rel_tol=1e-4, abs_tol=1e-3 * step):
-                raise _bad(path, f"{axis}base", base, f"{axis}min + {axis}stepsize/2 = "
-                           f"{lo + step / 2:g} (header inconsistent)")
+                raise _bad(
+                    path,
+                    f"{axis}base",
+                    base,
+                    f"{axis}min + {axis}stepsize/2 = {lo + step / 2:g} (header inconsistent)",
+                )
     return nodes, steps, bases, scale
 
 
@@ -228,8 +288,11 @@ def read_mesh(path: str | Path) -> OVFMesh:
             raw += chunk
     header, _, _ = _parse_header(path, raw)
     nodes, steps, bases, scale = _mesh_of(path, header)
-    return OVFMesh(tuple(nodes), tuple(s * scale for s in steps),
-                   tuple((b - s / 2) * scale for b, s in zip(bases, steps)))
+    return OVFMesh(
+        tuple(nodes),
+        tuple(s * scale for s in steps),
+        tuple((b - s / 2) * scale for b, s in zip(bases, steps, strict=True)),
+    )
 
 
 def read_ovf(path: str | Path) -> xr.DataArray:
@@ -254,16 +317,21 @@ def read_ovf(path: str | Path) -> xr.DataArray:
     array = values.reshape(nodes[2], nodes[1], nodes[0], dim)
     coords = {
         a: (a, (base + step * np.arange(n)) * scale)
-        for a, n, step, base in zip("xyz", nodes, steps, bases)
+        for a, n, step, base in zip("xyz", nodes, steps, bases, strict=True)
     }
     return xr.DataArray(
         array,
         dims=("z", "y", "x", "component"),
         coords={**coords, "component": ["x", "y", "z"]},
         attrs={
-            "dx": steps[0] * scale, "dy": steps[1] * scale, "dz": steps[2] * scale,
-            "time": _time_from_header(header), "title": header.get("title", ""),
-            "source": str(path), "ovf_version": header["version"], "mesh_unit": unit,
+            "dx": steps[0] * scale,
+            "dy": steps[1] * scale,
+            "dz": steps[2] * scale,
+            "time": _time_from_header(header),
+            "title": header.get("title", ""),
+            "source": str(path),
+            "ovf_version": header["version"],
+            "mesh_unit": unit,
         },
         name="m",
     )
@@ -281,12 +349,22 @@ def _mesh_scale(path: Path, unit: str, line: int) -> float:
     """
     scale = MESH_UNITS.get(unit.lower())
     if scale is None:
-        raise _bad(path, "meshunit", unit, f"one of {', '.join(MESH_UNITS)} (edit the header's "
-                   "'# meshunit:' line to the unit the mesh was written in)")
+        raise _bad(
+            path,
+            "meshunit",
+            unit,
+            f"one of {', '.join(MESH_UNITS)} (edit the header's "
+            "'# meshunit:' line to the unit the mesh was written in)",
+        )
     if scale != 1.0:
-        warnings.warn_explicit(f"mesh unit {unit!r}: lengths converted to metres (× {scale:g})",
-                               OVFUnitWarning, str(path), line, module=__name__,
-                               registry=_SHOWN)
+        warnings.warn_explicit(
+            f"mesh unit {unit!r}: lengths converted to metres (× {scale:g})",
+            OVFUnitWarning,
+            str(path),
+            line,
+            module=__name__,
+            registry=_SHOWN,
+        )
     return scale
 
 
@@ -301,8 +379,12 @@ def _read_values(path: Path, raw: bytes, start: int, fmt, count: int, version: i
         except ValueError:
             raise _bad(path, "data", "non-numeric text", "numbers only") from None
         if values.size != count:
-            raise _bad(path, "data", f"{values.size} values", f"{count} values "
-                       "(xnodes·ynodes·znodes·valuedim)")
+            raise _bad(
+                path,
+                "data",
+                f"{values.size} values",
+                f"{count} values (xnodes·ynodes·znodes·valuedim)",
+            )
         return values
     width = fmt
     dtype = np.dtype(f"{'>' if version == 1 else '<'}f{width}")
@@ -315,16 +397,29 @@ def _read_values(path: Path, raw: bytes, start: int, fmt, count: int, version: i
     if len(raw) - start < need or (0 <= closing < start + need):
         available = (closing if 0 <= closing < start + need else len(raw)) - start
         have = max(0, available // width - 1)
-        raise _bad(path, "data", f"{have} values", f"{count} values of binary {width} "
-                   "(xnodes·ynodes·znodes·valuedim; file truncated or data block short)")
+        raise _bad(
+            path,
+            "data",
+            f"{have} values",
+            f"{count} values of binary {width} "
+            "(xnodes·ynodes·znodes·valuedim; file truncated or data block short)",
+        )
     check = np.frombuffer(raw, dtype=dtype, count=1, offset=start)[0]
     if check != _CHECK_VALUE[width]:
-        raise _bad(path, "check value", float(check), f"{_CHECK_VALUE[width]} "
-                   f"({'big' if version == 1 else 'little'}-endian OVF {version}.0)")
+        raise _bad(
+            path,
+            "check value",
+            float(check),
+            f"{_CHECK_VALUE[width]} ({'big' if version == 1 else 'little'}-endian OVF {version}.0)",
+        )
     values = np.frombuffer(raw, dtype=dtype, count=count, offset=start + width)
-    if not _END_DATA.match(raw[start + need:].lstrip()):
-        raise _bad(path, "data", "more values than the mesh, or no '# End: Data'",
-                   f"exactly {count} values (xnodes·ynodes·znodes·valuedim) then '# End: Data'")
+    if not _END_DATA.match(raw[start + need :].lstrip()):
+        raise _bad(
+            path,
+            "data",
+            "more values than the mesh, or no '# End: Data'",
+            f"exactly {count} values (xnodes·ynodes·znodes·valuedim) then '# End: Data'",
+        )
     return values.astype(np.float64)
 
 
@@ -353,13 +448,21 @@ def field_from_array(
     nz, ny, nx, _ = array.shape
     coords = {
         a: (a, origin[i] + cells[i] * (np.arange(n) + 0.5))
-        for i, (a, n) in enumerate(zip("xyz", (nx, ny, nz)))
+        for i, (a, n) in enumerate(zip("xyz", (nx, ny, nz), strict=True))
     }
     return xr.DataArray(
-        array, dims=("z", "y", "x", "component"),
+        array,
+        dims=("z", "y", "x", "component"),
         coords={**coords, "component": ["x", "y", "z"]},
-        attrs={"dx": cells[0], "dy": cells[1], "dz": cells[2], "time": float(time),
-               "title": title, "source": "array", "ovf_version": 0},
+        attrs={
+            "dx": cells[0],
+            "dy": cells[1],
+            "dz": cells[2],
+            "time": float(time),
+            "title": title,
+            "source": "array",
+            "ovf_version": 0,
+        },
         name="m",
     )
 
@@ -402,21 +505,30 @@ def write_ovf(
     cells = [float(field.attrs["dx"]), float(field.attrs["dy"]), float(field.attrs["dz"])]
     firsts = [float(field[a].values[0]) for a in "xyz"]
     when = field.attrs.get("time", math.nan) if time is None else time
-    lines = ["# OOMMF OVF 2.0" if version == 2 else "# OOMMF: rectangular mesh v1.0",
-             "# Segment count: 1", "# Begin: Segment", "# Begin: Header",
-             f"# Title: {field.attrs.get('title', 'm')}", "# meshtype: rectangular",
-             "# meshunit: m"]
-    for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz)):
+    lines = [
+        "# OOMMF OVF 2.0" if version == 2 else "# OOMMF: rectangular mesh v1.0",
+        "# Segment count: 1",
+        "# Begin: Segment",
+        "# Begin: Header",
+        f"# Title: {field.attrs.get('title', 'm')}",
+        "# meshtype: rectangular",
+        "# meshunit: m",
+    ]
+    for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz), strict=True):
         lines += [f"# {a}min: {first - step / 2!r}", f"# {a}max: {first - step / 2 + n * step!r}"]
     if version == 2:
         lines += ["# valuedim: 3", "# valuelabels: m_x m_y m_z", "# valueunits: 1 1 1"]
     else:
-        lines += ["# valueunit: 1", "# valuemultiplier: 1",
-                  "# ValueRangeMinMag: 1e-08", "# ValueRangeMaxMag: 1"]
+        lines += [
+            "# valueunit: 1",
+            "# valuemultiplier: 1",
+            "# ValueRangeMinMag: 1e-08",
+            "# ValueRangeMaxMag: 1",
+        ]
     lines += [f"# Desc: {note}" for note in notes]
     if when is not None and math.isfinite(when):
         lines.append(f"# Desc: Total simulation time:  {when!r}  s")
-    for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz)):
+    for a, first, step, n in zip("xyz", firsts, cells, (nx, ny, nz), strict=True):
         lines += [f"# {a}base: {first!r}", f"# {a}stepsize: {step!r}", f"# {a}nodes: {n}"]
     lines.append("# End: Header")
     label = {"text": "Text", "bin4": "Binary 4", "bin8": "Binary 8"}[fmt]

@@ -57,8 +57,9 @@ def ansatz_dissipation(radius: float, wall_width: float) -> float:
 
     edge = radius + 40.0 * wall_width
     parts = [(1e-12 * wall_width, radius), (radius, edge)]
-    return math.pi * sum(integrate.quad(integrand, a, b, limit=400, epsabs=1e-12)[0]
-                         for a, b in parts)
+    return math.pi * sum(
+        integrate.quad(integrand, a, b, limit=400, epsabs=1e-12)[0] for a, b in parts
+    )
 
 
 def skyrmion_field(
@@ -92,8 +93,10 @@ def skyrmion_field(
     r = np.take_along_axis(dist, nearest[..., None], axis=-1)[..., 0]
     theta = wall_profile_theta(r, radius, wall_width)
     phi = np.arctan2(yy - cy, xx - cx) + helicity
-    m = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi),
-                  polarity * np.cos(theta)], axis=-1)
+    m = np.stack(
+        [np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), polarity * np.cos(theta)],
+        axis=-1,
+    )
     if mask is not None:
         m = np.where(np.asarray(mask, bool)[..., None], m, 0.0)
     return field_from_array(m[np.newaxis], cell_size, time=time)
@@ -122,8 +125,9 @@ def edge_tilt(field: xr.DataArray, angle: float, decay_length: float) -> xr.Data
     theta = (angle * np.exp(-depth * cell / decay_length))[..., None]
     # Rodrigues' rotation of every z layer about ``axis`` by θ
     along = np.sum(axis * m, axis=-1, keepdims=True)
-    tilted = (m * np.cos(theta) + np.cross(axis, m) * np.sin(theta)
-              + axis * along * (1.0 - np.cos(theta)))
+    tilted = (
+        m * np.cos(theta) + np.cross(axis, m) * np.sin(theta) + axis * along * (1.0 - np.cos(theta))
+    )
     tilted = np.where(magnetic[..., None], tilted, 0.0)
     return field.copy(data=tilted)
 
@@ -157,9 +161,15 @@ def integrate_thiele(system: ThieleSystem, start, times, force) -> np.ndarray:
     def rhs(_t, flat):
         return system.velocity(force(flat.reshape(-1, 2))).ravel()
 
-    sol = integrate.solve_ivp(rhs, (times[0], times[-1]), start.ravel(), method="DOP853",
-                              t_eval=times, rtol=1e-11,
-                              atol=1e-9 * system.skyrmion_diameter)
+    sol = integrate.solve_ivp(
+        rhs,
+        (times[0], times[-1]),
+        start.ravel(),
+        method="DOP853",
+        t_eval=times,
+        rtol=1e-11,
+        atol=1e-9 * system.skyrmion_diameter,
+    )
     if not sol.success:  # pragma: no cover - tolerances are loose enough for smooth laws
         raise RuntimeError(sol.message)
     return sol.y.T.reshape(len(times), -1, 2)

@@ -67,15 +67,15 @@ def charge_density(field: xr.DataArray) -> xr.DataArray:
     n, magnetic = unit_layer(field)
     a, b = n[:-1, :-1], n[:-1, 1:]  # (x, y), (x+1, y)
     c, d = n[1:, 1:], n[1:, :-1]  # (x+1, y+1), (x, y+1)
-    ma, mb, mc, md = (magnetic[:-1, :-1], magnetic[:-1, 1:], magnetic[1:, 1:],
-                      magnetic[1:, :-1])
+    ma, mb, mc, md = (magnetic[:-1, :-1], magnetic[:-1, 1:], magnetic[1:, 1:], magnetic[1:, :-1])
     # Two counter-clockwise triangles per plaquette (x right, y up).
     lower = np.where(ma & mb & mc, _solid_angle(a, b, c), 0.0)
     upper = np.where(ma & mc & md, _solid_angle(a, c, d), 0.0)
     x = np.asarray(field.x.values)
     y = np.asarray(field.y.values)
     return xr.DataArray(
-        (lower + upper) / (4.0 * np.pi), dims=("y", "x"),
+        (lower + upper) / (4.0 * np.pi),
+        dims=("y", "x"),
         coords={"x": 0.5 * (x[:-1] + x[1:]), "y": 0.5 * (y[:-1] + y[1:])},
         name="charge_density",
     )

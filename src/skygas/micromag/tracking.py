@@ -54,8 +54,9 @@ class Trajectory:
         return len(self.frames)
 
 
-def link(snapshots: list[Snapshot], max_step: float, memory: int = 0,
-         times=None) -> list[Trajectory]:
+def link(
+    snapshots: list[Snapshot], max_step: float, memory: int = 0, times=None
+) -> list[Trajectory]:
     """Trajectories through ``snapshots`` (in time order), see the module docstring.
 
     ``times`` [s] overrides the snapshots' own times (e.g. from a user-given interval).
@@ -71,7 +72,7 @@ def link(snapshots: list[Snapshot], max_step: float, memory: int = 0,
     finished: list[Trajectory] = []
     live: list[Trajectory] = []
     next_id = 0
-    for frame, (snap, time) in enumerate(zip(snapshots, times)):
+    for frame, (snap, time) in enumerate(zip(snapshots, times, strict=True)):
         detections = list(snap.skyrmions)
         matched_tracks: set[int] = set()
         matched_dets: set[int] = set()
@@ -81,7 +82,7 @@ def link(snapshots: list[Snapshot], max_step: float, memory: int = 0,
             cost = np.linalg.norm(last[:, None, :] - now[None, :, :], axis=-1)
             big = 1e6 * max_step + cost.max()
             rows, cols = linear_sum_assignment(np.where(cost <= max_step, cost, big))
-            for r, c in zip(rows, cols):
+            for r, c in zip(rows, cols, strict=True):
                 if cost[r, c] <= max_step:
                     live[r].add(frame, float(time), detections[c])
                     matched_tracks.add(r)

@@ -30,10 +30,11 @@ from skygas.micromag.topology import unit_layer
 from skygas.micromag.tracking import Trajectory, link
 from skygas.run_driver import write_atomic, write_figure, write_json
 
-
 #: Why a fit writes no material.toml, when a requested law is not fixed by the data.
-NO_PRESET = ("no material.toml: the data fix no law the engine accepts for {laws} (the "
-             "tracks, the forces and the law tabulated over the measured range are written)")
+NO_PRESET = (
+    "no material.toml: the data fix no law the engine accepts for {laws} (the "
+    "tracks, the forces and the law tabulated over the measured range are written)"
+)
 
 
 @dataclass
@@ -64,24 +65,36 @@ class FitResult:
         """Why there is no preset (None if there is one)."""
         if self.material is not None or not self.unfixed:
             return None
-        return NO_PRESET.format(laws=" and ".join(f"the {law} law" for law in self.unfixed)) \
-            + ": " + "; ".join(f"{law} law: {err.why} (data: d = {err.fit.distance_range[0]:.2f}"
-                               f"–{err.fit.distance_range[1]:.2f} d_sk)"
-                               for law, err in self.unfixed.items())
+        return (
+            NO_PRESET.format(laws=" and ".join(f"the {law} law" for law in self.unfixed))
+            + ": "
+            + "; ".join(
+                f"{law} law: {err.why} (data: d = {err.fit.distance_range[0]:.2f}"
+                f"–{err.fit.distance_range[1]:.2f} d_sk)"
+                for law, err in self.unfixed.items()
+            )
+        )
 
     def as_record(self) -> dict:
         return {
             "skygas_version": __version__,
             "pair_law": None if self.pair is None else self.pair.as_record(),
             "wall_law": None if self.wall is None else self.wall.as_record(),
-            "unfixed_laws": {law: {"reason": err.why, "unfixed": err.unfixed,
-                                   "remedy": err.remedy,
-                                   "unconstrained_fit": err.fit.as_record()}
-                             for law, err in self.unfixed.items()},
+            "unfixed_laws": {
+                law: {
+                    "reason": err.why,
+                    "unfixed": err.unfixed,
+                    "remedy": err.remedy,
+                    "unconstrained_fit": err.fit.as_record(),
+                }
+                for law, err in self.unfixed.items()
+            },
             "tables": {law: table.as_record() for law, table in self.tables.items()},
             "material_toml": None if self.material is None else "material.toml",
             "no_material_toml": self.no_material_reason,
-            "thiele": self.thiele, "parameters": self.parameters, "warnings": self.warnings,
+            "thiele": self.thiele,
+            "parameters": self.parameters,
+            "warnings": self.warnings,
             "tracks": [track_record(t) for t in self.tracks],
         }
 
@@ -92,45 +105,68 @@ class FitResult:
         none, so that the folder never holds a preset the data no longer support."""
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        paths = {"json": out / "fit.json", "tracks": out / "tracks.csv",
-                 "csv": out / "forces.csv", "plot": out / "fit.png"}
+        paths = {
+            "json": out / "fit.json",
+            "tracks": out / "tracks.csv",
+            "csv": out / "forces.csv",
+            "plot": out / "fit.png",
+        }
         # The CSV files are plain tables (a header row, then numbers) that any CSV reader
         # takes; the skygas version and the parameters they were made with are in fit.json,
         # written with them, and in fit.png's text chunks.
         rows = ["track,frame,time_s,x_m,y_m,radius_m,charge,dissipation"]
         for t in self.tracks:
-            rows += [f"{t.id},{f},{time!r},{p.x!r},{p.y!r},{p.radius!r},{p.charge!r},"
-                     f"{p.dissipation!r}" for f, time, p in zip(t.frames, t.times, t.points)]
+            rows += [
+                f"{t.id},{f},{time!r},{p.x!r},{p.y!r},{p.radius!r},{p.charge!r},{p.dissipation!r}"
+                for f, time, p in zip(t.frames, t.times, t.points, strict=True)
+            ]
         _write_text(paths["tracks"], rows)
         rows = ["law,distance_diameters,force_N"]
         for law, (d, f) in self.samples.items():
-            rows += [f"{law},{a!r},{b!r}" for a, b in zip(d.tolist(), f.tolist())]
+            rows += [f"{law},{a!r},{b!r}" for a, b in zip(d.tolist(), f.tolist(), strict=True)]
         _write_text(paths["csv"], rows)
         for law, table in self.tables.items():
             paths[f"{law}_table"] = out / f"{law}_table.csv"
             rows = [",".join(table.COLUMNS)]
             rows += [",".join(repr(v) for v in row.values()) for row in table.rows()]
             _write_text(paths[f"{law}_table"], rows)
-        record = {"skygas_version": __version__,
-                  "parameters_json": json.dumps(self.parameters, default=str)}
-        write_figure(paths["plot"], lambda tmp: export.plot_fits(
-            tmp, self.samples, {"pair": self.pair, "wall": self.wall}, self.tables), record)
+        record = {
+            "skygas_version": __version__,
+            "parameters_json": json.dumps(self.parameters, default=str),
+        }
+        write_figure(
+            paths["plot"],
+            lambda tmp: export.plot_fits(
+                tmp, self.samples, {"pair": self.pair, "wall": self.wall}, self.tables
+            ),
+            record,
+        )
         material_path = out / "material.toml"
         if self.material is not None:
             notes = [f"{k} = {v}" for k, v in self.parameters.items()]
-            notes.append(f"force scale F0 = {self.thiele['force_scale_N']!r} N "
-                         "(= A_ex t_F / d_sk unless overridden at fit time)")
-            notes += [f"{fit.law} law fitted to {fit.n_points} samples over d = "
-                      f"{fit.distance_range[0]:.3f}–{fit.distance_range[1]:.3f} d_sk"
-                      for fit in (self.pair, self.wall) if fit is not None]
+            notes.append(
+                f"force scale F0 = {self.thiele['force_scale_N']!r} N "
+                "(= A_ex t_F / d_sk unless overridden at fit time)"
+            )
+            notes += [
+                f"{fit.law} law fitted to {fit.n_points} samples over d = "
+                f"{fit.distance_range[0]:.3f}–{fit.distance_range[1]:.3f} d_sk"
+                for fit in (self.pair, self.wall)
+                if fit is not None
+            ]
             notes += self.warnings
-            paths["material"] = write_atomic(material_path, lambda tmp: export.
-                                             write_material_toml(tmp, self.material, notes))
-        elif material_path.is_file() and export.PRESET_MARK in \
-                material_path.read_text(errors="replace").partition("\n")[0]:
+            paths["material"] = write_atomic(
+                material_path, lambda tmp: export.write_material_toml(tmp, self.material, notes)
+            )
+        elif (
+            material_path.is_file()
+            and export.PRESET_MARK in material_path.read_text(errors="replace").partition("\n")[0]
+        ):
             material_path.unlink()
-        write_json(paths["json"], {**self.as_record(),
-                                   "files": sorted(path.name for path in paths.values())})
+        write_json(
+            paths["json"],
+            {**self.as_record(), "files": sorted(path.name for path in paths.values())},
+        )
         return paths
 
 
@@ -141,20 +177,36 @@ def _write_text(path: Path, lines: list[str]) -> Path:
 
 def track_record(track: Trajectory) -> dict:
     """One trajectory as JSON-able lists (SI units), the columns of ``tracks.csv``."""
-    return {"id": track.id, "frames": list(track.frames), "time_s": list(track.times),
-            "x_m": track.positions[:, 0].tolist(), "y_m": track.positions[:, 1].tolist(),
-            "radius_m": track.radius.tolist(), "charge": track.charge.tolist(),
-            "dissipation": track.dissipation.tolist()}
+    return {
+        "id": track.id,
+        "frames": list(track.frames),
+        "time_s": list(track.times),
+        "x_m": track.positions[:, 0].tolist(),
+        "y_m": track.positions[:, 1].tolist(),
+        "radius_m": track.radius.tolist(),
+        "charge": track.charge.tolist(),
+        "dissipation": track.dissipation.tolist(),
+    }
 
 
-def thiele_coefficients(charge: float, dissipation: float, material: Material,
-                        film_thickness: float, damping: float | None = None) -> dict:
+def thiele_coefficients(
+    charge: float,
+    dissipation: float,
+    material: Material,
+    film_thickness: float,
+    damping: float | None = None,
+) -> dict:
     """k, G = −4πQk and α𝒟k [kg/s] from a measured charge Q and dissipation 𝒟."""
     alpha = material.damping if damping is None else damping
     k = material.saturation_magnetization * film_thickness / units.GYROMAGNETIC_RATIO
-    return {"k": k, "gyrocoupling": -4.0 * math.pi * charge * k,
-            "friction": alpha * dissipation * k, "charge": charge, "dissipation": dissipation,
-            "damping": alpha}
+    return {
+        "k": k,
+        "gyrocoupling": -4.0 * math.pi * charge * k,
+        "friction": alpha * dissipation * k,
+        "charge": charge,
+        "dissipation": dissipation,
+        "damping": alpha,
+    }
 
 
 def fit_trajectories(
@@ -198,8 +250,9 @@ def fit_trajectories(
         raise InputError("trajectories", len(trajectories), "at least one with >= 3 snapshots")
     if law == "auto":
         frames = [set(t.frames) for t in tracks]
-        overlap = len(tracks) >= 2 and any(frames[i] & frames[j] for i in range(len(frames))
-                                           for j in range(i + 1, len(frames)))
+        overlap = len(tracks) >= 2 and any(
+            frames[i] & frames[j] for i in range(len(frames)) for j in range(i + 1, len(frames))
+        )
         law = "pair" if overlap else "wall"
     points = [p for t in tracks for p in t.points]
     measured_q = float(np.median([p.charge for p in points])) if points else math.nan
@@ -209,14 +262,24 @@ def fit_trajectories(
     dis = measured_d if dissipation is None else dissipation
     diameter = 2.0 * measured_r if skyrmion_diameter is None else skyrmion_diameter
     if not (diameter > 0 and math.isfinite(q) and dis > 0):
-        raise InputError("trajectories", "no measured Q, 𝒟 or radius",
-                         "detected skyrmions, or charge, dissipation and skyrmion_diameter")
-    scale = material.exchange_stiffness * film_thickness / diameter \
-        if force_scale is None else force_scale
+        raise InputError(
+            "trajectories",
+            "no measured Q, 𝒟 or radius",
+            "detected skyrmions, or charge, dissipation and skyrmion_diameter",
+        )
+    scale = (
+        material.exchange_stiffness * film_thickness / diameter
+        if force_scale is None
+        else force_scale
+    )
     thiele = thiele_coefficients(q, dis, material, film_thickness, damping)
-    thiele.update(force_scale_N=scale, skyrmion_diameter_m=diameter,
-                  measured_charge=measured_q, measured_dissipation=measured_d,
-                  measured_radius_m=measured_r)
+    thiele.update(
+        force_scale_N=scale,
+        skyrmion_diameter_m=diameter,
+        measured_charge=measured_q,
+        measured_dissipation=measured_d,
+        measured_radius_m=measured_r,
+    )
     per_track = {}
     for t in tracks:
         v = forces.velocities(t.times, t.positions, window=window)
@@ -229,8 +292,9 @@ def fit_trajectories(
         common = sorted(set(a.frames) & set(b.frames))
         ia = [a.frames.index(f) for f in common]
         ib = [b.frames.index(f) for f in common]
-        d, f = forces.pair_samples(a.positions[ia], per_track[a.id][ia], b.positions[ib],
-                                   per_track[b.id][ib], diameter)
+        d, f = forces.pair_samples(
+            a.positions[ia], per_track[a.id][ia], b.positions[ib], per_track[b.id][ib], diameter
+        )
         samples["pair"] = (d, f)
         fits["pair"] = _fit_or_unfixed(forces.fit_pair_law, unfixed, strict, d, f, scale)
         if len(tracks) > 2:
@@ -238,19 +302,37 @@ def fit_trajectories(
     if law in ("wall", "both"):
         if boundary is None:
             raise InputError("boundary", None, "a wall geometry (DiskBoundary or LineBoundary)")
-        parts = [forces.wall_samples(t.positions, per_track[t.id], boundary, diameter)
-                 for t in tracks]
-        d, f = (np.concatenate(x) for x in zip(*parts))
+        parts = [
+            forces.wall_samples(t.positions, per_track[t.id], boundary, diameter) for t in tracks
+        ]
+        d, f = (np.concatenate(x) for x in zip(*parts, strict=True))
         samples["wall"] = (d, f)
-        fits["wall"] = _fit_or_unfixed(forces.fit_wall_law, unfixed, strict, d, f, scale,
-                                       degree=wall_degree)
-    tables = {name: forces.tabulate_law(name, *samples[name], diameter, scale, table_bins)
-              for name in samples}
-    result = FitResult(fits.get("pair"), fits.get("wall"), samples, thiele, {
-        "base_material": material.name, "film_thickness_m": film_thickness, "law": law,
-        "window": window, "wall_degree": wall_degree, "table_bins": table_bins,
-        "strict": strict, "skygas_version": __version__},
-        tables=tables, unfixed=unfixed, tracks=list(trajectories))
+        fits["wall"] = _fit_or_unfixed(
+            forces.fit_wall_law, unfixed, strict, d, f, scale, degree=wall_degree
+        )
+    tables = {
+        name: forces.tabulate_law(name, *samples[name], diameter, scale, table_bins)
+        for name in samples
+    }
+    result = FitResult(
+        fits.get("pair"),
+        fits.get("wall"),
+        samples,
+        thiele,
+        {
+            "base_material": material.name,
+            "film_thickness_m": film_thickness,
+            "law": law,
+            "window": window,
+            "wall_degree": wall_degree,
+            "table_bins": table_bins,
+            "strict": strict,
+            "skygas_version": __version__,
+        },
+        tables=tables,
+        unfixed=unfixed,
+        tracks=list(trajectories),
+    )
     for fit in (result.pair, result.wall):
         if fit is not None:
             warnings.extend(_coverage_notes(fit))
@@ -263,12 +345,15 @@ def fit_trajectories(
         return result
     # A preset the material model refuses is an error here, before anything is written.
     result.material = export.material_preset(
-        material, name=f"{material.name}-fitted",
+        material,
+        name=f"{material.name}-fitted",
         pair_law=None if result.pair is None else result.pair.coefficients,
         wall_law=None if result.wall is None else result.wall.coefficients,
-        skyrmion_radius=diameter / 2.0, dissipation=dis,
+        skyrmion_radius=diameter / 2.0,
+        dissipation=dis,
         damping=thiele["damping"],
-        topological_charge=-1 if q < 0 else 1)
+        topological_charge=-1 if q < 0 else 1,
+    )
     return result
 
 
@@ -288,10 +373,12 @@ def _unfixed_warning(err: forces.UnfixedLawError) -> str:
     """The one line that says what the data do not fix, why, what was written instead and
     what to do."""
     lo, hi = err.fit.distance_range
-    return (f"{err.fit.law} law: the samples (d = {lo:.2f}–{hi:.2f} d_sk) do not fix "
-            f"{err.unfixed}: {err.why}; wrote the tracks, the forces and the law tabulated "
-            f"over the measured range, no material.toml ({err.remedy}, or use `skygas "
-            "calibrate`)")
+    return (
+        f"{err.fit.law} law: the samples (d = {lo:.2f}–{hi:.2f} d_sk) do not fix "
+        f"{err.unfixed}: {err.why}; wrote the tracks, the forces and the law tabulated "
+        f"over the measured range, no material.toml ({err.remedy}, or use `skygas "
+        "calibrate`)"
+    )
 
 
 def _coverage_notes(fit: forces.LawFit) -> list[str]:
@@ -301,9 +388,11 @@ def _coverage_notes(fit: forces.LawFit) -> list[str]:
     closest, cutoff = forces.engine_range(fit.law, fit.coefficients)
     lo, hi = fit.distance_range
     if lo > closest or hi < cutoff:
-        notes.append(f"{fit.law} law: the engine uses it from {closest:.2f} to {cutoff:.2f} d_sk "
-                     f"(its cutoff); the data covered {lo:.2f}–{hi:.2f} d_sk, beyond that the "
-                     "law is an extrapolation")
+        notes.append(
+            f"{fit.law} law: the engine uses it from {closest:.2f} to {cutoff:.2f} d_sk "
+            f"(its cutoff); the data covered {lo:.2f}–{hi:.2f} d_sk, beyond that the "
+            "law is an extrapolation"
+        )
     return notes
 
 
@@ -314,8 +403,9 @@ def snapshot_paths(directory: str | Path, pattern: str = "*.ovf") -> list[Path]:
         raise InputError("snapshot_dir", str(directory), "an existing directory")
     paths = sorted(directory.glob(pattern))
     if len(paths) < 3:
-        raise InputError("snapshot_dir", f"{len(paths)} files matching {pattern!r}",
-                         "at least 3 snapshot files")
+        raise InputError(
+            "snapshot_dir", f"{len(paths)} files matching {pattern!r}", "at least 3 snapshot files"
+        )
     return paths
 
 
@@ -331,13 +421,16 @@ def check_one_grid(directory: str | Path, paths: list[Path]) -> None:
         mesh = read_mesh(path)
         if not mesh.same_grid(reference):
             corner = mesh.nodes == reference.nodes and all(
-                math.isclose(a, b, rel_tol=1e-6) for a, b in zip(mesh.cell, reference.cell))
+                math.isclose(a, b, rel_tol=1e-6)
+                for a, b in zip(mesh.cell, reference.cell, strict=True)
+            )
             raise InputError(
-                "snapshot_dir", str(directory),
+                "snapshot_dir",
+                str(directory),
                 f"snapshots of one grid; {path.name} has {mesh.describe(corner)}, "
                 f"{paths[0].name} {reference.describe(corner)}",
-                "fit one run at a time (move the other files out, or choose them with "
-                "--pattern)")
+                "fit one run at a time (move the other files out, or choose them with --pattern)",
+            )
 
 
 def fit_snapshots(
@@ -372,23 +465,35 @@ def fit_snapshots(
     else:
         times = [s.time for s in snaps]
         if not all(math.isfinite(t) for t in times):
-            raise InputError("interval", None, "a snapshot interval in seconds: the files give "
-                             "no 'Total simulation time'")
+            raise InputError(
+                "interval",
+                None,
+                "a snapshot interval in seconds: the files give no 'Total simulation time'",
+            )
     radii = [s.radius for snap in snaps for s in snap.skyrmions if math.isfinite(s.radius)]
     if not radii:
         raise InputError("snapshot_dir", str(directory), "snapshots containing skyrmions")
     step = float(np.median(radii)) if max_step is None else max_step
     trajectories = link(snaps, max_step=step, times=times)
-    if fit_options.get("law", "auto") in ("auto", "wall", "both") and \
-            fit_options.get("boundary") is None:
+    if (
+        fit_options.get("law", "auto") in ("auto", "wall", "both")
+        and fit_options.get("boundary") is None
+    ):
         _, magnetic = unit_layer(first)
         if not magnetic.all():
-            fit_options["boundary"] = forces.disk_from_mask(magnetic, first.x.values,
-                                                            first.y.values)
+            fit_options["boundary"] = forces.disk_from_mask(
+                magnetic, first.x.values, first.y.values
+            )
     result = fit_trajectories(trajectories, **fit_options)
-    result.parameters.update(snapshot_dir=str(directory), pattern=pattern, n_snapshots=len(paths),
-                             interval_s=interval, max_step_m=step, threshold=threshold,
-                             n_trajectories=len(trajectories))
+    result.parameters.update(
+        snapshot_dir=str(directory),
+        pattern=pattern,
+        n_snapshots=len(paths),
+        interval_s=interval,
+        max_step_m=step,
+        threshold=threshold,
+        n_trajectories=len(trajectories),
+    )
     if out_dir is not None:
         result.write(out_dir)
     return result

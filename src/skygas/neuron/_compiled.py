@@ -30,8 +30,12 @@ def _bilinear(field, x0, y0, spacing, x, y):
     j = int(fy)
     tx = fx - i
     ty = fy - j
-    return ((1 - tx) * (1 - ty) * field[j, i] + tx * (1 - ty) * field[j, i + 1]
-            + (1 - tx) * ty * field[j + 1, i] + tx * ty * field[j + 1, i + 1])
+    return (
+        (1 - tx) * (1 - ty) * field[j, i]
+        + tx * (1 - ty) * field[j, i + 1]
+        + (1 - tx) * ty * field[j + 1, i]
+        + tx * ty * field[j + 1, i + 1]
+    )
 
 
 @numba.njit(cache=True)
@@ -54,7 +58,7 @@ def _pairs_within(px, py, reach):
     nxt = np.empty(n, np.int64)
     cx = np.empty(n, np.int64)
     cy = np.empty(n, np.int64)
-    for k in range(n - 1, -1, -1):   # reverse, so each cell's chain runs in ascending order
+    for k in range(n - 1, -1, -1):  # reverse, so each cell's chain runs in ascending order
         cx[k] = min(int((px[k] - xmin) / cell), ncx - 1)
         cy[k] = min(int((py[k] - ymin) / cell), ncy - 1)
         c = cy[k] * ncx + cx[k]
@@ -97,8 +101,9 @@ def _pairs_within(px, py, reach):
 
 
 @numba.njit(cache=True)
-def _frozen_state(x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowding,
-                  collapse, sensitivity):
+def _frozen_state(
+    x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowding, collapse, sensitivity
+):
     """What the rule needs at the check time: the occupied slots, their wall distances [nm]
     and the pairs (indices into the slots, distance [nm]) within reach of either length."""
     slots = np.flatnonzero(alive)
@@ -154,16 +159,28 @@ def _rates(wall, pa, pb, pr, dead, crowding, base_rate, sensitivity):
 
 
 @numba.njit(cache=True)
-def total_rate(x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowding,
-               collapse, base_rate, sensitivity):
+def total_rate(
+    x,
+    y,
+    alive,
+    wall_distance,
+    grid_x0,
+    grid_y0,
+    grid_spacing,
+    crowding,
+    collapse,
+    base_rate,
+    sensitivity,
+):
     """(R = Σ_i Γ_i [1/s] over every skyrmion, number of immediate-collapse candidates).
 
     No randomness: the caller draws the first wait ~ Exp(R) itself and calls
     :func:`annihilation_check` only when there are candidates or the wait falls inside the
     interval. Nearly every check ends there, and passing a Generator into compiled code costs
     more than the rest of the check. Arguments as in :func:`annihilation_check`."""
-    slots, wall, pa, pb, pr = _frozen_state(x, y, alive, wall_distance, grid_x0, grid_y0,
-                                            grid_spacing, crowding, collapse, sensitivity)
+    slots, wall, pa, pb, pr = _frozen_state(
+        x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowding, collapse, sensitivity
+    )
     n = slots.shape[0]
     candidates = 0
     for k in range(n):
@@ -181,9 +198,23 @@ def total_rate(x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowd
 
 
 @numba.njit(cache=True)
-def annihilation_check(x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing,
-                       crowding, collapse, base_rate, sensitivity, interval, rng, first_wait,
-                       victims):
+def annihilation_check(
+    x,
+    y,
+    alive,
+    wall_distance,
+    grid_x0,
+    grid_y0,
+    grid_spacing,
+    crowding,
+    collapse,
+    base_rate,
+    sensitivity,
+    interval,
+    rng,
+    first_wait,
+    victims,
+):
     r"""One application of the annihilation rule; returns how many skyrmions die.
 
     x, y: positions [nm] of every slot; alive: which slots hold a skyrmion; wall_distance:
@@ -201,8 +232,9 @@ def annihilation_check(x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacin
        living; wait ~ Exp(R); if it fits in the time left, remove skyrmion i with probability
        Γ_i / R, lower its neighbours' χ and repeat.
     """
-    slots, wall, pa, pb, pr = _frozen_state(x, y, alive, wall_distance, grid_x0, grid_y0,
-                                            grid_spacing, crowding, collapse, sensitivity)
+    slots, wall, pa, pb, pr = _frozen_state(
+        x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowding, collapse, sensitivity
+    )
     n = slots.shape[0]
     if n == 0:
         return 0
@@ -218,8 +250,9 @@ def annihilation_check(x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacin
                 dead[a] = True
             else:
                 dead[b] = True
-    rate, chi, start, partner, weight = _rates(wall, pa, pb, pr, dead, crowding, base_rate,
-                                               sensitivity)
+    rate, chi, start, partner, weight = _rates(
+        wall, pa, pb, pr, dead, crowding, base_rate, sensitivity
+    )
     living = ~dead
     time_left = interval
     while True:
@@ -281,8 +314,7 @@ def _slots_in_disk(x, y, alive, center_x, center_y, radius, out):
 @numba.njit(cache=True)
 def count_in_disk(x, y, alive, center_x, center_y, radius):
     """Number of living centres (x, y) [nm] strictly inside the disk (centre, radius) [nm]."""
-    return _slots_in_disk(x, y, alive, center_x, center_y, radius,
-                          np.empty(x.shape[0], np.int64))
+    return _slots_in_disk(x, y, alive, center_x, center_y, radius, np.empty(x.shape[0], np.int64))
 
 
 @numba.njit(cache=True)

@@ -18,8 +18,9 @@ import numpy as np
 from skygas.errors import require
 
 # the LIF names stay importable from here, where they used to live
-from skygas.neuron.lif import (closed_gate_leak, fit_lif, lif_rate,  # noqa: F401
-                               restarted_lif, simulate_lif, subthreshold_floor)
+from skygas.neuron.lif import (
+    lif_rate,  # noqa: F401
+)
 
 
 def _require_duration(duration) -> None:
@@ -58,23 +59,33 @@ def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> 
     chamber; returns the trace and the fitted leak time with its error."""
     from skygas.geometry import random_positions
 
-    require(isinstance(initial_count, (int, np.integer)) and initial_count >= 0,
-            "initial_count", initial_count, "an integer >= 0")
+    require(
+        isinstance(initial_count, (int, np.integer)) and initial_count >= 0,
+        "initial_count",
+        initial_count,
+        "an integer >= 0",
+    )
     _require_duration(duration)
     run = device.build(inputs=[], duration=duration, seed=seed)
-    run.controller.threshold = math.inf     # never open the gate
+    run.controller.threshold = math.inf  # never open the gate
     d_nm = run.sim.thiele.skyrmion_diameter_internal
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x6C65616B)))
     pts = random_positions(run.sim.outline, initial_count, 2 * d_nm, 1.5 * d_nm, rng)
     # keep them in the chamber (not the conduits)
     run.sim.state.insert_nm(pts)
-    run.controller.act(run.sim)              # first trace point at t = 0
+    run.controller.act(run.sim)  # first trace point at t = 0
     run.run()
     tr = run.trace()
     deaths = run.annihilator.annihilation_times
     tau, err = leak_from_log(tr["time"], tr["count"], deaths)
-    return {"time": tr["time"], "count": tr["count"], "leak_time_s": tau,
-            "leak_time_error_s": err, "n_annihilated": len(deaths), "run": run}
+    return {
+        "time": tr["time"],
+        "count": tr["count"],
+        "leak_time_s": tau,
+        "leak_time_error_s": err,
+        "n_annihilated": len(deaths),
+        "run": run,
+    }
 
 
 def transfer_curve(device, rates, duration: float, seed: int = 0, progress=None) -> dict:
@@ -82,20 +93,30 @@ def transfer_curve(device, rates, duration: float, seed: int = 0, progress=None)
     from skygas.neuron.inputs import InputSpec
 
     rates = np.asarray(rates, float)
-    require(bool(np.all(np.isfinite(rates)) and np.all(rates >= 0)), "transfer.rates",
-            rates.tolist(), "finite rates >= 0 in Hz")
+    require(
+        bool(np.all(np.isfinite(rates)) and np.all(rates >= 0)),
+        "transfer.rates",
+        rates.tolist(),
+        "finite rates >= 0 in Hz",
+    )
     _require_duration(duration)
     firing, injected, annihilated = [], [], []
     for r in rates:
-        run = device.build(inputs=[InputSpec(kind="poisson", rate=float(r))],
-                           duration=duration, seed=seed).run()
+        run = device.build(
+            inputs=[InputSpec(kind="poisson", rate=float(r))], duration=duration, seed=seed
+        ).run()
         firing.append(len(run.spike_times()) / run.sim.time)
         injected.append(run.injector.n_injected)
         annihilated.append(run.annihilator.n_annihilated)
         if progress is not None:
             progress(r, firing[-1])
-    return {"input_rate_Hz": rates.tolist(), "firing_rate_Hz": firing,
-            "n_injected": injected, "n_annihilated": annihilated, "duration_s": duration}
+    return {
+        "input_rate_Hz": rates.tolist(),
+        "firing_rate_Hz": firing,
+        "n_injected": injected,
+        "n_annihilated": annihilated,
+        "duration_s": duration,
+    }
 
 
 def r_squared(measured, predicted) -> float | None:

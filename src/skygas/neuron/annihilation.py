@@ -1,4 +1,5 @@
-r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron"; docs/physics.md §3-4).
+r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron";
+docs/physics.md §3-4).
 
 The paper gives no annihilation rule; it says that skyrmions compressed by neighbours to length
 scales near their diameter collapse (thermal fluctuations, dipolar strain, defects), and that a
@@ -90,42 +91,63 @@ class AnnihilationModel:
     enabled: bool = True
 
     def __post_init__(self):
-        require(math.isfinite(self.base_rate) and self.base_rate >= 0, "annihilation.base_rate",
-                self.base_rate, "a rate >= 0 in 1/s")
-        require(math.isfinite(self.compression_sensitivity) and self.compression_sensitivity >= 0,
-                "annihilation.compression_sensitivity", self.compression_sensitivity,
-                "a number >= 0")
+        require(
+            math.isfinite(self.base_rate) and self.base_rate >= 0,
+            "annihilation.base_rate",
+            self.base_rate,
+            "a rate >= 0 in 1/s",
+        )
+        require(
+            math.isfinite(self.compression_sensitivity) and self.compression_sensitivity >= 0,
+            "annihilation.compression_sensitivity",
+            self.compression_sensitivity,
+            "a number >= 0",
+        )
         for name in ("crowding_distance", "collapse_distance"):
             value = getattr(self, name)
-            require(value is None or (math.isfinite(value) and value > 0),
-                    f"annihilation.{name}", value, "a distance > 0 in metres (or unset)")
-        require(math.isfinite(self.check_interval) and self.check_interval > 0,
-                "annihilation.check_interval", self.check_interval, "an interval > 0 in seconds")
-        require(math.isfinite(self.nucleation_rate) and self.nucleation_rate >= 0,
-                "annihilation.nucleation_rate", self.nucleation_rate,
-                "a rate >= 0 in 1/(m² s)")
+            require(
+                value is None or (math.isfinite(value) and value > 0),
+                f"annihilation.{name}",
+                value,
+                "a distance > 0 in metres (or unset)",
+            )
+        require(
+            math.isfinite(self.check_interval) and self.check_interval > 0,
+            "annihilation.check_interval",
+            self.check_interval,
+            "an interval > 0 in seconds",
+        )
+        require(
+            math.isfinite(self.nucleation_rate) and self.nucleation_rate >= 0,
+            "annihilation.nucleation_rate",
+            self.nucleation_rate,
+            "a rate >= 0 in 1/(m² s)",
+        )
 
     @classmethod
-    def off(cls) -> "AnnihilationModel":
+    def off(cls) -> AnnihilationModel:
         """No annihilation and no nucleation: the count changes only by injection and exit."""
         return cls(base_rate=0.0, enabled=False)
 
     def lengths_nm(self, skyrmion_diameter: float) -> tuple[float, float]:
         """(r_c, d_min) [nm] for a skyrmion diameter [m]."""
         d = skyrmion_diameter
-        r_c = self.crowding_distance if self.crowding_distance is not None \
-            else CROWDING_DIAMETERS * d
+        r_c = (
+            self.crowding_distance if self.crowding_distance is not None else CROWDING_DIAMETERS * d
+        )
         d_min = self.collapse_distance if self.collapse_distance is not None else d
         return r_c * units.M_TO_NM, d_min * units.M_TO_NM
 
     def record(self) -> dict:
-        return {"base_rate_per_s": self.base_rate,
-                "compression_sensitivity": self.compression_sensitivity,
-                "crowding_distance_m": self.crowding_distance,
-                "collapse_distance_m": self.collapse_distance,
-                "check_interval_s": self.check_interval,
-                "nucleation_rate_per_m2_s": self.nucleation_rate,
-                "enabled": self.enabled}
+        return {
+            "base_rate_per_s": self.base_rate,
+            "compression_sensitivity": self.compression_sensitivity,
+            "crowding_distance_m": self.crowding_distance,
+            "collapse_distance_m": self.collapse_distance,
+            "check_interval_s": self.check_interval,
+            "nucleation_rate_per_m2_s": self.nucleation_rate,
+            "enabled": self.enabled,
+        }
 
 
 #: Default crowding distance in skyrmion diameters (calibrated with the saturation protocol,
@@ -133,8 +155,9 @@ class AnnihilationModel:
 CROWDING_DIAMETERS = 2.45
 
 
-def compression(x_nm: np.ndarray, y_nm: np.ndarray, wall_nm: np.ndarray,
-                crowding_nm: float) -> np.ndarray:
+def compression(
+    x_nm: np.ndarray, y_nm: np.ndarray, wall_nm: np.ndarray, crowding_nm: float
+) -> np.ndarray:
     """χ_i of every skyrmion (see the module docstring); positions and distances in nm.
 
     A readable reference for inspection and tests; runs use the compiled
@@ -177,7 +200,7 @@ class Annihilator:
         self.nuc_rng = np.random.default_rng(np.random.SeedSequence((self.seed, NUCLEATION_STREAM)))
 
     @classmethod
-    def for_simulation(cls, model: AnnihilationModel, sim, region=None) -> "Annihilator":
+    def for_simulation(cls, model: AnnihilationModel, sim, region=None) -> Annihilator:
         steps = max(1, int(round(model.check_interval / sim.time_step)))
         op = cls(model, sim.seed, steps, region)
         op._next = sim.step
@@ -214,9 +237,13 @@ class Annihilator:
         """The mutable state (nucleation log, counters, schedule, both generators' states) as
         JSON-able values; :meth:`load_state_dict` continues bit-identically. (The
         annihilations are in the simulation's checkpoint, with its log.)"""
-        return {"nucleations": [list(map(float, e)) for e in self.nucleations],
-                "nucleation_misses": int(self.nucleation_misses), "next": int(self._next),
-                "rng": self.rng.bit_generator.state, "nuc_rng": self.nuc_rng.bit_generator.state}
+        return {
+            "nucleations": [list(map(float, e)) for e in self.nucleations],
+            "nucleation_misses": int(self.nucleation_misses),
+            "next": int(self._next),
+            "rng": self.rng.bit_generator.state,
+            "nuc_rng": self.nuc_rng.bit_generator.state,
+        }
 
     def load_state_dict(self, state: dict) -> None:
         self.nucleations = [tuple(e) for e in state["nucleations"]]
@@ -231,9 +258,20 @@ class Annihilator:
         if self._fixed is None or self._fixed[0] is not self.model or self._fixed[1] is not sim:
             wall, grid = sim.wall_field.wall_distance, sim.wall_field.grid
             r_c, d_min = self.model.lengths_nm(sim.thiele.skyrmion_diameter)
-            self._fixed = (self.model, sim, (wall, grid.x0, grid.y0, grid.spacing, r_c, d_min,
-                                             self.model.base_rate,
-                                             self.model.compression_sensitivity))
+            self._fixed = (
+                self.model,
+                sim,
+                (
+                    wall,
+                    grid.x0,
+                    grid.y0,
+                    grid.spacing,
+                    r_c,
+                    d_min,
+                    self.model.base_rate,
+                    self.model.compression_sensitivity,
+                ),
+            )
         return self._fixed[2]
 
     def _annihilate(self, sim, dt: float) -> None:

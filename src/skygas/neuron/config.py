@@ -45,18 +45,18 @@ class GateSpec(StrictModel):
     the top of the barrier [k_BT], its width between the half-height points [m] and the width
     of its tanh edges [m]."""
 
-    barrier_height: float = Field(20.0, ge=0)   # k_B T
-    band_width: float = Field(30e-9, gt=0)      # m, inside the conduit
-    edge_width: float = Field(10e-9, gt=0)      # m
+    barrier_height: float = Field(20.0, ge=0)  # k_B T
+    band_width: float = Field(30e-9, gt=0)  # m, inside the conduit
+    edge_width: float = Field(10e-9, gt=0)  # m
     initially_open: bool = False
 
 
 class SensorSpec(StrictModel):
-    center: tuple[float, float] = (0.0, 0.0)    # m
-    radius: float | None = Field(None, gt=0)    # m; default the chamber's radius
+    center: tuple[float, float] = (0.0, 0.0)  # m
+    radius: float | None = Field(None, gt=0)  # m; default the chamber's radius
     signal: Literal["count", "area"] = "count"
-    read_noise: float = Field(0.0, ge=0)        # signal units
-    read_interval: float = Field(1e-9, gt=0)    # s
+    read_noise: float = Field(0.0, ge=0)  # signal units
+    read_interval: float = Field(1e-9, gt=0)  # s
 
 
 class RuleSpec(StrictModel):
@@ -65,7 +65,7 @@ class RuleSpec(StrictModel):
     threshold: float = Field(12.0, gt=0)
     reset_level: float = Field(3.0, ge=0)
     release_time: float | None = Field(2e-7, gt=0)  # s
-    refractory_time: float = Field(2e-8, ge=0)      # s
+    refractory_time: float = Field(2e-8, ge=0)  # s
 
 
 class AnnihilationSpec(StrictModel):
@@ -98,7 +98,7 @@ class InputConfig(StrictModel):
 
 class InjectionSpec(StrictModel):
     occupied_rule: Literal["delay", "skip"] = "delay"
-    site_clearance: float = Field(1.0, gt=0)    # skyrmion diameters
+    site_clearance: float = Field(1.0, gt=0)  # skyrmion diameters
     retry_interval: float = Field(0.5e-9, gt=0)
 
 
@@ -114,7 +114,7 @@ class NeuronConfig(MaterialFields):
     temperature: float = Field(300.0, ge=0)
     duration: float = Field(3e-6, gt=0)
     time_step: float | None = Field(2.5e-10, gt=0)
-    current_density: float = Field(5e10, ge=0)             # A/m², holding (gate closed)
+    current_density: float = Field(5e10, ge=0)  # A/m², holding (gate closed)
     release_current_density: float | None = Field(3.8e11, ge=0)  # A/m², gate open; None: same
     spin_drift_coefficient: float = Field(1.84e-10, gt=0)
     device: DeviceSpec = DeviceSpec()

@@ -37,8 +37,13 @@ from skygas.errors import InputError, require
 from skygas.geometry import chamber_with_conduits
 from skygas.neuron.annihilation import Annihilator
 from skygas.neuron.config import NeuronConfig
-from skygas.neuron.gate import (PotentialGate, ReadElement, gate_band, gate_max_force,
-                                gate_relaxation_time)
+from skygas.neuron.gate import (
+    PotentialGate,
+    ReadElement,
+    gate_band,
+    gate_max_force,
+    gate_relaxation_time,
+)
 from skygas.neuron.inputs import SiteInjector, injection_schedule
 from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
 
@@ -59,8 +64,8 @@ class NeuronController:
     release_steps: int | None
     refractory_steps: int
     trace: list = field(default_factory=list)
-    openings: list = field(default_factory=list)   # steps
-    closings: list = field(default_factory=list)   # steps
+    openings: list = field(default_factory=list)  # steps
+    closings: list = field(default_factory=list)  # steps
     _next: int = 0
     _refractory_until: int = -1
 
@@ -73,8 +78,7 @@ class NeuronController:
         if self.gate.is_open:
             # a gate that starts open has no recorded opening: its release time runs from 0
             opened = self.openings[-1] if self.openings else 0
-            timed_out = self.release_steps is not None and \
-                sim.step - opened >= self.release_steps
+            timed_out = self.release_steps is not None and sim.step - opened >= self.release_steps
             if reading <= self.reset_level or timed_out:
                 self.gate.set(False)
                 self.closings.append(sim.step)
@@ -86,10 +90,13 @@ class NeuronController:
 
     def state_dict(self) -> dict:
         """Trace, openings, closings and schedule as JSON-able values."""
-        return {"trace": [[float(t), int(n), float(r), bool(o)] for t, n, r, o in self.trace],
-                "openings": [int(k) for k in self.openings],
-                "closings": [int(k) for k in self.closings],
-                "next": int(self._next), "refractory_until": int(self._refractory_until)}
+        return {
+            "trace": [[float(t), int(n), float(r), bool(o)] for t, n, r, o in self.trace],
+            "openings": [int(k) for k in self.openings],
+            "closings": [int(k) for k in self.closings],
+            "next": int(self._next),
+            "refractory_until": int(self._refractory_until),
+        }
 
     def load_state_dict(self, state: dict) -> None:
         self.trace = [tuple(e) for e in state["trace"]]
@@ -107,10 +114,18 @@ class NeuronDevice:
         self.thiele = c.thiele_parameters()
         d_sk = self.thiele.skyrmion_diameter
         dev = c.device
-        require(dev.chamber_diameter > 2 * d_sk, "device.chamber_diameter", dev.chamber_diameter,
-                f"a diameter > two skyrmion diameters ({2 * d_sk:.3g} m)")
-        require(d_sk < dev.conduit_width < dev.chamber_diameter, "device.conduit_width",
-                dev.conduit_width, "a width between one skyrmion diameter and the chamber's")
+        require(
+            dev.chamber_diameter > 2 * d_sk,
+            "device.chamber_diameter",
+            dev.chamber_diameter,
+            f"a diameter > two skyrmion diameters ({2 * d_sk:.3g} m)",
+        )
+        require(
+            d_sk < dev.conduit_width < dev.chamber_diameter,
+            "device.conduit_width",
+            dev.conduit_width,
+            "a width between one skyrmion diameter and the chamber's",
+        )
         full = chamber_with_conduits(dev.chamber_diameter, dev.conduit_width, dev.conduit_length)
         self.outline = full.without_ports("input")
         r_nm = dev.chamber_diameter / 2 * units.M_TO_NM
@@ -118,14 +133,18 @@ class NeuronDevice:
         self.x_meet = math.sqrt(r_nm**2 - half_w**2)
         # the nucleation site sits at the input conduit's middle: a conduit shorter than a
         # skyrmion puts it within half a diameter of the end wall, where it collapses at once
-        require(dev.conduit_length >= d_sk, "device.conduit_length", dev.conduit_length,
-                f"a length >= one skyrmion diameter ({d_sk:.3g} m)")
+        require(
+            dev.conduit_length >= d_sk,
+            "device.conduit_length",
+            dev.conduit_length,
+            f"a length >= one skyrmion diameter ({d_sk:.3g} m)",
+        )
         length = dev.conduit_length * units.M_TO_NM
         self.site = np.array([-(self.x_meet + length / 2), 0.0])
         self.band = self._gate_band(d_sk)
         self._validate_sensor(r_nm)
         self._validate_threshold(d_sk)
-        self.inputs = c.input_specs()      # refuses bad inputs now, not at the first event
+        self.inputs = c.input_specs()  # refuses bad inputs now, not at the first event
         self.full_outline = full
 
     # -- validation ------------------------------------------------------------------------------
@@ -133,26 +152,38 @@ class NeuronDevice:
         """The closed gate's band, centred on the output conduit, checked against the conduit,
         the field grid and the time step before anything is built."""
         c, dev, g = self.config, self.config.device, self.config.gate
-        require(g.band_width <= dev.conduit_length, "gate.band_width", g.band_width,
-                f"a width <= the conduit length ({dev.conduit_length:.3g} m): the band between "
-                "its half-height points lies inside the output conduit")
+        require(
+            g.band_width <= dev.conduit_length,
+            "gate.band_width",
+            g.band_width,
+            f"a width <= the conduit length ({dev.conduit_length:.3g} m): the band between "
+            "its half-height points lies inside the output conduit",
+        )
         # the band is sampled on the field grid (spacing d_sk/16): a thinner edge is a step
         # that the interpolant does not resolve; an edge wider than half the band leaves no top
         spacing = d_sk / 16
-        require(spacing <= g.edge_width <= g.band_width / 2, "gate.edge_width", g.edge_width,
-                f"an edge width in [{spacing:.3g}, {g.band_width / 2:.3g}] m (at least one "
-                "cell of the field grid, at most half the band's width)")
+        require(
+            spacing <= g.edge_width <= g.band_width / 2,
+            "gate.edge_width",
+            g.edge_width,
+            f"an edge width in [{spacing:.3g}, {g.band_width / 2:.3g}] m (at least one "
+            "cell of the field grid, at most half the band's width)",
+        )
         center = (self.x_meet + dev.conduit_length * units.M_TO_NM / 2) / units.M_TO_NM
-        band = gate_band(center, g.band_width, g.edge_width, dev.conduit_width,
-                         g.barrier_height, c.temperature)
+        band = gate_band(
+            center, g.band_width, g.edge_width, dev.conduit_width, g.barrier_height, c.temperature
+        )
         tau = gate_relaxation_time(band, self.thiele)
         if c.time_step is not None and g.barrier_height > 0 and c.time_step > tau:
-            raise InputError("gate.barrier_height", g.barrier_height,
-                             f"a barrier whose steepest edge the time step resolves: with "
-                             f"edge_width = {g.edge_width:.3g} m it relaxes skyrmions in "
-                             f"{tau:.3g} s < time_step = {c.time_step:.3g} s; lower the height, "
-                             "widen gate.edge_width (the stiffness goes as height/edge_width²) "
-                             "or shorten time_step")
+            raise InputError(
+                "gate.barrier_height",
+                g.barrier_height,
+                f"a barrier whose steepest edge the time step resolves: with "
+                f"edge_width = {g.edge_width:.3g} m it relaxes skyrmions in "
+                f"{tau:.3g} s < time_step = {c.time_step:.3g} s; lower the height, "
+                "widen gate.edge_width (the stiffness goes as height/edge_width²) "
+                "or shorten time_step",
+            )
         return band
 
     def sensor_geometry_nm(self, r_nm: float) -> tuple[np.ndarray, float]:
@@ -164,10 +195,11 @@ class NeuronDevice:
     def _validate_sensor(self, r_nm: float) -> None:
         center, radius = self.sensor_geometry_nm(r_nm)
         if np.hypot(*center) + radius > r_nm * (1 + 1e-9):
-            raise InputError("sensor", {"center_m": list(self.config.sensor.center),
-                                        "radius_m": radius / units.M_TO_NM},
-                             f"a disk lying inside the chamber (radius {r_nm * 1e-9:.3g} m "
-                             "about the origin)")
+            raise InputError(
+                "sensor",
+                {"center_m": list(self.config.sensor.center), "radius_m": radius / units.M_TO_NM},
+                f"a disk lying inside the chamber (radius {r_nm * 1e-9:.3g} m about the origin)",
+            )
 
     def saturation_reading(self, d_sk: float) -> float:
         """Largest reading the sensor can see at the chamber's saturation (estimate)."""
@@ -185,24 +217,37 @@ class NeuronDevice:
         rule = self.config.rule
         limit = self.saturation_reading(d_sk)
         if rule.threshold > limit:
-            raise InputError("rule.threshold", rule.threshold,
-                             f"a threshold at most the sensor's reading at saturation "
-                             f"(≈ {limit:.3g} for this chamber, sensor and annihilation model): "
-                             "above it the gate would never open")
-        require(rule.reset_level < rule.threshold, "rule.reset_level", rule.reset_level,
-                f"a level below the threshold ({rule.threshold})")
+            raise InputError(
+                "rule.threshold",
+                rule.threshold,
+                f"a threshold at most the sensor's reading at saturation "
+                f"(≈ {limit:.3g} for this chamber, sensor and annihilation model): "
+                "above it the gate would never open",
+            )
+        require(
+            rule.reset_level < rule.threshold,
+            "rule.reset_level",
+            rule.reset_level,
+            f"a level below the threshold ({rule.threshold})",
+        )
 
     # -- building ------------------------------------------------------------------------------
-    def build(self, inputs=None, duration=None, seed=None, record_interval=None) -> "NeuronRun":
+    def build(self, inputs=None, duration=None, seed=None, record_interval=None) -> NeuronRun:
         c = self.config
         seed = c.seed if seed is None else seed
         duration = c.duration if duration is None else duration
         inputs = self.inputs if inputs is None else inputs
         # the gate's band is the last landscape term, after the user's own potentials
-        sim = Simulation(self.outline, c.resolved_material(), temperature=c.temperature,
-                         time_step=c.time_step, seed=seed, thiele=self.thiele,
-                         landscape=[*c.potentials, self.band],
-                         **c.forces.simulation_arguments())
+        sim = Simulation(
+            self.outline,
+            c.resolved_material(),
+            temperature=c.temperature,
+            time_step=c.time_step,
+            seed=seed,
+            thiele=self.thiele,
+            landscape=[*c.potentials, self.band],
+            **c.forces.simulation_arguments(),
+        )
         grid = sim.wall_field.grid
         holding, release = c.current_density, c.release_current()
         if max(holding, release) > 0:
@@ -211,27 +256,58 @@ class NeuronDevice:
             unit_vx, unit_vy = current.drift_velocity(grid, c.spin_drift_coefficient)
         else:
             unit_vx = unit_vy = np.zeros((grid.ny, grid.nx))
-        gate = PotentialGate(sim, len(c.potentials), self.band, holding * unit_vx,
-                             holding * unit_vy, release * unit_vx, release * unit_vy)
+        gate = PotentialGate(
+            sim,
+            len(c.potentials),
+            self.band,
+            holding * unit_vx,
+            holding * unit_vy,
+            release * unit_vx,
+            release * unit_vy,
+        )
         gate.set(c.gate.initially_open)
         r_nm = c.device.chamber_diameter / 2 * units.M_TO_NM
         center, radius = self.sensor_geometry_nm(r_nm)
-        sensor = ReadElement(center, radius, c.sensor.signal, c.sensor.read_noise, seed,
-                             self.thiele.skyrmion_diameter * units.M_TO_NM)
+        sensor = ReadElement(
+            center,
+            radius,
+            c.sensor.signal,
+            c.sensor.read_noise,
+            seed,
+            self.thiele.skyrmion_diameter * units.M_TO_NM,
+        )
         dt = sim.time_step
         steps = lambda t: max(1, int(round(t / dt)))  # noqa: E731
         controller = NeuronController(
-            gate, sensor, steps(c.sensor.read_interval), c.rule.threshold, c.rule.reset_level,
+            gate,
+            sensor,
+            steps(c.sensor.read_interval),
+            c.rule.threshold,
+            c.rule.reset_level,
             None if c.rule.release_time is None else steps(c.rule.release_time),
-            int(round(c.rule.refractory_time / dt)))
+            int(round(c.rule.refractory_time / dt)),
+        )
         annihilator = Annihilator.for_simulation(c.annihilation_model(), sim)
         d_nm = self.thiele.skyrmion_diameter * units.M_TO_NM
-        injector = SiteInjector(injection_schedule(inputs, duration, dt, seed), self.site,
-                                c.injection.site_clearance * d_nm,
-                                steps(c.injection.retry_interval), c.injection.occupied_rule)
+        injector = SiteInjector(
+            injection_schedule(inputs, duration, dt, seed),
+            self.site,
+            c.injection.site_clearance * d_nm,
+            steps(c.injection.retry_interval),
+            c.injection.occupied_rule,
+        )
         sim.operations += [injector, annihilator, controller]
-        return NeuronRun(self, sim, gate, controller, annihilator, injector, inputs, duration,
-                         record_interval=record_interval)
+        return NeuronRun(
+            self,
+            sim,
+            gate,
+            controller,
+            annihilator,
+            injector,
+            inputs,
+            duration,
+            record_interval=record_interval,
+        )
 
 
 @dataclass
@@ -245,7 +321,7 @@ class NeuronRun:
     inputs: list
     duration: float
     wall_time: float = 0.0
-    record_interval: float | None = None   # [s] between recorded frames (None: no frames)
+    record_interval: float | None = None  # [s] between recorded frames (None: no frames)
 
     @property
     def total_steps(self) -> int:
@@ -269,7 +345,7 @@ class NeuronRun:
         sim.run(n * sim.time_step, record_interval=self.record_interval)
         self.wall_time += _time.perf_counter() - t0
 
-    def run(self, record_interval: float | None = None) -> "NeuronRun":
+    def run(self, record_interval: float | None = None) -> NeuronRun:
         """Run to the end, piece by piece (the pieces the run driver runs, with progress,
         checkpoints and interruption, in :mod:`skygas.neuron.files`), recording positions
         every ``record_interval`` [s] if given."""
@@ -285,12 +361,14 @@ class NeuronRun:
         controller, the annihilator, the injector, the gate and the read element's generator.
         With the same device and build arguments, :meth:`load_state_dict` continues the run
         bit-identically."""
-        ops = {"controller": self.controller.state_dict(),
-               "annihilator": self.annihilator.state_dict(),
-               "injector": self.injector.state_dict(),
-               "gate_open": bool(self.gate.is_open),
-               "sensor_rng": self.controller.sensor.rng.bit_generator.state,
-               "wall_time": self.wall_time}
+        ops = {
+            "controller": self.controller.state_dict(),
+            "annihilator": self.annihilator.state_dict(),
+            "injector": self.injector.state_dict(),
+            "gate_open": bool(self.gate.is_open),
+            "sensor_rng": self.controller.sensor.rng.bit_generator.state,
+            "wall_time": self.wall_time,
+        }
         state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
         state["operations_json"] = np.array(json.dumps(ops))
         return state
@@ -308,9 +386,12 @@ class NeuronRun:
     # -- results -------------------------------------------------------------------------------
     def trace(self) -> dict[str, np.ndarray]:
         tr = self.controller.trace
-        return {"time": np.array([t[0] for t in tr]), "count": np.array([t[1] for t in tr]),
-                "reading": np.array([t[2] for t in tr]),
-                "gate_open": np.array([t[3] for t in tr], dtype=bool)}
+        return {
+            "time": np.array([t[0] for t in tr]),
+            "count": np.array([t[1] for t in tr]),
+            "reading": np.array([t[2] for t in tr]),
+            "gate_open": np.array([t[3] for t in tr], dtype=bool),
+        }
 
     def spike_times(self) -> np.ndarray:
         """Output spikes: times [s] of the gate openings (release events)."""
@@ -333,8 +414,7 @@ class NeuronRun:
 
         tr = self.trace()
         spikes = self.spike_times()
-        leak, leak_err = leak_from_log(tr["time"], tr["count"],
-                                       self.annihilator.annihilation_times)
+        leak, leak_err = leak_from_log(tr["time"], tr["count"], self.annihilator.annihilation_times)
         rule = self.device.config.rule
         return {
             "skygas_version": __version__,

@@ -28,7 +28,7 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
     x1 = run.device.x_meet * 1e-3 + dev.conduit_length * 1e6 + 0.5 * d_um
     half = dev.conduit_width * 1e6 / 2 + 1.5 * d_um
     height = 0.3 * 2 * half / (x1 - x0)
-    inset = ax.inset_axes([0.02, 0.98 - height, 0.3, height])   # the Hall drift keeps it clear
+    inset = ax.inset_axes([0.02, 0.98 - height, 0.3, height])  # the Hall drift keeps it clear
     draw_landscape(inset, sim.landscape, sim.outline, colorbar=False)
     draw_outline(inset, sim.outline)
     for axis in (ax, inset):
@@ -37,8 +37,11 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
         else:
             xy = sim.state.positions * 1e6
             axis.plot(xy[:, 0], xy[:, 1], "o", color="tab:red", ms=3)
-    what = (f"{ds.sizes['skyrmion']} trajectories" if ds.sizes.get("skyrmion", 0)
-            else f"{sim.count} skyrmions at the end")
+    what = (
+        f"{ds.sizes['skyrmion']} trajectories"
+        if ds.sizes.get("skyrmion", 0)
+        else f"{sim.count} skyrmions at the end"
+    )
     inset.set_xlim(x0, x1)
     inset.set_ylim(-half, half)
     inset.set_xticks([])
@@ -48,11 +51,21 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
     ax.indicate_inset_zoom(inset, edgecolor="grey")
     site = run.device.site * 1e-3
     ax.plot(*site, "*", color="tab:red", ms=9)
-    ax.annotate("nucleation", site, color="tab:red", fontsize=7, ha="center", va="top",
-                xytext=(0, -6), textcoords="offset points")
+    ax.annotate(
+        "nucleation",
+        site,
+        color="tab:red",
+        fontsize=7,
+        ha="center",
+        va="top",
+        xytext=(0, -6),
+        textcoords="offset points",
+    )
     g = run.device.config.gate
-    ax.set_title(f"gate {g.barrier_height:g} k_BT (drawn closed), {what}, "
-                 f"{sim.time * 1e9:.0f} ns", fontsize=9)
+    ax.set_title(
+        f"gate {g.barrier_height:g} k_BT (drawn closed), {what}, {sim.time * 1e9:.0f} ns",
+        fontsize=9,
+    )
     fig.tight_layout()
     fig.savefig(path)
     return path
@@ -67,8 +80,16 @@ def plot_trace(run, path: Path) -> Path:
     if run.device.config.sensor.signal == "count":
         ax.plot(t, tr["reading"], lw=0.6, alpha=0.7, label="sensor reading")
     ax.axhline(run.controller.threshold, color="tab:red", ls="--", lw=0.8, label="threshold")
-    ax.fill_between(t, 0, 1, where=tr["gate_open"], transform=ax.get_xaxis_transform(),
-                    color="tab:orange", alpha=0.2, label="gate open")
+    ax.fill_between(
+        t,
+        0,
+        1,
+        where=tr["gate_open"],
+        transform=ax.get_xaxis_transform(),
+        color="tab:orange",
+        alpha=0.2,
+        label="gate open",
+    )
     for s in run.spike_times() * 1e9:
         ax.axvline(s, color="k", lw=0.4, alpha=0.5)
     ax.set_xlabel("time (ns)")
@@ -98,8 +119,13 @@ def plot_saturation(result, path: Path) -> Path:
     fig = Figure(figsize=(4.5, 3.5), dpi=110)
     ax = fig.add_subplot()
     d = result.diameters * 1e9
-    ax.errorbar(d, result.max_count, yerr=result.max_count_error, fmt="o-",
-                label="simulated saturation (2 ns, 300 K)")
+    ax.errorbar(
+        d,
+        result.max_count,
+        yerr=result.max_count_error,
+        fmt="o-",
+        label="simulated saturation (2 ns, 300 K)",
+    )
     ax.plot(d, result.close_packing, "--", label="hexagonal close packing")
     ax.set_yscale("log")
     ax.set_xlabel("chamber diameter (nm)")

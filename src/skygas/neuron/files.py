@@ -35,7 +35,6 @@ from skygas.run_driver import (
     write_json,
 )
 
-
 #: Default transfer-curve input rates, in units of the fitted LIF's rheobase θ/τ.
 RHEOBASE_MULTIPLES = (0.25, 0.5, 1, 1.5, 2, 3)
 
@@ -46,13 +45,13 @@ class NeuronJob(PiecewiseRunJob):
 
     result_files = ("trace.npz", "summary.json", "frames.nc")
 
-    def __init__(self, config: NeuronConfig, transfer: bool = True,
-                 record_interval: float | None = None):
+    def __init__(
+        self, config: NeuronConfig, transfer: bool = True, record_interval: float | None = None
+    ):
         self.device = NeuronDevice(config)  # validates everything before any run
         super().__init__(config, self.device.build(record_interval=record_interval))
         self.transfer_duration = config.transfer.duration or config.duration
-        self.n_rates = (len(config.transfer.rates) or len(RHEOBASE_MULTIPLES)) if transfer \
-            else 0
+        self.n_rates = (len(config.transfer.rates) or len(RHEOBASE_MULTIPLES)) if transfer else 0
         self.work_total += self._transfer_work(self.n_rates)
         #: transfer-curve points done: (firing rate [Hz], injected, annihilated) per rate
         self.points: list[list] = []
@@ -88,10 +87,10 @@ class NeuronJob(PiecewiseRunJob):
         from skygas.neuron.analysis import transfer_curve
 
         rate = self.transfer_rates()[len(self.points)]
-        point = transfer_curve(self.device, [rate], self.transfer_duration,
-                               seed=self.config.seed)
-        self.points.append([point["firing_rate_Hz"][0], point["n_injected"][0],
-                            point["n_annihilated"][0]])
+        point = transfer_curve(self.device, [rate], self.transfer_duration, seed=self.config.seed)
+        self.points.append(
+            [point["firing_rate_Hz"][0], point["n_injected"][0], point["n_annihilated"][0]]
+        )
 
     def state_dict(self) -> dict[str, np.ndarray]:
         return {**super().state_dict(), "transfer_points_json": json_array(self.points)}
@@ -103,10 +102,14 @@ class NeuronJob(PiecewiseRunJob):
     def transfer_curve(self) -> dict:
         """The finished transfer curve, as :func:`~skygas.neuron.analysis.transfer_curve`
         returns it."""
-        firing, injected, annihilated = (list(c) for c in zip(*self.points))
-        return {"input_rate_Hz": [float(r) for r in self.transfer_rates()],
-                "firing_rate_Hz": firing, "n_injected": injected,
-                "n_annihilated": annihilated, "duration_s": self.transfer_duration}
+        firing, injected, annihilated = (list(c) for c in zip(*self.points, strict=True))
+        return {
+            "input_rate_Hz": [float(r) for r in self.transfer_rates()],
+            "firing_rate_Hz": firing,
+            "n_injected": injected,
+            "n_annihilated": annihilated,
+            "duration_s": self.transfer_duration,
+        }
 
     def finish(self, out: Path) -> dict:
         from skygas.neuron import analysis as A
@@ -117,10 +120,15 @@ class NeuronJob(PiecewiseRunJob):
         summary = run.summary()
         lif = dict(self.lif_fit())
         summary["lif_fit"] = lif
-        arrays = {**run.trace(), "spikes": run.spike_times(), "emissions": run.emission_times(),
-                  "injections": run.injection_times(),
-                  "config_json": np.array(self.config_json()), "seed": np.array(config.seed),
-                  "skygas_version": np.array(__version__)}
+        arrays = {
+            **run.trace(),
+            "spikes": run.spike_times(),
+            "emissions": run.emission_times(),
+            "injections": run.injection_times(),
+            "config_json": np.array(self.config_json()),
+            "seed": np.array(config.seed),
+            "skygas_version": np.array(__version__),
+        }
         write_atomic(out / "trace.npz", lambda tmp: np.savez_compressed(tmp, **arrays))
         record = run_record(self)
         write_figure(out / "count_trace.png", lambda tmp: plot_trace(run, tmp), record)
@@ -131,19 +139,32 @@ class NeuronJob(PiecewiseRunJob):
             write_frames(run.sim, config, out / "frames.nc", "neuron")
         if self.n_rates:
             curve = self.transfer_curve()
-            pred = L.lif_rate(curve["input_rate_Hz"], lif["tau_s"], lif["threshold"],
-                              lif["reset"], lif["release_time_s"], lif["refractory_time_s"])
+            pred = L.lif_rate(
+                curve["input_rate_Hz"],
+                lif["tau_s"],
+                lif["threshold"],
+                lif["reset"],
+                lif["release_time_s"],
+                lif["refractory_time_s"],
+            )
             lif["predicted_Hz"] = pred.tolist()
             lif["transfer_r_squared"] = A.r_squared(curve["firing_rate_Hz"], pred)
             summary["transfer_curve"] = curve
-            write_figure(out / "transfer_curve.png",
-                         lambda tmp: plot_transfer(curve, tmp, lif), record)
+            write_figure(
+                out / "transfer_curve.png", lambda tmp: plot_transfer(curve, tmp, lif), record
+            )
         write_json(out / "summary.json", summary, indent=1)
         return summary
 
 
-def run_neuron_to_files(config: NeuronConfig, out_dir: str | Path, *, transfer: bool = True,
-                        record_interval: float | None = None, **drive_options) -> dict:
+def run_neuron_to_files(
+    config: NeuronConfig,
+    out_dir: str | Path,
+    *,
+    transfer: bool = True,
+    record_interval: float | None = None,
+    **drive_options,
+) -> dict:
     """Run the neuron of ``config`` and write its files; returns the summary. With
     ``record_interval`` [s] it records positions and writes them as ``frames.nc`` (a movie's
     input). ``drive_options``: those of :func:`~skygas.run_driver.drive`."""
@@ -157,13 +178,23 @@ class SaturationJob:
     work_unit = "runs"
     result_files = ("saturation.json",)
 
-    def __init__(self, diameters, *, repetitions: int, seed: int, relax_time: float,
-                 temperature: float):
-        self.arguments = {"diameters_m": [float(d) for d in diameters],
-                          "repetitions": repetitions, "seed": seed, "relax_time_s": relax_time,
-                          "temperature_K": temperature}
-        self.protocol = SaturationProtocol(diameters, repetitions=repetitions, seed=seed,
-                                           relax_time=relax_time, temperature=temperature)
+    def __init__(
+        self, diameters, *, repetitions: int, seed: int, relax_time: float, temperature: float
+    ):
+        self.arguments = {
+            "diameters_m": [float(d) for d in diameters],
+            "repetitions": repetitions,
+            "seed": seed,
+            "relax_time_s": relax_time,
+            "temperature_K": temperature,
+        }
+        self.protocol = SaturationProtocol(
+            diameters,
+            repetitions=repetitions,
+            seed=seed,
+            relax_time=relax_time,
+            temperature=temperature,
+        )
         self.work_total = float(len(self.protocol.trials))
         self.survivors: list[int] = []
 
@@ -189,17 +220,33 @@ class SaturationJob:
         from skygas.neuron.figures import plot_saturation
 
         result = self.protocol.result(self.survivors)
-        write_json(out / "saturation.json", {"skygas_version": __version__,
-                                             "seed": self.seed(), **result.summary()}, indent=1)
-        write_figure(out / "max_density.png", lambda tmp: plot_saturation(result, tmp),
-                     run_record(self))
+        write_json(
+            out / "saturation.json",
+            {"skygas_version": __version__, "seed": self.seed(), **result.summary()},
+            indent=1,
+        )
+        write_figure(
+            out / "max_density.png", lambda tmp: plot_saturation(result, tmp), run_record(self)
+        )
         return result
 
 
-def run_saturation_to_files(diameters, out_dir: str | Path, *, repetitions: int = 10,
-                            seed: int = 0, relax_time: float = 2e-9, temperature: float = 300.0,
-                            **drive_options) -> SaturationResult:
+def run_saturation_to_files(
+    diameters,
+    out_dir: str | Path,
+    *,
+    repetitions: int = 10,
+    seed: int = 0,
+    relax_time: float = 2e-9,
+    temperature: float = 300.0,
+    **drive_options,
+) -> SaturationResult:
     """Run the saturation protocol and write its files; returns the result."""
-    job = SaturationJob(diameters, repetitions=repetitions, seed=seed, relax_time=relax_time,
-                        temperature=temperature)
+    job = SaturationJob(
+        diameters,
+        repetitions=repetitions,
+        seed=seed,
+        relax_time=relax_time,
+        temperature=temperature,
+    )
     return drive(job, out_dir, **drive_options)

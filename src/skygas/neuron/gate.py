@@ -58,16 +58,27 @@ def thermal_energy(temperature: float) -> float:
     return units.BOLTZMANN * t
 
 
-def gate_band(center_x: float, band_width: float, edge_width: float, conduit_width: float,
-              barrier_height: float, temperature: float) -> Band:
+def gate_band(
+    center_x: float,
+    band_width: float,
+    edge_width: float,
+    conduit_width: float,
+    barrier_height: float,
+    temperature: float,
+) -> Band:
     """The closed gate's :class:`~skygas.landscape.Band` (all lengths in m): centred at
     (``center_x``, 0) on a conduit along x of width ``conduit_width``, ``band_width`` w between
     its half-height points, tanh edges of ``edge_width`` e, its top ``barrier_height`` [k_BT]."""
     w, e = band_width, edge_width
     height = barrier_height * thermal_energy(temperature) / math.tanh(w / (2 * e))
-    return Band(height=height, edge_width=e, start=(center_x - w / 2, 0.0),
-                end=(center_x + w / 2, 0.0), width=conduit_width + 2 * SIDE_MARGIN_EDGES * e,
-                name="gate")
+    return Band(
+        height=height,
+        edge_width=e,
+        start=(center_x - w / 2, 0.0),
+        end=(center_x + w / 2, 0.0),
+        width=conduit_width + 2 * SIDE_MARGIN_EDGES * e,
+        name="gate",
+    )
 
 
 def gate_max_force(band: Band) -> float:
@@ -81,8 +92,12 @@ def gate_max_force(band: Band) -> float:
 def gate_relaxation_time(band: Band, thiele) -> float:
     """τ [s] of a skyrmion on the band's steepest curvature κ = 2H/(3√3 e²): 1/(κ |M|), as the
     engine's τ_min (:func:`~skygas.engine.relaxation_time`)."""
-    kappa = TANH_EDGE_CURVATURE * band.height * units.J_TO_PN_NM / \
-        (band.edge_width * units.M_TO_NM) ** 2  # pN/nm
+    kappa = (
+        TANH_EDGE_CURVATURE
+        * band.height
+        * units.J_TO_PN_NM
+        / (band.edge_width * units.M_TO_NM) ** 2
+    )  # pN/nm
     rate = kappa / math.hypot(thiele.friction_internal, thiele.gyrocoupling_internal)  # 1/ns
     return 1.0 / rate / units.S_TO_NS
 
@@ -97,14 +112,16 @@ class PotentialGate:
     :class:`~skygas.landscape.Band` (for the record).
     """
 
-    def __init__(self, sim, term: int, band: Band, hold_vx, hold_vy, open_vx=None,
-                 open_vy=None):
+    def __init__(self, sim, term: int, band: Band, hold_vx, hold_vy, open_vx=None, open_vy=None):
         self.sim = sim
         self.term = int(term)
         self.band = band
         self.base = (np.asarray(hold_vx, float), np.asarray(hold_vy, float))
-        self.open_field = self.base if open_vx is None else (np.asarray(open_vx, float),
-                                                             np.asarray(open_vy, float))
+        self.open_field = (
+            self.base
+            if open_vx is None
+            else (np.asarray(open_vx, float), np.asarray(open_vy, float))
+        )
         self.is_open = None
 
     def set(self, is_open: bool) -> None:
@@ -119,8 +136,16 @@ class ReadElement:
     """A disk-shaped sensor: centre (x, y) [nm], radius [nm], ``signal`` ``"count"`` or
     ``"area"``, Gaussian ``read_noise`` (signal units), its own seeded generator."""
 
-    def __init__(self, center_nm, radius_nm, signal="count", read_noise=0.0, seed=0,
-                 skyrmion_diameter_nm=38.2, area_samples=1200):
+    def __init__(
+        self,
+        center_nm,
+        radius_nm,
+        signal="count",
+        read_noise=0.0,
+        seed=0,
+        skyrmion_diameter_nm=38.2,
+        area_samples=1200,
+    ):
         self.center = np.asarray(center_nm, float)
         self.radius = float(radius_nm)
         self.signal = signal
@@ -140,10 +165,12 @@ class ReadElement:
         y_nm = np.ascontiguousarray(y_nm, dtype=float)
         alive = np.ones(len(x_nm), np.bool_) if alive is None else alive
         if self.signal == "count":
-            return float(count_in_disk(x_nm, y_nm, alive, self.center[0], self.center[1],
-                                       self.radius))
-        return covered_fraction(x_nm, y_nm, alive, self.center[0], self.center[1], self.radius,
-                                self.r_sk, self.samples)
+            return float(
+                count_in_disk(x_nm, y_nm, alive, self.center[0], self.center[1], self.radius)
+            )
+        return covered_fraction(
+            x_nm, y_nm, alive, self.center[0], self.center[1], self.radius, self.r_sk, self.samples
+        )
 
     def read(self, sim) -> float:
         store = sim.state.arrays_nm()

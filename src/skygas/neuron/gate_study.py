@@ -42,7 +42,7 @@ def crowd_at_gate(device, n: int, spacing_d: float = CROWD_SPACING) -> np.ndarra
     r = device.config.device.chamber_diameter / 2 * units.M_TO_NM
     rows = int(np.ceil(2 * r / (a * math.sqrt(3) / 2))) + 2
     cols = int(np.ceil(2 * r / a)) + 4
-    j, i = np.mgrid[-rows // 2:rows // 2 + 1, -cols // 2:cols // 2 + 1]
+    j, i = np.mgrid[-rows // 2 : rows // 2 + 1, -cols // 2 : cols // 2 + 1]
     x = (i + 0.5 * (j % 2)) * a + device.x_meet
     y = j * a * math.sqrt(3) / 2
     x, y = x.ravel(), y.ravel()
@@ -58,8 +58,7 @@ def crowd_at_gate(device, n: int, spacing_d: float = CROWD_SPACING) -> np.ndarra
     return np.column_stack([x[order[:n]], y[order[:n]]])
 
 
-def drift_band_field(device, grid, hold_vx, hold_vy, barrier_height: float,
-                     temperature: float):
+def drift_band_field(device, grid, hold_vx, hold_vy, barrier_height: float, temperature: float):
     """The drift barrier (vx, vy) [m/s] on the simulation's ``grid``: the holding field with,
     in the gate's band (half-height width, across the conduit), v = −(h D/w) x̂ instead."""
     gx, gy = grid.nodes()
@@ -72,8 +71,15 @@ def drift_band_field(device, grid, hold_vx, hold_vy, barrier_height: float,
     return np.where(inside, -push, hold_vx), np.asarray(hold_vy, float)
 
 
-def hold_crowd(config, n: int, duration: float = 300e-9, seed: int = 0, gate: str = "potential",
-               annihilation: bool = False, record_interval: float | None = None) -> dict:
+def hold_crowd(
+    config,
+    n: int,
+    duration: float = 300e-9,
+    seed: int = 0,
+    gate: str = "potential",
+    annihilation: bool = False,
+    record_interval: float | None = None,
+) -> dict:
     """Closed gate, holding current, ``n`` skyrmions crowded at the output conduit's mouth; see
     the module's docstring. Returns counts and the leak (emitted) times [s]; trajectories are
     recorded every ``record_interval`` [s] if given."""
@@ -87,24 +93,39 @@ def hold_crowd(config, n: int, duration: float = 300e-9, seed: int = 0, gate: st
     cfg = type(config).model_validate(data)
     device = NeuronDevice(cfg)
     run = device.build(inputs=[], duration=duration, seed=seed)
-    run.controller.threshold = math.inf     # never open the gate
+    run.controller.threshold = math.inf  # never open the gate
     if gate == "drift":
         run.sim.set_landscape_enabled(run.gate.term, False)
-        run.sim.set_drift_field(*drift_band_field(device, run.sim.wall_field.grid,
-                                                  *run.gate.base,
-                                                  cfg.gate.barrier_height, cfg.temperature))
+        run.sim.set_drift_field(
+            *drift_band_field(
+                device,
+                run.sim.wall_field.grid,
+                *run.gate.base,
+                cfg.gate.barrier_height,
+                cfg.temperature,
+            )
+        )
     run.sim.state.insert_nm(crowd_at_gate(device, n))
     run.sim.run(duration, record_interval=record_interval)
     exits = run.emission_times()
-    return {"n": n, "gate": gate, "barrier_height_kT": cfg.gate.barrier_height,
-            "annihilation": annihilation, "duration_s": duration, "seed": seed,
-            "n_leaked": int(len(exits)), "leak_times_s": exits.tolist(),
-            "n_annihilated": run.annihilator.n_annihilated, "n_left": run.sim.count,
-            "run": run}
+    return {
+        "n": n,
+        "gate": gate,
+        "barrier_height_kT": cfg.gate.barrier_height,
+        "annihilation": annihilation,
+        "duration_s": duration,
+        "seed": seed,
+        "n_leaked": int(len(exits)),
+        "leak_times_s": exits.tolist(),
+        "n_annihilated": run.annihilator.n_annihilated,
+        "n_left": run.sim.count,
+        "run": run,
+    }
 
 
-def release_crowd(config, n: int, hold: float = 100e-9, limit: float = 400e-9, seed: int = 0,
-                  step: float = 1e-9) -> dict:
+def release_crowd(
+    config, n: int, hold: float = 100e-9, limit: float = 400e-9, seed: int = 0, step: float = 1e-9
+) -> dict:
     """The release on its own: ``n`` skyrmions at random in the chamber (2 d_sk apart, 1.5 d_sk
     from the walls), ``hold`` [s] with the gate closed at the holding current (the crowd
     gathers at the gate), then the gate opens at the release current, with no input, until the
@@ -121,7 +142,7 @@ def release_crowd(config, n: int, hold: float = 100e-9, limit: float = 400e-9, s
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x72656C)))
     run.sim.state.insert_nm(random_positions(run.sim.outline, n, 2 * d, 1.5 * d, rng))
     run.sim.run(hold)
-    run.controller.reset_level = -math.inf       # the study decides when it ends
+    run.controller.reset_level = -math.inf  # the study decides when it ends
     run.gate.set(True)
     start_count, start_exits = run.sim.count, len(run.sim.exits)
     start_deaths = run.annihilator.n_annihilated
@@ -134,10 +155,15 @@ def release_crowd(config, n: int, hold: float = 100e-9, limit: float = 400e-9, s
         if counts[-1] <= reset:
             t_reset = times[-1]
             break
-    return {"n": n, "count_at_opening": start_count, "time_s": np.array(times),
-            "count": np.array(counts), "time_to_reset_s": t_reset,
-            "emitted": len(run.sim.exits) - start_exits,
-            "annihilated": run.annihilator.n_annihilated - start_deaths}
+    return {
+        "n": n,
+        "count_at_opening": start_count,
+        "time_s": np.array(times),
+        "count": np.array(counts),
+        "time_to_reset_s": t_reset,
+        "emitted": len(run.sim.exits) - start_exits,
+        "annihilated": run.annihilator.n_annihilated - start_deaths,
+    }
 
 
 def release_statistics(run) -> list[dict]:
@@ -162,11 +188,17 @@ def release_statistics(run) -> list[dict]:
         else:
             ended = "reset"
         at = lambda t: int(tr["count"][np.searchsorted(tr["time"], t - dt / 2)])  # noqa: E731
-        out.append({"open_s": float(t_open), "duration_s": float(length), "ended": ended,
-                    "emitted": int(np.count_nonzero((exits >= t_open) & (exits < t_close))),
-                    "annihilated": int(np.count_nonzero((deaths >= t_open) &
-                                                        (deaths < t_close))),
-                    "count_open": at(t_open), "count_close": at(min(t_close, tr["time"][-1]))})
+        out.append(
+            {
+                "open_s": float(t_open),
+                "duration_s": float(length),
+                "ended": ended,
+                "emitted": int(np.count_nonzero((exits >= t_open) & (exits < t_close))),
+                "annihilated": int(np.count_nonzero((deaths >= t_open) & (deaths < t_close))),
+                "count_open": at(t_open),
+                "count_close": at(min(t_close, tr["time"][-1])),
+            }
+        )
     return out
 
 
@@ -181,18 +213,31 @@ def _main() -> None:  # pragma: no cover - prints the tables of docs/neuron.md
     parser.add_argument("--duration", type=float, default=300e-9)
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     parser.add_argument("--release-seeds", type=int, nargs="+", default=[0, 1, 2])
-    parser.add_argument("--skip", choices=["hold", "release", "runs"], nargs="*", default=[],
-                        help="parts to leave out: the holding table, the release of a crowd, "
-                        "the releases of default neuron runs")
-    parser.add_argument("--figure", help="PNG of a crowd of the first size at the first two "
-                        "heights (trajectories over the landscape), then stop")
+    parser.add_argument(
+        "--skip",
+        choices=["hold", "release", "runs"],
+        nargs="*",
+        default=[],
+        help="parts to leave out: the holding table, the release of a crowd, "
+        "the releases of default neuron runs",
+    )
+    parser.add_argument(
+        "--figure",
+        help="PNG of a crowd of the first size at the first two "
+        "heights (trajectories over the landscape), then stop",
+    )
     args = parser.parse_args()
     if args.figure:
         from skygas.neuron.figures import plot_device
 
         for h in args.heights[:2]:
-            r = hold_crowd(neuron_config({"gate": {"barrier_height": h}}), args.crowds[0],
-                           args.duration, args.seeds[0], record_interval=2e-9)
+            r = hold_crowd(
+                neuron_config({"gate": {"barrier_height": h}}),
+                args.crowds[0],
+                args.duration,
+                args.seeds[0],
+                record_interval=2e-9,
+            )
             path = args.figure.replace(".png", f"-{h:g}kT.png")
             plot_device(r["run"], path)
             print(f"{path}: {r['n_leaked']} of {args.crowds[0]} leaked", flush=True)
@@ -203,33 +248,53 @@ def _main() -> None:  # pragma: no cover - prints the tables of docs/neuron.md
             for h in args.heights:
                 for n in args.crowds:
                     for ann in (False, True):
-                        rows = [hold_crowd(neuron_config({"gate": {"barrier_height": h}}), n,
-                                           args.duration, s, gate, ann) for s in args.seeds]
-                        print(f"{gate:9s} {h:5g} {n:3d}  {str(ann):5s}  "
-                              f"{[r['n_leaked'] for r in rows]}  "
-                              f"{[r['n_annihilated'] for r in rows]}  "
-                              f"{[r['n_left'] for r in rows]}", flush=True)
+                        rows = [
+                            hold_crowd(
+                                neuron_config({"gate": {"barrier_height": h}}),
+                                n,
+                                args.duration,
+                                s,
+                                gate,
+                                ann,
+                            )
+                            for s in args.seeds
+                        ]
+                        print(
+                            f"{gate:9s} {h:5g} {n:3d}  {str(ann):5s}  "
+                            f"{[r['n_leaked'] for r in rows]}  "
+                            f"{[r['n_annihilated'] for r in rows]}  "
+                            f"{[r['n_left'] for r in rows]}",
+                            flush=True,
+                        )
     if "release" not in args.skip:
-        print("release of a crowd (no input): n, count at opening, time to reset (ns), "
-              "emitted, annihilated")
+        print(
+            "release of a crowd (no input): n, count at opening, time to reset (ns), "
+            "emitted, annihilated"
+        )
         for n in args.crowds:
             for seed in args.release_seeds:
                 r = release_crowd(neuron_config({}), n, seed=seed)
                 t = r["time_to_reset_s"]
-                print(f"  {n:3d} {r['count_at_opening']:3d} "
-                      f"{'not reached' if t is None else round(t * 1e9)} {r['emitted']:3d} "
-                      f"{r['annihilated']:3d}", flush=True)
+                print(
+                    f"  {n:3d} {r['count_at_opening']:3d} "
+                    f"{'not reached' if t is None else round(t * 1e9)} {r['emitted']:3d} "
+                    f"{r['annihilated']:3d}",
+                    flush=True,
+                )
     if "runs" not in args.skip:
         for seed in args.release_seeds:
             run = NeuronDevice(neuron_config({"seed": seed})).build().run()
             rel = release_statistics(run)
             closed = [r for r in rel if r["ended"] != "run end"]
-            print(f"seed {seed}: {len(rel)} spikes; durations (ns) "
-                  f"{[round(r['duration_s'] * 1e9) for r in rel]}; ended "
-                  f"{[r['ended'] for r in rel]}; emitted {[r['emitted'] for r in rel]}; "
-                  f"annihilated {[r['annihilated'] for r in rel]}; count open/close "
-                  f"{[(r['count_open'], r['count_close']) for r in rel]}; mean duration "
-                  f"{np.mean([r['duration_s'] for r in closed]) * 1e9:.0f} ns", flush=True)
+            print(
+                f"seed {seed}: {len(rel)} spikes; durations (ns) "
+                f"{[round(r['duration_s'] * 1e9) for r in rel]}; ended "
+                f"{[r['ended'] for r in rel]}; emitted {[r['emitted'] for r in rel]}; "
+                f"annihilated {[r['annihilated'] for r in rel]}; count open/close "
+                f"{[(r['count_open'], r['count_close']) for r in rel]}; mean duration "
+                f"{np.mean([r['duration_s'] for r in closed]) * 1e9:.0f} ns",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":  # pragma: no cover

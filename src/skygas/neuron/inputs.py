@@ -44,12 +44,24 @@ class InputSpec:
 
     def __post_init__(self):
         require(self.kind in KINDS, "inputs.kind", self.kind, f"one of {list(KINDS)}")
-        require(math.isfinite(self.rate) and self.rate >= 0, "inputs.rate", self.rate,
-                "a rate >= 0 in Hz")
-        require(0 <= self.weight <= 1, "inputs.weight", self.weight,
-                "an injection probability in [0, 1]")
-        require(math.isfinite(self.interval) and self.interval > 0, "inputs.interval",
-                self.interval, "an interval > 0 in seconds")
+        require(
+            math.isfinite(self.rate) and self.rate >= 0,
+            "inputs.rate",
+            self.rate,
+            "a rate >= 0 in Hz",
+        )
+        require(
+            0 <= self.weight <= 1,
+            "inputs.weight",
+            self.weight,
+            "an injection probability in [0, 1]",
+        )
+        require(
+            math.isfinite(self.interval) and self.interval > 0,
+            "inputs.interval",
+            self.interval,
+            "an interval > 0 in seconds",
+        )
         require(0 <= self.p <= 1, "inputs.p", self.p, "a probability in [0, 1]")
 
     def mean_rate(self) -> float:
@@ -65,12 +77,18 @@ class InputSpec:
         from skygas.resources import require_memory
 
         # the times, their sort and the draws: about three float64 arrays of the expected count
-        expected = self.mean_rate() * duration if self.kind in ("poisson", "regular") \
+        expected = (
+            self.mean_rate() * duration
+            if self.kind in ("poisson", "regular")
             else duration / self.interval
-        require_memory("inputs.rate" if self.kind in ("poisson", "regular") else
-                       "inputs.interval", self.rate if self.kind in ("poisson", "regular")
-                       else self.interval, 24.0 * expected,
-                       f"{expected:.3g} input events", "use a lower rate or a shorter duration")
+        )
+        require_memory(
+            "inputs.rate" if self.kind in ("poisson", "regular") else "inputs.interval",
+            self.rate if self.kind in ("poisson", "regular") else self.interval,
+            24.0 * expected,
+            f"{expected:.3g} input events",
+            "use a lower rate or a shorter duration",
+        )
         if self.kind == "poisson":
             n = rng.poisson(self.rate * duration)
             return np.sort(rng.uniform(0, duration, n))
@@ -83,17 +101,18 @@ class InputSpec:
             if self.kind == "telegraph" and not 0 < self.p < 1:
                 raise InputError("inputs.p", self.p, "p strictly in (0, 1) for a telegraph input")
             spec = SignalSpec(self.kind, self.p, self.correlation_time)
-            bits = generate_bits(spec, max(n, 1), self.interval,
-                                 seed=int(rng.integers(2**63)))[:n]
+            bits = generate_bits(spec, max(n, 1), self.interval, seed=int(rng.integers(2**63)))[:n]
         return np.flatnonzero(bits) * self.interval
 
 
 def injection_schedule(inputs, duration: float, time_step: float, seed: int) -> np.ndarray:
     """Steps of all injection attempts (after the weights), sorted; from a seeded stream."""
-    rngs = [np.random.default_rng(s) for s in
-            np.random.SeedSequence((seed, 0x696E70)).spawn(len(inputs))]
+    rngs = [
+        np.random.default_rng(s)
+        for s in np.random.SeedSequence((seed, 0x696E70)).spawn(len(inputs))
+    ]
     steps = []
-    for spec, rng in zip(inputs, rngs):
+    for spec, rng in zip(inputs, rngs, strict=True):
         t = spec.event_times(duration, rng)
         keep = rng.random(len(t)) < spec.weight
         steps.append(np.round(t[keep] / time_step).astype(np.int64))
@@ -109,7 +128,7 @@ class SiteInjector:
     clearance_nm: float
     retry_steps: int
     rule: str = "delay"
-    injected: list = field(default_factory=list)   # (step, id)
+    injected: list = field(default_factory=list)  # (step, id)
     skipped: int = 0
     delayed: int = 0
     pending: deque = field(default_factory=deque)
@@ -150,9 +169,13 @@ class SiteInjector:
     def state_dict(self) -> dict:
         """Its position in the schedule (the schedule itself is rebuilt from the seed) and its
         logs, as JSON-able values."""
-        return {"injected": [[int(s), int(i)] for s, i in self.injected],
-                "skipped": int(self.skipped), "delayed": int(self.delayed),
-                "pending": [int(k) for k in self.pending], "k": int(self._k)}
+        return {
+            "injected": [[int(s), int(i)] for s, i in self.injected],
+            "skipped": int(self.skipped),
+            "delayed": int(self.delayed),
+            "pending": [int(k) for k in self.pending],
+            "k": int(self._k),
+        }
 
     def load_state_dict(self, state: dict) -> None:
         self.injected = [tuple(e) for e in state["injected"]]

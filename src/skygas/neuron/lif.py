@@ -38,8 +38,11 @@ def closed_gate_leak(trace: dict, death_times) -> tuple[float, float]:
     """(τ̂, its standard error) [s] of the leak while the gate is closed: the estimator of
     :func:`skygas.neuron.analysis.leak_from_log` with the exposure ∫N dt and the deaths
     restricted to the trace intervals that start with the gate closed."""
-    t, n, closed = (np.asarray(trace["time"], float), np.asarray(trace["count"], float),
-                    ~np.asarray(trace["gate_open"], bool))
+    t, n, closed = (
+        np.asarray(trace["time"], float),
+        np.asarray(trace["count"], float),
+        ~np.asarray(trace["gate_open"], bool),
+    )
     if len(t) < 2:
         return math.inf, math.inf
     exposure = float(np.sum((n[:-1] * np.diff(t))[closed[:-1]]))
@@ -61,12 +64,15 @@ def restarted_lif(trace: dict, injection_times, tau: float, threshold: float) ->
     that ended with a gate opening, the error [s] of the LIF's first crossing of ``threshold``
     against that opening (``next_spike_errors``, positive: the LIF fires late; a period in which
     V never crosses counts as if it crossed at the end of the run)."""
-    t, n, closed = (np.asarray(trace["time"], float), np.asarray(trace["count"], float),
-                    ~np.asarray(trace["gate_open"], bool))
+    t, n, closed = (
+        np.asarray(trace["time"], float),
+        np.asarray(trace["count"], float),
+        ~np.asarray(trace["gate_open"], bool),
+    )
     if len(t) < 2 or not closed.any():
         return {"subthreshold_nrmse": None, "next_spike_errors": []}
     inj = np.searchsorted(np.sort(np.asarray(injection_times, float)), t, side="right")
-    arrivals = np.diff(inj)                      # injections in (t[k-1], t[k]]
+    arrivals = np.diff(inj)  # injections in (t[k-1], t[k]]
     decay = np.exp(-np.diff(t) / tau) if math.isfinite(tau) else np.ones(len(t) - 1)
     v = np.empty(len(t))
     v[0] = n[0]
@@ -78,24 +84,30 @@ def restarted_lif(trace: dict, injection_times, tau: float, threshold: float) ->
                 crossed = t[k]
         else:
             v[k] = n[k]
-        if not closed[k] and closed[k - 1]:           # the device opened at t[k]
+        if not closed[k] and closed[k - 1]:  # the device opened at t[k]
             errors.append((crossed if crossed is not None else t[-1]) - t[k])
         if not closed[k]:
             crossed = None
     scale = float(np.std(n[closed])) or 1.0
-    return {"subthreshold_nrmse": float(np.sqrt(np.mean((v[closed] - n[closed]) ** 2)) / scale),
-            "next_spike_errors": errors}
+    return {
+        "subthreshold_nrmse": float(np.sqrt(np.mean((v[closed] - n[closed]) ** 2)) / scale),
+        "next_spike_errors": errors,
+    }
 
 
-def subthreshold_floor(trace: dict, injection_times, tau: float, replicas: int = 200,
-                       seed: int = 0) -> float | None:
+def subthreshold_floor(
+    trace: dict, injection_times, tau: float, replicas: int = 200, seed: int = 0
+) -> float | None:
     """The subthreshold NRMSE that an ideal *stochastic* LIF would score: its count starts
     from the device's count in every closed-gate period, gains the same injections and loses
     each skyrmion independently at rate 1/τ (binomial survival per sample). The median over
     ``replicas`` realisations (seeded) is the floor set by shot noise alone; a device above it
     has a leak that is not a constant per-skyrmion rate."""
-    t, n, closed = (np.asarray(trace["time"], float), np.asarray(trace["count"], float),
-                    ~np.asarray(trace["gate_open"], bool))
+    t, n, closed = (
+        np.asarray(trace["time"], float),
+        np.asarray(trace["count"], float),
+        ~np.asarray(trace["gate_open"], bool),
+    )
     if len(t) < 2 or not closed.any() or not math.isfinite(tau):
         return None
     inj = np.searchsorted(np.sort(np.asarray(injection_times, float)), t, side="right")
@@ -108,8 +120,7 @@ def subthreshold_floor(trace: dict, injection_times, tau: float, replicas: int =
     for k in range(1, len(t)):
         if closed[k - 1]:
             mean[k] = mean[k - 1] * survive[k - 1] + arrivals[k - 1]
-            paths[k] = rng.binomial(paths[k - 1].astype(np.int64), survive[k - 1]) \
-                + arrivals[k - 1]
+            paths[k] = rng.binomial(paths[k - 1].astype(np.int64), survive[k - 1]) + arrivals[k - 1]
         else:
             mean[k], paths[k] = n[k], n[k]
     sub = paths[closed]
@@ -119,14 +130,23 @@ def subthreshold_floor(trace: dict, injection_times, tau: float, replicas: int =
     return float(np.median(nrmse))
 
 
-def simulate_lif(injection_times, tau: float, threshold: float, reset: float,
-                 duration: float, dt: float, release: float = 0.0, refractory: float = 0.0):
+def simulate_lif(
+    injection_times,
+    tau: float,
+    threshold: float,
+    reset: float,
+    duration: float,
+    dt: float,
+    release: float = 0.0,
+    refractory: float = 0.0,
+):
     """V(t) on a grid of step dt and the LIF spike times for unit jumps at ``injection_times``
     [s]: after a spike V is held at ``reset`` for ``release`` [s], and no spike comes before
     ``release + refractory`` [s] have passed."""
     n = int(duration / dt) + 1
-    jumps = np.bincount(np.clip((np.asarray(injection_times) / dt).astype(int), 0, n - 1),
-                        minlength=n)
+    jumps = np.bincount(
+        np.clip((np.asarray(injection_times) / dt).astype(int), 0, n - 1), minlength=n
+    )
     decay = math.exp(-dt / tau) if math.isfinite(tau) else 1.0
     v = np.empty(n)
     value, spikes, held_until, blocked_until = 0.0, [], -1.0, -1.0
@@ -150,17 +170,22 @@ def fit_lif(run, window: float | None = None) -> dict:
     dt = run.sim.time_step
     t_open = np.array(run.controller.openings, dtype=int)
     t_close = np.array(run.controller.closings, dtype=int)
-    step_of = {int(round(t / dt)): c for t, c in zip(tr["time"], tr["count"])}
-    theta = float(np.median([step_of.get(s, np.nan) for s in t_open])) if len(t_open) else \
-        float(run.controller.threshold)
-    reset = float(np.median([step_of.get(s, np.nan) for s in t_close])) if len(t_close) else \
-        float(run.controller.reset_level)
-    release = float(np.mean((t_close - t_open[:len(t_close)]) * dt)) if len(t_close) else 0.0
+    step_of = {int(round(t / dt)): c for t, c in zip(tr["time"], tr["count"], strict=True)}
+    theta = (
+        float(np.median([step_of.get(s, np.nan) for s in t_open]))
+        if len(t_open)
+        else float(run.controller.threshold)
+    )
+    reset = (
+        float(np.median([step_of.get(s, np.nan) for s in t_close]))
+        if len(t_close)
+        else float(run.controller.reset_level)
+    )
+    release = float(np.mean((t_close - t_open[: len(t_close)]) * dt)) if len(t_close) else 0.0
     refractory = run.controller.refractory_steps * dt
     inj = run.injection_times()
     grid_dt = float(np.median(np.diff(tr["time"]))) if len(tr["time"]) > 1 else dt
-    t, v, spikes = simulate_lif(inj, tau, theta, reset, run.sim.time, grid_dt, release,
-                                refractory)
+    t, v, spikes = simulate_lif(inj, tau, theta, reset, run.sim.time, grid_dt, release, refractory)
     device_spikes = run.spike_times()
     window = window if window is not None else max(10 * grid_dt, 0.1 * release)
     matched = 0
@@ -172,9 +197,14 @@ def fit_lif(run, window: float | None = None) -> dict:
     counts = np.interp(t, tr["time"], tr["count"]) if len(tr["time"]) else np.zeros_like(t)
     scale = float(np.std(counts)) or 1.0
     return {
-        "tau_s": tau, "tau_error_s": tau_err, "threshold": theta, "reset": reset,
-        "release_time_s": release, "refractory_time_s": refractory,
-        "lif_spikes": int(len(spikes)), "device_spikes": int(len(device_spikes)),
+        "tau_s": tau,
+        "tau_error_s": tau_err,
+        "threshold": theta,
+        "reset": reset,
+        "release_time_s": release,
+        "refractory_time_s": refractory,
+        "lif_spikes": int(len(spikes)),
+        "device_spikes": int(len(device_spikes)),
         "spike_count_ratio": len(spikes) / len(device_spikes) if len(device_spikes) else None,
         "spike_match_fraction": matched / len(device_spikes) if len(device_spikes) else None,
         "match_window_s": window,
@@ -183,12 +213,14 @@ def fit_lif(run, window: float | None = None) -> dict:
         "subthreshold_nrmse_floor": subthreshold_floor(tr, inj, tau),
         "next_spike_error_median_s": float(np.median(np.abs(errors))) if len(errors) else None,
         "next_spike_match_fraction": float(np.mean(np.abs(errors) <= window))
-        if len(errors) else None,
+        if len(errors)
+        else None,
     }
 
 
-def lif_rate(rate, tau: float, threshold: float, reset: float, release: float = 0.0,
-             refractory: float = 0.0):
+def lif_rate(
+    rate, tau: float, threshold: float, reset: float, release: float = 0.0, refractory: float = 0.0
+):
     """Deterministic LIF firing rate [Hz] at mean input ``rate`` [Hz] (array): one spike per
     release plus the climb from ``reset`` to ``threshold`` (at least ``refractory``)."""
     rate = np.asarray(rate, float)
@@ -198,5 +230,3 @@ def lif_rate(rate, tau: float, threshold: float, reset: float, release: float = 
     climb = tau * np.log((drive[ok] - reset) / (drive[ok] - threshold))
     out[ok] = 1.0 / (release + np.maximum(refractory, climb))
     return out
-
-

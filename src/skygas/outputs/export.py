@@ -36,8 +36,10 @@ def _box_nm(record) -> tuple[float, float]:
 
 
 def _species(record) -> list[str]:
-    return ["".join(c if c.isalnum() else "_" for c in name.split(" (")[0])
-            for name in record.group_names]
+    return [
+        "".join(c if c.isalnum() else "_" for c in name.split(" (")[0])
+        for name in record.group_names
+    ]
 
 
 def export_gsd(record, path: str | Path) -> Path:
@@ -80,15 +82,17 @@ def export_extxyz(record, path: str | Path) -> Path:
     lx, ly = _box_nm(record)
     frames = record.frames
     species = np.array(_species(record))
-    header = (f'Lattice="{lx:.6g} 0 0 0 {ly:.6g} 0 0 0 1" Origin="{-lx / 2:.6g} {-ly / 2:.6g} '
-              f'-0.5" Properties=species:S:1:pos:R:3:id:I:1 time_unit=s length_unit=nm '
-              f'pbc="F F F"')
+    header = (
+        f'Lattice="{lx:.6g} 0 0 0 {ly:.6g} 0 0 0 1" Origin="{-lx / 2:.6g} {-ly / 2:.6g} '
+        f'-0.5" Properties=species:S:1:pos:R:3:id:I:1 time_unit=s length_unit=nm '
+        f'pbc="F F F"'
+    )
     with open(tmp, "w") as out:
         for f in range(frames.n_frames):
             ids, xy = frames.frame(f)
             names = species[record.group_of(ids, xy[:, 0], xy[:, 1])]
             out.write(f"{len(ids)}\n{header} Time={frames.time[f]:.9e} Frame={f}\n")
-            for name, (x, y), i in zip(names, xy * 1e9, ids):
+            for name, (x, y), i in zip(names, xy * 1e9, ids, strict=True):
                 out.write(f"{name} {x:.6f} {y:.6f} 0 {i}\n")
     os.replace(tmp, path)
     return path

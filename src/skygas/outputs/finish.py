@@ -68,7 +68,9 @@ def finish_outputs(out_dir: str | Path, *, animate: bool = False, report: bool =
         from skygas.outputs.report import write_report
 
         start = time.perf_counter()
-        done["report"] = {"path": str(write_report(out, out / "report.html")),
-                          "seconds": time.perf_counter() - start}
+        done["report"] = {
+            "path": str(write_report(out, out / "report.html")),
+            "seconds": time.perf_counter() - start,
+        }
     (out / "outputs.json").write_text(json.dumps(done, indent=2))
     return done

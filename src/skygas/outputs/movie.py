@@ -2,8 +2,9 @@
 (Pillow).
 
 Each frame shows the device outline over its energy landscape (U/k_BT) when the run has one,
-else over its current density (log colour scale; plain grey without a current), the skyrmions as disks of their real diameter coloured by their group (the
-input bit they carry in the reshuffler), a time stamp and a scale bar.
+else over its current density (log colour scale; plain grey without a current), the skyrmions
+as disks of their real diameter coloured by their group (the input bit they carry in the
+reshuffler), a time stamp and a scale bar.
 
 Speed: the static picture (outline, current, colour bar, legend, scale bar) is drawn once with
 matplotlib; every frame then only paints disks and the time stamp onto a copy of it with
@@ -52,9 +53,17 @@ class MovieInfo:
     size: tuple[int, int]
 
     def as_dict(self) -> dict:
-        return {"path": str(self.path), "frames": self.frames, "stride": self.stride,
-                "start_s": self.start, "end_s": self.end, "fps": self.fps, "bytes": self.bytes,
-                "width_px": self.size[0], "height_px": self.size[1]}
+        return {
+            "path": str(self.path),
+            "frames": self.frames,
+            "stride": self.stride,
+            "start_s": self.start,
+            "end_s": self.end,
+            "fps": self.fps,
+            "bytes": self.bytes,
+            "width_px": self.size[0],
+            "height_px": self.size[1],
+        }
 
 
 def check_movie_path(path: str | Path) -> Path:
@@ -67,8 +76,14 @@ def check_movie_path(path: str | Path) -> Path:
     return path
 
 
-def choose_frames(times: np.ndarray, *, stride: int | None = None, start: float | None = None,
-                  end: float | None = None, max_frames: int = 1200) -> tuple[np.ndarray, int]:
+def choose_frames(
+    times: np.ndarray,
+    *,
+    stride: int | None = None,
+    start: float | None = None,
+    end: float | None = None,
+    max_frames: int = 1200,
+) -> tuple[np.ndarray, int]:
     """Indices of the frames in [start, end] [s], every ``stride``-th (default: the smallest
     stride that keeps at most ``max_frames``), and the stride."""
     keep = np.ones(len(times), bool)
@@ -78,9 +93,14 @@ def choose_frames(times: np.ndarray, *, stride: int | None = None, start: float 
         keep &= times <= end
     index = np.flatnonzero(keep)
     if len(index) == 0:
-        raise InputError("--window", f"{start}:{end}", f"a window that holds recorded frames "
-                         f"(the record spans {times[0]:.4g}–{times[-1]:.4g} s)" if len(times)
-                         else "a run that recorded frames")
+        raise InputError(
+            "--window",
+            f"{start}:{end}",
+            f"a window that holds recorded frames "
+            f"(the record spans {times[0]:.4g}–{times[-1]:.4g} s)"
+            if len(times)
+            else "a run that recorded frames",
+        )
     if stride is None:
         stride = max(1, math.ceil(len(index) / max_frames))
     return index[::stride], stride
@@ -114,10 +134,19 @@ class _Canvas:
 
             values, extent, label, scale = background
             finite = values[np.isfinite(values) & (values > 0)]
-            norm = LogNorm(vmin=max(finite.min(), finite.max() * 1e-3), vmax=finite.max()) \
-                if finite.size and scale == "log" else None
-            image = ax.imshow(values, origin="lower", extent=np.array(extent) * 1e6,
-                              cmap="Greys_r", norm=norm, alpha=0.85)
+            norm = (
+                LogNorm(vmin=max(finite.min(), finite.max() * 1e-3), vmax=finite.max())
+                if finite.size and scale == "log"
+                else None
+            )
+            image = ax.imshow(
+                values,
+                origin="lower",
+                extent=np.array(extent) * 1e6,
+                cmap="Greys_r",
+                norm=norm,
+                alpha=0.85,
+            )
             cax = fig.add_axes((0.82, 0.25, 0.03, 0.5))
             fig.colorbar(image, cax=cax, label=label)
         else:
@@ -129,13 +158,24 @@ class _Canvas:
         ax.set_xlim(x0 - 0.02 * (x1 - x0), x1 + 0.02 * (x1 - x0))
         ax.set_ylim(y0 - 0.02 * (y1 - y0), y1 + 0.02 * (y1 - y0))
         bar_um = _nice_length(0.25 * (x1 - x0))
-        ax.add_artist(AnchoredSizeBar(ax.transData, bar_um, _length_label(bar_um),
-                                      "lower right", pad=0.4, frameon=True, size_vertical=0))
+        ax.add_artist(
+            AnchoredSizeBar(
+                ax.transData,
+                bar_um,
+                _length_label(bar_um),
+                "lower right",
+                pad=0.4,
+                frameon=True,
+                size_vertical=0,
+            )
+        )
         f = record.frames
         shown = np.unique(record.group_of(f.ids, f.x, f.y)) if len(f.ids) else []
         if len(record.group_names) > 1 and len(shown):
-            handles = [Patch(color=np.array(GROUP_COLOURS[g]) / 255,
-                             label=record.group_names[g]) for g in shown]
+            handles = [
+                Patch(color=np.array(GROUP_COLOURS[g]) / 255, label=record.group_names[g])
+                for g in shown
+            ]
             fig.legend(handles=handles, loc="upper right", fontsize=7, frameon=False)
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
@@ -152,8 +192,12 @@ class _Canvas:
         self.radius_px = max(1.0, 0.5 * record.skyrmion_diameter * 1e6 * self.px_per_um)
 
     def pixels(self, xy_m: np.ndarray) -> np.ndarray:
-        return np.column_stack([self.origin[0] + xy_m[:, 0] * 1e6 * self.px_per_um,
-                                self.origin[1] - xy_m[:, 1] * 1e6 * self.px_per_um])
+        return np.column_stack(
+            [
+                self.origin[0] + xy_m[:, 0] * 1e6 * self.px_per_um,
+                self.origin[1] - xy_m[:, 1] * 1e6 * self.px_per_um,
+            ]
+        )
 
 
 def _nice_length(um: float) -> float:
@@ -195,24 +239,41 @@ def frame_images(record, indices, width_px: int = 720):
         image = base.copy()
         draw = ImageDraw.Draw(image)
         groups = record.group_of(ids, xy[:, 0], xy[:, 1])
-        for (px, py), g in zip(canvas.pixels(xy), groups):
-            draw.ellipse((px - r, py - r, px + r, py + r), fill=fills[int(g) % len(fills)],
-                         outline=(0, 0, 0))
-        draw.text(canvas.stamp_xy, f"{_time_label(frames.time[f])}   N = {len(ids)}",
-                  fill=(0, 0, 0), font=font)
+        for (px, py), g in zip(canvas.pixels(xy), groups, strict=True):
+            draw.ellipse(
+                (px - r, py - r, px + r, py + r), fill=fills[int(g) % len(fills)], outline=(0, 0, 0)
+            )
+        draw.text(
+            canvas.stamp_xy,
+            f"{_time_label(frames.time[f])}   N = {len(ids)}",
+            fill=(0, 0, 0),
+            font=font,
+        )
         yield np.asarray(image)
 
 
-def render_movie(record, path: str | Path, *, stride: int | None = None,
-                 start: float | None = None, end: float | None = None,
-                 max_frames: int | None = None, fps: int = FPS,
-                 width_px: int = 720) -> MovieInfo:
+def render_movie(
+    record,
+    path: str | Path,
+    *,
+    stride: int | None = None,
+    start: float | None = None,
+    end: float | None = None,
+    max_frames: int | None = None,
+    fps: int = FPS,
+    width_px: int = 720,
+) -> MovieInfo:
     """Write the movie of ``record`` (a :class:`~skygas.outputs.records.RunRecord`) to
     ``path`` (.mp4 or .gif), through a temporary file so a finished movie is never partial."""
     path = check_movie_path(path)
     suffix = path.suffix.lower()
-    indices, stride = choose_frames(record.frames.time, stride=stride, start=start, end=end,
-                                    max_frames=max_frames or MAX_FRAMES[suffix])
+    indices, stride = choose_frames(
+        record.frames.time,
+        stride=stride,
+        start=start,
+        end=end,
+        max_frames=max_frames or MAX_FRAMES[suffix],
+    )
     tmp = path.with_name(f".{path.stem}.tmp{suffix}")
     images = frame_images(record, indices, width_px)
     first = next(images)
@@ -223,8 +284,16 @@ def render_movie(record, path: str | Path, *, stride: int | None = None,
         _write_gif(tmp, first, images, fps)
     os.replace(tmp, path)
     t = record.frames.time
-    return MovieInfo(path, len(indices), stride, float(t[indices[0]]), float(t[indices[-1]]),
-                     fps, path.stat().st_size, size)
+    return MovieInfo(
+        path,
+        len(indices),
+        stride,
+        float(t[indices[0]]),
+        float(t[indices[-1]]),
+        fps,
+        path.stat().st_size,
+        size,
+    )
 
 
 def _write_mp4(path: Path, first, images, size, fps: int) -> None:
@@ -234,9 +303,16 @@ def _write_mp4(path: Path, first, images, size, fps: int) -> None:
     # "ultrafast" encodes ~2x faster than "veryfast" for ~3x the bytes (~3.5 kB a frame of
     # this mostly still picture): the run-time budget binds, the size limit (20 MB) does not
     writer = imageio_ffmpeg.write_frames(
-        str(path), size, fps=fps, codec="libx264", pix_fmt_out="yuv420p", macro_block_size=16,
-        quality=None, ffmpeg_log_level="error",
-        output_params=["-preset", "ultrafast", "-crf", "28", "-movflags", "+faststart"])
+        str(path),
+        size,
+        fps=fps,
+        codec="libx264",
+        pix_fmt_out="yuv420p",
+        macro_block_size=16,
+        quality=None,
+        ffmpeg_log_level="error",
+        output_params=["-preset", "ultrafast", "-crf", "28", "-movflags", "+faststart"],
+    )
     writer.send(None)
     writer.send(np.ascontiguousarray(first))
     for image in images:
@@ -254,5 +330,12 @@ def _write_gif(path: Path, first, images, fps: int) -> None:
         return Image.fromarray(image).quantize(palette=palette, dither=Image.Dither.NONE)
 
     rest = [quantized(image) for image in images]
-    quantized(first).save(path, format="GIF", save_all=True, append_images=rest,
-                          duration=round(1000 / fps), loop=0, optimize=False)
+    quantized(first).save(
+        path,
+        format="GIF",
+        save_all=True,
+        append_images=rest,
+        duration=round(1000 / fps),
+        loop=0,
+        optimize=False,
+    )

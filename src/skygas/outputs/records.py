@@ -14,9 +14,9 @@ colour each skyrmion, the direction of the drive, and the provenance (version, s
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -65,8 +65,12 @@ class RunRecord:
 
             values, label = landscape_energy(field_, self.outline)
             g = field_.grid
-            extent = (g.x0 - g.spacing / 2, g.x0 + g.spacing * (g.nx - 0.5),
-                      g.y0 - g.spacing / 2, g.y0 + g.spacing * (g.ny - 0.5))
+            extent = (
+                g.x0 - g.spacing / 2,
+                g.x0 + g.spacing * (g.nx - 0.5),
+                g.y0 - g.spacing / 2,
+                g.y0 + g.spacing * (g.ny - 0.5),
+            )
             return values, tuple(e * 1e-9 for e in extent), label, "linear"
         if self.background_fn is None:
             return None
@@ -85,9 +89,13 @@ def find_result_file(path: str | Path) -> Path:
         for name in RESULT_FILES:
             if (p / name).exists():
                 return p / name
-        raise InputError("RUN", str(path), "a run directory holding one of "
-                         f"{', '.join(RESULT_FILES)} (written by simulate, reshuffle or "
-                         "neuron --animate)")
+        raise InputError(
+            "RUN",
+            str(path),
+            "a run directory holding one of "
+            f"{', '.join(RESULT_FILES)} (written by simulate, reshuffle or "
+            "neuron --animate)",
+        )
     if not p.exists():
         raise InputError("RUN", str(path), "an existing run directory or result file")
     if p.suffix != ".nc":
@@ -111,8 +119,11 @@ def load_run(path: str | Path) -> RunRecord:
     elif "x" in ds and "config_json" in ds.attrs:
         record = _simulation_record(ds, file)
     else:
-        raise InputError("RUN", str(file), "a result file written by skygas simulate, "
-                         "reshuffle or neuron --animate")
+        raise InputError(
+            "RUN",
+            str(file),
+            "a result file written by skygas simulate, reshuffle or neuron --animate",
+        )
     record.summary = summary
     return record
 
@@ -127,12 +138,20 @@ def _simulation_record(ds, file: Path) -> RunRecord:
     config = SimulationConfig.model_validate_json(ds.attrs["config_json"])
     v = np.asarray(config.drift.velocity, float)
     drive = tuple(v / np.hypot(*v)) if np.any(v) else None
-    return RunRecord("simulate", file, Frames.from_trajectories(ds), config.geometry.build(),
-                     config.thiele_parameters().skyrmion_diameter, ("skyrmions",), _one_group,
-                     drive, json.loads(ds.attrs["config_json"]),
-                     str(ds.attrs.get("skygas_version", "?")), int(ds.attrs.get("seed", -1)),
-                     landscape_fn=(lambda: config.build().landscape) if config.potentials
-                     else None)
+    return RunRecord(
+        "simulate",
+        file,
+        Frames.from_trajectories(ds),
+        config.geometry.build(),
+        config.thiele_parameters().skyrmion_diameter,
+        ("skyrmions",),
+        _one_group,
+        drive,
+        json.loads(ds.attrs["config_json"]),
+        str(ds.attrs.get("skygas_version", "?")),
+        int(ds.attrs.get("seed", -1)),
+        landscape_fn=(lambda: config.build().landscape) if config.potentials else None,
+    )
 
 
 def _reshuffler_record(ds, file: Path) -> RunRecord:
@@ -141,11 +160,16 @@ def _reshuffler_record(ds, file: Path) -> RunRecord:
 
     config = ReshufflerConfig.model_validate_json(ds.attrs["config_json"])
     d = config.device
-    geometry = ReshufflerGeometry(d.chamber_diameter, d.conduit_width, d.conduit_length,
-                                  d.chamber_gap)
-    frames = Frames(ds.snapshot_time.values, ds.snapshot_count.values.astype(np.int64),
-                    ds.snapshot_skyrmion.values.astype(np.int64), ds.snapshot_x.values,
-                    ds.snapshot_y.values)
+    geometry = ReshufflerGeometry(
+        d.chamber_diameter, d.conduit_width, d.conduit_length, d.chamber_gap
+    )
+    frames = Frames(
+        ds.snapshot_time.values,
+        ds.snapshot_count.values.astype(np.int64),
+        ds.snapshot_skyrmion.values.astype(np.int64),
+        ds.snapshot_x.values,
+        ds.snapshot_y.values,
+    )
     # the input bit each skyrmion carries: 1 is steered to UP, 0 to DOWN
     carried = ds.event_skyrmion.values
     nucleated = carried >= 0
@@ -166,10 +190,13 @@ def _reshuffler_record(ds, file: Path) -> RunRecord:
         from skygas.current import solve_current
 
         c = config.current
-        solution = solve_current(geometry.chamber(), config.current_density,
-                                 cell_size=c.cell_size,
-                                 conductor_thickness=c.conductor_thickness,
-                                 resistivity=c.resistivity)
+        solution = solve_current(
+            geometry.chamber(),
+            config.current_density,
+            cell_size=c.cell_size,
+            conductor_thickness=c.conductor_thickness,
+            resistivity=c.resistivity,
+        )
         values = np.zeros_like(x)
         which = geometry.chamber_of(y * 1e9)
         for index, name in enumerate(CHAMBERS):
@@ -179,12 +206,21 @@ def _reshuffler_record(ds, file: Path) -> RunRecord:
             values[mask] = np.hypot(jx, jy)
         return values, "current density |j| (A/m²)"
 
-    return RunRecord("reshuffle", file, frames, geometry.device_outline(),
-                     config.thiele_parameters().skyrmion_diameter,
-                     ("input bit 1 (to UP)", "input bit 0 (to DOWN)", "unknown"), group_of,
-                     (1.0, 0.0), json.loads(ds.attrs["config_json"]),
-                     str(ds.attrs.get("skygas_version", "?")), int(ds.attrs.get("seed", -1)),
-                     background_fn=background, landscape_fn=_reshuffler_landscape(config))
+    return RunRecord(
+        "reshuffle",
+        file,
+        frames,
+        geometry.device_outline(),
+        config.thiele_parameters().skyrmion_diameter,
+        ("input bit 1 (to UP)", "input bit 0 (to DOWN)", "unknown"),
+        group_of,
+        (1.0, 0.0),
+        json.loads(ds.attrs["config_json"]),
+        str(ds.attrs.get("skygas_version", "?")),
+        int(ds.attrs.get("seed", -1)),
+        background_fn=background,
+        landscape_fn=_reshuffler_landscape(config),
+    )
 
 
 def _reshuffler_landscape(config):
@@ -215,9 +251,18 @@ def _neuron_record(ds, file: Path) -> RunRecord:
         jx, jy = solution.current_density_at(x, y)
         return np.hypot(jx, jy), "holding current density |j| (A/m²)"
 
-    return RunRecord("neuron", file, Frames.from_trajectories(ds), full.without_ports("input"),
-                     config.thiele_parameters().skyrmion_diameter, ("skyrmions",), _one_group,
-                     (1.0, 0.0), json.loads(ds.attrs["config_json"]),
-                     str(ds.attrs.get("skygas_version", "?")), int(ds.attrs.get("seed", -1)),
-                     background_fn=background if config.current_density > 0 else None,
-                     landscape_fn=lambda: NeuronDevice(config).build().sim.landscape)
+    return RunRecord(
+        "neuron",
+        file,
+        Frames.from_trajectories(ds),
+        full.without_ports("input"),
+        config.thiele_parameters().skyrmion_diameter,
+        ("skyrmions",),
+        _one_group,
+        (1.0, 0.0),
+        json.loads(ds.attrs["config_json"]),
+        str(ds.attrs.get("skygas_version", "?")),
+        int(ds.attrs.get("seed", -1)),
+        background_fn=background if config.current_density > 0 else None,
+        landscape_fn=lambda: NeuronDevice(config).build().sim.landscape,
+    )

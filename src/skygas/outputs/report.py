@@ -83,20 +83,25 @@ class _Page:
         self.parts.append(f"<p>{html.escape(text)}</p>")
 
     def table(self, rows) -> None:
-        body = "".join(f"<tr><th>{html.escape(str(k))}</th><td class=n>{v}</td></tr>"
-                       for k, v in rows)
+        body = "".join(
+            f"<tr><th>{html.escape(str(k))}</th><td class=n>{v}</td></tr>" for k, v in rows
+        )
         self.parts.append(f"<table>{body}</table>")
 
     def image(self, png: bytes, caption: str) -> None:
-        self.parts.append(f'<figure><img src="{_data_uri("image/png", png)}" '
-                          f'alt="{html.escape(caption)}"><figcaption>{html.escape(caption)}'
-                          "</figcaption></figure>")
+        self.parts.append(
+            f'<figure><img src="{_data_uri("image/png", png)}" '
+            f'alt="{html.escape(caption)}"><figcaption>{html.escape(caption)}'
+            "</figcaption></figure>"
+        )
 
     def movie(self, path: Path) -> None:
         data = path.read_bytes()
         if path.suffix == ".mp4":
-            self.parts.append(f'<video id="movie" controls muted loop preload="auto" '
-                              f'src="{_data_uri("video/mp4", data)}"></video>')
+            self.parts.append(
+                f'<video id="movie" controls muted loop preload="auto" '
+                f'src="{_data_uri("video/mp4", data)}"></video>'
+            )
         else:
             self.image_tag(_data_uri("image/gif", data), "movie of the gas")
 
@@ -109,19 +114,22 @@ class _Page:
         self.parts.append(
             f'<script type="application/json" id="{name}">{inline}'
             f'</script><p><a download="{name}.json" href="'
-            f'{_data_uri("application/json", text.encode())}">download {name}.json</a></p>')
+            f'{_data_uri("application/json", text.encode())}">download {name}.json</a></p>'
+        )
 
     def pre(self, text: str) -> None:
         self.parts.append(f"<pre>{html.escape(text)}</pre>")
 
     def html(self) -> str:
-        return ("<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8>"
-                # no network: a policy that forbids every fetch but data: URIs and inline style
-                "<meta http-equiv=Content-Security-Policy content=\"default-src 'none'; "
-                "img-src data:; media-src data:; style-src 'unsafe-inline'\">"
-                f"<meta name=viewport content='width=device-width'>"
-                f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head><body>"
-                f"<h1>{html.escape(self.title)}</h1>" + "\n".join(self.parts) + "</body></html>")
+        return (
+            "<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8>"
+            # no network: a policy that forbids every fetch but data: URIs and inline style
+            "<meta http-equiv=Content-Security-Policy content=\"default-src 'none'; "
+            "img-src data:; media-src data:; style-src 'unsafe-inline'\">"
+            f"<meta name=viewport content='width=device-width'>"
+            f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head><body>"
+            f"<h1>{html.escape(self.title)}</h1>" + "\n".join(self.parts) + "</body></html>"
+        )
 
 
 #: The page builder, for other reports (the calibration's).
@@ -162,8 +170,11 @@ def write_report(source: str | Path, out: str | Path, *, analysis: dict | None =
         return _write(sweep_report(source), out)
     from skygas.outputs.records import RESULT_FILES, load_run
 
-    if source.is_dir() and not any((source / n).exists() for n in RESULT_FILES) \
-            and any((source / n).exists() for n in SUMMARY_FILES):
+    if (
+        source.is_dir()
+        and not any((source / n).exists() for n in RESULT_FILES)
+        and any((source / n).exists() for n in SUMMARY_FILES)
+    ):
         return _write(directory_report(source), out)  # a run that kept no positions
     return _write(run_report(load_run(source), analysis=analysis), out)
 
@@ -196,8 +207,12 @@ def directory_report(directory: Path) -> str:
     page = _Page(f"skygas run — {directory.name}")
     page.paragraph(f"Report written by skygas {__version__} from {directory / name}.")
     page.heading("Provenance")
-    page.table([("skygas version of the run", provenance.get("skygas_version", "?")),
-                ("seed", provenance.get("seed", "?"))])
+    page.table(
+        [
+            ("skygas version of the run", provenance.get("skygas_version", "?")),
+            ("seed", provenance.get("seed", "?")),
+        ]
+    )
     _movie(page, directory)
     page.heading("Summary")
     page.table(_summary_rows(summary))
@@ -220,11 +235,21 @@ def run_report(record, *, analysis: dict | None = None) -> str:
     page = _Page(f"skygas {record.kind} run — {record.directory.name}")
     page.paragraph(f"Report written by skygas {__version__} from {record.path.name}.")
     page.heading("Provenance")
-    page.table([("run kind", record.kind), ("skygas version of the run", record.version),
-                ("seed", record.seed), ("result file", html.escape(str(record.path))),
-                ("frames recorded", record.frames.n_frames),
-                ("time span", _number(float(record.frames.time[-1]), unit="s")
-                 if record.frames.n_frames else "n/a")])
+    page.table(
+        [
+            ("run kind", record.kind),
+            ("skygas version of the run", record.version),
+            ("seed", record.seed),
+            ("result file", html.escape(str(record.path))),
+            ("frames recorded", record.frames.n_frames),
+            (
+                "time span",
+                _number(float(record.frames.time[-1]), unit="s")
+                if record.frames.n_frames
+                else "n/a",
+            ),
+        ]
+    )
     _movie(page, record.directory)
     page.heading("Summary")
     if record.summary:
@@ -262,22 +287,41 @@ def _observable_rows(a: dict):
     rows = [("frames analysed", a.get("frames")), ("skyrmion entries", a.get("entries"))]
     msd = a.get("msd")
     if msd:
-        rows.append(("diffusion constant D" + (" (drift removed)" if msd["drift_subtracted"]
-                                               else ""),
-                     _number(msd["diffusion_constant_m2_s"],
-                             msd["diffusion_constant_error_m2_s"], "m²/s")))
+        rows.append(
+            (
+                "diffusion constant D" + (" (drift removed)" if msd["drift_subtracted"] else ""),
+                _number(
+                    msd["diffusion_constant_m2_s"], msd["diffusion_constant_error_m2_s"], "m²/s"
+                ),
+            )
+        )
         if a.get("free_diffusion_constant_m2_s"):
-            rows.append(("free diffusion constant D₀ (material, T)",
-                         _number(a["free_diffusion_constant_m2_s"], unit="m²/s")))
+            rows.append(
+                (
+                    "free diffusion constant D₀ (material, T)",
+                    _number(a["free_diffusion_constant_m2_s"], unit="m²/s"),
+                )
+            )
     v = a.get("velocity")
     if v:
-        rows.append(("mean velocity (vx, vy)",
-                     f"{_number(v['velocity_m_s'][0], v['velocity_error_m_s'][0])}, "
-                     f"{_number(v['velocity_m_s'][1], v['velocity_error_m_s'][1])} m/s"))
+        rows.append(
+            (
+                "mean velocity (vx, vy)",
+                f"{_number(v['velocity_m_s'][0], v['velocity_error_m_s'][0])}, "
+                f"{_number(v['velocity_m_s'][1], v['velocity_error_m_s'][1])} m/s",
+            )
+        )
         if "hall_angle_rad" in v:
-            rows.append(("Hall angle from the drive direction",
-                         _number(math.degrees(v["hall_angle_rad"]),
-                                 math.degrees(v["hall_angle_error_rad"]), "°")))
+            rows.append(
+                (
+                    "Hall angle from the drive direction",
+                    _number(
+                        math.degrees(v["hall_angle_rad"]),
+                        math.degrees(v["hall_angle_error_rad"]),
+                        "°",
+                    ),
+                )
+            )
     occ = a.get("occupancy", {})
     if occ:
         rows.append(("mean skyrmions present", _number(occ.get("mean_total"))))
@@ -300,8 +344,13 @@ def _analysis_figures(a: dict):
         d = msd["diffusion_constant_m2_s"]
         ax.plot(t, 4 * d * t * 1e-9 * 1e18, "k--", lw=1, label="4Dτ (fit)")
         if a.get("free_diffusion_constant_m2_s"):
-            ax.plot(t, 4 * a["free_diffusion_constant_m2_s"] * t * 1e-9 * 1e18, ":",
-                    color="tab:red", label="4D₀τ (free)")
+            ax.plot(
+                t,
+                4 * a["free_diffusion_constant_m2_s"] * t * 1e-9 * 1e18,
+                ":",
+                color="tab:red",
+                label="4D₀τ (free)",
+            )
         if len(t) > 1:
             ax.set_xscale("log")
             ax.set_yscale("log")
@@ -315,8 +364,7 @@ def _analysis_figures(a: dict):
         fig = Figure(figsize=(4.6, 3.4), dpi=100)
         ax = fig.add_subplot()
         r = np.array(g["r_m"]) * 1e9
-        ax.errorbar(r, g["g"], yerr=np.nan_to_num(np.array(g["g_error"], float)), fmt="-",
-                    lw=1)
+        ax.errorbar(r, g["g"], yerr=np.nan_to_num(np.array(g["g_error"], float)), fmt="-", lw=1)
         ax.axhline(1.0, color="grey", lw=0.5)
         ax.set_xlabel("r (nm)")
         ax.set_ylabel("g(r)")
@@ -349,14 +397,19 @@ def sweep_report(store: Path | list[Path]) -> str:
     stores = store if isinstance(store, list) else [store]
     ds = open_sweeps(stores)
     page = _Page(f"skygas sweep — {' + '.join(s.name for s in stores)}")
-    page.paragraph(f"Report written by skygas {__version__} from "
-                   f"{', '.join(str(s) for s in stores)}.")
+    page.paragraph(
+        f"Report written by skygas {__version__} from {', '.join(str(s) for s in stores)}."
+    )
     page.heading("Provenance")
     done = ds["done"].values
-    page.table([("skygas version of the sweep", ds.attrs.get("skygas_version", "?")),
-                ("root seed", ds.attrs.get("root_seed", ds.attrs.get("seed", "?"))),
-                ("runs done", f"{int(np.sum(done))} of {done.size}"),
-                ("swept dimensions", ", ".join(ds["done"].dims))])
+    page.table(
+        [
+            ("skygas version of the sweep", ds.attrs.get("skygas_version", "?")),
+            ("root seed", ds.attrs.get("root_seed", ds.attrs.get("seed", "?"))),
+            ("runs done", f"{int(np.sum(done))} of {done.size}"),
+            ("swept dimensions", ", ".join(ds["done"].dims)),
+        ]
+    )
     with tempfile.TemporaryDirectory() as tmp:
         try:
             fits = plot_sweep(ds, tmp)
@@ -366,9 +419,15 @@ def sweep_report(store: Path | list[Path]) -> str:
         for key, name in (("current", "beta"), ("chamber", "gamma")):
             if key in fits:
                 f = fits[key][name]
-                page.table([(f"{name} (ρ/(1−ρ) power law)",
-                             _number(f["exponent"], f.get("exponent_error"))),
-                            ("points", f.get("n_points"))])
+                page.table(
+                    [
+                        (
+                            f"{name} (ρ/(1−ρ) power law)",
+                            _number(f["exponent"], f.get("exponent_error")),
+                        ),
+                        ("points", f.get("n_points")),
+                    ]
+                )
         if "note" in fits:
             page.paragraph(fits["note"])
         page.heading("Figures")

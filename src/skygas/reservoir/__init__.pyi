@@ -10,8 +10,26 @@ from .sensors import coverage, disk_overlap_area
 from .study import accuracy_sweep, run_study, score_streams
 from .tasks import BOOLEAN_NAMES, boolean_study, boolean_value, temporal_study
 
-__all__ = ["BOOLEAN_NAMES", "Drive", "ReservoirConfig", "ReservoirDevice", "StreamResult",
-           "accuracy_sweep", "boltzmann_wall_distance_pdf", "boolean_study", "boolean_value",
-           "build_chamber", "contact_middles", "coverage", "disk_overlap_area", "fit_and_score",
-           "load_reservoir_config", "reservoir_config", "run_streams", "run_study",
-           "score_streams", "split", "temporal_study"]
+__all__ = [
+    "BOOLEAN_NAMES",
+    "Drive",
+    "ReservoirConfig",
+    "ReservoirDevice",
+    "StreamResult",
+    "accuracy_sweep",
+    "boltzmann_wall_distance_pdf",
+    "boolean_study",
+    "boolean_value",
+    "build_chamber",
+    "contact_middles",
+    "coverage",
+    "disk_overlap_area",
+    "fit_and_score",
+    "load_reservoir_config",
+    "reservoir_config",
+    "run_streams",
+    "run_study",
+    "score_streams",
+    "split",
+    "temporal_study",
+]

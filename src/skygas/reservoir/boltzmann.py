@@ -3,12 +3,13 @@
 Without current (and without a landscape) one skyrmion in a closed chamber feels only the wall
 force F = F₀ f(d/d_sk) n̂, d the distance to the nearest wall. That force is −∇U with
 
-    U(x) = F₀ d_sk · u(d(x)/d_sk),   u(δ) = ∫_δ^{δ_c} f(s) ds      (:func:`skygas.forces.wall_potential`),
+    U(x) = F₀ d_sk · u(d(x)/d_sk),   u(δ) = ∫_δ^{δ_c} f(s) ds
 
-so the stationary density is p(x) ∝ exp(−U(x)/k_BT), whatever the gyrocoupling (the
-gyrotropic term does no work). :func:`boltzmann_wall_distance_pdf` integrates it over the
-chamber: the probability of each bin of wall distance. For a convex polygon the points at
-distance d from the walls form a copy of the outline shrunk to inradius r − d, so
+(:func:`skygas.forces.wall_potential`), so the stationary density is p(x) ∝ exp(−U(x)/k_BT),
+whatever the gyrocoupling (the gyrotropic term does no work).
+:func:`boltzmann_wall_distance_pdf` integrates it over the chamber: the probability of each
+bin of wall distance. For a convex polygon the points at distance d from the walls form a
+copy of the outline shrunk to inradius r − d, so
 p(d) ∝ (1 − d/r)·exp(−U(d)/k_BT) (used by the tests as an independent check).
 """
 
@@ -29,14 +30,21 @@ def wall_energy(d_nm, material: Material, thiele: ThieleParameters) -> np.ndarra
     return thiele.force_scale * d_sk * u
 
 
-def boltzmann_wall_distance_pdf(outline: Outline, material: Material,
-                                thiele: ThieleParameters, temperature: float,
-                                edges_nm: np.ndarray, resolution_nm: float = 0.5) -> np.ndarray:
+def boltzmann_wall_distance_pdf(
+    outline: Outline,
+    material: Material,
+    thiele: ThieleParameters,
+    temperature: float,
+    edges_nm: np.ndarray,
+    resolution_nm: float = 0.5,
+) -> np.ndarray:
     """Probability of each wall-distance bin ``edges_nm`` [nm] in the Boltzmann distribution
     of the walls at ``temperature`` [K] (quadrature on a square grid of ``resolution_nm``)."""
     x0, y0, x1, y1 = outline.bounds_nm
-    gx, gy = np.meshgrid(np.arange(x0, x1, resolution_nm) + resolution_nm / 2,
-                         np.arange(y0, y1, resolution_nm) + resolution_nm / 2)
+    gx, gy = np.meshgrid(
+        np.arange(x0, x1, resolution_nm) + resolution_nm / 2,
+        np.arange(y0, y1, resolution_nm) + resolution_nm / 2,
+    )
     inside = outline.contains_nm(gx, gy)
     d = outline.wall_distance_nm(gx[inside], gy[inside])
     # tabulate U(d) once and interpolate (the quadrature in wall_potential is per point)

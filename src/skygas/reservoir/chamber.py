@@ -53,9 +53,13 @@ def _cut_corners(vertices: np.ndarray, width: float) -> tuple[np.ndarray, list]:
         cos_angle = float(np.dot(u, v) / (lu * lv))
         half = 0.5 * math.acos(max(-1.0, min(1.0, cos_angle)))
         reach = width / (2 * math.sin(half)) if half > 0 else math.inf
-        require(reach < 0.5 * min(lu, lv), "chamber.contact_width", width,
-                f"a width that leaves part of every side (at most "
-                f"{2 * math.sin(half) * 0.5 * min(lu, lv):.3g} m at corner {k})")
+        require(
+            reach < 0.5 * min(lu, lv),
+            "chamber.contact_width",
+            width,
+            f"a width that leaves part of every side (at most "
+            f"{2 * math.sin(half) * 0.5 * min(lu, lv):.3g} m at corner {k})",
+        )
         a, b = p + reach * u / lu, p + reach * v / lv
         points += [a, b]
         cuts.append((a, b))
@@ -67,16 +71,24 @@ def _disk_with_flats(diameter: float, width: float) -> geo.Outline:
     flats' ends lie exactly on the circle, the arcs between them are polygons whose chords stray
     at most 0.05 nm from the circle (like :func:`skygas.geometry.disk`)."""
     radius = diameter / 2
-    require(width < diameter, "chamber.contact_width", width,
-            f"a width smaller than the disk's diameter ({diameter} m)")
+    require(
+        width < diameter,
+        "chamber.contact_width",
+        width,
+        f"a width smaller than the disk's diameter ({diameter} m)",
+    )
     half = math.asin(width / diameter)  # half the angle a flat spans
     step = 2 * math.sqrt(2 * 0.05 / (radius * M_TO_NM))  # chord error ≤ 0.05 nm
     centres = np.radians([90.0, 210.0, 330.0])
     points, cuts = [], []
     for k, centre in enumerate(centres):
         start, end = centre - half, centre + half
-        cuts.append((radius * np.array([math.cos(start), math.sin(start)]),
-                     radius * np.array([math.cos(end), math.sin(end)])))
+        cuts.append(
+            (
+                radius * np.array([math.cos(start), math.sin(start)]),
+                radius * np.array([math.cos(end), math.sin(end)]),
+            )
+        )
         following = centres[(k + 1) % 3] + (2 * math.pi if k == 2 else 0.0) - half
         n = max(8, int(math.ceil((following - end) / step)))
         arc = np.linspace(end, following, n + 1)[:-1]  # from the flat's end, not the next start
@@ -99,15 +111,19 @@ def build_chamber(spec: ChamberSpec) -> geo.Outline:
         elif spec.shape == "square":
             corners = _regular(4, spec.size, math.radians(225))
         else:
-            require(len(spec.vertices) >= 3, "chamber.vertices", spec.vertices,
-                    "at least three (x, y) corners in metres for a polygon chamber")
+            require(
+                len(spec.vertices) >= 3,
+                "chamber.vertices",
+                spec.vertices,
+                "at least three (x, y) corners in metres for a polygon chamber",
+            )
             corners = np.asarray(spec.vertices, float)
         if spec.contacts:
             outline = geo.polygon(corners)
         else:
             cut, cuts = _cut_corners(corners, spec.contact_width)
             outline = geo.polygon(cut)
-            for name, (a, b) in zip(_names(len(cuts)), cuts):
+            for name, (a, b) in zip(_names(len(cuts)), cuts, strict=True):
                 outline = outline.with_port(name, a, b)
     if spec.contacts:
         outline = geo.Outline(outline.region)
@@ -115,13 +131,18 @@ def build_chamber(spec: ChamberSpec) -> geo.Outline:
             try:
                 outline = outline.with_port(c.name, c.start, c.end)
             except InputError:
-                raise InputError(f"chamber.contacts[{k}]", [list(c.start), list(c.end)],
-                                 "a segment lying on the chamber's outline (contacts off the "
-                                 "outline cannot carry current)") from None
+                raise InputError(
+                    f"chamber.contacts[{k}]",
+                    [list(c.start), list(c.end)],
+                    "a segment lying on the chamber's outline (contacts off the "
+                    "outline cannot carry current)",
+                ) from None
     return outline
 
 
 def contact_middles(outline: geo.Outline) -> dict[str, np.ndarray]:
     """The middle [m] of each contact."""
-    return {name: np.asarray(seg.interpolate(0.5, normalized=True).coords[0]) / M_TO_NM
-            for name, seg in outline.ports.items()}
+    return {
+        name: np.asarray(seg.interpolate(0.5, normalized=True).coords[0]) / M_TO_NM
+        for name, seg in outline.ports.items()
+    }

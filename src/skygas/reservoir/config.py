@@ -31,18 +31,18 @@ class ChamberSpec(_Strict):
     """The chamber: a regular shape or a polygon, contacts at its corners (or given)."""
 
     shape: Literal["triangle", "square", "disk", "polygon"] = "triangle"
-    size: float = Field(300e-9, gt=0)           # m: side (triangle, square) or diameter (disk)
-    contact_width: float = Field(60e-9, gt=0)   # m: width of each corner contact
-    vertices: list[tuple[float, float]] = []    # m: corners of a "polygon" chamber
-    contacts: list[PortSpec] = []               # explicit contacts (replace the corner cuts)
+    size: float = Field(300e-9, gt=0)  # m: side (triangle, square) or diameter (disk)
+    contact_width: float = Field(60e-9, gt=0)  # m: width of each corner contact
+    vertices: list[tuple[float, float]] = []  # m: corners of a "polygon" chamber
+    contacts: list[PortSpec] = []  # explicit contacts (replace the corner cuts)
 
 
 class DriveSpec(_Strict):
     """How input bits become contact voltages, and the film that carries the current."""
 
-    input_contacts: list[str] = ["A", "B"]      # one contact per input bit
-    levels: tuple[float, float] = (-1.0, 1.0)   # V/V₀ for bit 0 and bit 1; other contacts 0 V
-    current_density: float = Field(4e9, ge=0)   # A/m²: chamber-mean |j| for unit V₀ on input 0
+    input_contacts: list[str] = ["A", "B"]  # one contact per input bit
+    levels: tuple[float, float] = (-1.0, 1.0)  # V/V₀ for bit 0 and bit 1; other contacts 0 V
+    current_density: float = Field(4e9, ge=0)  # A/m²: chamber-mean |j| for unit V₀ on input 0
     spin_drift_coefficient: float = Field(1.84e-10, gt=0)  # ξ [m³/C]
     conductor_thickness: float = Field(DEFAULT_CONDUCTOR_THICKNESS, gt=0)
     resistivity: float = Field(DEFAULT_RESISTIVITY, gt=0)
@@ -53,41 +53,42 @@ class SensorSpec(_Strict):
     """Magnetoresistive sensors: disks; the signal is the fraction of the sensor's area the
     skyrmions cover, plus Gaussian read noise."""
 
-    radius: float = Field(90e-9, gt=0)                 # m
-    centers: list[tuple[float, float]] = []            # m; empty: one at each contact's middle
-    read_noise: float = Field(0.005, ge=0)             # covered fraction (std per read)
-    sample_interval: float = Field(10e-9, gt=0)        # s
-    bins: int = Field(4, ge=1, le=20)                  # feature windows per hold
+    radius: float = Field(90e-9, gt=0)  # m
+    centers: list[tuple[float, float]] = []  # m; empty: one at each contact's middle
+    read_noise: float = Field(0.005, ge=0)  # covered fraction (std per read)
+    sample_interval: float = Field(10e-9, gt=0)  # s
+    bins: int = Field(4, ge=1, le=20)  # feature windows per hold
 
 
 class ReadoutSpec(_Strict):
     """The trained linear read-out."""
 
     model: Literal["ridge", "logistic"] = "ridge"
-    regularization: float = Field(1e-3, gt=0)          # ridge α or 1/C of the logistic fit
+    regularization: float = Field(1e-3, gt=0)  # ridge α or 1/C of the logistic fit
     test_fraction: float = Field(0.4, gt=0, lt=1)
 
 
 class StudySpec(_Strict):
     """The input stream and the temporal tasks."""
 
-    n_inputs: int = Field(600, ge=8)         # held inputs of the Boolean study (train + test)
-    warmup_inputs: int = Field(2, ge=0)      # inputs run before each stream, not scored
+    n_inputs: int = Field(600, ge=8)  # held inputs of the Boolean study (train + test)
+    warmup_inputs: int = Field(2, ge=0)  # inputs run before each stream, not scored
     # The temporal tasks run their own stream with short holds: the skyrmion forgets its
     # previous position within ~100 ns at the default drive, so memory shows only when inputs
     # change faster than that (docs/reservoir.md, "Fading memory").
     temporal_inputs: int = Field(1200, ge=0)
-    temporal_hold_time: float = Field(5e-8, gt=0)        # s
+    temporal_hold_time: float = Field(5e-8, gt=0)  # s
     temporal_sample_interval: float = Field(2e-9, gt=0)  # s
     delays: list[Annotated[int, Field(ge=1)]] = [1, 2, 3]  # recall of the input k steps back
-    workers: int = Field(2, ge=1)            # independent streams run in parallel
+    workers: int = Field(2, ge=1)  # independent streams run in parallel
 
 
 class SweepSpec(_Strict):
     """Accuracy against one parameter, with replicas (``skygas reservoir --sweep``)."""
 
-    parameter: Literal["hold_time", "temperature", "n_skyrmions", "pinning_depth_kT",
-                       "current_density"] = "hold_time"
+    parameter: Literal[
+        "hold_time", "temperature", "n_skyrmions", "pinning_depth_kT", "current_density"
+    ] = "hold_time"
     values: list[float] = [2e-6, 5e-6, 1e-5, 2e-5]
     replicas: int = Field(3, ge=1)
     n_inputs: int = Field(300, ge=8)
@@ -98,9 +99,9 @@ class ReservoirConfig(MaterialFields):
 
     seed: int = Field(0, ge=0, lt=2**63)
     temperature: float = Field(300.0, ge=0)
-    time_step: float | None = Field(None, gt=0)   # s; None: the engine's suggested step
+    time_step: float | None = Field(None, gt=0)  # s; None: the engine's suggested step
     n_skyrmions: int = 1
-    hold_time: float = Field(20e-6, gt=0)         # s each input is held
+    hold_time: float = Field(20e-6, gt=0)  # s each input is held
     chamber: ChamberSpec = ChamberSpec()
     drive: DriveSpec = DriveSpec()
     sensors: SensorSpec = SensorSpec()

@@ -38,10 +38,10 @@ MAP_BINS = 48
 class StreamResult:
     """What one stream of held inputs produced."""
 
-    bits: np.ndarray          # (n_inputs, n_input_contacts) the input symbols, in order
-    features: np.ndarray      # (n_inputs, n_sensors · bins) sensor means per window
-    occupation: np.ndarray    # (n_symbols, ny, nx) frames with a skyrmion centre in each bin
-    map_extent: tuple         # (x0, x1, y0, y1) [nm] of the occupation maps
+    bits: np.ndarray  # (n_inputs, n_input_contacts) the input symbols, in order
+    features: np.ndarray  # (n_inputs, n_sensors · bins) sensor means per window
+    occupation: np.ndarray  # (n_symbols, ny, nx) frames with a skyrmion centre in each bin
+    map_extent: tuple  # (x0, x1, y0, y1) [nm] of the occupation maps
     sensor_means: np.ndarray  # (n_symbols, n_sensors) mean signal while each symbol is held
     steps: int
     cpu_seconds: float
@@ -64,8 +64,12 @@ class ReservoirDevice:
 
             for k, c in enumerate(s.centers):
                 gap = self.walls.region.distance(Point(c[0] * M_TO_NM, c[1] * M_TO_NM))
-                require(gap < s.radius * M_TO_NM, f"sensors.centers[{k}]", list(c),
-                        "a sensor centre whose disk overlaps the chamber")
+                require(
+                    gap < s.radius * M_TO_NM,
+                    f"sensors.centers[{k}]",
+                    list(c),
+                    "a sensor centre whose disk overlaps the chamber",
+                )
             self.sensor_names = [f"S{k}" for k in range(len(s.centers))]
             self.sensor_centers = np.asarray(s.centers, float)
         else:
@@ -75,20 +79,35 @@ class ReservoirDevice:
         self.time_step = probe.time_step
         self.skyrmion_radius_nm = probe.thiele.skyrmion_diameter_internal / 2
         self.diffusion_constant = probe.thiele.diffusion_constant(max(config.temperature, 0.0))
-        for field, hold in (("hold_time", config.hold_time),
-                            ("study.temporal_hold_time", config.study.temporal_hold_time)):
-            require(hold >= self.time_step, field, hold,
-                    f"a hold time of at least one time step ({self.time_step:.3g} s)")
+        for field, hold in (
+            ("hold_time", config.hold_time),
+            ("study.temporal_hold_time", config.study.temporal_hold_time),
+        ):
+            require(
+                hold >= self.time_step,
+                field,
+                hold,
+                f"a hold time of at least one time step ({self.time_step:.3g} s)",
+            )
         st = config.study
-        for field, interval, hold in (("sensors.sample_interval", s.sample_interval,
-                                       config.hold_time),
-                                      ("study.temporal_sample_interval",
-                                       st.temporal_sample_interval, st.temporal_hold_time)):
-            require(interval >= self.time_step, field, interval,
-                    f"an interval of at least one time step ({self.time_step:.3g} s)")
-            require(hold >= s.bins * interval, field, interval, f"at most 1/{s.bins} of the "
-                    f"hold time {hold:.3g} s, so that each of the sensors.bins = {s.bins} "
-                    "windows gets a read")
+        for field, interval, hold in (
+            ("sensors.sample_interval", s.sample_interval, config.hold_time),
+            ("study.temporal_sample_interval", st.temporal_sample_interval, st.temporal_hold_time),
+        ):
+            require(
+                interval >= self.time_step,
+                field,
+                interval,
+                f"an interval of at least one time step ({self.time_step:.3g} s)",
+            )
+            require(
+                hold >= s.bins * interval,
+                field,
+                interval,
+                f"at most 1/{s.bins} of the "
+                f"hold time {hold:.3g} s, so that each of the sensors.bins = {s.bins} "
+                "windows gets a read",
+            )
         self._fields = self.drive.drift_fields(probe.wall_field.grid)
         self._initial_positions(probe, np.random.default_rng(0))  # do they fit?
 
@@ -98,10 +117,17 @@ class ReservoirDevice:
         from skygas.engine import Simulation
 
         c = self.config
-        return Simulation(self.walls, c.resolved_material(), temperature=c.temperature,
-                          time_step=c.time_step, seed=seed, film_thickness=c.film_thickness,
-                          thiele=c.thiele_parameters(), landscape=c.potentials,
-                          **c.forces.simulation_arguments())
+        return Simulation(
+            self.walls,
+            c.resolved_material(),
+            temperature=c.temperature,
+            time_step=c.time_step,
+            seed=seed,
+            film_thickness=c.film_thickness,
+            thiele=c.thiele_parameters(),
+            landscape=c.potentials,
+            **c.forces.simulation_arguments(),
+        )
 
     def _initial_positions(self, sim, rng) -> np.ndarray:
         d = sim.thiele.skyrmion_diameter_internal
@@ -117,9 +143,15 @@ class ReservoirDevice:
         return (max(1, round((y1 - y0) / size)), max(1, round((x1 - x0) / size)))
 
     # -- running -------------------------------------------------------------------------------
-    def run_stream(self, bits: np.ndarray, seed: int, warmup: int = 0,
-                   hold_time: float | None = None, sample_interval: float | None = None,
-                   progress=None) -> StreamResult:
+    def run_stream(
+        self,
+        bits: np.ndarray,
+        seed: int,
+        warmup: int = 0,
+        hold_time: float | None = None,
+        sample_interval: float | None = None,
+        progress=None,
+    ) -> StreamResult:
         """Hold each symbol of ``bits`` (n, n_input_contacts) for ``hold_time`` in turn,
         reading the sensors every ``sample_interval`` (defaults: the configuration's), after
         ``warmup`` random symbols that are not recorded; returns the features and maps."""
@@ -151,8 +183,7 @@ class ReservoirDevice:
             y = np.concatenate([b.y for b in blocks])
             if n < warmup:
                 continue
-            signal = coverage(x, y, centers_nm, c.sensors.radius * M_TO_NM,
-                              self.skyrmion_radius_nm)
+            signal = coverage(x, y, centers_nm, c.sensors.radius * M_TO_NM, self.skyrmion_radius_nm)
             if c.sensors.read_noise > 0:
                 signal = signal + rng.normal(0.0, c.sensors.read_noise, signal.shape)
             windows = np.array_split(signal, n_bins)
@@ -161,16 +192,20 @@ class ReservoirDevice:
             sums[s] += signal.sum(axis=0)
             counts[s] += len(signal)
             ok = np.isfinite(x)
-            hist, _, _ = np.histogram2d(y[ok], x[ok], bins=shape,
-                                        range=[extent[2:], extent[:2]])
+            hist, _, _ = np.histogram2d(y[ok], x[ok], bins=shape, range=[extent[2:], extent[:2]])
             occupation[s] += hist
             if progress is not None:
                 progress(n - warmup + 1)
-        return StreamResult(bits=np.asarray(bits, int), features=features,
-                            occupation=occupation, map_extent=extent,
-                            sensor_means=sums / np.maximum(counts, 1)[:, None], steps=sim.step,
-                            cpu_seconds=time.process_time() - cpu,
-                            wall_seconds=time.perf_counter() - started)
+        return StreamResult(
+            bits=np.asarray(bits, int),
+            features=features,
+            occupation=occupation,
+            map_extent=extent,
+            sensor_means=sums / np.maximum(counts, 1)[:, None],
+            steps=sim.step,
+            cpu_seconds=time.process_time() - cpu,
+            wall_seconds=time.perf_counter() - started,
+        )
 
     def describe(self) -> dict:
         """A JSON-able record of the device (SI)."""
@@ -181,19 +216,25 @@ class ReservoirDevice:
             "config": c.model_dump(mode="json"),
             "time_step_s": self.time_step,
             "diffusion_constant_m2_per_s": self.diffusion_constant,
-            "chamber_area_m2": self.outline.area_nm2() / M_TO_NM ** 2,
+            "chamber_area_m2": self.outline.area_nm2() / M_TO_NM**2,
             # the time for the mean squared displacement 4Dt to reach the chamber's area
-            "exploration_time_s": self.outline.area_nm2() / M_TO_NM ** 2 / (
-                4 * self.diffusion_constant) if self.diffusion_constant > 0 else None,
-            "sensors": {n: list(map(float, p)) for n, p in zip(self.sensor_names,
-                                                              self.sensor_centers)},
+            "exploration_time_s": self.outline.area_nm2()
+            / M_TO_NM**2
+            / (4 * self.diffusion_constant)
+            if self.diffusion_constant > 0
+            else None,
+            "sensors": {
+                n: list(map(float, p))
+                for n, p in zip(self.sensor_names, self.sensor_centers, strict=True)
+            },
             "drive": self.drive.record(c.hold_time),
             "geometry": self.outline.describe(),
         }
 
 
-def _run_one(config: ReservoirConfig, stream: int, n_boolean: int,
-             n_temporal: int) -> tuple[StreamResult, StreamResult | None]:
+def _run_one(
+    config: ReservoirConfig, stream: int, n_boolean: int, n_temporal: int
+) -> tuple[StreamResult, StreamResult | None]:
     """Stream ``stream`` of a study, for a worker process: its own device, seed and random
     inputs; ``n_boolean`` inputs held ``hold_time``, then (if ``n_temporal`` > 0) a fresh
     stream of ``n_temporal`` inputs held ``study.temporal_hold_time``."""
@@ -201,21 +242,28 @@ def _run_one(config: ReservoirConfig, stream: int, n_boolean: int,
     rng = np.random.default_rng(np.random.SeedSequence([config.seed, stream, 0xB175]))
     width = len(config.drive.input_contacts)
     seed = config.seed * 1000 + stream
-    boolean = device.run_stream(rng.integers(0, 2, size=(n_boolean, width)), seed=seed,
-                                warmup=config.study.warmup_inputs)
+    boolean = device.run_stream(
+        rng.integers(0, 2, size=(n_boolean, width)), seed=seed, warmup=config.study.warmup_inputs
+    )
     temporal = None
     if n_temporal:
         st = config.study
-        temporal = device.run_stream(rng.integers(0, 2, size=(n_temporal, width)),
-                                     seed=seed + 500, warmup=st.warmup_inputs,
-                                     hold_time=st.temporal_hold_time,
-                                     sample_interval=st.temporal_sample_interval)
+        temporal = device.run_stream(
+            rng.integers(0, 2, size=(n_temporal, width)),
+            seed=seed + 500,
+            warmup=st.warmup_inputs,
+            hold_time=st.temporal_hold_time,
+            sample_interval=st.temporal_sample_interval,
+        )
     return boolean, temporal
 
 
-def run_streams(config: ReservoirConfig, n_inputs: int | None = None,
-                n_temporal: int | None = None, workers: int | None = None
-                ) -> tuple[list[StreamResult], list[StreamResult]]:
+def run_streams(
+    config: ReservoirConfig,
+    n_inputs: int | None = None,
+    n_temporal: int | None = None,
+    workers: int | None = None,
+) -> tuple[list[StreamResult], list[StreamResult]]:
     """The Boolean streams (``n_inputs`` held inputs in all) and the temporal streams
     (``n_temporal``), split into ``workers`` independent streams run in parallel processes
     (one: in this process).
@@ -236,6 +284,8 @@ def run_streams(config: ReservoirConfig, n_inputs: int | None = None,
     else:
         from joblib import Parallel, delayed
 
-        results = Parallel(n_jobs=workers)(delayed(_run_one)(config, k, m, t)
-                                           for k, (m, t) in enumerate(zip(sizes, temporal)))
+        results = Parallel(n_jobs=workers)(
+            delayed(_run_one)(config, k, m, t)
+            for k, (m, t) in enumerate(zip(sizes, temporal, strict=True))
+        )
     return [b for b, _ in results], [t for _, t in results if t is not None]

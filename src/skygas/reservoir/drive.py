@@ -33,16 +33,28 @@ class Drive:
     unit_voltage: float  # V₀ [V]
 
     @classmethod
-    def build(cls, outline: Outline, spec: DriveSpec) -> "Drive":
+    def build(cls, outline: Outline, spec: DriveSpec) -> Drive:
         for k, name in enumerate(spec.input_contacts):
-            require(name in outline.ports, f"drive.input_contacts[{k}]", name,
-                    f"a contact of the chamber: {outline.port_names()}")
-        require(len(set(spec.input_contacts)) == len(spec.input_contacts)
-                and len(outline.ports) > len(spec.input_contacts), "drive.input_contacts",
-                spec.input_contacts, "different contacts, leaving at least one at 0 V")
-        basis = ContactBasis(outline, outline.port_names(), cell_size=spec.cell_size,
-                             conductor_thickness=spec.conductor_thickness,
-                             resistivity=spec.resistivity)
+            require(
+                name in outline.ports,
+                f"drive.input_contacts[{k}]",
+                name,
+                f"a contact of the chamber: {outline.port_names()}",
+            )
+        require(
+            len(set(spec.input_contacts)) == len(spec.input_contacts)
+            and len(outline.ports) > len(spec.input_contacts),
+            "drive.input_contacts",
+            spec.input_contacts,
+            "different contacts, leaving at least one at 0 V",
+        )
+        basis = ContactBasis(
+            outline,
+            outline.port_names(),
+            cell_size=spec.cell_size,
+            conductor_thickness=spec.conductor_thickness,
+            resistivity=spec.resistivity,
+        )
         first = basis.units[basis.contacts.index(spec.input_contacts[0])]
         unit_voltage = spec.current_density / first.mean_current_density()
         return cls(basis, spec, unit_voltage)
@@ -55,7 +67,7 @@ class Drive:
     def potentials(self, symbol) -> dict[str, float]:
         """Contact potentials [V] for ``symbol``."""
         volts = {name: 0.0 for name in self.basis.contacts}
-        for name, bit in zip(self.spec.input_contacts, symbol):
+        for name, bit in zip(self.spec.input_contacts, symbol, strict=True):
             volts[name] = self.spec.levels[int(bit)] * self.unit_voltage
         return volts
 
@@ -78,13 +90,18 @@ class Drive:
         for s in self.symbols:
             flow = self.flow(s)
             per["".join(map(str, s))] = {
-                "potentials_V": self.potentials(s), "power_W": self.power(s),
+                "potentials_V": self.potentials(s),
+                "power_W": self.power(s),
                 "mean_current_density_A_per_m2": flow.mean_current_density(),
-                "max_current_density_A_per_m2": float(np.max(np.hypot(
-                    *flow.cell_fields[:2])[flow.cell_fields[3]])),
-                "energy_J": self.power(s) * hold_time}
-        return {"unit_voltage_V": self.unit_voltage,
-                "conductance_matrix_S": self.basis.conductance.tolist(),
-                "contacts": list(self.basis.contacts),
-                "energy_per_operation_J": float(np.mean([p["energy_J"] for p in per.values()])),
-                "symbols": per}
+                "max_current_density_A_per_m2": float(
+                    np.max(np.hypot(*flow.cell_fields[:2])[flow.cell_fields[3]])
+                ),
+                "energy_J": self.power(s) * hold_time,
+            }
+        return {
+            "unit_voltage_V": self.unit_voltage,
+            "conductance_matrix_S": self.basis.conductance.tolist(),
+            "contacts": list(self.basis.contacts),
+            "energy_per_operation_J": float(np.mean([p["energy_J"] for p in per.values()])),
+            "symbols": per,
+        }

@@ -40,9 +40,14 @@ def _classifier(model: str, regularization: float):
     return make_pipeline(StandardScaler(), head)
 
 
-def fit_and_score(features: np.ndarray, labels: np.ndarray, train: np.ndarray,
-                  test: np.ndarray, model: str = "ridge",
-                  regularization: float = 1e-3) -> dict:
+def fit_and_score(
+    features: np.ndarray,
+    labels: np.ndarray,
+    train: np.ndarray,
+    test: np.ndarray,
+    model: str = "ridge",
+    regularization: float = 1e-3,
+) -> dict:
     """Train on ``train``, score on ``test`` (index arrays); returns the scores (see module)."""
     x = np.asarray(features, float)
     y = np.asarray(labels).astype(int)
@@ -54,6 +59,11 @@ def fit_and_score(features: np.ndarray, labels: np.ndarray, train: np.ndarray,
     p = float(np.mean(y[test]))
     chance = max(p, 1.0 - p)
     se = math.sqrt(chance * (1.0 - chance) / test.size)
-    return {"accuracy": accuracy, "chance": chance, "n_train": int(train.size),
-            "n_test": int(test.size), "standard_error": se,
-            "margin_standard_errors": (accuracy - chance) / se if se > 0 else None}
+    return {
+        "accuracy": accuracy,
+        "chance": chance,
+        "n_train": int(train.size),
+        "n_test": int(test.size),
+        "standard_error": se,
+        "margin_standard_errors": (accuracy - chance) / se if se > 0 else None,
+    }

@@ -20,22 +20,27 @@ def disk_overlap_area(d, r1: float, r2: float) -> np.ndarray:
     small, big = min(r1, r2), max(r1, r2)
     out = np.zeros(d.shape)
     inside = d <= big - small
-    out[inside] = np.pi * small ** 2
+    out[inside] = np.pi * small**2
     lens = (d > big - small) & (d < r1 + r2)
     x = d[lens]
-    a1 = r1 ** 2 * np.arccos(np.clip((x * x + r1 * r1 - r2 * r2) / (2 * x * r1), -1, 1))
-    a2 = r2 ** 2 * np.arccos(np.clip((x * x + r2 * r2 - r1 * r1) / (2 * x * r2), -1, 1))
+    a1 = r1**2 * np.arccos(np.clip((x * x + r1 * r1 - r2 * r2) / (2 * x * r1), -1, 1))
+    a2 = r2**2 * np.arccos(np.clip((x * x + r2 * r2 - r1 * r1) / (2 * x * r2), -1, 1))
     k = (-x + r1 + r2) * (x + r1 - r2) * (x - r1 + r2) * (x + r1 + r2)
     out[lens] = a1 + a2 - 0.5 * np.sqrt(np.maximum(k, 0.0))
     return out
 
 
-def coverage(x_nm: np.ndarray, y_nm: np.ndarray, centers_nm: np.ndarray, sensor_radius_nm: float,
-             skyrmion_radius_nm: float) -> np.ndarray:
+def coverage(
+    x_nm: np.ndarray,
+    y_nm: np.ndarray,
+    centers_nm: np.ndarray,
+    sensor_radius_nm: float,
+    skyrmion_radius_nm: float,
+) -> np.ndarray:
     """Covered fraction of each sensor, (frames, sensors), from positions (frames, slots) [nm]
     (NaN for empty slots)."""
     out = np.empty((x_nm.shape[0], len(centers_nm)))
-    area = np.pi * sensor_radius_nm ** 2
+    area = np.pi * sensor_radius_nm**2
     for s, (cx, cy) in enumerate(centers_nm):
         d = np.hypot(x_nm - cx, y_nm - cy)
         d = np.where(np.isfinite(d), d, np.inf)

@@ -27,27 +27,40 @@ def _readout(config: ReservoirConfig) -> dict:
     return {"model": config.readout.model, "regularization": config.readout.regularization}
 
 
-def score_streams(config: ReservoirConfig, streams: list[StreamResult],
-                  temporal: list[StreamResult]) -> dict:
+def score_streams(
+    config: ReservoirConfig, streams: list[StreamResult], temporal: list[StreamResult]
+) -> dict:
     """Boolean scores of the states of ``streams``, temporal scores of ``temporal``."""
     features = np.concatenate([s.features for s in streams])
     bits = np.concatenate([s.bits for s in streams])
     train, test = split(len(features), config.readout.test_fraction, config.seed)
-    return {"boolean": boolean_study(features, bits, train, test, **_readout(config)),
-            "temporal": temporal_study(temporal, config.study.delays,
-                                       config.readout.test_fraction, config.seed,
-                                       **_readout(config)) if temporal else None}
+    return {
+        "boolean": boolean_study(features, bits, train, test, **_readout(config)),
+        "temporal": temporal_study(
+            temporal,
+            config.study.delays,
+            config.readout.test_fraction,
+            config.seed,
+            **_readout(config),
+        )
+        if temporal
+        else None,
+    }
 
 
-def run_study(config: ReservoirConfig, device: ReservoirDevice | None = None,
-              n_inputs: int | None = None, temporal_tasks: bool = True
-              ) -> tuple[dict, list[StreamResult]]:
+def run_study(
+    config: ReservoirConfig,
+    device: ReservoirDevice | None = None,
+    n_inputs: int | None = None,
+    temporal_tasks: bool = True,
+) -> tuple[dict, list[StreamResult]]:
     """The study of ``config`` (``temporal_tasks=False`` skips the temporal stream): (summary
     record, the Boolean streams)."""
     device = device or ReservoirDevice(config)
     started = time.perf_counter()
-    streams, temporal = run_streams(config, n_inputs=n_inputs,
-                                    n_temporal=None if temporal_tasks else 0)
+    streams, temporal = run_streams(
+        config, n_inputs=n_inputs, n_temporal=None if temporal_tasks else 0
+    )
     scores = score_streams(config, streams, temporal)
     wall = time.perf_counter() - started
     boolean = scores["boolean"]
@@ -59,13 +72,17 @@ def run_study(config: ReservoirConfig, device: ReservoirDevice | None = None,
         "hold_time_s": config.hold_time,
         "temperature_K": config.temperature,
         "n_skyrmions": config.n_skyrmions,
-        "energy_per_operation_J": device.drive.record(config.hold_time)[
-            "energy_per_operation_J"],
+        "energy_per_operation_J": device.drive.record(config.hold_time)["energy_per_operation_J"],
         "boolean": boolean,
         # mean sensor signal (covered fraction) while each input is held
-        "sensor_means": {"".join(map(str, sym)): dict(zip(device.sensor_names, map(float, m)))
-                         for sym, m in zip(device.drive.symbols,
-                                           sum(s.sensor_means for s in streams) / len(streams))},
+        "sensor_means": {
+            "".join(map(str, sym)): dict(zip(device.sensor_names, map(float, m), strict=True))
+            for sym, m in zip(
+                device.drive.symbols,
+                sum(s.sensor_means for s in streams) / len(streams),
+                strict=True,
+            )
+        },
         "temporal": scores["temporal"],
         "n_inputs": int(sum(len(s.bits) for s in streams)),
         "streams": len(streams),
@@ -95,14 +112,19 @@ def _with(config: ReservoirConfig, parameter: str, value: float, seed: int) -> R
         # random pinning wells one skyrmion radius wide, one per (2 d_sk)² on average
         d = config.thiele_parameters().skyrmion_diameter
         if value > 0:
-            data["potentials"] = [*data["potentials"], {
-                "kind": "random_pinning", "density": 1.0 / (2 * d) ** 2, "sigma": d / 2,
-                "depth_kT": float(value)}]
+            data["potentials"] = [
+                *data["potentials"],
+                {
+                    "kind": "random_pinning",
+                    "density": 1.0 / (2 * d) ** 2,
+                    "sigma": d / 2,
+                    "depth_kT": float(value),
+                },
+            ]
     return ReservoirConfig.model_validate(data)
 
 
-def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None,
-                   progress=None) -> dict:
+def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None, progress=None) -> dict:
     """XOR and mean Boolean accuracy against ``config.sweep.parameter`` (mean and standard
     deviation over ``replicas`` seeds).
 
@@ -111,8 +133,11 @@ def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None,
     resumes where it stopped. Every point's configuration is validated before the first runs.
     """
     sw = config.sweep
-    plan = [(value, r, _with(config, sw.parameter, value, config.seed + 1000 * (r + 1)))
-            for value in sw.values for r in range(sw.replicas)]
+    plan = [
+        (value, r, _with(config, sw.parameter, value, config.seed + 1000 * (r + 1)))
+        for value in sw.values
+        for r in range(sw.replicas)
+    ]
     for _, _, cfg in plan:
         ReservoirDevice(cfg)
     done = {}
@@ -124,9 +149,13 @@ def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None,
     for value, r, cfg in plan:
         if (value, r) not in done:
             summary, _ = run_study(cfg, n_inputs=sw.n_inputs, temporal_tasks=False)
-            point = {"value": value, "replica": r, "seed": cfg.seed,
-                     "xor_accuracy": summary["xor"]["accuracy"],
-                     "mean_accuracy": summary["mean_accuracy"]}
+            point = {
+                "value": value,
+                "replica": r,
+                "seed": cfg.seed,
+                "xor_accuracy": summary["xor"]["accuracy"],
+                "mean_accuracy": summary["mean_accuracy"],
+            }
             done[(value, r)] = point
             if checkpoint is not None:
                 with open(checkpoint, "a") as f:
@@ -137,9 +166,21 @@ def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None,
     for value in sw.values:
         xor = [done[(value, r)]["xor_accuracy"] for r in range(sw.replicas)]
         mean = [done[(value, r)]["mean_accuracy"] for r in range(sw.replicas)]
-        rows.append({"value": value, "xor_accuracy": xor, "mean_accuracy": mean,
-                     "xor_mean": float(np.mean(xor)),
-                     "xor_std": float(np.std(xor, ddof=1)) if len(xor) > 1 else 0.0,
-                     "mean_accuracy_mean": float(np.mean(mean))})
-    return {"parameter": sw.parameter, "replicas": sw.replicas, "n_inputs": sw.n_inputs,
-            "skygas_version": __version__, "seed": config.seed, "rows": rows}
+        rows.append(
+            {
+                "value": value,
+                "xor_accuracy": xor,
+                "mean_accuracy": mean,
+                "xor_mean": float(np.mean(xor)),
+                "xor_std": float(np.std(xor, ddof=1)) if len(xor) > 1 else 0.0,
+                "mean_accuracy_mean": float(np.mean(mean)),
+            }
+        )
+    return {
+        "parameter": sw.parameter,
+        "replicas": sw.replicas,
+        "n_inputs": sw.n_inputs,
+        "skygas_version": __version__,
+        "seed": config.seed,
+        "rows": rows,
+    }

@@ -17,9 +17,22 @@ from skygas.reservoir.readout import fit_and_score, split
 
 #: The 16 Boolean functions of (a, b), by truth-table number.
 BOOLEAN_NAMES = {
-    0: "FALSE", 1: "NOR", 2: "NOT A AND B", 3: "NOT A", 4: "A AND NOT B", 5: "NOT B",
-    6: "XOR", 7: "NAND", 8: "AND", 9: "XNOR", 10: "B", 11: "NOT A OR B", 12: "A",
-    13: "A OR NOT B", 14: "OR", 15: "TRUE",
+    0: "FALSE",
+    1: "NOR",
+    2: "NOT A AND B",
+    3: "NOT A",
+    4: "A AND NOT B",
+    5: "NOT B",
+    6: "XOR",
+    7: "NAND",
+    8: "AND",
+    9: "XNOR",
+    10: "B",
+    11: "NOT A OR B",
+    12: "A",
+    13: "A OR NOT B",
+    14: "OR",
+    15: "TRUE",
 }
 #: Order in which they are reported: XOR first.
 BOOLEAN_ORDER = [6] + [k for k in range(16) if k != 6]
@@ -30,13 +43,20 @@ def boolean_value(number: int, a, b) -> np.ndarray:
     return (number >> (2 * np.asarray(a, int) + np.asarray(b, int))) & 1
 
 
-def boolean_study(features: np.ndarray, bits: np.ndarray, train, test,
-                  **readout) -> dict[str, dict]:
+def boolean_study(
+    features: np.ndarray, bits: np.ndarray, train, test, **readout
+) -> dict[str, dict]:
     """Scores of the 16 functions (XOR first) on the states ``features`` of inputs ``bits``
     (n, 2)."""
-    return {BOOLEAN_NAMES[k]: {"truth_table": k, **fit_and_score(
-        features, boolean_value(k, bits[:, 0], bits[:, 1]), train, test, **readout)}
-            for k in BOOLEAN_ORDER}
+    return {
+        BOOLEAN_NAMES[k]: {
+            "truth_table": k,
+            **fit_and_score(
+                features, boolean_value(k, bits[:, 0], bits[:, 1]), train, test, **readout
+            ),
+        }
+        for k in BOOLEAN_ORDER
+    }
 
 
 def temporal_study(streams, delays, test_fraction: float, seed: int, **readout) -> dict:
@@ -48,8 +68,8 @@ def temporal_study(streams, delays, test_fraction: float, seed: int, **readout) 
     train, test = split(len(feats), test_fraction, seed + 1)
     out = {"recall": {}}
     for k in delays:
-        label = np.concatenate([x[deepest - k:len(x) - k] for x in a])
+        label = np.concatenate([x[deepest - k : len(x) - k] for x in a])
         out["recall"][str(k)] = fit_and_score(feats, label, train, test, **readout)
-    parity = np.concatenate([x[deepest:] ^ x[deepest - 1:-1] for x in a])
+    parity = np.concatenate([x[deepest:] ^ x[deepest - 1 : -1] for x in a])
     out["parity_last_two"] = fit_and_score(feats, parity, train, test, **readout)
     return out

@@ -25,6 +25,7 @@ from skygas._version import __version__
 if TYPE_CHECKING:
     import xarray as xr
 
+
 @dataclass
 class ReshufflerResult:
     """The summary (JSON-able dict, SI units), the running correlation (None with fewer than
@@ -39,8 +40,12 @@ def _injections(run) -> dict[str, np.ndarray]:
     log = run.injector.log
     done = np.nonzero(log.skyrmion >= 0)[0]
     order = done[np.lexsort((done, log.injection_step[done]))]  # by step, then event index
-    return {"event": order, "skyrmion": log.skyrmion[order],
-            "time": log.injection_step[order] * run.sim.time_step, "up": log.bit[order]}
+    return {
+        "event": order,
+        "skyrmion": log.skyrmion[order],
+        "time": log.injection_step[order] * run.sim.time_step,
+        "up": log.bit[order],
+    }
 
 
 def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
@@ -61,13 +66,19 @@ def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
     lag = corr.pearson_vs_lag(b, c, max_lag) if n_pairs >= 4 else None
     all_bits = run.injector.log.bit
     p_cmp = corr.p_out_vs_p_in(all_bits, c) if len(c) else None
-    running = corr.running_correlation(b, c, det["time"][:n_pairs], cfg.output.running_points) \
-        if n_pairs >= 3 else None
+    running = (
+        corr.running_correlation(b, c, det["time"][:n_pairs], cfg.output.running_points)
+        if n_pairs >= 3
+        else None
+    )
     occ = corr.occupancy(inj["time"], inj["up"], det["time"], det["up"])
     grid_t = np.linspace(0.0, run.sim.time, 500)
     occ_t = corr.occupancy(inj["time"], inj["up"], det["time"], det["up"], grid_t)
-    transit = corr.transit_times(inj["skyrmion"], inj["time"], det["skyrmion"], det["time"]) \
-        if len(det["skyrmion"]) else None
+    transit = (
+        corr.transit_times(inj["skyrmion"], inj["time"], det["skyrmion"], det["time"])
+        if len(det["skyrmion"])
+        else None
+    )
     power = 2.0 * run.current.power  # two identical chambers, each carrying J in its conduits
     energy_per_bit = power * cfg.injection.interval
 
@@ -123,27 +134,38 @@ def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
         {
             "input_bit": ("event", all_bits.astype(np.int8)),
             "event_skyrmion": ("event", run.injector.log.skyrmion),
-            "event_injection_time": ("event", np.where(
-                run.injector.log.injection_step >= 0,
-                run.injector.log.injection_step * run.sim.time_step, np.nan), {"units": "s"}),
+            "event_injection_time": (
+                "event",
+                np.where(
+                    run.injector.log.injection_step >= 0,
+                    run.injector.log.injection_step * run.sim.time_step,
+                    np.nan,
+                ),
+                {"units": "s"},
+            ),
             "event_delayed": ("event", run.injector.log.delayed.astype(np.int8)),
             "event_skipped": ("event", run.injector.log.skipped.astype(np.int8)),
             "detection_time": ("detection", det["time"], {"units": "s"}),
             "detection_up": ("detection", det["up"].astype(np.int8)),
             "detection_skyrmion": ("detection", det["skyrmion"]),
-            "transit_time": ("detection", transit.transit if transit else np.empty(0),
-                             {"units": "s"}),
+            "transit_time": (
+                "detection",
+                transit.transit if transit else np.empty(0),
+                {"units": "s"},
+            ),
             "occupancy_up": ("occupancy_time", occ_t.up),
             "occupancy_down": ("occupancy_time", occ_t.down),
             "lag_rho": ("lag", lag.rho if lag else np.empty(0)),
             "running_rho": ("running", running.rho if running else np.empty(0)),
-            "running_time": ("running", running.times if running else np.empty(0),
-                             {"units": "s"}),
+            "running_time": ("running", running.times if running else np.empty(0), {"units": "s"}),
             "running_events": ("running", running.n_events if running else np.empty(0, int)),
         },
         coords={
-            "event_time": ("event", np.arange(len(all_bits)) * cfg.injection.interval,
-                           {"units": "s"}),
+            "event_time": (
+                "event",
+                np.arange(len(all_bits)) * cfg.injection.interval,
+                {"units": "s"},
+            ),
             "occupancy_time": ("occupancy_time", grid_t, {"units": "s"}),
             "lag": ("lag", lag.lags if lag else np.empty(0, int)),
         },
@@ -152,20 +174,24 @@ def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
     counts_per = np.array([len(s[1]) for s in snaps], dtype=np.int64)
     ds["snapshot_time"] = ("snapshot", np.array([s[0] for s in snaps]), {"units": "s"})
     ds["snapshot_count"] = ("snapshot", counts_per)
-    ds["snapshot_skyrmion"] = ("entry", np.concatenate([s[1] for s in snaps])
-                               if snaps else np.empty(0, np.int64))
+    ds["snapshot_skyrmion"] = (
+        "entry",
+        np.concatenate([s[1] for s in snaps]) if snaps else np.empty(0, np.int64),
+    )
     pos = np.concatenate([s[2] for s in snaps]) if snaps else np.empty((0, 2))
     ds["snapshot_x"] = ("entry", pos[:, 0], {"units": "m"})
     ds["snapshot_y"] = ("entry", pos[:, 1], {"units": "m"})
-    ds.attrs.update({
-        "title": "skygas Skyrmion Reshuffler run",
-        "skygas_version": __version__,
-        "seed": cfg.seed,
-        "config_json": cfg.model_dump_json(),
-        "summary_json": json.dumps(summary),
-        "current_json": json.dumps(run.current.record()),
-        "engine_parameters_json": json.dumps(run.sim.parameters()),
-        "snapshot_layout": "entries of snapshot n are the snapshot_count[n] consecutive "
-                           "entries after those of snapshots 0..n-1",
-    })
+    ds.attrs.update(
+        {
+            "title": "skygas Skyrmion Reshuffler run",
+            "skygas_version": __version__,
+            "seed": cfg.seed,
+            "config_json": cfg.model_dump_json(),
+            "summary_json": json.dumps(summary),
+            "current_json": json.dumps(run.current.record()),
+            "engine_parameters_json": json.dumps(run.sim.parameters()),
+            "snapshot_layout": "entries of snapshot n are the snapshot_count[n] consecutive "
+            "entries after those of snapshots 0..n-1",
+        }
+    )
     return ReshufflerResult(summary, running, ds)

@@ -57,7 +57,7 @@ class SignalConfig(StrictModel):
 class InjectionSpec(StrictModel):
     interval: PositiveFloat = 5e-9
     occupied_rule: Literal["delay", "skip"] = "delay"
-    site_clearance: PositiveFloat = 1.0   # skyrmion diameters
+    site_clearance: PositiveFloat = 1.0  # skyrmion diameters
     retry_interval: PositiveFloat | None = None  # default: interval / 10
     max_pending: int = Field(1000, ge=1)
 
@@ -69,7 +69,7 @@ class CurrentSpec(StrictModel):
 
 
 class OutputSpec(StrictModel):
-    snapshot_interval: PositiveFloat = 100e-9   # positions of all skyrmions, stored sparsely
+    snapshot_interval: PositiveFloat = 100e-9  # positions of all skyrmions, stored sparsely
     trajectory_window: float = Field(300e-9, ge=0)  # dense 1 ns frames for the figure
     running_points: int = Field(200, ge=2)
     max_lag: int = Field(50, ge=1)  # events; the lag scan of ρ covers −max_lag … max_lag
@@ -80,9 +80,9 @@ class ReshufflerConfig(MaterialFields):
 
     seed: int = Field(0, ge=0, lt=2**63)
     temperature: float = Field(300.0, ge=0)
-    current_density: PositiveFloat = 1.7e11        # J in the conduits [A/m²]
-    duration: PositiveFloat = 20e-6                # simulated time [s]
-    time_step: PositiveFloat | None = None         # default: 0.1 τ_min
+    current_density: PositiveFloat = 1.7e11  # J in the conduits [A/m²]
+    duration: PositiveFloat = 20e-6  # simulated time [s]
+    time_step: PositiveFloat | None = None  # default: 0.1 τ_min
     spin_drift_coefficient: PositiveFloat | None = None  # ξ [m³/C]
     spin_polarization: float = Field(0.5, gt=0, le=1)
     device: DeviceSpec = DeviceSpec()
@@ -107,8 +107,12 @@ class ReshufflerConfig(MaterialFields):
         if self.spin_drift_coefficient is not None:
             return self.spin_drift_coefficient
         m_s = self.resolved_material().saturation_magnetization
-        return (self.spin_polarization * 2.0 * units.BOHR_MAGNETON
-                / (2.0 * units.ELEMENTARY_CHARGE * m_s))
+        return (
+            self.spin_polarization
+            * 2.0
+            * units.BOHR_MAGNETON
+            / (2.0 * units.ELEMENTARY_CHARGE * m_s)
+        )
 
 
 def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
@@ -121,13 +125,22 @@ def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
         parts = key.split(".")
         for part in parts[:-1]:
             if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")
-                require(part.isdigit() and int(part) < len(node), key, value,
-                        f"an index below {len(node)} into the list of {parts[0]}")
+                require(
+                    part.isdigit() and int(part) < len(node),
+                    key,
+                    value,
+                    f"an index below {len(node)} into the list of {parts[0]}",
+                )
                 node = node[int(part)]
                 continue
             child = node.get(part, {})
-            node[part] = child = ([dict(t) for t in child] if isinstance(child, list)
-                                  else dict(child) if isinstance(child, dict) else child)
+            node[part] = child = (
+                [dict(t) for t in child]
+                if isinstance(child, list)
+                else dict(child)
+                if isinstance(child, dict)
+                else child
+            )
             node = child
         if isinstance(node, list):
             node[int(parts[-1])] = value
@@ -136,8 +149,9 @@ def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
     return data
 
 
-def parse_reshuffler_config(data: dict, source: str = "",
-                            overrides: dict[str, Any] | None = None) -> ReshufflerConfig:
+def parse_reshuffler_config(
+    data: dict, source: str = "", overrides: dict[str, Any] | None = None
+) -> ReshufflerConfig:
     """Validate a mapping (with optional dotted-key overrides) into a config."""
     data = _with_overrides(data, overrides or {})
     preset = data.pop("preset", None)
@@ -159,8 +173,12 @@ def _flatten(data: dict, prefix: str = "") -> dict:
     return out
 
 
-def load_reshuffler_config(path: str | Path | None = None, *, preset: str | None = None,
-                           overrides: dict[str, Any] | None = None) -> ReshufflerConfig:
+def load_reshuffler_config(
+    path: str | Path | None = None,
+    *,
+    preset: str | None = None,
+    overrides: dict[str, Any] | None = None,
+) -> ReshufflerConfig:
     """A config from a TOML file, or from a preset when no file is given, then overrides."""
     if path is None:
         data = {"preset": preset or "default"}

@@ -31,18 +31,29 @@ class ReshufflerDecorrelator(FunctionDecorrelator):
     forced_readouts: int = 0
 
 
-def reshuffler_decorrelator(config: ReshufflerConfig | None = None,
-                            name: str = "skyrmion reshuffler",
-                            drain_limit: float = 100e-6) -> ReshufflerDecorrelator:
+def reshuffler_decorrelator(
+    config: ReshufflerConfig | None = None,
+    name: str = "skyrmion reshuffler",
+    drain_limit: float = 100e-6,
+) -> ReshufflerDecorrelator:
     """A decorrelator that runs ``config`` (default: the ``paper`` preset) on each stream."""
     if config is None:
         config = load_reshuffler_config(preset="paper")
-    config = config.model_copy(update={"output": config.output.model_copy(
-        update={"trajectory_window": 0.0, "snapshot_interval": 1.0})})
+    config = config.model_copy(
+        update={
+            "output": config.output.model_copy(
+                update={"trajectory_window": 0.0, "snapshot_interval": 1.0}
+            )
+        }
+    )
 
     def reshuffle(bits: np.ndarray, rng: np.random.Generator):
-        seeded = config.model_copy(update={"seed": int(rng.integers(2**62)),
-                                           "duration": len(bits) * config.injection.interval})
+        seeded = config.model_copy(
+            update={
+                "seed": int(rng.integers(2**62)),
+                "duration": len(bits) * config.injection.interval,
+            }
+        )
         run = ReshufflerRun.build(seeded, bits=bits)
         run.advance()
         run.drain(drain_limit)
@@ -52,23 +63,34 @@ def reshuffler_decorrelator(config: ReshufflerConfig | None = None,
             log = run.injector.log
             detected = set(run.detections()["skyrmion"].tolist())
             order = np.argsort(log.injection_step, kind="stable")
-            rest = [log.bit[k] for k in order
-                    if log.skyrmion[k] >= 0 and log.skyrmion[k] not in detected]
+            rest = [
+                log.bit[k]
+                for k in order
+                if log.skyrmion[k] >= 0 and log.skyrmion[k] not in detected
+            ]
             decorrelator.forced_readouts += len(rest)
             out = np.concatenate([out, np.asarray(rest, dtype=bool)])
         latency = summary["mean_transit_s"] / config.injection.interval
         return out.astype(bool), summary["energy_per_bit_J"], latency
 
     decorrelator = ReshufflerDecorrelator(
-        name, reshuffle,
+        name,
+        reshuffle,
         energy_source="Joule power of the device's current solve × injection interval "
-                      "(conductor thickness and resistivity as configured)")
+        "(conductor thickness and resistivity as configured)",
+    )
     return decorrelator
 
 
-def reshuffler_demo(out_dir, *, seed: int = 2024, n_bits: int = 2048,
-                    p_values=(0.2, 0.4, 0.6, 0.8), correlation_bits: float = 16.0,
-                    trials: int = 2) -> dict:
+def reshuffler_demo(
+    out_dir,
+    *,
+    seed: int = 2024,
+    n_bits: int = 2048,
+    p_values=(0.2, 0.4, 0.6, 0.8),
+    correlation_bits: float = 16.0,
+    trials: int = 2,
+) -> dict:
     """The paper's AND-gate figure with the device, and the reshuffler beside two CMOS
     baselines: squaring x·x with an AND gate (x AND x gives p; x AND reshuffled x should give
     p²), then SCC, squaring error, latency and energy per bit on Bernoulli and telegraph
@@ -87,15 +109,25 @@ def reshuffler_demo(out_dir, *, seed: int = 2024, n_bits: int = 2048,
     device = reshuffler_decorrelator()
     square_seed, compare_seed = np.random.SeedSequence(seed).spawn(2)
     squaring = []
-    for p, child in zip(p_values, square_seed.spawn(len(p_values))):
+    for p, child in zip(p_values, square_seed.spawn(len(p_values)), strict=True):
         x = bernoulli_stream(p, n_bits, seed=child)
         y = device.apply(x, seed=np.random.default_rng(child)).stream
-        squaring.append({"p": p, "x_and_x": float((x & x).mean()),
-                         "x_and_reshuffled_x": float((x & y).mean()),
-                         "binomial_std": float(np.sqrt(p * p * (1 - p * p) / n_bits))})
-    rows = compare_decorrelators([DelayIsolator(1), ShuffleBuffer(128), device], p=0.6,
-                                 n_bits=n_bits, n_trials=trials,
-                                 correlation_bits=correlation_bits, seed=compare_seed)
+        squaring.append(
+            {
+                "p": p,
+                "x_and_x": float((x & x).mean()),
+                "x_and_reshuffled_x": float((x & y).mean()),
+                "binomial_std": float(np.sqrt(p * p * (1 - p * p) / n_bits)),
+            }
+        )
+    rows = compare_decorrelators(
+        [DelayIsolator(1), ShuffleBuffer(128), device],
+        p=0.6,
+        n_bits=n_bits,
+        n_trials=trials,
+        correlation_bits=correlation_bits,
+        seed=compare_seed,
+    )
     fig = Figure(figsize=(10, 4), dpi=110)
     ax, bx = fig.subplots(1, 2)
     grid = np.linspace(0, 1, 101)
@@ -103,9 +135,13 @@ def reshuffler_demo(out_dir, *, seed: int = 2024, n_bits: int = 2048,
     ax.plot(grid, grid**2, "k--", label="p² (independent inputs)")
     ps = [s["p"] for s in squaring]
     ax.plot(ps, [s["x_and_x"] for s in squaring], "o", label="x AND x")
-    ax.errorbar(ps, [s["x_and_reshuffled_x"] for s in squaring],
-                yerr=[2 * s["binomial_std"] for s in squaring], fmt="s",
-                label="x AND reshuffled x")
+    ax.errorbar(
+        ps,
+        [s["x_and_reshuffled_x"] for s in squaring],
+        yerr=[2 * s["binomial_std"] for s in squaring],
+        fmt="s",
+        label="x AND reshuffled x",
+    )
     ax.set_xlabel("p of x")
     ax.set_ylabel("p of the AND output")
     ax.legend(fontsize=8)
@@ -121,8 +157,14 @@ def reshuffler_demo(out_dir, *, seed: int = 2024, n_bits: int = 2048,
     bx.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / "sc_reshuffler.png")
-    record = {"skygas_version": __version__, "seed": seed, "n_bits": n_bits, "trials": trials,
-              "telegraph_correlation_bits": correlation_bits, "squaring": squaring,
-              "comparison": rows}
+    record = {
+        "skygas_version": __version__,
+        "seed": seed,
+        "n_bits": n_bits,
+        "trials": trials,
+        "telegraph_correlation_bits": correlation_bits,
+        "squaring": squaring,
+        "comparison": rows,
+    }
     (out / "sc_reshuffler.json").write_text(json.dumps(record, indent=2, default=float))
     return record

@@ -1,5 +1,6 @@
 """The reshuffler's hardware: two identical chambers, their nucleation sites and read-outs,
-and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler"; docs/physics.md §3).
+and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler";
+docs/physics.md §3).
 
 Layout: the UP chamber sits above the DOWN chamber, each the paper's disk with an input conduit
 on the left and an output conduit on the right (:func:`~skygas.geometry.chamber_with_conduits`).
@@ -56,8 +57,9 @@ class ReshufflerGeometry:
         r = self.chamber_diameter / 2
         x_meet = np.sqrt(r * r - half_w * half_w)
         x_site = -(x_meet + self.conduit_length / 2)
-        return {name: np.array([x_site + cx, cy]) * M_TO_NM
-                for name, (cx, cy) in self.centres().items()}
+        return {
+            name: np.array([x_site + cx, cy]) * M_TO_NM for name, (cx, cy) in self.centres().items()
+        }
 
     def chamber_of(self, y_nm) -> np.ndarray:
         """Index into :data:`CHAMBERS` of the chamber a point with ordinate y [nm] belongs to."""
@@ -65,17 +67,30 @@ class ReshufflerGeometry:
 
     def validate(self, skyrmion_diameter: float) -> None:
         """Refuse chambers narrower than a skyrmion and conduits that do not fit."""
-        require(self.chamber_diameter > skyrmion_diameter, "chamber_diameter",
-                self.chamber_diameter,
-                f"a diameter larger than the skyrmion diameter ({skyrmion_diameter:.3g} m)")
-        require(self.conduit_width > skyrmion_diameter, "conduit_width", self.conduit_width,
-                f"a width larger than the skyrmion diameter ({skyrmion_diameter:.3g} m)")
-        require(self.conduit_width < self.chamber_diameter, "conduit_width",
-                self.conduit_width,
-                f"a width smaller than the chamber diameter ({self.chamber_diameter:.3g} m)")
-        require(self.conduit_length >= skyrmion_diameter / 2, "conduit_length",
-                self.conduit_length,
-                f"a length of at least half a skyrmion diameter ({skyrmion_diameter / 2:.3g} m)")
+        require(
+            self.chamber_diameter > skyrmion_diameter,
+            "chamber_diameter",
+            self.chamber_diameter,
+            f"a diameter larger than the skyrmion diameter ({skyrmion_diameter:.3g} m)",
+        )
+        require(
+            self.conduit_width > skyrmion_diameter,
+            "conduit_width",
+            self.conduit_width,
+            f"a width larger than the skyrmion diameter ({skyrmion_diameter:.3g} m)",
+        )
+        require(
+            self.conduit_width < self.chamber_diameter,
+            "conduit_width",
+            self.conduit_width,
+            f"a width smaller than the chamber diameter ({self.chamber_diameter:.3g} m)",
+        )
+        require(
+            self.conduit_length >= skyrmion_diameter / 2,
+            "conduit_length",
+            self.conduit_length,
+            f"a length of at least half a skyrmion diameter ({skyrmion_diameter / 2:.3g} m)",
+        )
         require(self.chamber_gap > 0, "chamber_gap", self.chamber_gap, "a gap > 0 in metres")
 
 
@@ -94,8 +109,9 @@ def _device_outline(geometry: ReshufflerGeometry) -> Outline:
     return Outline(MultiPolygon(pieces), ports)
 
 
-def drift_field_on_grid(geometry: ReshufflerGeometry, solution, grid,
-                        spin_drift_coefficient: float) -> tuple[np.ndarray, np.ndarray]:
+def drift_field_on_grid(
+    geometry: ReshufflerGeometry, solution, grid, spin_drift_coefficient: float
+) -> tuple[np.ndarray, np.ndarray]:
     """v_s = ξ·j [m/s] on the simulation grid: the one-chamber current copied into both
     chambers. ``solution`` is a :class:`~skygas.current.CurrentSolution` of one chamber
     centred at the origin; ``grid`` the engine's :class:`~skygas.wall_field.Grid` (nm).
@@ -104,8 +120,9 @@ def drift_field_on_grid(geometry: ReshufflerGeometry, solution, grid,
     process for each device and grid (:mod:`skygas.memo`) and every run scales it by ξJ, so
     runs that differ in J (or p, temperature, …) do not sample the solution again."""
     key = (geometry, grid, solution.cell_grid, solution.sources, solution.sinks)
-    jx, jy = _UNIT_SAMPLE.get(key, lambda: _sample_both_chambers(
-        geometry, solution.at_current_density(1.0), grid))
+    jx, jy = _UNIT_SAMPLE.get(
+        key, lambda: _sample_both_chambers(geometry, solution.at_current_density(1.0), grid)
+    )
     scale = spin_drift_coefficient * solution.current_density
     return scale * jx, scale * jy
 
@@ -114,8 +131,9 @@ def drift_field_on_grid(geometry: ReshufflerGeometry, solution, grid,
 _UNIT_SAMPLE = Memo("drift_unit_sample", maxsize=2, persist=True)
 
 
-def _sample_both_chambers(geometry: ReshufflerGeometry, solution,
-                          grid) -> tuple[np.ndarray, np.ndarray]:
+def _sample_both_chambers(
+    geometry: ReshufflerGeometry, solution, grid
+) -> tuple[np.ndarray, np.ndarray]:
     gx, gy = grid.nodes()
     which = geometry.chamber_of(gy)
     jx = np.zeros((grid.ny, grid.nx))
@@ -123,7 +141,8 @@ def _sample_both_chambers(geometry: ReshufflerGeometry, solution,
     for index, name in enumerate(CHAMBERS):
         cx, cy = geometry.centres()[name]
         mask = which == index
-        jx[mask], jy[mask] = solution.current_density_at(gx[mask] / M_TO_NM - cx,
-                                                         gy[mask] / M_TO_NM - cy)
+        jx[mask], jy[mask] = solution.current_density_at(
+            gx[mask] / M_TO_NM - cx, gy[mask] / M_TO_NM - cy
+        )
     frozen(jx, jy)
     return jx, jy

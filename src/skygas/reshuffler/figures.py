@@ -24,28 +24,56 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
 
     fig = Figure(figsize=(6.5, 9.2), dpi=110)
     ax = fig.add_subplot()
-    extent = np.array([grid.x0, grid.x0 + grid.spacing * (grid.nx - 1),
-                       grid.y0, grid.y0 + grid.spacing * (grid.ny - 1)]) * 1e-3
+    extent = (
+        np.array(
+            [
+                grid.x0,
+                grid.x0 + grid.spacing * (grid.nx - 1),
+                grid.y0,
+                grid.y0 + grid.spacing * (grid.ny - 1),
+            ]
+        )
+        * 1e-3
+    )
     landscape_image = draw_landscape(ax, run.sim.landscape, run.sim.outline, colorbar=False)
     if landscape_image is None:
-        image = ax.imshow(magnitude, origin="lower", extent=extent, cmap="viridis",
-                          norm=_log_norm(magnitude))
+        image = ax.imshow(
+            magnitude, origin="lower", extent=extent, cmap="viridis", norm=_log_norm(magnitude)
+        )
         # the colour bar below the device: beside it, it would meet the read-out labels
-        bar = fig.colorbar(image, ax=ax, label="current density |j| (A/m²)",
-                           orientation="horizontal", shrink=0.7, pad=0.08)
+        bar = fig.colorbar(
+            image,
+            ax=ax,
+            label="current density |j| (A/m²)",
+            orientation="horizontal",
+            shrink=0.7,
+            pad=0.08,
+        )
         from matplotlib.ticker import NullFormatter
 
         bar.ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels collide
         track_colour = "white"
     else:
-        fig.colorbar(landscape_image, ax=ax, orientation="horizontal", shrink=0.7, pad=0.08,
-                     label=landscape_energy(run.sim.landscape)[1])
+        fig.colorbar(
+            landscape_image,
+            ax=ax,
+            orientation="horizontal",
+            shrink=0.7,
+            pad=0.08,
+            label=landscape_energy(run.sim.landscape)[1],
+        )
         norm = _log_norm(magnitude)
         if norm is not None:
             levels = np.geomspace(norm.vmin, norm.vmax, 7)
-            lines = ax.contour(np.linspace(extent[0], extent[1], grid.nx),
-                               np.linspace(extent[2], extent[3], grid.ny), magnitude,
-                               levels=levels, colors="white", linewidths=0.5, alpha=0.6)
+            lines = ax.contour(
+                np.linspace(extent[0], extent[1], grid.nx),
+                np.linspace(extent[2], extent[3], grid.ny),
+                magnitude,
+                levels=levels,
+                colors="white",
+                linewidths=0.5,
+                alpha=0.6,
+            )
             ax.clabel(lines, fmt="%.1e", fontsize=5)
         track_colour = "tab:red"
     draw_outline(ax, run.sim.outline)
@@ -59,16 +87,25 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
     for name, site in run.geometry.nucleation_sites().items():
         ax.plot(site[0] * 1e-3, site[1] * 1e-3, "r*", ms=8)
         # the chamber's name left of its nucleation site, outside the device
-        ax.annotate(f"{name.upper()} input", (site[0] * 1e-3, site[1] * 1e-3),
-                    xytext=(-10, 0), textcoords="offset points", ha="right", va="center",
-                    color="tab:red", fontsize=8,
-                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"})
+        ax.annotate(
+            f"{name.upper()} input",
+            (site[0] * 1e-3, site[1] * 1e-3),
+            xytext=(-10, 0),
+            textcoords="offset points",
+            ha="right",
+            va="center",
+            color="tab:red",
+            fontsize=8,
+            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"},
+        )
     x0, y0, x1, y1 = run.sim.outline.bounds_nm
     ax.set_xlim(x0 * 1e-3 - 0.35 * (x1 - x0) * 1e-3, x1 * 1e-3 + 0.3 * (x1 - x0) * 1e-3)
     contours = ", |j| contours (A/m²)" if run.sim.landscape.terms else ""
-    ax.set_title(f"J = {run.config.current_density:.2g} A/m² in the conduits{contours}, "
-                 f"first {run.config.output.trajectory_window * 1e9:.0f} ns of trajectories",
-                 fontsize=9)
+    ax.set_title(
+        f"J = {run.config.current_density:.2g} A/m² in the conduits{contours}, "
+        f"first {run.config.output.trajectory_window * 1e9:.0f} ns of trajectories",
+        fontsize=9,
+    )
     fig.tight_layout()
     fig.savefig(path)
     return path

@@ -52,22 +52,40 @@ class ReshufflerJob(PiecewiseRunJob):
         if self.figures:
             record = run_record(self)
             write_figure(out / "device.png", lambda tmp: plot_device(self.run, tmp), record)
-            write_figure(out / "running_correlation.png",
-                         lambda tmp: plot_running_correlation(result.dataset, tmp), record)
-            write_figure(out / "occupancy.png",
-                         lambda tmp: plot_occupancy(result.dataset, tmp), record)
+            write_figure(
+                out / "running_correlation.png",
+                lambda tmp: plot_running_correlation(result.dataset, tmp),
+                record,
+            )
+            write_figure(
+                out / "occupancy.png", lambda tmp: plot_occupancy(result.dataset, tmp), record
+            )
         return result
 
 
-def run_reshuffler(config: ReshufflerConfig, out_dir: str | Path | None = None, *,
-                   progress: bool = True, resume: bool = False,
-                   checkpoint_seconds: float = 60.0, figures: bool = True,
-                   overwrite: bool = False, strict: bool = False) -> ReshufflerResult:
+def run_reshuffler(
+    config: ReshufflerConfig,
+    out_dir: str | Path | None = None,
+    *,
+    progress: bool = True,
+    resume: bool = False,
+    checkpoint_seconds: float = 60.0,
+    figures: bool = True,
+    overwrite: bool = False,
+    strict: bool = False,
+) -> ReshufflerResult:
     """Run ``config``; with ``out_dir``, write the dataset, summary, figures (and checkpoints).
     Without ``out_dir`` the run is only analysed (nothing is written, nothing to resume)."""
     job = ReshufflerJob(config, figures)
     if out_dir is None:
         job.run.advance()
         return job.finish(None)
-    return drive(job, out_dir, resume=resume, progress=progress,
-                 checkpoint_seconds=checkpoint_seconds, overwrite=overwrite, strict=strict)
+    return drive(
+        job,
+        out_dir,
+        resume=resume,
+        progress=progress,
+        checkpoint_seconds=checkpoint_seconds,
+        overwrite=overwrite,
+        strict=strict,
+    )

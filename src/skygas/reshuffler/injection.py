@@ -32,17 +32,22 @@ from skygas.reshuffler.device import CHAMBERS
 class InjectionLog:
     """What happened to each input event (arrays indexed by event number k)."""
 
-    bit: np.ndarray                 # input bit b_k
-    skyrmion: np.ndarray            # id of the nucleated skyrmion, −1 if none (yet)
-    injection_step: np.ndarray      # step of the nucleation, −1 if none
-    delayed: np.ndarray             # True if the site was occupied at t_k
-    skipped: np.ndarray             # True if the event was dropped
+    bit: np.ndarray  # input bit b_k
+    skyrmion: np.ndarray  # id of the nucleated skyrmion, −1 if none (yet)
+    injection_step: np.ndarray  # step of the nucleation, −1 if none
+    delayed: np.ndarray  # True if the site was occupied at t_k
+    skipped: np.ndarray  # True if the event was dropped
 
     @classmethod
-    def for_bits(cls, bits: np.ndarray) -> "InjectionLog":
+    def for_bits(cls, bits: np.ndarray) -> InjectionLog:
         n = len(bits)
-        return cls(np.asarray(bits, dtype=bool), np.full(n, -1, np.int64),
-                   np.full(n, -1, np.int64), np.zeros(n, bool), np.zeros(n, bool))
+        return cls(
+            np.asarray(bits, dtype=bool),
+            np.full(n, -1, np.int64),
+            np.full(n, -1, np.int64),
+            np.zeros(n, bool),
+            np.zeros(n, bool),
+        )
 
 
 @dataclass
@@ -78,8 +83,9 @@ class Injector:
         return tick
 
     def act(self, sim) -> None:
-        while self.next_event < len(self.bits) and \
-                self.next_event * self.interval_steps <= sim.step:
+        while (
+            self.next_event < len(self.bits) and self.next_event * self.interval_steps <= sim.step
+        ):
             k = self.next_event
             chamber = CHAMBERS[0] if self.bits[k] else CHAMBERS[1]
             queue = self.pending[chamber]
@@ -158,8 +164,7 @@ class Injector:
             "log_delayed": self.log.delayed.copy(),
             "log_skipped": self.log.skipped.copy(),
             "next_event": np.array(self.next_event),
-            **{f"pending_{c}": np.array(list(q), dtype=np.int64)
-               for c, q in self.pending.items()},
+            **{f"pending_{c}": np.array(list(q), dtype=np.int64) for c, q in self.pending.items()},
         }
 
     def load_state_dict(self, state: dict) -> None:

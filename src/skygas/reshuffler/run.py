@@ -45,8 +45,10 @@ def _largest_divisor_up_to(number: int, limit: int) -> int:
 def _seeds(seed: int) -> dict[str, int]:
     """Independent child seeds for the signal and the thermal noise (SeedSequence)."""
     signal, noise = np.random.SeedSequence(seed).spawn(2)
-    return {"signal": int(signal.generate_state(1, np.uint64)[0]),
-            "noise": int(noise.generate_state(1, np.uint64)[0] >> np.uint64(1))}
+    return {
+        "signal": int(signal.generate_state(1, np.uint64)[0]),
+        "noise": int(noise.generate_state(1, np.uint64)[0] >> np.uint64(1)),
+    }
 
 
 @dataclass
@@ -64,62 +66,86 @@ class ReshufflerRun:
     wall_time: float = 0.0
 
     @classmethod
-    def build(cls, config: ReshufflerConfig, bits=None) -> "ReshufflerRun":
+    def build(cls, config: ReshufflerConfig, bits=None) -> ReshufflerRun:
         """Validate everything, solve the current and set up the engine (no stepping).
 
         ``bits`` (0/1 values) replaces the configured input signal; the run then lasts at least
         as long as it takes to inject them."""
         thiele = config.thiele_parameters()
         d = config.device
-        geometry = ReshufflerGeometry(d.chamber_diameter, d.conduit_width, d.conduit_length,
-                                      d.chamber_gap)
+        geometry = ReshufflerGeometry(
+            d.chamber_diameter, d.conduit_width, d.conduit_length, d.chamber_gap
+        )
         geometry.validate(thiele.skyrmion_diameter)
-        spec = SignalSpec(kind=config.signal.kind, p=config.signal.p,
-                          correlation_time=config.signal.correlation_time,
-                          path=config.signal.path)
+        spec = SignalSpec(
+            kind=config.signal.kind,
+            p=config.signal.p,
+            correlation_time=config.signal.correlation_time,
+            path=config.signal.path,
+        )
         interval = config.injection.interval
         n_events = int(math.floor(config.duration / interval + 1e-9))
         seeds = _seeds(config.seed)
         if bits is not None:
             bits = as_bits(bits, "bits")
             n_events = len(bits)
-            config = config.model_copy(update={"duration": max(config.duration,
-                                                               n_events * interval)})
+            config = config.model_copy(
+                update={"duration": max(config.duration, n_events * interval)}
+            )
         else:
-            bits = generate_bits(spec, n_events if config.signal.kind != "file" else None,
-                                 interval, seeds["signal"])
+            bits = generate_bits(
+                spec, n_events if config.signal.kind != "file" else None, interval, seeds["signal"]
+            )
             if config.signal.kind == "file":
                 bits = bits[:n_events]
                 n_events = len(bits)
         chamber = geometry.chamber()
-        current = solve_current(chamber, config.current_density,
-                                cell_size=config.current.cell_size,
-                                conductor_thickness=config.current.conductor_thickness,
-                                resistivity=config.current.resistivity)
+        current = solve_current(
+            chamber,
+            config.current_density,
+            cell_size=config.current.cell_size,
+            conductor_thickness=config.current.conductor_thickness,
+            resistivity=config.current.resistivity,
+        )
         material = config.resolved_material()
         time_step = config.time_step
         if time_step is not None:
             per_interval = interval / time_step
-            require(abs(per_interval - round(per_interval)) < 1e-6 * per_interval, "time_step",
-                    time_step, f"a step that divides the injection interval ({interval:g} s) a "
-                    f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s")
+            require(
+                abs(per_interval - round(per_interval)) < 1e-6 * per_interval,
+                "time_step",
+                time_step,
+                f"a step that divides the injection interval ({interval:g} s) a "
+                f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s",
+            )
         # time_step None: the suggested step, shortened to divide the injection interval
-        sim = Simulation(geometry.device_outline(), material,
-                         temperature=config.noise_temperature(),
-                         time_step=time_step, step_interval=interval, seed=seeds["noise"],
-                         thiele=thiele, capacity=64, landscape=config.potentials,
-                         **config.forces.simulation_arguments())
-        vx, vy = drift_field_on_grid(geometry, current, sim.wall_field.grid,
-                                     config.drift_coefficient())
+        sim = Simulation(
+            geometry.device_outline(),
+            material,
+            temperature=config.noise_temperature(),
+            time_step=time_step,
+            step_interval=interval,
+            seed=seeds["noise"],
+            thiele=thiele,
+            capacity=64,
+            landscape=config.potentials,
+            **config.forces.simulation_arguments(),
+        )
+        vx, vy = drift_field_on_grid(
+            geometry, current, sim.wall_field.grid, config.drift_coefficient()
+        )
         sim.set_drift_field(vx, vy)
         interval_steps = max(1, int(round(interval / sim.time_step)))
         retry = config.injection.retry_interval or interval / 10
         injector = Injector(
-            bits=bits, interval_steps=interval_steps,
+            bits=bits,
+            interval_steps=interval_steps,
             retry_steps=max(1, int(round(retry / sim.time_step))),
             sites=geometry.nucleation_sites(),
             clearance_nm=config.injection.site_clearance * thiele.skyrmion_diameter_internal,
-            rule=config.injection.occupied_rule, max_pending=config.injection.max_pending)
+            rule=config.injection.occupied_rule,
+            max_pending=config.injection.max_pending,
+        )
         sim.operations.append(injector)
         return cls(config, geometry, sim, injector, current, chamber, n_events)
 
@@ -155,8 +181,9 @@ class ReshufflerRun:
         """Run to the configured duration (or to ``stop_after_step``), in ``pieces`` pieces
         (:meth:`advance_piece`). :func:`~skygas.reshuffler.files.run_reshuffler` runs the same
         pieces through the run driver, with progress, checkpoints and interruption."""
-        end = self.total_steps if stop_after_step is None else min(stop_after_step,
-                                                                      self.total_steps)
+        end = (
+            self.total_steps if stop_after_step is None else min(stop_after_step, self.total_steps)
+        )
         while self.sim.step < end:
             self.advance_piece(end, pieces)
 
@@ -219,8 +246,7 @@ class ReshufflerRun:
 
     def load_state_dict(self, state: dict) -> None:
         self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
-        self.injector.load_state_dict({k[4:]: v for k, v in state.items()
-                                       if k.startswith("inj_")})
+        self.injector.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("inj_")})
         self.snapshots = []
         if "snap_time" in state:
             edges = np.concatenate([[0], np.cumsum(state["snap_count"])])
@@ -236,8 +262,11 @@ class ReshufflerRun:
         labels = self.sim.exits.port_labels()
         read = np.char.endswith(labels, ".output")
         order = np.argsort(exits["time"][read], kind="stable")
-        return {"skyrmion": exits["skyrmion"][read][order], "time": exits["time"][read][order],
-                "up": (labels[read] == "up.output")[order]}
+        return {
+            "skyrmion": exits["skyrmion"][read][order],
+            "time": exits["time"][read][order],
+            "up": (labels[read] == "up.output")[order],
+        }
 
     def counts(self) -> dict[str, int]:
         """Injected, detected, present and annihilated skyrmions; raises if not conserved."""
@@ -246,8 +275,14 @@ class ReshufflerRun:
         present = self.sim.count
         annihilated = 0
         if injected != detected + present + annihilated:
-            raise RuntimeError(f"skyrmion count not conserved: injected {injected} != "
-                               f"detected {detected} + present {present} + "
-                               f"annihilated {annihilated}")
-        return {"injected": injected, "detected": detected, "present": present,
-                "annihilated": annihilated}
+            raise RuntimeError(
+                f"skyrmion count not conserved: injected {injected} != "
+                f"detected {detected} + present {present} + "
+                f"annihilated {annihilated}"
+            )
+        return {
+            "injected": injected,
+            "detected": detected,
+            "present": present,
+            "annihilated": annihilated,
+        }

@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas.errors import InputError
 from skygas import validate as v
+from skygas.errors import InputError
 
 # Maximal-length Fibonacci LFSR taps, 1-indexed bit positions, from Xilinx application note
 # XAPP 052 (P. Alfke, "Efficient Shift Registers, LFSR Counters, and Long Pseudo-Random
@@ -65,7 +65,9 @@ def _batch(p: Any, shape: Any) -> tuple[np.ndarray, tuple[int, ...]]:
     try:
         lead = np.broadcast_shapes(lead, prob.shape)
     except ValueError:
-        raise InputError("p", f"array of shape {prob.shape}", f"a shape that broadcasts to {lead}")
+        raise InputError(
+            "p", f"array of shape {prob.shape}", f"a shape that broadcasts to {lead}"
+        ) from None
     return np.broadcast_to(prob, lead), lead
 
 

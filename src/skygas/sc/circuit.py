@@ -21,8 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas.errors import InputError
 from skygas import validate as v
+from skygas.errors import InputError
 from skygas.sc.decorrelators import Decorrelator
 
 
@@ -94,7 +94,7 @@ class Circuit:
         v.same_length(**{name: streams[name] for name in self.inputs})
         rng = v.make_rng(seed)
         children = rng.spawn(len(self._nodes))
-        for node, child in zip(self._nodes, children):
+        for node, child in zip(self._nodes, children, strict=True):
             args = [streams[s] for s in node.sources]
             if isinstance(node.operation, Decorrelator):
                 streams[node.name] = node.operation.apply(args[0], child).stream

@@ -23,9 +23,9 @@ from typing import Any
 
 import numpy as np
 
+from skygas import validate as v
 from skygas._version import __version__
 from skygas.errors import InputError
-from skygas import validate as v
 from skygas.resources import require_memory
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 from skygas.sc.decorrelators import Decorrelator, DelayIsolator, Regenerator, ShuffleBuffer
@@ -196,14 +196,15 @@ def _plot_squaring(panels: dict[str, dict[str, dict[str, list[float]]]], path: P
     fig = Figure(figsize=(10, 4.2))
     axes = fig.subplots(1, len(panels), sharey=True)
     grid = np.linspace(0, 1, 101)
-    for ax, (title, curves) in zip(np.atleast_1d(axes), panels.items()):
+    for ax, (title, curves) in zip(np.atleast_1d(axes), panels.items(), strict=False):
         ax.plot(grid, grid, "k:", lw=1, label="$p$")
         ax.plot(grid, grid**2, "k--", lw=1, label="$p^2$")
         first = next(iter(curves.values()))
         ax.plot(first["p"], first["identical_inputs"], "o", color="tab:red", label="x AND x")
         for name, curve in curves.items():
-            ax.plot(curve["p"], curve["decorrelated_inputs"], "s", mfc="none",
-                    label=f"x AND {name}(x)")
+            ax.plot(
+                curve["p"], curve["decorrelated_inputs"], "s", mfc="none", label=f"x AND {name}(x)"
+            )
         ax.set_xlabel("input p-value $p$")
         ax.set_title(f"Squaring with an AND gate: {title}", fontsize=9)
     np.atleast_1d(axes)[0].set_ylabel("output p-value")
@@ -223,9 +224,9 @@ def _plot_error(errors: dict[str, Any], path: Path) -> None:
     ax.loglog(n, errors["independent_inputs"], "o-", label="independent inputs")
     ax.loglog(n, errors["identical_inputs"], "x-", label="identical inputs")
     for name, values in errors["decorrelated"].items():
-        pts = [(ni, e) for ni, e in zip(n, values) if e is not None]
+        pts = [(ni, e) for ni, e in zip(n, values, strict=True) if e is not None]
         if pts:
-            ax.loglog(*zip(*pts), "s-", mfc="none", ms=4, label=name)
+            ax.loglog(*zip(*pts, strict=False), "s-", mfc="none", ms=4, label=name)
     ax.set_xlabel("stream length $N$ (bits)")
     ax.set_ylabel("RMS error of $p^2$")
     ax.legend(fontsize=7)
@@ -259,8 +260,17 @@ def _plot_comparison(rows: list[dict[str, Any]], path: Path) -> None:
             # inside the axes, above the bottom spine, clear of the tick labels
             # upright inside the axes, from just above the bottom spine: clear of the axis
             # and of the tick labels whatever the number of bars
-            axes[3].text(i, 0.03, "no figure", rotation=90, ha="center", va="bottom",
-                         color="0.35", transform=axes[3].get_xaxis_transform(), fontsize=7)
+            axes[3].text(
+                i,
+                0.03,
+                "no figure",
+                rotation=90,
+                ha="center",
+                va="bottom",
+                color="0.35",
+                transform=axes[3].get_xaxis_transform(),
+                fontsize=7,
+            )
     axes[3].set_yscale("log")
     axes[3].set_ylabel("energy per bit (J)")
     for ax in axes:
@@ -308,8 +318,9 @@ def run_demo(
     n_bits = v.positive_int(n_bits, "n_bits", minimum=256)
     # the largest batch: 11 p-values × 16 trials of 8-byte random numbers, with three boolean
     # streams of the same shape (input, copy, AND)
-    require_memory("n_bits", n_bits, 11 * 16 * (8 + 3) * n_bits, "the streams",
-                   "use fewer bits (--n-bits)")
+    require_memory(
+        "n_bits", n_bits, 11 * 16 * (8 + 3) * n_bits, "the streams", "use fewer bits (--n-bits)"
+    )
     prob = float(v.probability(p, "p"))
     tau = v.positive_float(correlation_bits, "correlation_bits", "clock cycles")
     out = Path(out_dir)
@@ -318,7 +329,7 @@ def run_demo(
 
     p_grid = np.linspace(0.0, 1.0, 11)
     squaring: dict[str, dict[str, Any]] = {"bernoulli input": {}, "telegraph input": {}}
-    for d, child in zip(items, squaring_seed.spawn(len(items))):
+    for d, child in zip(items, squaring_seed.spawn(len(items)), strict=True):
         bern_seed, tele_seed = child.spawn(2)
         squaring["bernoulli input"][d.name] = squaring_curve(d, p_grid, n_bits, seed=bern_seed)
         squaring["telegraph input"][d.name] = squaring_curve(

@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas.errors import InputError
 from skygas import validate as v
+from skygas.errors import InputError
 
 
 def _two(a: Any, b: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -94,7 +94,7 @@ def jk_flip_flop(j: Any, k: Any, initial: bool = False) -> np.ndarray:
         j_bits, k_bits = j.reshape(-1).tolist(), k.reshape(-1).tolist()
         state = bool(initial)
         bits = []
-        for jt, kt in zip(j_bits, k_bits):
+        for jt, kt in zip(j_bits, k_bits, strict=False):
             bits.append(state)
             state = (jt and not state) or (not kt and state)
         out[...] = np.asarray(bits, dtype=bool).reshape(out.shape)

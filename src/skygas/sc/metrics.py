@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 from scipy import special
 
-from skygas.errors import InputError
 from skygas import validate as v
+from skygas.errors import InputError
 
 
 def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -73,8 +73,9 @@ def p_value_interval(stream: Any, confidence: float = 0.95) -> PValueEstimate:
     # scipy.stats costs ~1 s in every new process, a Dask worker's included)
     with np.errstate(invalid="ignore"):
         low = np.where(ones == 0, 0.0, special.betaincinv(ones, n_bits - ones + 1, alpha / 2))
-        high = np.where(ones == n_bits, 1.0,
-                        special.betaincinv(ones + 1, n_bits - ones, 1 - alpha / 2))
+        high = np.where(
+            ones == n_bits, 1.0, special.betaincinv(ones + 1, n_bits - ones, 1 - alpha / 2)
+        )
     return PValueEstimate(ones / n_bits, low, high, n_bits, float(confidence))
 
 

@@ -31,8 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas.errors import InputError
 from skygas import validate as v
+from skygas.errors import InputError
 from skygas.sc.bitstreams import _refreshed_chain
 
 

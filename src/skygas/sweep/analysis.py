@@ -22,8 +22,8 @@ import xarray as xr
 CURRENT = "current_density"
 P_VALUE = "signal_p"
 CHAMBER = "device_chamber_diameter"
-CURRENT_UNIT = 1e11   # A/m²
-LENGTH_UNIT = 1e-6    # m
+CURRENT_UNIT = 1e11  # A/m²
+LENGTH_UNIT = 1e-6  # m
 
 
 def replica_mean(ds: xr.Dataset, name: str = "correlation") -> xr.Dataset:
@@ -68,12 +68,23 @@ def _linear_fit(x, y, sigma) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: Per-point columns of :func:`point_table`: (stored quantity, how replicas are combined).
-POINT_COLUMNS = (("correlation", "mean"), ("correlation_max_lag", "mean"),
-                 ("correlation_best_lag", "median"), ("p_in", "mean"), ("p_out", "mean"),
-                 ("p_out_low", "min"), ("p_out_high", "max"), ("max_occupancy", "max"),
-                 ("mean_transit_s", "mean"), ("median_transit_s", "mean"),
-                 ("n_skipped", "mean"), ("wall_escapes", "sum"), ("simulated_time_s", "mean"),
-                 ("time_step_s", "mean"), ("wall_time_s", "sum"))
+POINT_COLUMNS = (
+    ("correlation", "mean"),
+    ("correlation_max_lag", "mean"),
+    ("correlation_best_lag", "median"),
+    ("p_in", "mean"),
+    ("p_out", "mean"),
+    ("p_out_low", "min"),
+    ("p_out_high", "max"),
+    ("max_occupancy", "max"),
+    ("mean_transit_s", "mean"),
+    ("median_transit_s", "mean"),
+    ("n_skipped", "mean"),
+    ("wall_escapes", "sum"),
+    ("simulated_time_s", "mean"),
+    ("time_step_s", "mean"),
+    ("wall_time_s", "sum"),
+)
 
 
 def point_table(ds: xr.Dataset) -> list[dict]:
@@ -89,19 +100,27 @@ def point_table(ds: xr.Dataset) -> list[dict]:
         if name not in ds:
             continue
         values = ds[name].where(done)
-        combined[name] = getattr(values, how)("replica", skipna=True) if how != "median" \
+        combined[name] = (
+            getattr(values, how)("replica", skipna=True)
+            if how != "median"
             else values.median("replica", skipna=True)
-        combined[name] = np.asarray(combined[name].stack(_row=list(combined[name].dims)).values) \
-            if combined[name].dims else np.atleast_1d(combined[name].values)
+        )
+        combined[name] = (
+            np.asarray(combined[name].stack(_row=list(combined[name].dims)).values)
+            if combined[name].dims
+            else np.atleast_1d(combined[name].values)
+        )
     if {"p_in", "p_out", "p_out_low", "p_out_high"} <= set(ds.data_vars):
         half = (ds["p_out_high"] - ds["p_out_low"]) / 2
         z = (abs(ds["p_out"] - ds["p_in"]) / half).where(done).max("replica", skipna=True)
-        combined["p_out_worst_z"] = np.asarray(z.stack(_row=list(z.dims)).values) \
-            if z.dims else np.atleast_1d(z.values)
+        combined["p_out_worst_z"] = (
+            np.asarray(z.stack(_row=list(z.dims)).values) if z.dims else np.atleast_1d(z.values)
+        )
     for i in range(len(stats["mean"])):
         row = {k: float(v[i]) for k, v in stats.items() if k not in ("mean", "sem", "n")}
-        row.update(rho=float(stats["mean"][i]), rho_sem=float(stats["sem"][i]),
-                   replicas=int(stats["n"][i]))
+        row.update(
+            rho=float(stats["mean"][i]), rho_sem=float(stats["sem"][i]), replicas=int(stats["n"][i])
+        )
         row.update({k: float(v[i]) for k, v in combined.items()})
         rows.append(row)
     return rows
@@ -121,8 +140,12 @@ def power_law_exponent(x: np.ndarray, rho: np.ndarray, rho_sem: np.ndarray) -> d
     r = rho[ok]
     sigma = rho_sem[ok] / (r * (1 - r))
     coef, err = _linear_fit(np.log(x[ok]), np.log(r / (1 - r)), sigma)
-    return {"exponent": float(coef[1]), "exponent_error": float(err[1]),
-            "prefactor_log": float(coef[0]), "n_points": int(ok.sum())}
+    return {
+        "exponent": float(coef[1]),
+        "exponent_error": float(err[1]),
+        "prefactor_log": float(coef[0]),
+        "n_points": int(ok.sum()),
+    }
 
 
 def _paper_current_fit(x, rho, sem) -> dict:
@@ -134,14 +157,20 @@ def _paper_current_fit(x, rho, sem) -> dict:
         return {"c_A": float("nan"), "c_B": float("nan")}
 
     def model(x, c_a, c_b):
-        return c_a / (c_b + x ** -1.5)
+        return c_a / (c_b + x**-1.5)
 
     w = _weights(sem[ok])
     try:
-        popt, pcov = curve_fit(model, x[ok], rho[ok], p0=(1.0, 1.0),
-                               sigma=None if w is None else sem[ok],
-                               absolute_sigma=w is not None, bounds=(0.0, np.inf),
-                               max_nfev=20000)
+        popt, pcov = curve_fit(
+            model,
+            x[ok],
+            rho[ok],
+            p0=(1.0, 1.0),
+            sigma=None if w is None else sem[ok],
+            absolute_sigma=w is not None,
+            bounds=(0.0, np.inf),
+            max_nfev=20000,
+        )
     except (RuntimeError, ValueError):
         return {"c_A": float("nan"), "c_B": float("nan")}
     dof = int(ok.sum()) - 2
@@ -149,24 +178,33 @@ def _paper_current_fit(x, rho, sem) -> dict:
         chi2 = float(np.sum(((rho[ok] - model(x[ok], *popt)) / sem[ok]) ** 2)) / dof
         pcov = pcov * max(chi2, 1.0)
     err = np.sqrt(np.diag(pcov))
-    return {"c_A": float(popt[0]), "c_A_error": float(err[0]), "c_B": float(popt[1]),
-            "c_B_error": float(err[1]), "J_unit_A_m2": CURRENT_UNIT,
-            "model": "rho = c_A / (c_B + (J/J_unit)^(-3/2))"}
+    return {
+        "c_A": float(popt[0]),
+        "c_A_error": float(err[0]),
+        "c_B": float(popt[1]),
+        "c_B_error": float(err[1]),
+        "J_unit_A_m2": CURRENT_UNIT,
+        "model": "rho = c_A / (c_B + (J/J_unit)^(-3/2))",
+    }
 
 
 def fit_current_scaling(ds: xr.Dataset) -> dict:
     """ρ(J): the paper's fit and the free exponent β, over all points and per p-value."""
     t = _table(ds)
     x = t[CURRENT] / CURRENT_UNIT
-    out = {"paper_fit": _paper_current_fit(x, t["mean"], t["sem"]),
-           "beta": power_law_exponent(x, t["mean"], t["sem"]), "paper_beta": 1.5,
-           "per_p": {}}
+    out = {
+        "paper_fit": _paper_current_fit(x, t["mean"], t["sem"]),
+        "beta": power_law_exponent(x, t["mean"], t["sem"]),
+        "paper_beta": 1.5,
+        "per_p": {},
+    }
     if P_VALUE in t:
         for p in np.unique(t[P_VALUE]):
             sel = t[P_VALUE] == p
             out["per_p"][f"{float(p):g}"] = {
                 "paper_fit": _paper_current_fit(x[sel], t["mean"][sel], t["sem"][sel]),
-                "beta": power_law_exponent(x[sel], t["mean"][sel], t["sem"][sel])}
+                "beta": power_law_exponent(x[sel], t["mean"][sel], t["sem"][sel]),
+            }
     return out
 
 
@@ -178,11 +216,19 @@ def fit_chamber_scaling(ds: xr.Dataset) -> dict:
     paper = {"c_A": float("nan"), "c_B": float("nan")}
     if ok.sum() >= 2:
         coef, err = _linear_fit(1 / np.sqrt(length[ok]), t["mean"][ok], t["sem"][ok])
-        paper = {"c_A": float(coef[0]), "c_A_error": float(err[0]), "c_B": float(coef[1]),
-                 "c_B_error": float(err[1]), "L_unit_m": LENGTH_UNIT,
-                 "model": "rho = c_A + c_B / sqrt(L/L_unit)"}
-    return {"paper_fit": paper, "gamma": power_law_exponent(length, t["mean"], t["sem"]),
-            "paper_gamma": -0.5}
+        paper = {
+            "c_A": float(coef[0]),
+            "c_A_error": float(err[0]),
+            "c_B": float(coef[1]),
+            "c_B_error": float(err[1]),
+            "L_unit_m": LENGTH_UNIT,
+            "model": "rho = c_A + c_B / sqrt(L/L_unit)",
+        }
+    return {
+        "paper_fit": paper,
+        "gamma": power_law_exponent(length, t["mean"], t["sem"]),
+        "paper_gamma": -0.5,
+    }
 
 
 def running_mean(ds: xr.Dataset, where: dict | None = None, points: int = 200) -> xr.Dataset:
@@ -193,16 +239,21 @@ def running_mean(ds: xr.Dataset, where: dict | None = None, points: int = 200) -
     sub = ds.sel(where or {})
     rho = np.asarray(sub["running_rho"].values).reshape(-1, sub.sizes["running"])
     times = np.asarray(sub["running_time"].values).reshape(-1, sub.sizes["running"])
-    curves = [(t[np.isfinite(t) & np.isfinite(r)], r[np.isfinite(t) & np.isfinite(r)])
-              for t, r in zip(times, rho)]
+    curves = [
+        (t[np.isfinite(t) & np.isfinite(r)], r[np.isfinite(t) & np.isfinite(r)])
+        for t, r in zip(times, rho, strict=True)
+    ]
     curves = [c for c in curves if len(c[0]) >= 2]
     if not curves:
-        return xr.Dataset({"mean": ("time", np.empty(0)), "sem": ("time", np.empty(0))},
-                          coords={"time": np.empty(0)})
+        return xr.Dataset(
+            {"mean": ("time", np.empty(0)), "sem": ("time", np.empty(0))},
+            coords={"time": np.empty(0)},
+        )
     end = min(t[-1] for t, _ in curves)
     grid = np.linspace(max(t[0] for t, _ in curves), end, points)
     stack = np.array([np.interp(grid, t, r) for t, r in curves])
-    sem = stack.std(0, ddof=1) / np.sqrt(len(stack)) if len(stack) > 1 \
-        else np.full(points, np.nan)
-    return xr.Dataset({"mean": ("time", stack.mean(0)), "sem": ("time", sem)},
-                      coords={"time": ("time", grid, {"units": "s"})})
+    sem = stack.std(0, ddof=1) / np.sqrt(len(stack)) if len(stack) > 1 else np.full(points, np.nan)
+    return xr.Dataset(
+        {"mean": ("time", stack.mean(0)), "sem": ("time", sem)},
+        coords={"time": ("time", grid, {"units": "s"})},
+    )

@@ -10,15 +10,14 @@ from __future__ import annotations
 
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 from skygas.errors import require
 from skygas.sweep.spec import Run, Sweep
 from skygas.sweep.store import SweepStore
 from skygas.sweep.worker import run_one
-
 
 #: Dask settings of the local cluster that a sweep starts (:func:`start_local_cluster`). The
 #: cluster's processes share the machine's cores with the runs, and Dask's defaults wake each
@@ -51,8 +50,13 @@ def start_local_cluster(workers: int):
         # Each nanny hands its worker processes a configuration that shares nested dicts with
         # the global one, which the context above restores on exit: a worker the nanny
         # restarts later would get Dask's defaults back. A private copy keeps the settings.
-        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                            dashboard_address=":0", config=copy.deepcopy(dask.config.config))
+        return LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            config=copy.deepcopy(dask.config.config),
+        )
 
 
 def relative_cost(config) -> float:
@@ -63,8 +67,9 @@ def relative_cost(config) -> float:
     """
     device = config.device
     speed = config.drift_coefficient() * config.current_density  # v_s [m/s]
-    present = (device.chamber_diameter + 2 * device.conduit_length) / speed \
-        / config.injection.interval
+    present = (
+        (device.chamber_diameter + 2 * device.conduit_length) / speed / config.injection.interval
+    )
     steps = config.duration / (config.time_step or 1e-10)
     return steps * (1.0 + present)
 
@@ -99,8 +104,14 @@ def _serial(pending: list[Run], store: SweepStore, report: SweepReport, bar):
             bar.update(1)
 
 
-def _dask(pending: list[Run], open_store: Callable[[], SweepStore], report: SweepReport, bar,
-          scheduler: str | None, workers: int | None):
+def _dask(
+    pending: list[Run],
+    open_store: Callable[[], SweepStore],
+    report: SweepReport,
+    bar,
+    scheduler: str | None,
+    workers: int | None,
+):
     from dask.distributed import Client, as_completed
 
     cluster = None
@@ -115,10 +126,13 @@ def _dask(pending: list[Run], open_store: Callable[[], SweepStore], report: Swee
         # arrives) and with the highest priority (Dask starts higher priorities first)
         by_cost = sorted(pending, key=lambda r: relative_cost(r.config), reverse=True)
         for rank, run in enumerate(by_cost):
-            future = client.submit(run_one, run.config.model_dump_json(), pure=False,
-                                   priority=len(by_cost) - rank,
-                                   key=f"skygas-run-{'-'.join(map(str, run.index))}"
-                                       f"-r{run.replica}-{time.time_ns()}")
+            future = client.submit(
+                run_one,
+                run.config.model_dump_json(),
+                pure=False,
+                priority=len(by_cost) - rank,
+                key=f"skygas-run-{'-'.join(map(str, run.index))}-r{run.replica}-{time.time_ns()}",
+            )
             futures[future] = run
         # the store is created (a new sweep) or opened while the workers start on the runs
         store = open_store()
@@ -146,9 +160,15 @@ def _dask(pending: list[Run], open_store: Callable[[], SweepStore], report: Swee
             cluster.close()
 
 
-def run_sweep(sweep: Sweep, out: str | Path, *, scheduler: str | None = None,
-              workers: int | None = None, serial: bool = False,
-              progress: bool = True) -> SweepReport:
+def run_sweep(
+    sweep: Sweep,
+    out: str | Path,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    serial: bool = False,
+    progress: bool = True,
+) -> SweepReport:
     """Run every run of ``sweep`` not yet done in the store ``out`` and store the results.
 
     ``serial=True`` runs them one after the other in this process; otherwise on Dask: a local
@@ -169,8 +189,7 @@ def run_sweep(sweep: Sweep, out: str | Path, *, scheduler: str | None = None,
         elif serial:
             _serial(pending, store, report, bar)
         else:
-            _dask(pending, lambda: store or SweepStore(out, sweep), report, bar, scheduler,
-                  workers)
+            _dask(pending, lambda: store or SweepStore(out, sweep), report, bar, scheduler, workers)
     finally:
         if bar is not None:
             bar.close()

@@ -44,16 +44,20 @@ PAPER_MAX_OCCUPANCY = 51  # the paper's fullest chamber at its lowest current
 
 
 def _fmt(fit: dict, key: str) -> str:
-    return f"{fit[key]:.2f} ± {fit[key + '_error']:.2f}" if np.isfinite(
-        fit.get(key + "_error", np.nan)) else f"{fit[key]:.2f}"
+    return (
+        f"{fit[key]:.2f} ± {fit[key + '_error']:.2f}"
+        if np.isfinite(fit.get(key + "_error", np.nan))
+        else f"{fit[key]:.2f}"
+    )
 
 
 def fit_label(name: str, model_at_points, mean, sem) -> tuple[str, str]:
     """Legend text and line style of a fitted curve, saying how well it meets the points it
     is drawn over: χ²/dof of the replica means (errors = their standard errors), with
     "misses the data" and a dashed line when χ²/dof > 3 (a miss far beyond the scatter)."""
-    model_at_points, mean, sem = (np.ravel(np.asarray(a, float)) for a in
-                                  (model_at_points, mean, sem))
+    model_at_points, mean, sem = (
+        np.ravel(np.asarray(a, float)) for a in (model_at_points, mean, sem)
+    )
     ok = np.isfinite(model_at_points) & np.isfinite(mean) & np.isfinite(sem) & (sem > 0)
     dof = int(ok.sum()) - 2
     if dof < 1:
@@ -81,24 +85,39 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     p_values = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
     for p in p_values:
         sel = stats.sel({P_VALUE: p}) if p is not None else stats
-        left.errorbar(j, sel["mean"].values, yerr=np.nan_to_num(sel["sem"].values), fmt="o",
-                      ms=4, capsize=2, label=f"p = {p:g}" if p is not None else "ρ")
+        left.errorbar(
+            j,
+            sel["mean"].values,
+            yerr=np.nan_to_num(sel["sem"].values),
+            fmt="o",
+            ms=4,
+            capsize=2,
+            label=f"p = {p:g}" if p is not None else "ρ",
+        )
     paper = fits["paper_fit"]
     if np.isfinite(paper["c_A"]):
+
         def model(current):
             return paper["c_A"] / (paper["c_B"] + (current / CURRENT_UNIT) ** -1.5)
 
         grid = np.geomspace(j.min(), j.max(), 200)
-        at_points = model(stats[CURRENT]).broadcast_like(stats["mean"]).transpose(
-            *stats["mean"].dims)
-        label, style = fit_label("paper's fit c_A/(c_B + J^(−3/2))", at_points,
-                                 stats["mean"].values, stats["sem"].values)
+        at_points = (
+            model(stats[CURRENT]).broadcast_like(stats["mean"]).transpose(*stats["mean"].dims)
+        )
+        label, style = fit_label(
+            "paper's fit c_A/(c_B + J^(−3/2))", at_points, stats["mean"].values, stats["sem"].values
+        )
         left.plot(grid, model(grid), color="b", ls=style, label=label)
     beta = fits["beta"]
     if np.isfinite(beta["exponent"]):
         grid = np.geomspace(j.min(), j.max(), 200)
-        left.plot(grid, odds_power_law(grid / CURRENT_UNIT, beta), "k--", lw=1,
-                  label=f"free fit ρ/(1−ρ) ∝ J^{beta['exponent']:.2f}")
+        left.plot(
+            grid,
+            odds_power_law(grid / CURRENT_UNIT, beta),
+            "k--",
+            lw=1,
+            label=f"free fit ρ/(1−ρ) ∝ J^{beta['exponent']:.2f}",
+        )
     left.set_title(f"ρ/(1−ρ) ∝ J^β: β = {_fmt(beta, 'exponent')} (paper 3/2)", fontsize=9)
     left.set_xscale("log")
     left.set_xlabel("current density J in the conduits (A/m²)")
@@ -116,12 +135,14 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
         t = curve["time"].values * 1e6
         right.plot(t, curve["mean"].values, label=f"J = {value:.2g} A/m²")
         if np.isfinite(curve["sem"].values).any():
-            right.fill_between(t, curve["mean"] - curve["sem"], curve["mean"] + curve["sem"],
-                               alpha=0.2)
+            right.fill_between(
+                t, curve["mean"] - curve["sem"], curve["mean"] + curve["sem"], alpha=0.2
+            )
     right.set_xlabel("time (µs)")
     right.set_ylabel("running correlation ρ")
-    right.set_title("running ρ" + (f", p = {p_run:g}" if p_values[0] is not None else ""),
-                    fontsize=9)
+    right.set_title(
+        "running ρ" + (f", p = {p_run:g}" if p_values[0] is not None else ""), fontsize=9
+    )
     right.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path)
@@ -136,23 +157,41 @@ def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
 
     fig = Figure(figsize=(5.5, 4.2), dpi=110)
     ax = fig.add_subplot()
-    ax.errorbar(length * 1e3, stats["mean"].values, yerr=np.nan_to_num(stats["sem"].values),
-                fmt="o", capsize=2, label="sweep (replica mean ± s.e.)")
+    ax.errorbar(
+        length * 1e3,
+        stats["mean"].values,
+        yerr=np.nan_to_num(stats["sem"].values),
+        fmt="o",
+        capsize=2,
+        label="sweep (replica mean ± s.e.)",
+    )
     paper = fits["paper_fit"]
     if np.isfinite(paper["c_A"]):
         grid = np.linspace(length.min(), length.max(), 200)
-        label, style = fit_label("paper's fit c_A + c_B/√L",
-                                 paper["c_A"] + paper["c_B"] / np.sqrt(length),
-                                 stats["mean"].values, stats["sem"].values)
-        ax.plot(grid * 1e3, paper["c_A"] + paper["c_B"] / np.sqrt(grid), color="b", ls=style,
-                label=label)
+        label, style = fit_label(
+            "paper's fit c_A + c_B/√L",
+            paper["c_A"] + paper["c_B"] / np.sqrt(length),
+            stats["mean"].values,
+            stats["sem"].values,
+        )
+        ax.plot(
+            grid * 1e3,
+            paper["c_A"] + paper["c_B"] / np.sqrt(grid),
+            color="b",
+            ls=style,
+            label=label,
+        )
     gamma = fits["gamma"]
     if np.isfinite(gamma["exponent"]):
         grid = np.linspace(length.min(), length.max(), 200)
-        ax.plot(grid * 1e3, odds_power_law(grid, gamma), "k--", lw=1,
-                label=f"free fit ρ/(1−ρ) ∝ L^{gamma['exponent']:.2f}")
-    ax.set_title(f"ρ/(1−ρ) ∝ L^γ: γ = {_fmt(fits['gamma'], 'exponent')} (paper −1/2)",
-                 fontsize=9)
+        ax.plot(
+            grid * 1e3,
+            odds_power_law(grid, gamma),
+            "k--",
+            lw=1,
+            label=f"free fit ρ/(1−ρ) ∝ L^{gamma['exponent']:.2f}",
+        )
+    ax.set_title(f"ρ/(1−ρ) ∝ L^γ: γ = {_fmt(fits['gamma'], 'exponent')} (paper −1/2)", fontsize=9)
     ax.set_xlabel("chamber diameter L (nm)")
     ax.set_ylabel("correlation ρ")
     ax.legend(fontsize=8)
@@ -167,34 +206,42 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
     from matplotlib.figure import Figure
 
     series = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
-    scale, label, log = ((1.0, "current density J (A/m²)", True) if x_dim == CURRENT
-                         else (1e9, "chamber diameter L (nm)", False))
+    scale, label, log = (
+        (1.0, "current density J (A/m²)", True)
+        if x_dim == CURRENT
+        else (1e9, "chamber diameter L (nm)", False)
+    )
     fig = Figure(figsize=(11, 7.5), dpi=110)
     (ax_p, ax_n), (ax_t, ax_lag) = fig.subplots(2, 2)
     for p in series:
         sub = ds.sel({P_VALUE: p}) if p is not None else ds
-        ok = (sub["done"] == 1)
+        ok = sub["done"] == 1
         x = sub[x_dim].values * scale
         diff = (sub["p_out"] - sub["p_in"]).where(ok).mean("replica")
         half = ((sub["p_out_high"] - sub["p_out_low"]) / 2).where(ok).mean("replica")
         tag = f"p = {p:g}" if p is not None else None
-        ax_p.errorbar(x, diff.values, yerr=np.nan_to_num(half.values), fmt="o", ms=3,
-                      capsize=2, label=tag)
-        ax_n.plot(x, sub["max_occupancy"].where(ok).max("replica").values, "o-", ms=3,
-                  label=tag)
-        ax_t.plot(x, sub["mean_transit_s"].where(ok).mean("replica").values * 1e9, "o-",
-                  ms=3, label=tag)
-        if p is None or p == series[int(np.argmin(np.abs(np.asarray(series, float)
-                                                          - RUNNING_P)))]:
+        ax_p.errorbar(
+            x, diff.values, yerr=np.nan_to_num(half.values), fmt="o", ms=3, capsize=2, label=tag
+        )
+        ax_n.plot(x, sub["max_occupancy"].where(ok).max("replica").values, "o-", ms=3, label=tag)
+        ax_t.plot(
+            x, sub["mean_transit_s"].where(ok).mean("replica").values * 1e9, "o-", ms=3, label=tag
+        )
+        if p is None or p == series[int(np.argmin(np.abs(np.asarray(series, float) - RUNNING_P)))]:
             rho0 = replica_mean(sub)["mean"].values
             best = replica_mean(sub, "correlation_max_lag")["mean"].values
             lag = sub["correlation_best_lag"].where(ok).median("replica").values
             ax_lag.plot(x, rho0, "o-", ms=3, label="ρ at lag 0")
             ax_lag.plot(x, best, "s--", ms=3, label="largest ρ over lags")
-            for xi, yi, li in zip(x, best, lag):
+            for xi, yi, li in zip(x, best, lag, strict=True):
                 if np.isfinite(yi) and np.isfinite(li):
-                    ax_lag.annotate(f"{li:+.0f}", (xi, yi), fontsize=7,
-                                    textcoords="offset points", xytext=(0, 4))
+                    ax_lag.annotate(
+                        f"{li:+.0f}",
+                        (xi, yi),
+                        fontsize=7,
+                        textcoords="offset points",
+                        xytext=(0, 4),
+                    )
     ax_p.axhline(0, color="k", lw=0.8)
     ax_p.set_ylabel("p_out − p_in (bars: p_out's 95 % interval)")
     if x_dim == CURRENT:  # the paper's bound at its lowest current
@@ -236,21 +283,36 @@ def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
     result: dict = {"figures": []}
     if CURRENT in dims:
         result["current"] = fit_current_scaling(_grid_only(ds, (CURRENT, P_VALUE)))
-        result["figures"].append(str(plot_current_figure(ds, out / "reshuffler.png",
-                                                         result["current"])))
+        result["figures"].append(
+            str(plot_current_figure(ds, out / "reshuffler.png", result["current"]))
+        )
         if "p_out_low" in ds:
-            result["figures"].append(str(plot_details(_grid_only(ds, (CURRENT, P_VALUE)),
-                                                      CURRENT, out / "reshuffler_details.png")))
+            result["figures"].append(
+                str(
+                    plot_details(
+                        _grid_only(ds, (CURRENT, P_VALUE)), CURRENT, out / "reshuffler_details.png"
+                    )
+                )
+            )
     if CHAMBER in dims:
         result["chamber"] = fit_chamber_scaling(_grid_only(ds, (CHAMBER,)))
-        result["figures"].append(str(plot_chamber_figure(ds, out / "chamber_size.png",
-                                                         result["chamber"])))
+        result["figures"].append(
+            str(plot_chamber_figure(ds, out / "chamber_size.png", result["chamber"]))
+        )
         if "p_out_low" in ds:
-            result["figures"].append(str(plot_details(_grid_only(ds, (CHAMBER,)), CHAMBER,
-                                                      out / "chamber_size_details.png")))
+            result["figures"].append(
+                str(
+                    plot_details(
+                        _grid_only(ds, (CHAMBER,)), CHAMBER, out / "chamber_size_details.png"
+                    )
+                )
+            )
     if not result["figures"]:
-        raise InputError("STORE", str(store), "a grid sweep over current_density (and "
-                         "signal.p) or device.chamber_diameter")
+        raise InputError(
+            "STORE",
+            str(store),
+            "a grid sweep over current_density (and signal.p) or device.chamber_diameter",
+        )
     (out / "fits.json").write_text(json.dumps(result, indent=2))
     write_point_table(ds, out / "points.csv")
     return result

@@ -19,8 +19,9 @@ setting the same fields (``[[points]]`` with ``current_density = 1e11`` and ``"s
 and so on). ``[sweep] config = "file.toml"`` may name the base configuration instead of
 ``[base]`` (relative to the sweep file).
 
-Seeds (counter-based noise, docs/engine.md): ``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]``
-gives run (point ``i`` in C order of the grid, replica ``r``); its 63-bit ``seed`` is the
+Seeds (counter-based noise, docs/engine.md):
+``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]`` gives run (point ``i`` in C order of
+the grid, replica ``r``); its 63-bit ``seed`` is the
 first word of that sequence's state. A run's result therefore depends only on the sweep file,
 never on which worker ran it or when.
 
@@ -79,7 +80,7 @@ class Sweep:
     fields: tuple[str, ...]
     dims: tuple[str, ...]
     values: tuple[tuple[Any, ...], ...]
-    layout: str          # "grid" or "list"
+    layout: str  # "grid" or "list"
     replicas: int
     root_seed: int
     base: dict
@@ -133,19 +134,27 @@ def _field_exists(model: type[BaseModel], dotted: str) -> bool:
 
 
 def _expand_range(key: str, spec: dict) -> list[float]:
-    allowed = "{start, stop, num >= 1, spacing = \"linear\" | \"log\"}"
+    allowed = '{start, stop, num >= 1, spacing = "linear" | "log"}'
     unknown = set(spec) - {"start", "stop", "num", "spacing"}
     require(not unknown, f"grid.{key}", spec, allowed)
     num = spec.get("num")
-    require(isinstance(num, int) and not isinstance(num, bool), f"grid.{key}.num", num,
-            "a whole number of values")
+    require(
+        isinstance(num, int) and not isinstance(num, bool),
+        f"grid.{key}.num",
+        num,
+        "a whole number of values",
+    )
     require(num >= 1, f"grid.{key}.num", num, "at least 1 value (the range is empty)")
     start, stop = spec.get("start"), spec.get("stop")
     for name, v in (("start", start), ("stop", stop)):
-        require(isinstance(v, (int, float)) and not isinstance(v, bool),
-                f"grid.{key}.{name}", v, "a number")
+        require(
+            isinstance(v, (int, float)) and not isinstance(v, bool),
+            f"grid.{key}.{name}",
+            v,
+            "a number",
+        )
     spacing = spec.get("spacing", "linear")
-    require(spacing in ("linear", "log"), f"grid.{key}.spacing", spacing, "\"linear\" or \"log\"")
+    require(spacing in ("linear", "log"), f"grid.{key}.spacing", spacing, '"linear" or "log"')
     if spacing == "log":
         require(start > 0 and stop > 0, f"grid.{key}", spec, "start, stop > 0 for log spacing")
         return [float(v) for v in np.geomspace(start, stop, num)]
@@ -153,21 +162,37 @@ def _expand_range(key: str, spec: dict) -> list[float]:
 
 
 def _check_field(key: str, where: str) -> None:
-    require(isinstance(key, str) and key not in _RESERVED, f"{where}.{key}", key,
-            "a configuration field other than seed (seeds are derived from [sweep] seed)")
-    require(_field_exists(ReshufflerConfig, key), f"{where}.{key}", key,
-            "a field of the reshuffler configuration (e.g. current_density, signal.p, "
-            "device.chamber_diameter, temperature, material, duration)")
+    require(
+        isinstance(key, str) and key not in _RESERVED,
+        f"{where}.{key}",
+        key,
+        "a configuration field other than seed (seeds are derived from [sweep] seed)",
+    )
+    require(
+        _field_exists(ReshufflerConfig, key),
+        f"{where}.{key}",
+        key,
+        "a field of the reshuffler configuration (e.g. current_density, signal.p, "
+        "device.chamber_diameter, temperature, material, duration)",
+    )
 
 
 def _check_value(key: str, value: Any, where: str) -> None:
-    require(isinstance(value, (int, float, str, bool, dict)), f"{where}.{key}", value,
-            "a number, a string, a boolean or a table")
+    require(
+        isinstance(value, (int, float, str, bool, dict)),
+        f"{where}.{key}",
+        value,
+        "a number, a string, a boolean or a table",
+    )
 
 
 def _grid(data: dict) -> tuple[list[str], list[list[Any]]]:
-    require(isinstance(data, dict) and data, "grid", data,
-            "a table of dotted config fields, each with a list or a {start, stop, num} range")
+    require(
+        isinstance(data, dict) and data,
+        "grid",
+        data,
+        "a table of dotted config fields, each with a list or a {start, stop, num} range",
+    )
     fields, values = [], []
     for key, spec in data.items():
         _check_field(key, "grid")
@@ -180,24 +205,36 @@ def _grid(data: dict) -> tuple[list[str], list[list[Any]]]:
             raise InputError(f"grid.{key}", spec, "a list of values or a {start, stop, num} range")
         for v in vals:
             _check_value(key, v, "grid")
-        require(len({json.dumps(v, sort_keys=True) for v in vals}) == len(vals),
-                f"grid.{key}", spec, "distinct values")
+        require(
+            len({json.dumps(v, sort_keys=True) for v in vals}) == len(vals),
+            f"grid.{key}",
+            spec,
+            "distinct values",
+        )
         fields.append(key)
         values.append(list(vals))
     return fields, values
 
 
 def _points(data: list) -> tuple[list[str], list[list[Any]]]:
-    require(isinstance(data, list) and len(data) > 0 and all(isinstance(p, dict) for p in data),
-            "points", data, "a non-empty array of tables ([[points]])")
+    require(
+        isinstance(data, list) and len(data) > 0 and all(isinstance(p, dict) for p in data),
+        "points",
+        data,
+        "a non-empty array of tables ([[points]])",
+    )
     fields = list(data[0])
     require(len(fields) > 0, "points[0]", data[0], "at least one field")
     for key in fields:
         _check_field(key, "points[0]")
     values: list[list[Any]] = [[] for _ in fields]
     for i, point in enumerate(data):
-        require(list(point) == fields and set(point) == set(fields), f"points[{i}]",
-                point, f"the same fields as points[0] ({', '.join(fields)})")
+        require(
+            list(point) == fields and set(point) == set(fields),
+            f"points[{i}]",
+            point,
+            f"the same fields as points[0] ({', '.join(fields)})",
+        )
         for k, key in enumerate(fields):
             _check_value(key, point[key], f"points[{i}]")
             values[k].append(point[key])
@@ -216,24 +253,44 @@ def derive_seeds(root_seed: int, n_points: int, replicas: int) -> np.ndarray:
 def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None) -> Sweep:
     """Validate a parsed sweep file and build (without running) every run's configuration."""
     unknown = set(data) - _TOP_KEYS
-    require(not unknown, ", ".join(sorted(unknown)), sorted(data),
-            "only the tables [sweep], [base], [grid] or [[points]]")
+    require(
+        not unknown,
+        ", ".join(sorted(unknown)),
+        sorted(data),
+        "only the tables [sweep], [base], [grid] or [[points]]",
+    )
     head = data.get("sweep", {})
     require(isinstance(head, dict), "sweep", head, "a table")
     extra = set(head) - _SWEEP_KEYS
-    require(not extra, f"sweep.{next(iter(sorted(extra)))}" if extra else "sweep", head,
-            f"only the keys {', '.join(sorted(_SWEEP_KEYS))}")
+    require(
+        not extra,
+        f"sweep.{next(iter(sorted(extra)))}" if extra else "sweep",
+        head,
+        f"only the keys {', '.join(sorted(_SWEEP_KEYS))}",
+    )
     replicas = head.get("replicas", 1)
-    require(isinstance(replicas, int) and not isinstance(replicas, bool), "sweep.replicas",
-            replicas, "a whole number of replicas")
+    require(
+        isinstance(replicas, int) and not isinstance(replicas, bool),
+        "sweep.replicas",
+        replicas,
+        "a whole number of replicas",
+    )
     require(replicas >= 1, "sweep.replicas", replicas, "at least 1 replica per point")
     root_seed = head.get("seed", 0)
-    require(isinstance(root_seed, int) and not isinstance(root_seed, bool) and root_seed >= 0,
-            "sweep.seed", root_seed, "a whole number >= 0")
+    require(
+        isinstance(root_seed, int) and not isinstance(root_seed, bool) and root_seed >= 0,
+        "sweep.seed",
+        root_seed,
+        "a whole number >= 0",
+    )
 
     if "config" in head:
-        require("base" not in data, "sweep.config", head["config"],
-                "either [sweep] config or a [base] table, not both")
+        require(
+            "base" not in data,
+            "sweep.config",
+            head["config"],
+            "either [sweep] config or a [base] table, not both",
+        )
         path = Path(head["config"])
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
@@ -243,12 +300,20 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         require(isinstance(base, dict), "base", base, "a reshuffler configuration table")
         if base_dir is not None:  # file names in [base] are relative to the sweep file
             base = resolve_paths(base, base_dir)
-    require("seed" not in base, "base.seed", base.get("seed"),
-            "no seed in [base]: runs get seeds derived from [sweep] seed")
+    require(
+        "seed" not in base,
+        "base.seed",
+        base.get("seed"),
+        "no seed in [base]: runs get seeds derived from [sweep] seed",
+    )
 
     has_grid, has_points = "grid" in data, "points" in data
-    require(has_grid != has_points, "grid", "both or neither given",
-            "exactly one of [grid] or [[points]]")
+    require(
+        has_grid != has_points,
+        "grid",
+        "both or neither given",
+        "exactly one of [grid] or [[points]]",
+    )
     layout = "grid" if has_grid else "list"
     fields, values = _grid(data["grid"]) if has_grid else _points(data["points"])
 
@@ -256,28 +321,45 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         combos = list(itertools.product(*[list(enumerate(v)) for v in values]))
         indexed = [(tuple(i for i, _ in c), [v for _, v in c]) for c in combos]
     else:
-        indexed = [((i,), [values[k][i] for k in range(len(fields))])
-                   for i in range(len(values[0]))]
+        indexed = [
+            ((i,), [values[k][i] for k in range(len(fields))]) for i in range(len(values[0]))
+        ]
     seeds = derive_seeds(root_seed, len(indexed), replicas)
     runs = []
     for flat, (index, point_values) in enumerate(indexed):
-        overrides = dict(zip(fields, point_values))
+        overrides = dict(zip(fields, point_values, strict=True))
         label = ", ".join(f"{f} = {v!r}" for f, v in overrides.items())
         config = parse_reshuffler_config(dict(base), f"sweep point ({label}): ", overrides)
         try:  # the checks ReshufflerRun.build makes first, without solving anything
             thiele = config.thiele_parameters()
             d = config.device
-            ReshufflerGeometry(d.chamber_diameter, d.conduit_width, d.conduit_length,
-                               d.chamber_gap).validate(thiele.skyrmion_diameter)
+            ReshufflerGeometry(
+                d.chamber_diameter, d.conduit_width, d.conduit_length, d.chamber_gap
+            ).validate(thiele.skyrmion_diameter)
         except InputError as err:
-            raise InputError(f"sweep point ({label}): {err.field}", err.value,
-                             err.allowed) from None
+            raise InputError(
+                f"sweep point ({label}): {err.field}", err.value, err.allowed
+            ) from None
         for r in range(replicas):
-            runs.append(Run(index, r, int(seeds[flat, r]),
-                            config.model_copy(update={"seed": int(seeds[flat, r])})))
-    return Sweep(tuple(fields), tuple(dim_name(f) for f in fields),
-                 tuple(tuple(v) for v in values), layout, replicas, root_seed, base,
-                 source_text, tuple(runs))
+            runs.append(
+                Run(
+                    index,
+                    r,
+                    int(seeds[flat, r]),
+                    config.model_copy(update={"seed": int(seeds[flat, r])}),
+                )
+            )
+    return Sweep(
+        tuple(fields),
+        tuple(dim_name(f) for f in fields),
+        tuple(tuple(v) for v in values),
+        layout,
+        replicas,
+        root_seed,
+        base,
+        source_text,
+        tuple(runs),
+    )
 
 
 def load_sweep(path: str | Path, settings: list[str] | None = None) -> Sweep:
@@ -301,13 +383,21 @@ def _apply_setting(data: dict, setting: str) -> None:
     key, sep, raw = setting.partition("=")
     key = key.strip()
     table, _, rest = key.partition(".")
-    require(sep and table in ("sweep", "base", "grid") and rest, "--set", setting,
-            "TABLE.KEY=VALUE with TABLE one of sweep, base, grid (e.g. base.duration=1e-5)")
+    require(
+        sep and table in ("sweep", "base", "grid") and rest,
+        "--set",
+        setting,
+        "TABLE.KEY=VALUE with TABLE one of sweep, base, grid (e.g. base.duration=1e-5)",
+    )
     try:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
-        raise InputError("--set", setting, "a TOML value after = (a number, a quoted string, "
-                         "a list [...] or an inline table {...})") from None
+        raise InputError(
+            "--set",
+            setting,
+            "a TOML value after = (a number, a quoted string, "
+            "a list [...] or an inline table {...})",
+        ) from None
     node = data.setdefault(table, {})
     parts = [rest] if table == "grid" else rest.split(".")
     for part in parts[:-1]:

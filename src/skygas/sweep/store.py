@@ -50,8 +50,9 @@ def _coordinate(values) -> np.ndarray:
     if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
         return np.asarray(values, dtype=np.float64)
     # names, tables, booleans: stored as their JSON text
-    return np.asarray([v if isinstance(v, str) else json.dumps(v, sort_keys=True)
-                       for v in values], dtype=str)
+    return np.asarray(
+        [v if isinstance(v, str) else json.dumps(v, sort_keys=True) for v in values], dtype=str
+    )
 
 
 #: Layout of the arrays on disk (see the module docstring); stored in the attributes.
@@ -66,48 +67,65 @@ def _create(path: Path, sweep: Sweep) -> None:
     n_running = max(run.config.output.running_points for run in sweep.runs)
     coords = {"replica": np.arange(sweep.replicas)}
     if sweep.layout == "grid":
-        for dim, values in zip(sweep.dims, sweep.values):
+        for dim, values in zip(sweep.dims, sweep.values, strict=True):
             coords[dim] = (dim, _coordinate(values))
     else:
         coords["point"] = np.arange(sweep.shape[0])
-        for dim, values in zip(sweep.dims, sweep.values):
+        for dim, values in zip(sweep.dims, sweep.values, strict=True):
             coords[dim] = ("point", _coordinate(values))
     seeds = np.zeros(shape, dtype=np.int64)
     for run in sweep.runs:
         seeds[(*run.index, run.replica)] = run.seed
     fixed = xr.Dataset({"seed": (dims, seeds)}, coords=coords)
-    fixed.attrs.update({
-        "title": "skygas reshuffler sweep",
-        "skygas_version": __version__,
-        "store_layout": STORE_LAYOUT,
-        "root_seed": sweep.root_seed,
-        "replicas": sweep.replicas,
-        "layout": sweep.layout,
-        "fields_json": json.dumps(dict(zip(sweep.dims, sweep.fields))),
-        "sweep_file": sweep.source_text,
-        "base_config_json": json.dumps(sweep.base),
-        "fingerprint": sweep.fingerprint(),
-        "seed_derivation": "SeedSequence(root_seed).spawn(n_points)[i].spawn(replicas)[r]"
-                           ".generate_state(1, uint64)[0] >> 1, i in C order of the points",
-        "sessions_json": "[]",
-    })
-    fixed.to_zarr(path, mode="w", encoding={"seed": {"chunks": shape}}, consolidated=False,
-                  zarr_format=3)
+    fixed.attrs.update(
+        {
+            "title": "skygas reshuffler sweep",
+            "skygas_version": __version__,
+            "store_layout": STORE_LAYOUT,
+            "root_seed": sweep.root_seed,
+            "replicas": sweep.replicas,
+            "layout": sweep.layout,
+            "fields_json": json.dumps(dict(zip(sweep.dims, sweep.fields, strict=True))),
+            "sweep_file": sweep.source_text,
+            "base_config_json": json.dumps(sweep.base),
+            "fingerprint": sweep.fingerprint(),
+            "seed_derivation": "SeedSequence(root_seed).spawn(n_points)[i].spawn(replicas)[r]"
+            ".generate_state(1, uint64)[0] >> 1, i in C order of the points",
+            "sessions_json": "[]",
+        }
+    )
+    fixed.to_zarr(
+        path, mode="w", encoding={"seed": {"chunks": shape}}, consolidated=False, zarr_format=3
+    )
     group = zarr.open_group(path, mode="r+")
     per_run = {  # name: (extra dimensions and their sizes, dtype, fill value, attributes)
-        "summary": ({"quantity": len(QUANTITIES)}, np.float64, np.nan,
-                    {"quantities": list(QUANTITIES)}),
-        "running_curves": ({"curve": len(RUNNING), "running": n_running}, np.float64, np.nan,
-                           {"curves": list(RUNNING)}),
+        "summary": (
+            {"quantity": len(QUANTITIES)},
+            np.float64,
+            np.nan,
+            {"quantities": list(QUANTITIES)},
+        ),
+        "running_curves": (
+            {"curve": len(RUNNING), "running": n_running},
+            np.float64,
+            np.nan,
+            {"curves": list(RUNNING)},
+        ),
         "finished_at": ({}, np.float64, np.nan, {"units": "s since 1970-01-01 UTC"}),
         "session": ({}, np.int32, -1, {}),
         "done": ({}, np.int8, 0, {}),
     }
     for name, (extra, dtype, fill, attrs) in per_run.items():
-        group.create_array(name, shape=(*shape, *extra.values()),
-                           chunks=(1,) * len(shape) + tuple(extra.values()), dtype=dtype,
-                           fill_value=fill, compressors=None,
-                           dimension_names=[*dims, *extra], attributes=attrs)
+        group.create_array(
+            name,
+            shape=(*shape, *extra.values()),
+            chunks=(1,) * len(shape) + tuple(extra.values()),
+            dtype=dtype,
+            fill_value=fill,
+            compressors=None,
+            dimension_names=[*dims, *extra],
+            attributes=attrs,
+        )
 
 
 #: suffix of a store being created (renamed to its name once complete)
@@ -122,9 +140,13 @@ class SweepStore:
         self.sweep = sweep
         if not self.exists(self.path):
             if self.path.exists() and (not self.path.is_dir() or any(self.path.iterdir())):
-                raise InputError("--out", str(self.path), "a new store or an existing sweep "
-                                 "store (this is a file or a folder of other files)",
-                                 "choose another --out")
+                raise InputError(
+                    "--out",
+                    str(self.path),
+                    "a new store or an existing sweep "
+                    "store (this is a file or a folder of other files)",
+                    "choose another --out",
+                )
             # written under a temporary name and moved into place, so a store either exists
             # complete or not at all; a failure removes the temporary store
             import shutil
@@ -143,17 +165,25 @@ class SweepStore:
         self.group = zarr.open_group(self.path, mode="r+")
         found = self.group.attrs.get("fingerprint")
         if found != sweep.fingerprint():
-            raise InputError("--out", str(self.path),
-                             "a new store, or one written by this same sweep file "
-                             f"(the store's sweep differs: fingerprint {found})")
+            raise InputError(
+                "--out",
+                str(self.path),
+                "a new store, or one written by this same sweep file "
+                f"(the store's sweep differs: fingerprint {found})",
+            )
         layout = self.group.attrs.get("store_layout", 1)
         if layout != STORE_LAYOUT:
-            raise InputError("--out", str(self.path),
-                             f"a store of layout {STORE_LAYOUT} (this one has layout {layout}, "
-                             "written by another skygas version: open_sweep still reads it; "
-                             "to continue the sweep, rerun it into a new store)")
-        self._arrays = {name: self.group[name] for name in
-                        ("summary", "running_curves", "done", "finished_at", "session")}
+            raise InputError(
+                "--out",
+                str(self.path),
+                f"a store of layout {STORE_LAYOUT} (this one has layout {layout}, "
+                "written by another skygas version: open_sweep still reads it; "
+                "to continue the sweep, rerun it into a new store)",
+            )
+        self._arrays = {
+            name: self.group[name]
+            for name in ("summary", "running_curves", "done", "finished_at", "session")
+        }
         self._async = {name: _async_of(array) for name, array in self._arrays.items()}
 
     @staticmethod
@@ -184,10 +214,14 @@ class SweepStore:
         summary = np.array([result[name] for name in QUANTITIES], dtype=np.float64)
         running = np.full(self._arrays["running_curves"].shape[-2:], np.nan)
         for row, name in enumerate(RUNNING):
-            data = np.asarray(result[name], dtype=np.float64)[:running.shape[1]]
-            running[row, :data.size] = data
-        values = [("summary", summary), ("running_curves", running),
-                  ("finished_at", np.float64(time.time())), ("session", np.int32(session))]
+            data = np.asarray(result[name], dtype=np.float64)[: running.shape[1]]
+            running[row, : data.size] = data
+        values = [
+            ("summary", summary),
+            ("running_curves", running),
+            ("finished_at", np.float64(time.time())),
+            ("session", np.int32(session)),
+        ]
         _sync(_set_all([(self._async[name], at, value) for name, value in values]))
         _sync(self._async["done"].setitem(at, np.int8(1)))
 
@@ -207,23 +241,36 @@ def open_sweep(path: str | Path) -> xr.Dataset:
     ``session`` and ``finished_at`` (datetime64; NaT until done). Runs not yet done are NaN."""
     path = Path(path)
     if not (path / "zarr.json").exists() or path.name.endswith(CREATING):
-        raise InputError("STORE", str(path), "a sweep store written by `skygas sweep`",
-                         "a name ending in .creating is a store left unfinished: run the sweep "
-                         "again" if path.name.endswith(CREATING) else None)
+        raise InputError(
+            "STORE",
+            str(path),
+            "a sweep store written by `skygas sweep`",
+            "a name ending in .creating is a store left unfinished: run the sweep again"
+            if path.name.endswith(CREATING)
+            else None,
+        )
     raw = xr.open_zarr(path, consolidated=False, decode_times=False).load()
     if "summary" in raw:  # layout 2: unpack the per-run arrays
         ds = raw.drop_vars(["summary", "running_curves"])
-        for packed, dim, names in (("summary", "quantity", "quantities"),
-                                   ("running_curves", "curve", "curves")):
+        for packed, dim, names in (
+            ("summary", "quantity", "quantities"),
+            ("running_curves", "curve", "curves"),
+        ):
             for k, name in enumerate(raw[packed].attrs[names]):
                 part = raw[packed].variable[{dim: k}]
-                ds[name] = (part.dims, part.values, {"units": "s"} if name == "running_time"
-                            else {})
+                ds[name] = (
+                    part.dims,
+                    part.values,
+                    {"units": "s"} if name == "running_time" else {},
+                )
     else:  # layout 1 (one array per quantity), written by earlier versions
         ds = raw
     seconds = ds["finished_at"].values
-    stamps = np.where(np.isnan(seconds), np.datetime64("NaT", "ns"),
-                      (np.nan_to_num(seconds) * 1e9).astype(np.int64).astype("datetime64[ns]"))
+    stamps = np.where(
+        np.isnan(seconds),
+        np.datetime64("NaT", "ns"),
+        (np.nan_to_num(seconds) * 1e9).astype(np.int64).astype("datetime64[ns]"),
+    )
     ds["finished_at"] = (ds["finished_at"].dims, stamps)
     return ds
 
@@ -241,10 +288,14 @@ def open_sweeps(paths) -> xr.Dataset:
         return open_sweep(paths[0])
     parts = [open_sweep(p) for p in paths]
     fields = [tuple(sorted(json.loads(ds.attrs.get("fields_json", "{}")))) for ds in parts]
-    for path, own in zip(paths[1:], fields[1:]):
+    for path, own in zip(paths[1:], fields[1:], strict=True):
         if own != fields[0]:
-            raise InputError("STORE", str(path), f"a sweep over the same fields as {paths[0]} "
-                             f"({', '.join(fields[0])}; this one sweeps {', '.join(own)})")
+            raise InputError(
+                "STORE",
+                str(path),
+                f"a sweep over the same fields as {paths[0]} "
+                f"({', '.join(fields[0])}; this one sweeps {', '.join(own)})",
+            )
     points = [ds["done"].fillna(0).astype(bool).any("replica") for ds in parts]
     for a in range(len(parts)):
         for b in range(a + 1, len(parts)):
@@ -252,21 +303,26 @@ def open_sweeps(paths) -> xr.Dataset:
             if bool(both.any()):
                 point = both.where(both, drop=True).isel({d: 0 for d in both.dims})
                 where = ", ".join(f"{d} = {float(point[d]):g}" for d in both.dims)
-                raise InputError("STORE", str(paths[b]),
-                                 f"stores of different points ({where} is done in "
-                                 f"{paths[a]} too)")
+                raise InputError(
+                    "STORE",
+                    str(paths[b]),
+                    f"stores of different points ({where} is done in {paths[a]} too)",
+                )
     masked = []
     for ds in parts:  # runs not done are NaN, so that the grids merge without conflicts
         done = ds["done"].fillna(0) == 1
-        masked.append(ds.assign({name: ds[name].where(done) for name in ds.data_vars
-                                 if "replica" in ds[name].dims}))
-    merged = xr.merge(masked, join="outer", compat="no_conflicts",
-                      combine_attrs="drop_conflicts")
+        masked.append(
+            ds.assign(
+                {name: ds[name].where(done) for name in ds.data_vars if "replica" in ds[name].dims}
+            )
+        )
+    merged = xr.merge(masked, join="outer", compat="no_conflicts", combine_attrs="drop_conflicts")
     merged["done"] = merged["done"].fillna(0)
     merged.attrs["fields_json"] = parts[0].attrs.get("fields_json", "{}")
     merged.attrs["sweep_text"] = "\n".join(
         f"# {path}\n{ds.attrs.get('sweep_text', ds.attrs.get('sweep_toml', ''))}"
-        for path, ds in zip(paths, parts))
+        for path, ds in zip(paths, parts, strict=True)
+    )
     merged.attrs["root_seed"] = [ds.attrs.get("root_seed", ds.attrs.get("seed")) for ds in parts]
     merged.attrs["stores"] = [str(p) for p in paths]
     return merged

@@ -11,10 +11,26 @@ import numpy as np
 
 #: Summary numbers stored for each run (float64; NaN until the run is done), in this order.
 QUANTITIES = (
-    "correlation", "correlation_max_lag", "scc", "p_in", "p_out",
-    "n_injected", "n_detected", "n_skipped", "n_present", "max_occupancy",
-    "mean_transit_s", "power_W", "energy_per_bit_J", "simulated_time_s", "time_step_s",
-    "wall_time_s", "correlation_best_lag", "median_transit_s", "p_out_low", "p_out_high",
+    "correlation",
+    "correlation_max_lag",
+    "scc",
+    "p_in",
+    "p_out",
+    "n_injected",
+    "n_detected",
+    "n_skipped",
+    "n_present",
+    "max_occupancy",
+    "mean_transit_s",
+    "power_W",
+    "energy_per_bit_J",
+    "simulated_time_s",
+    "time_step_s",
+    "wall_time_s",
+    "correlation_best_lag",
+    "median_transit_s",
+    "p_out_low",
+    "p_out_high",
     "wall_escapes",
 )
 #: Curves stored for each run: the running correlation ρ and its times [s].

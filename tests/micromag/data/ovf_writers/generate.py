@@ -25,7 +25,7 @@ def expected_m(x_nm, y_nm, z_nm):
 
 
 def _centres_nm():
-    return [c + s * (np.arange(n) + 0.5) for c, s, n in zip(CORNER_NM, CELL_NM, NODES)]
+    return [c + s * (np.arange(n) + 0.5) for c, s, n in zip(CORNER_NM, CELL_NM, NODES, strict=True)]
 
 
 def write_spirit(folder):
@@ -34,15 +34,26 @@ def write_spirit(folder):
     x, y, z = _centres_nm()
     zz, yy, xx = np.meshgrid(z, y, x, indexing="ij")
     m = expected_m(xx, yy, zz).reshape(-1, 3)  # x fastest, then y, then z
-    upper = [c + s * n for c, s, n in zip(CORNER_NM, CELL_NM, NODES)]
-    for fmt, name, dtype in [(ovf.FILEFORMAT_TEXT, "text", "d"), (ovf.FILEFORMAT_BIN4, "bin4", "f"),
-                             (ovf.FILEFORMAT_BIN8, "bin8", "d")]:
+    upper = [c + s * n for c, s, n in zip(CORNER_NM, CELL_NM, NODES, strict=True)]
+    for fmt, name, dtype in [
+        (ovf.FILEFORMAT_TEXT, "text", "d"),
+        (ovf.FILEFORMAT_BIN4, "bin4", "f"),
+        (ovf.FILEFORMAT_BIN8, "bin8", "d"),
+    ]:
         segment = ovf.ovf_segment(
-            title="m", comment="written by spirit's ovf 0.4.3", valuedim=3,
-            valueunits="1 1 1", valuelabels="m_x m_y m_z", meshtype="rectangular",
-            meshunits="nm", n_cells=list(NODES), step_size=list(CELL_NM),
-            bounds_min=list(CORNER_NM), bounds_max=upper,
-            origin=[c + s / 2 for c, s in zip(CORNER_NM, CELL_NM)])
+            title="m",
+            comment="written by spirit's ovf 0.4.3",
+            valuedim=3,
+            valueunits="1 1 1",
+            valuelabels="m_x m_y m_z",
+            meshtype="rectangular",
+            meshunits="nm",
+            n_cells=list(NODES),
+            step_size=list(CELL_NM),
+            bounds_min=list(CORNER_NM),
+            bounds_max=upper,
+            origin=[c + s / 2 for c, s in zip(CORNER_NM, CELL_NM, strict=True)],
+        )
         path = os.path.join(folder, f"spirit-ovf-0.4.3-{name}.ovf")
         if os.path.exists(path):
             os.remove(path)
@@ -54,7 +65,7 @@ def write_discretisedfield(folder):
     import discretisedfield as df
 
     corner = [c * 1e-9 for c in CORNER_NM]
-    upper = [(c + s * n) * 1e-9 for c, s, n in zip(CORNER_NM, CELL_NM, NODES)]
+    upper = [(c + s * n) * 1e-9 for c, s, n in zip(CORNER_NM, CELL_NM, NODES, strict=True)]
     mesh = df.Mesh(p1=corner, p2=upper, cell=[s * 1e-9 for s in CELL_NM])
 
     def value(point):
@@ -62,8 +73,9 @@ def write_discretisedfield(folder):
 
     field = df.Field(mesh, nvdim=3, value=value)
     for name in ("txt", "bin4", "bin8"):
-        field.to_file(os.path.join(folder, f"discretisedfield-0.92.0-{name}.ovf"),
-                      representation=name)
+        field.to_file(
+            os.path.join(folder, f"discretisedfield-0.92.0-{name}.ovf"), representation=name
+        )
 
 
 if __name__ == "__main__":
