@@ -254,6 +254,7 @@ def main(argv: list[str] | None = None) -> int:
         if out is not None:
             created = _check_output_folder(out)
         if with_manifest:
+            assert out is not None  # with_manifest needs an output folder
             manifest.claim(
                 out,
                 command_name(args),
@@ -262,6 +263,7 @@ def main(argv: list[str] | None = None) -> int:
             )
         status = int(args.func(args) or 0)
         if with_manifest and status == 0:
+            assert out is not None  # with_manifest needs an output folder
             manifest.finish_command(out, args, started)
         return status
     except RunInterrupted as err:

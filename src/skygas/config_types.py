@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Annotated
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
+from pydantic_core import ErrorDetails
 
 from skygas.errors import InputError
 
@@ -97,7 +98,7 @@ _ALLOWED = {
 _TAG_ERRORS = ("union_tag_invalid", "union_tag_not_found")
 
 
-def _allowed(error: dict) -> str:
+def _allowed(error: ErrorDetails) -> str:
     template = _ALLOWED.get(error["type"])
     if template is not None:
         try:

@@ -190,7 +190,7 @@ def pearson_vs_lag(b: Any, c: Any, max_lag: int) -> LagScan:
     lags = np.arange(-max_lag, max_lag + 1)
     rho = np.empty(lags.size)
     n_pairs = np.empty(lags.size, dtype=np.int64)
-    for i, lag in enumerate(lags):
+    for i, lag in enumerate(lags.tolist()):  # Python ints
         first = max(0, -lag)
         stop = min(b.size, c.size - lag)
         rho[i] = pearson(b[first:stop], c[first + lag : stop + lag])

@@ -104,6 +104,7 @@ def _port_names(name: str, value, outline: Outline) -> tuple[str, ...]:
     )
     allowed = f"a port name or a list of port names of the outline: {outline.port_names()}"
     require(names is not None and len(names) > 0, name, value, allowed)
+    assert names is not None  # required just above
     for n in names:
         require(isinstance(n, str) and n in outline.ports, name, value, allowed)
     require(len(set(names)) == len(names), name, value, "port names without repetition")
@@ -203,7 +204,7 @@ def _port_faces(
 ) -> _PortFaces:
     """The boundary faces of the electrodes ``(port name, potential [V], is_source)``."""
     cx, cy = cells.centres()
-    parts = {
+    parts: dict[str, list] = {
         k: []
         for k in ("cell_j", "cell_i", "direction", "conductance", "potential", "is_source", "port")
     }
@@ -337,7 +338,7 @@ def _unit_flow(
         ("sink", sinks, ~ports.is_source),
     ):
         require(
-            mask.any(),
+            bool(mask.any()),
             "cell_size",
             cell_size,
             f"a cell size small enough that the {side} port(s) {list(names)} touch "
@@ -508,11 +509,13 @@ class CurrentSolution(_CellFlow):
         start = np.asarray(segment_start, float) * M_TO_NM
         end = np.asarray(segment_end, float) * M_TO_NM
         require(
-            start.shape == (2,)
-            and end.shape == (2,)
-            and np.all(np.isfinite(start))
-            and np.all(np.isfinite(end))
-            and np.any(start != end),
+            bool(
+                start.shape == (2,)
+                and end.shape == (2,)
+                and np.all(np.isfinite(start))
+                and np.all(np.isfinite(end))
+                and np.any(start != end)
+            ),
             "segment",
             (segment_start, segment_end),
             "two distinct (x, y) points in metres",
@@ -831,7 +834,7 @@ def solve_contacts(
     ports = _port_faces(cells, inside, outline, [(n, v, v > low) for n, v in volts.items()])
     for n in range(len(names)):
         require(
-            np.any(ports.port == n),
+            bool(np.any(ports.port == n)),
             "cell_size",
             cell_size,
             f"a cell size small enough that contact {names[n]!r} touches at least one "

@@ -29,6 +29,10 @@ class InputError(ValueError):
         Optional: what to do about it (``"choose another --out"``).
     """
 
+    #: the dotted field path of a configuration error, without its source; set only by
+    #: :func:`skygas.config_types.to_input_error` (read with ``getattr(err, "loc", ...)``)
+    loc: str
+
     def __init__(self, field: str, value: Any, allowed: str, hint: str | None = None):
         self.field = field
         self.value = value

@@ -14,7 +14,7 @@ import numpy as np
 class ExitLog:
     """Exits in the order they happened: skyrmion id, time [s], port, position [m]."""
 
-    def __init__(self, port_names):
+    def __init__(self, port_names) -> None:
         self.port_names = list(port_names)
         self._blocks: list[tuple[np.ndarray, ...]] = []
         self._merged: dict[str, np.ndarray] | None = None

@@ -118,6 +118,7 @@ def _arrays_in(value, depth: int = 3):
         return
     if depth == 0:
         return
+    items: list | tuple
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         items = [getattr(value, f.name) for f in dataclasses.fields(value)]
     elif isinstance(value, (tuple, list)):

@@ -61,11 +61,18 @@ class Job(Protocol):
     :meth:`load_state_dict` restores it; :meth:`config_json` is the validated configuration
     (its hash tells whether a checkpoint belongs to this run); :meth:`finish` writes the
     results into the output directory and returns what the caller reports; ``result_files``
-    names the files whose presence means a finished run (never overwritten)."""
+    names the files whose presence means a finished run (never overwritten). The driver only
+    reads ``work_total``, ``work_unit`` and ``result_files`` (a job may compute
+    ``work_total`` as it goes, in a property)."""
 
-    work_total: float
-    work_unit: str
-    result_files: tuple[str, ...]
+    @property
+    def work_total(self) -> float: ...
+
+    @property
+    def work_unit(self) -> str: ...
+
+    @property
+    def result_files(self) -> tuple[str, ...]: ...
 
     def work_done(self) -> float: ...
 
@@ -196,8 +203,10 @@ def from_json_array(array: np.ndarray) -> Any:
 def save_checkpoint(job: Job, path: Path) -> None:
     """Save the job's state with its configuration, seed and version, atomically."""
     config = job.config_json()
-    state = job.state_dict()
-    meta = {
+    # Any values: typed as arrays, mypy would match the ``**`` below against savez's bool
+    # ``allow_pickle`` (the keys are array names; the assertion rules out a clash)
+    state: dict[str, Any] = job.state_dict()
+    meta: dict[str, Any] = {
         "fingerprint": np.array(fingerprint(config)),
         "config_json": np.array(config),
         "seed": np.array(job.seed()),
@@ -237,7 +246,7 @@ class _DeferredSignals:
 
     SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.received: int | None = None
         self._previous: dict = {}
 

@@ -33,7 +33,7 @@ class SimulationJob:
     kernel is always re-entered at the same steps (its neighbour list is rebuilt there)."""
 
     work_unit = "ns"
-    result_files = ("trajectories.nc", "summary.json")
+    result_files: tuple[str, ...] = ("trajectories.nc", "summary.json")
 
     def __init__(self, config: SimulationConfig):
         self.config = config

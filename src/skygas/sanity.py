@@ -117,10 +117,8 @@ def drift_speed(config: Any) -> float:
     velocity = getattr(getattr(config, "drift", None), "velocity", None)
     if velocity is not None:
         return math.hypot(*velocity)
-    currents = [
-        getattr(config, name, None) for name in ("current_density", "release_current_density")
-    ]
-    currents = [c for c in currents if c is not None]
+    given = [getattr(config, name, None) for name in ("current_density", "release_current_density")]
+    currents = [c for c in given if c is not None]
     if not currents:
         return 0.0
     xi = (

@@ -147,6 +147,7 @@ def generate_bits(
         raise InputError("spec", spec, "a skygas.signals.SignalSpec")
     interval = v.positive_float(injection_interval, "injection_interval", "seconds")
     if spec.kind == "file":
+        assert spec.path is not None  # SignalSpec requires a path for a file
         bits = read_bits(spec.path)
         if n_events is None:
             return bits

@@ -26,7 +26,8 @@ def make_rng(seed: Any, field: str = "seed") -> np.random.Generator:
         raise InputError(field, seed, "an int >= 0, a numpy Generator, a SeedSequence or None")
     if isinstance(seed, numbers.Integral) and seed < 0:
         raise InputError(field, seed, "an int >= 0, a numpy Generator, a SeedSequence or None")
-    return np.random.default_rng(seed)
+    # numpy's stubs list int and NumPy integers, not the numbers.Integral checked above
+    return np.random.default_rng(seed)  # type: ignore[arg-type]
 
 
 def as_stream(stream: Any, field: str) -> np.ndarray:

@@ -9,6 +9,7 @@ gas far from walls; crowding and confinement lower the measured one).
 from __future__ import annotations
 
 import json
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -17,11 +18,17 @@ from skygas.analysis.maps import density_map, occupancy, velocity_map
 from skygas.analysis.structure import pair_correlation
 from skygas.analysis.transport import mean_velocity
 
+if TYPE_CHECKING:
+    from skygas.config import SimulationConfig
+    from skygas.neuron.config import NeuronConfig
+    from skygas.reshuffler.config import ReshufflerConfig
+
 
 def _free_diffusion_constant(record) -> float | None:
     temperature = record.config.get("temperature")
     if temperature is None:
         return None
+    Config: type[SimulationConfig] | type[ReshufflerConfig] | type[NeuronConfig]
     if record.kind == "simulate":
         from skygas.config import SimulationConfig as Config
     elif record.kind == "reshuffle":
@@ -75,6 +82,7 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
         }
         if even:
             vm = velocity_map(frames, 20, extent)
+            assert vm.u is not None and vm.v is not None  # a velocity map has both
             out["velocity_map"] = {
                 "x_edges_m": vm.x_edges.tolist(),
                 "y_edges_m": vm.y_edges.tolist(),

@@ -210,7 +210,7 @@ def _check_sensitivity(job, iso: IsolatedSkyrmion) -> dict:
 
 def _check_mesh(job, pair: laws.ForceLaw, pair_energy: laws.EnergyCurve, diameter: float) -> dict:
     r = job.results
-    out = {}
+    out: dict[str, Any] = {}
     for label in ("coarse", "fine"):
         keys = [f"mesh/{label}/{k}" for k in ("uniform", "single", "pair")]
         if not all(k in r for k in keys) or not (_valid(r[keys[1]], 1) and _valid(r[keys[2]], 2)):

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy import interpolate
@@ -88,7 +89,7 @@ def force_law(energy: EnergyCurve, force_scale: float) -> ForceLaw:
     force = np.maximum(force, 0.0)
     slope = np.polyfit(d[-3:], np.log(e[-3:]), 1)[0]  # ln E ≈ c − d/λ at the far end
     decay = -1.0 / slope if slope < 0 else (d[-1] - d[0])
-    tail = []
+    tail: list[float] | np.ndarray = []
     if force[-1] > TABLE_FLOOR * force_scale:
         reach = decay * math.log(force[-1] / (TABLE_FLOOR * force_scale))
         tail = np.linspace(d[-1], d[-1] + reach, 24)[1:]
@@ -160,7 +161,7 @@ def paper_form_fits(
     from skygas.errors import InputError
     from skygas.micromag.forces import fit_pair_law, fit_wall_law
 
-    out = {}
+    out: dict[str, dict[str, Any]] = {}
     lo, hi = pair.measured
     d = np.linspace(max(lo, diameter), hi, 40)  # the paper's forms start at one diameter
     samples = {"pair": (d, pair(d)), "wall": (edge_x, edge_force)}

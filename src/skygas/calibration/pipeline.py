@@ -20,7 +20,7 @@ import math
 import os
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -29,11 +29,14 @@ from skygas.calibration.plan import CalibrationConfig, Relaxation
 from skygas.calibration.solver import Film
 from skygas.run_driver import from_json_array, json_array
 
+if TYPE_CHECKING:
+    from multiprocessing.pool import Pool
+
 #: LLG snapshots per piece of the validation run.
 SNAPSHOTS_PER_PIECE = 5
 
 #: the files whose presence means a finished calibration
-RESULT_FILES = ("model.toml", "calibration.json", "report.html")
+RESULT_FILES: tuple[str, ...] = ("model.toml", "calibration.json", "report.html")
 
 
 class CalibrationJob:
@@ -66,7 +69,7 @@ class CalibrationJob:
         self.llg_m: np.ndarray | None = None
         #: stage -> [first start, last end], seconds since 1970 (the wall clock)
         self.timeline: dict[str, list[float]] = {}
-        self._pool = None
+        self._pool: Pool | None = None
         self._in_flight: dict[str, Any] = {}
         self._measured: dict[str, tuple | None] = {}
 
@@ -99,7 +102,9 @@ class CalibrationJob:
 
     def isolated_film(self) -> Film:
         """The final stage-1 film."""
-        return self._stage1()[1].film
+        single = self._stage1()[1]
+        assert single is not None, "stage 1 is not final yet"
+        return single.film
 
     def isolated_size(self) -> tuple[float, float, plan.Template] | None:
         """(radius, wall width [m], starting template) of the isolated skyrmion, once stage 1
@@ -149,8 +154,14 @@ class CalibrationJob:
                 solves.append(plan.validation_start(config, radius, width, template))
         return solves
 
+    def _isolated_radius(self) -> float:
+        """The isolated skyrmion's radius [m], once known."""
+        size = self.isolated_size()
+        assert size is not None, "the isolated skyrmion is not known yet"
+        return size[0]
+
     def validation_film(self) -> Film:
-        return plan.validation_film(self.config, 2 * self.isolated_size()[0])
+        return plan.validation_film(self.config, 2 * self._isolated_radius())
 
     # -- the LLG chain ------------------------------------------------------------------------
     def _llg_piece_cost(self) -> float:
@@ -185,7 +196,7 @@ class CalibrationJob:
         frames = self.llg["frames"]
         if not frames:
             return False
-        radius = self.isolated_size()[0]
+        radius = self._isolated_radius()
         start = self.results["validation/start"]["skyrmions"]
         lengths = path_lengths(start, frames, 2 * radius)
         if lengths is None:  # a skyrmion was lost: nothing more to compare

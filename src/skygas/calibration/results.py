@@ -34,7 +34,7 @@ def _version(package: str) -> str:
 def provenance(job) -> dict[str, Any]:
     """What made the model: solver and versions, device, mesh, convergence, wall times."""
     devices = sorted({r.get("device", "cpu") for r in job.results.values()})
-    seconds = {}
+    seconds: dict[str, float] = {}
     for name, result in job.results.items():
         stage = name.split("/")[0]
         seconds[stage] = seconds.get(stage, 0.0) + result["seconds"]
@@ -416,7 +416,9 @@ def _save_textures(job, path: Path) -> None:
         arrays["validation_start"] = job.textures["validation/start"]
     if job.llg_m is not None:
         arrays["validation_end"] = job.llg_m
-    meta = {
+    # Any values: typed as arrays, mypy would match the ``**`` below against savez_compressed's
+    # bool ``allow_pickle`` (the keys are array names)
+    meta: dict[str, Any] = {
         "skygas_version": np.array(__version__),
         "config_json": np.array(job.config.model_dump_json()),
         "layout": np.array(

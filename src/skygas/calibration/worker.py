@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 import signal
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -23,6 +23,9 @@ from skygas.calibration import solver
 from skygas.calibration.material import MicromagneticMaterial
 from skygas.calibration.plan import Relaxation
 from skygas.calibration.solver import Film
+
+if TYPE_CHECKING:
+    from multiprocessing.pool import Pool
 
 _solvers: dict[tuple[str, Film], solver.FilmSolver] = {}
 
@@ -147,7 +150,7 @@ def init_worker(threads: int, compile: bool) -> None:
     solver.configure(threads=threads, compile=compile)
 
 
-def start_pool(workers: int, threads: int, compile: bool):
+def start_pool(workers: int, threads: int, compile: bool) -> Pool:
     """A pool of ``workers`` fresh processes (spawned: torch and fork do not mix)."""
     import multiprocessing
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -94,6 +95,13 @@ def _table_key(table: ForceTableSpec) -> str:
     return hashlib.sha256(data.tobytes()).hexdigest()
 
 
+def _checked(table: ForceTableSpec | None) -> ForceTableSpec:
+    """A material's table where its law is ``"table"`` (:func:`resolve_law_names` refuses
+    ``"table"`` for a material without it)."""
+    assert table is not None
+    return table
+
+
 def _search_range(table: ForceTableSpec, d_sk_nm: float) -> float:
     """Diameters to search a table law's cutoff in: the default 50, or past the table's end."""
     return max(50.0, 1.01 * table.distance[-1] * units.M_TO_NM / d_sk_nm)
@@ -129,7 +137,7 @@ class ForceModel:
         params = dict(pair_law_params or {})
         f0 = thiele.force_scale_internal
         d_sk = thiele.skyrmion_diameter_internal
-        key = (
+        key: tuple[Any, ...] = (
             pair_law_name,
             tuple(material.pair_law),
             tuple(material.wall_law),
@@ -141,8 +149,8 @@ class ForceModel:
         if "table" in (pair_law_name, wall_law_name):  # the paper-law keys stay as they were
             key += (
                 wall_law_name,
-                _table_key(material.pair_table) if pair_law_name == "table" else None,
-                _table_key(material.wall_table) if wall_law_name == "table" else None,
+                _table_key(_checked(material.pair_table)) if pair_law_name == "table" else None,
+                _table_key(_checked(material.wall_table)) if wall_law_name == "table" else None,
             )
 
         def table_law(table: ForceTableSpec):
@@ -154,13 +162,13 @@ class ForceModel:
             # 8192 nodes in r²: relative error < 5e-5 from r = d_sk/4 on (64 kB, in L2 cache)
             if pair_law_name == "table":
                 pair = ForceTable.from_law(
-                    table_law(material.pair_table),
+                    table_law(_checked(material.pair_table)),
                     f0,
                     d_sk,
                     cutoff_fraction,
                     n_points=8192,
                     squared=True,
-                    d_max=_search_range(material.pair_table, d_sk),
+                    d_max=_search_range(_checked(material.pair_table), d_sk),
                 )
             else:
                 pair = ForceTable.from_law(
@@ -173,11 +181,11 @@ class ForceModel:
                 )
             if wall_law_name == "table":
                 wall = ForceTable.from_law(
-                    table_law(material.wall_table),
+                    table_law(_checked(material.wall_table)),
                     f0,
                     d_sk,
                     cutoff_fraction,
-                    d_max=_search_range(material.wall_table, d_sk),
+                    d_max=_search_range(_checked(material.wall_table), d_sk),
                 )
             else:
                 wall = ForceTable.from_law(wall_law(material.wall_law), f0, d_sk, cutoff_fraction)

@@ -43,11 +43,11 @@ class FrameBlock(NamedTuple):
 class Recorder:
     """Frame blocks and exits of one run, and the kernel's buffers for them."""
 
-    def __init__(self, port_names):
+    def __init__(self, port_names) -> None:
         self.port_names = list(port_names)
         self.blocks: list[FrameBlock] = []
         self.exits = ExitLog(self.port_names)
-        self._no_frames = None
+        self._no_frames: Frames | None = None
         self._exit_buffer: Exits | None = None
 
     # -- buffers for one kernel call ---------------------------------------------------------

@@ -256,7 +256,7 @@ class Simulation:
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
         self._counters = np.zeros(1, T.COUNTERS)
-        self._neighbor_cells = None
+        self._neighbor_cells: T.NeighborCells | None = None  # set by set_uniform_drift
         self.set_uniform_drift(drift_velocity)
 
     def _build_landscape(self, terms: list) -> LandscapeField:
@@ -342,6 +342,7 @@ class Simulation:
         """The neighbour list's margins and cells (:class:`~skygas.engine.terms.NeighborCells`).
         Assigning one (e.g. with zero margins, for a test against an exact list) replaces them
         until the drift changes."""
+        assert self._neighbor_cells is not None  # set in __init__
         return self._neighbor_cells
 
     @neighbor_cells.setter
@@ -385,7 +386,7 @@ class Simulation:
         """Uniform spin-drift velocity v_s = (vx, vy) [m/s] (1 m/s = 1 nm/ns)."""
         v = np.asarray(velocity, dtype=float)
         require(
-            v.shape == (2,) and np.all(np.isfinite(v)),
+            bool(v.shape == (2,) and np.all(np.isfinite(v))),
             "drift_velocity",
             velocity,
             "two finite numbers (vx, vy) in m/s",
@@ -398,7 +399,7 @@ class Simulation:
         shape = (self.wall_field.grid.ny, self.wall_field.grid.nx)
         for name, arr in (("vx", vx), ("vy", vy)):
             require(
-                np.shape(arr) == shape and np.all(np.isfinite(arr)),
+                bool(np.shape(arr) == shape and np.all(np.isfinite(arr))),
                 f"drift_field.{name}",
                 np.shape(arr),
                 f"a finite array of shape {shape} (the wall-field grid)",
@@ -447,10 +448,10 @@ class Simulation:
         """Refuse positions [nm] outside the device or on top of another skyrmion."""
         p = np.asarray(positions_nm, dtype=float).reshape(-1, 2)
         inside = self.outline.contains_nm(p[:, 0], p[:, 1])
-        for n in np.nonzero(~inside | ~np.all(np.isfinite(p), axis=1))[0]:
+        for k in np.nonzero(~inside | ~np.all(np.isfinite(p), axis=1))[0]:
             raise InputError(
-                f"{field_name}[{n}]",
-                (p[n] / units.M_TO_NM).tolist(),
+                f"{field_name}[{k}]",
+                (p[k] / units.M_TO_NM).tolist(),
                 "a position (m) inside the device outline",
             )
         min_sep = MIN_PLACEMENT_SEPARATION * self.thiele.skyrmion_diameter_internal
@@ -532,6 +533,7 @@ class Simulation:
         store = self.store
         if store.count > SORT_ABOVE:
             cells = self._neighbor_cells
+            assert cells is not None  # set in __init__
             store.sort_into_cells(cells.x0, cells.y0, cells.size)
         # The kernel sees the slots up to the last occupied one: new skyrmions fill the lowest
         # free slot, so this range stays compact and loops skip the empty tail of the arrays.

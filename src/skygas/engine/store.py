@@ -9,6 +9,9 @@ annihilation is recorded with its reason (:class:`AnnihilationLog`).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import numba
 import numpy as np
 
@@ -34,7 +37,7 @@ class AnnihilationLog:
     """Skyrmions removed by an operation (not through a port): id, time [s], position [m],
     reason, in the order they happened."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.rows: list[tuple[int, float, float, float, str]] = []
 
     def append(self, ids, time: float, x_nm, y_nm, reason: str) -> None:
@@ -64,7 +67,9 @@ class AnnihilationLog:
 
     def arrays(self) -> dict[str, np.ndarray]:
         """``skyrmion``, ``time`` [s], ``x``, ``y`` [m] and ``reason`` as arrays."""
-        columns = list(zip(*self.rows, strict=True)) if self.rows else [[], [], [], [], []]
+        columns: list[Sequence[Any]] = (
+            list(zip(*self.rows, strict=True)) if self.rows else [[], [], [], [], []]
+        )
         return {
             "skyrmion": np.array(columns[0], dtype=np.int64),
             "time": np.array(columns[1], dtype=float),

@@ -10,6 +10,8 @@ without recompiling anything.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from skygas import units
@@ -160,8 +162,9 @@ class LandscapeField:
         ]
         total = 0.0
         if others:
-            gx = sum(self._samples[k].ux for k in others)
-            gy = sum(self._samples[k].uy for k in others)
+            # sums of arrays (typeshed allows sum's start value 0 for an empty iterable)
+            gx = cast(np.ndarray, sum(self._samples[k].ux for k in others))
+            gy = cast(np.ndarray, sum(self._samples[k].uy for k in others))
             total += _max_curvature(gx, gy, h)
         for k in film:
             total += _max_curvature(self._samples[k].ux, self._samples[k].uy, h, self.reachable)

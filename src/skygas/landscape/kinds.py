@@ -201,6 +201,7 @@ class Band(_Kind):
         nx, ny = -ty, tx
         rx, ry = ctx.x - p0[0], ctx.y - p0[1]
         s, n = rx * tx + ry * ty, rx * nx + ry * ny
+        assert self.width is not None  # a segment band (checked by _shape)
         w = self.width * units.M_TO_NM
         g, g1, g2 = _smooth_box(s, 0.0, length, e)
         f, f1, f2 = _smooth_box(n, -w / 2, w / 2, e)
@@ -259,6 +260,7 @@ class RandomPinning(_Kind):
                 else 0.0
             )
         else:
+            assert self.depth is not None  # exactly one of depth, depth_kT (_one_depth)
             mean = self.depth * units.J_TO_PN_NM
             spread = self.depth_spread * units.J_TO_PN_NM
         depths = (
@@ -548,7 +550,7 @@ Potential = Annotated[
     Gaussian | Periodic | Band | RandomPinning | Disorder | GridFile | EdgeStrayField,
     Field(discriminator="kind"),
 ]
-KINDS = {
+KINDS: dict[str, type[_Kind]] = {
     "gaussian": Gaussian,
     "periodic": Periodic,
     "band": Band,

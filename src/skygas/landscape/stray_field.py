@@ -104,13 +104,13 @@ def _corner_sum(corners_x, corners_y, h):
     return 0.5 * np.pi * corners(sign) - corners(part)
 
 
-def cell_kernel(offset_x, offset_y, height: float) -> np.ndarray:
+def cell_kernel(offset_x, offset_y, height: float) -> np.ndarray | float:
     """∫∫ over the unit cell centred at (``offset_x``, ``offset_y``) of h/(x² + y² + h²)^{3/2}
     (lengths in cells, ``height`` h = t/(2s)); broadcasts its arguments. Offsets are integers
     plus, for averages inside a cell, fractions strictly between −½ and ½ (so that no corner
-    lies on an axis)."""
+    lies on an axis). Scalar offsets give a NumPy float."""
     ox, oy = np.broadcast_arrays(np.asarray(offset_x, float), np.asarray(offset_y, float))
-    total = 0.0
+    total: np.ndarray | float = 0.0
     for sx, sy, weight in ((0.5, 0.5, 1), (-0.5, 0.5, -1), (0.5, -0.5, -1), (-0.5, -0.5, 1)):
         sign, part = _corner_terms(ox + sx, oy + sy, height)
         total = total + weight * (0.5 * np.pi * sign - part)

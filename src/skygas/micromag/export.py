@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -39,7 +40,7 @@ def material_preset(base: Material, **updates) -> Material:
 PRESET_MARK = "material preset fitted from micromagnetic snapshots"
 
 
-def write_material_toml(path: str | Path, material: Material, notes: list[str] = ()) -> Path:
+def write_material_toml(path: str | Path, material: Material, notes: Sequence[str] = ()) -> Path:
     """Write ``material`` as a ``[material]`` table; ``notes`` become header comments."""
     path = Path(path)
     lines = [f"# skygas {__version__} {PRESET_MARK}."]

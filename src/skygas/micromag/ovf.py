@@ -27,8 +27,10 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 import xarray as xr
@@ -52,7 +54,7 @@ MESH_UNITS = {
     "å": 1e-10,
     "pm": 1e-12,
 }
-_DATA_FORMATS = {"text": "text", "binary 4": 4, "binary 8": 8}
+_DATA_FORMATS: dict[str, str | int] = {"text": "text", "binary 4": 4, "binary 8": 8}
 # The line that closes a data block; searched case-insensitively, spacing as writers vary it.
 _END_DATA = re.compile(rb"#[ \t]*end:[ \t]*data", re.I)
 # Header keys of both OVF versions (lower case). Anything else is an error: a key we do not
@@ -111,7 +113,7 @@ def _header_line(raw: bytes) -> str:
     return line.partition("##")[0].strip()
 
 
-def _parse_header(path: Path, raw: bytes) -> tuple[dict, str, int]:
+def _parse_header(path: Path, raw: bytes) -> tuple[dict, str | int, int]:
     """Header dict, data format ("text", 4, 8) and the byte offset where the data begin."""
     first_end = raw.find(b"\n")
     first = raw[: first_end if first_end >= 0 else len(raw)].decode("latin-1").strip()
@@ -287,11 +289,11 @@ def read_mesh(path: str | Path) -> OVFMesh:
                 break  # _parse_header says what is missing
             raw += chunk
     header, _, _ = _parse_header(path, raw)
-    nodes, steps, bases, scale = _mesh_of(path, header)
+    (nx, ny, nz), (dx, dy, dz), (bx, by, bz), scale = _mesh_of(path, header)
     return OVFMesh(
-        tuple(nodes),
-        tuple(s * scale for s in steps),
-        tuple((b - s / 2) * scale for b, s in zip(bases, steps, strict=True)),
+        (nx, ny, nz),
+        (dx * scale, dy * scale, dz * scale),
+        ((bx - dx / 2) * scale, (by - dy / 2) * scale, (bz - dz / 2) * scale),
     )
 
 
@@ -370,8 +372,8 @@ def _mesh_scale(path: Path, unit: str, line: int) -> float:
 
 def _read_values(path: Path, raw: bytes, start: int, fmt, count: int, version: int):
     if fmt == "text":
-        closing = _END_DATA.search(raw, start)
-        end = -1 if closing is None else closing.start()
+        found = _END_DATA.search(raw, start)
+        end = -1 if found is None else found.start()
         if end < 0:
             raise _bad(path, "data", "no '# End: Data Text'", "a complete file (truncated?)")
         try:
@@ -442,7 +444,11 @@ def field_from_array(
         raise InputError("values.shape", array.shape, "(nz, ny, nx, 3) or (ny, nx, 3)")
     if not np.all(np.isfinite(array)):
         raise InputError("values", "NaN/inf", "finite magnetisation values")
-    cells = (float(cell_size),) * 3 if np.isscalar(cell_size) else tuple(map(float, cell_size))
+    # np.isscalar's guard says "any NumPy or Python scalar", not which of the annotated types
+    if np.isscalar(cell_size):
+        cells: tuple[float, ...] = (float(cast(float, cell_size)),) * 3
+    else:
+        cells = tuple(map(float, cast(tuple[float, float, float], cell_size)))
     if len(cells) != 3 or min(cells) <= 0:
         raise InputError("cell_size", cell_size, "three positive lengths in metres")
     nz, ny, nx, _ = array.shape
@@ -488,7 +494,7 @@ def write_ovf(
     fmt: str = "bin4",
     version: int = 2,
     time: float | None = None,
-    notes: list[str] = (),
+    notes: Sequence[str] = (),
 ) -> Path:
     """Write a field DataArray as OVF ``version`` 1 or 2, ``fmt`` "text", "bin4" or "bin8".
 

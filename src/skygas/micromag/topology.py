@@ -32,6 +32,8 @@ over z and renormalised first (thin-film limit).
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 import xarray as xr
 
@@ -125,7 +127,8 @@ def plaquette_sums(values: np.ndarray, labels: np.ndarray) -> np.ndarray:
     """
     count = int(labels.max(initial=0))
     corners = (labels[:-1, :-1], labels[:-1, 1:], labels[1:, :-1], labels[1:, 1:])
-    return sum(_sum_by_label(0.25 * values, corner, count) for corner in corners)
+    # sum() of arrays is an array (typeshed allows the start value 0 for an empty iterable)
+    return cast(np.ndarray, sum(_sum_by_label(0.25 * values, corner, count) for corner in corners))
 
 
 def dissipation(field: xr.DataArray, labels: np.ndarray | None = None):

@@ -142,7 +142,8 @@ class FitResult:
             record,
         )
         material_path = out / "material.toml"
-        if self.material is not None:
+        material = self.material
+        if material is not None:
             notes = [f"{k} = {v}" for k, v in self.parameters.items()]
             notes.append(
                 f"force scale F0 = {self.thiele['force_scale_N']!r} N "
@@ -156,7 +157,7 @@ class FitResult:
             ]
             notes += self.warnings
             paths["material"] = write_atomic(
-                material_path, lambda tmp: export.write_material_toml(tmp, self.material, notes)
+                material_path, lambda tmp: export.write_material_toml(tmp, material, notes)
             )
         elif (
             material_path.is_file()
@@ -284,10 +285,11 @@ def fit_trajectories(
     for t in tracks:
         v = forces.velocities(t.times, t.positions, window=window)
         per_track[t.id] = forces.thiele_forces(v, thiele["gyrocoupling"], thiele["friction"])
+    unfixed: dict[str, forces.UnfixedLawError]
     samples, fits, warnings, unfixed = {}, {}, [], {}
     if law in ("pair", "both"):
         a, b = sorted(tracks, key=len, reverse=True)[:2] if len(tracks) >= 2 else (None, None)
-        if a is None:
+        if a is None or b is None:  # both or neither
             raise InputError("law", "pair", "two skyrmion trajectories for a pair fit")
         common = sorted(set(a.frames) & set(b.frames))
         ia = [a.frames.index(f) for f in common]
@@ -479,6 +481,7 @@ def fit_snapshots(
         fit_options.get("law", "auto") in ("auto", "wall", "both")
         and fit_options.get("boundary") is None
     ):
+        assert first is not None  # snapshot_paths gave at least 3 files
         _, magnetic = unit_layer(first)
         if not magnetic.all():
             fit_options["boundary"] = forces.disk_from_mask(

@@ -52,7 +52,9 @@ from the engine's per-skyrmion noise streams.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -61,11 +63,17 @@ from skygas import units
 from skygas.errors import require
 from skygas.neuron._compiled import annihilation_check, total_rate
 
+if TYPE_CHECKING:
+    from skygas.engine.simulation import Simulation
+
 #: SeedSequence stream tags (the second entry of the entropy tuple).
 ANNIHILATION_STREAM = 0x616E6E
 NUCLEATION_STREAM = 0x6E7563
 #: The reason under which the simulation logs this model's annihilations.
 REASON = "annihilation"
+#: The kernels' fixed arguments: wall-distance grid [nm], its x0, y0 and spacing [nm], r_c and
+#: d_min [nm], base rate [1/s], compression sensitivity.
+_FixedArguments = tuple[np.ndarray, float, float, float, float, float, float, float]
 
 
 @dataclass(frozen=True)
@@ -187,15 +195,15 @@ class Annihilator:
     model: AnnihilationModel
     seed: int
     interval_steps: int
-    region: object = None
+    region: Callable[[float, float], Any] | None = None
     nucleations: list = field(default_factory=list)
     nucleation_misses: int = 0
     _next: int = 0
-    simulation: object = field(default=None, repr=False)  # set by for_simulation, act
+    simulation: Simulation | None = field(default=None, repr=False)  # set by for_simulation, act
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         self._victims = np.empty(0, np.int64)
-        self._fixed = None
+        self._fixed: tuple[AnnihilationModel, Any, _FixedArguments] | None = None
         self.rng = np.random.default_rng(np.random.SeedSequence((self.seed, ANNIHILATION_STREAM)))
         self.nuc_rng = np.random.default_rng(np.random.SeedSequence((self.seed, NUCLEATION_STREAM)))
 
@@ -252,7 +260,7 @@ class Annihilator:
         self.rng.bit_generator.state = state["rng"]
         self.nuc_rng.bit_generator.state = state["nuc_rng"]
 
-    def _fixed_arguments(self, sim) -> tuple:
+    def _fixed_arguments(self, sim) -> _FixedArguments:
         """The kernels' arguments that stay fixed during a run (looked up once per model and
         simulation)."""
         if self._fixed is None or self._fixed[0] is not self.model or self._fixed[1] is not sim:

@@ -28,7 +28,7 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
     x1 = run.device.x_meet * 1e-3 + dev.conduit_length * 1e6 + 0.5 * d_um
     half = dev.conduit_width * 1e6 / 2 + 1.5 * d_um
     height = 0.3 * 2 * half / (x1 - x0)
-    inset = ax.inset_axes([0.02, 0.98 - height, 0.3, height])  # the Hall drift keeps it clear
+    inset = ax.inset_axes((0.02, 0.98 - height, 0.3, height))  # the Hall drift keeps it clear
     draw_landscape(inset, sim.landscape, sim.outline, colorbar=False)
     draw_outline(inset, sim.outline)
     for axis in (ax, inset):

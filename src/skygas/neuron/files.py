@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -43,7 +44,7 @@ class NeuronJob(PiecewiseRunJob):
     """One neuron run as a job of the run driver, work in ns of simulated time: the main run
     piece by piece, then (``transfer=True``) one piece per point of the transfer curve."""
 
-    result_files = ("trace.npz", "summary.json", "frames.nc")
+    result_files: tuple[str, ...] = ("trace.npz", "summary.json", "frames.nc")
 
     def __init__(
         self, config: NeuronConfig, transfer: bool = True, record_interval: float | None = None
@@ -55,7 +56,7 @@ class NeuronJob(PiecewiseRunJob):
         self.work_total += self._transfer_work(self.n_rates)
         #: transfer-curve points done: (firing rate [Hz], injected, annihilated) per rate
         self.points: list[list] = []
-        self._lif = None
+        self._lif: dict | None = None
 
     def _transfer_work(self, n_points: int) -> float:
         return n_points * self.transfer_duration * self.time_scale
@@ -176,12 +177,12 @@ class SaturationJob:
     job of the run driver: one trial (one relaxation) per piece, work counted in trials."""
 
     work_unit = "runs"
-    result_files = ("saturation.json",)
+    result_files: tuple[str, ...] = ("saturation.json",)
 
     def __init__(
         self, diameters, *, repetitions: int, seed: int, relax_time: float, temperature: float
     ):
-        self.arguments = {
+        self.arguments: dict[str, Any] = {
             "diameters_m": [float(d) for d in diameters],
             "repetitions": repetitions,
             "seed": seed,

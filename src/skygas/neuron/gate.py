@@ -83,6 +83,7 @@ def gate_band(
 
 def gate_max_force(band: Band) -> float:
     """The band's steepest slope [N] along the conduit (at its centre line): max |∂U/∂s|."""
+    assert band.start is not None and band.end is not None and band.height is not None  # gate_band
     w, e = float(np.hypot(*np.subtract(band.end, band.start))), band.edge_width
     s = np.linspace(-w / 2 - 4 * e, 0.0, 4001)
     slope = 0.5 * (1 / np.cosh((s + w / 2) / e) ** 2 - 1 / np.cosh((s - w / 2) / e) ** 2) / e
@@ -92,6 +93,7 @@ def gate_max_force(band: Band) -> float:
 def gate_relaxation_time(band: Band, thiele) -> float:
     """τ [s] of a skyrmion on the band's steepest curvature κ = 2H/(3√3 e²): 1/(κ |M|), as the
     engine's τ_min (:func:`~skygas.engine.relaxation_time`)."""
+    assert band.height is not None  # in J, as gate_band makes it
     kappa = (
         TANH_EDGE_CURVATURE
         * band.height
@@ -122,7 +124,7 @@ class PotentialGate:
             if open_vx is None
             else (np.asarray(open_vx, float), np.asarray(open_vy, float))
         )
-        self.is_open = None
+        self.is_open: bool | None = None
 
     def set(self, is_open: bool) -> None:
         if is_open == self.is_open:

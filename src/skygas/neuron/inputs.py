@@ -21,11 +21,12 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
 from skygas.errors import InputError, require
-from skygas.signals import SignalSpec, generate_bits
+from skygas.signals import SignalKind, SignalSpec, generate_bits
 
 KINDS = ("poisson", "telegraph", "bernoulli", "regular", "bits")
 
@@ -100,7 +101,8 @@ class InputSpec:
         else:
             if self.kind == "telegraph" and not 0 < self.p < 1:
                 raise InputError("inputs.p", self.p, "p strictly in (0, 1) for a telegraph input")
-            spec = SignalSpec(self.kind, self.p, self.correlation_time)
+            # here kind is "telegraph" or "bernoulli", both signal kinds
+            spec = SignalSpec(cast(SignalKind, self.kind), self.p, self.correlation_time)
             bits = generate_bits(spec, max(n, 1), self.interval, seed=int(rng.integers(2**63)))[:n]
         return np.flatnonzero(bits) * self.interval
 

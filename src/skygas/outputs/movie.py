@@ -142,7 +142,7 @@ class _Canvas:
             image = ax.imshow(
                 values,
                 origin="lower",
-                extent=np.array(extent) * 1e6,
+                extent=tuple(np.array(extent) * 1e6),
                 cmap="Greys_r",
                 norm=norm,
                 alpha=0.85,
@@ -170,10 +170,10 @@ class _Canvas:
             )
         )
         f = record.frames
-        shown = np.unique(record.group_of(f.ids, f.x, f.y)) if len(f.ids) else []
+        shown: np.ndarray | list = np.unique(record.group_of(f.ids, f.x, f.y)) if len(f.ids) else []
         if len(record.group_names) > 1 and len(shown):
             handles = [
-                Patch(color=np.array(GROUP_COLOURS[g]) / 255, label=record.group_names[g])
+                Patch(color=tuple(np.array(GROUP_COLOURS[g]) / 255), label=record.group_names[g])
                 for g in shown
             ]
             fig.legend(handles=handles, loc="upper right", fontsize=7, frameon=False)

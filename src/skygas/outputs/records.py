@@ -17,11 +17,15 @@ import json
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from skygas.analysis.frames import Frames
 from skygas.errors import InputError
+
+if TYPE_CHECKING:
+    from skygas.geometry import Outline
 
 #: result files in the order a directory is searched
 RESULT_FILES = ("trajectories.nc", "reshuffler.nc", "frames.nc")
@@ -37,7 +41,7 @@ class RunRecord:
     kind: str
     path: Path
     frames: Frames
-    outline: object
+    outline: Outline
     skyrmion_diameter: float
     group_names: tuple[str, ...]
     group_of: Callable
@@ -63,7 +67,9 @@ class RunRecord:
         if field_ is not None and field_.terms:
             from skygas.plotting import landscape_energy
 
-            values, label = landscape_energy(field_, self.outline)
+            energy = landscape_energy(field_, self.outline)
+            assert energy is not None  # the field has terms
+            values, label = energy
             g = field_.grid
             extent = (
                 g.x0 - g.spacing / 2,

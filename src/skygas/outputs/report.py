@@ -407,7 +407,7 @@ def sweep_report(store: Path | list[Path]) -> str:
             ("skygas version of the sweep", ds.attrs.get("skygas_version", "?")),
             ("root seed", ds.attrs.get("root_seed", ds.attrs.get("seed", "?"))),
             ("runs done", f"{int(np.sum(done))} of {done.size}"),
-            ("swept dimensions", ", ".join(ds["done"].dims)),
+            ("swept dimensions", ", ".join(map(str, ds["done"].dims))),
         ]
     )
     with tempfile.TemporaryDirectory() as tmp:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import time
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -79,7 +80,8 @@ def run_study(
             "".join(map(str, sym)): dict(zip(device.sensor_names, map(float, m), strict=True))
             for sym, m in zip(
                 device.drive.symbols,
-                sum(s.sensor_means for s in streams) / len(streams),
+                # a sum of arrays (typeshed allows sum's start value 0 for an empty iterable)
+                cast(np.ndarray, sum(s.sensor_means for s in streams)) / len(streams),
                 strict=True,
             )
         },

@@ -11,6 +11,8 @@ delay k, which measures the fading memory (accuracy falls to chance as k grows),
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from skygas.reservoir.readout import fit_and_score, split
@@ -66,7 +68,7 @@ def temporal_study(streams, delays, test_fraction: float, seed: int, **readout) 
     feats = np.concatenate([s.features[deepest:] for s in streams])
     a = [s.bits[:, 0] for s in streams]
     train, test = split(len(feats), test_fraction, seed + 1)
-    out = {"recall": {}}
+    out: dict[str, Any] = {"recall": {}}
     for k in delays:
         label = np.concatenate([x[deepest - k : len(x) - k] for x in a])
         out["recall"][str(k)] = fit_and_score(feats, label, train, test, **readout)

@@ -121,7 +121,7 @@ def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
     for key, value in overrides.items():
         if value is None:
             continue
-        node = data
+        node: dict | list = data
         parts = key.split(".")
         for part in parts[:-1]:
             if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")

@@ -38,7 +38,11 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
     landscape_image = draw_landscape(ax, run.sim.landscape, run.sim.outline, colorbar=False)
     if landscape_image is None:
         image = ax.imshow(
-            magnitude, origin="lower", extent=extent, cmap="viridis", norm=_log_norm(magnitude)
+            magnitude,
+            origin="lower",
+            extent=tuple(extent),
+            cmap="viridis",
+            norm=_log_norm(magnitude),
         )
         # the colour bar below the device: beside it, it would meet the read-out labels
         bar = fig.colorbar(
@@ -54,13 +58,15 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
         bar.ax.xaxis.set_minor_formatter(NullFormatter())  # decades only: minor labels collide
         track_colour = "white"
     else:
+        energy = landscape_energy(run.sim.landscape)
+        assert energy is not None  # draw_landscape drew it
         fig.colorbar(
             landscape_image,
             ax=ax,
             orientation="horizontal",
             shrink=0.7,
             pad=0.08,
-            label=landscape_energy(run.sim.landscape)[1],
+            label=energy[1],
         )
         norm = _log_norm(magnitude)
         if norm is not None:

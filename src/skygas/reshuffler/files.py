@@ -30,7 +30,7 @@ class ReshufflerJob(PiecewiseRunJob):
 
     work_unit = "µs"
     time_scale = 1e6
-    result_files = ("reshuffler.nc", "summary.json")
+    result_files: tuple[str, ...] = ("reshuffler.nc", "summary.json")
 
     def __init__(self, config: ReshufflerConfig, figures: bool = True):
         # every check happens in build, before any stepping

@@ -18,12 +18,13 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from skygas.current import solve_current
-from skygas.engine import Simulation
+from skygas.engine import FrameBlock, Simulation
 from skygas.errors import require
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
@@ -208,6 +209,7 @@ class ReshufflerRun:
         window = int(round(self.config.output.trajectory_window / dt))
         snapshot_every = self.snapshot_steps
         kept = len(self.sim.frame_blocks)
+        new_frames: Sequence[FrameBlock]
         if self.sim.step < window:
             # frames ~1 ns apart that fall on every snapshot step as well
             dense_every = _largest_divisor_up_to(snapshot_every, max(1, int(round(1e-9 / dt))))

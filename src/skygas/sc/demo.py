@@ -70,7 +70,7 @@ def ideal_reshuffle_squaring_error(p: float, n_bits: Any) -> np.ndarray:
 
 def squaring_curve(
     decorrelator: Decorrelator,
-    p_values: Sequence[float],
+    p_values: Sequence[float] | np.ndarray,
     n_bits: int,
     *,
     n_trials: int = 16,

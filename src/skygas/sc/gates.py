@@ -99,10 +99,10 @@ def jk_flip_flop(j: Any, k: Any, initial: bool = False) -> np.ndarray:
             state = (jt and not state) or (not kt and state)
         out[...] = np.asarray(bits, dtype=bool).reshape(out.shape)
         return out
-    state = np.full(lead, bool(initial))
+    states = np.full(lead, bool(initial))
     for t in range(n_bits):
-        out[..., t] = state
-        state = (j[..., t] & ~state) | (~k[..., t] & state)
+        out[..., t] = states
+        states = (j[..., t] & ~states) | (~k[..., t] & states)
     return out
 
 

@@ -44,11 +44,12 @@ def p_value(stream: Any) -> np.ndarray:
 
 @dataclass(frozen=True)
 class PValueEstimate:
-    """A p-value estimate with its two-sided confidence interval (arrays of the batch shape)."""
+    """A p-value estimate with its two-sided confidence interval (arrays of the batch shape;
+    floats for one stream, as :mod:`skygas.correlation` reports them)."""
 
-    estimate: np.ndarray
-    low: np.ndarray
-    high: np.ndarray
+    estimate: np.ndarray | float
+    low: np.ndarray | float
+    high: np.ndarray | float
     n_bits: int
     confidence: float
 

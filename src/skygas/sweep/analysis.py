@@ -192,16 +192,17 @@ def fit_current_scaling(ds: xr.Dataset) -> dict:
     """ρ(J): the paper's fit and the free exponent β, over all points and per p-value."""
     t = _table(ds)
     x = t[CURRENT] / CURRENT_UNIT
+    per_p: dict[str, dict] = {}
     out = {
         "paper_fit": _paper_current_fit(x, t["mean"], t["sem"]),
         "beta": power_law_exponent(x, t["mean"], t["sem"]),
         "paper_beta": 1.5,
-        "per_p": {},
+        "per_p": per_p,
     }
     if P_VALUE in t:
         for p in np.unique(t[P_VALUE]):
             sel = t[P_VALUE] == p
-            out["per_p"][f"{float(p):g}"] = {
+            per_p[f"{float(p):g}"] = {
                 "paper_fit": _paper_current_fit(x[sel], t["mean"][sel], t["sem"][sel]),
                 "beta": power_law_exponent(x[sel], t["mean"][sel], t["sem"][sel]),
             }
@@ -213,7 +214,7 @@ def fit_chamber_scaling(ds: xr.Dataset) -> dict:
     t = _table(ds)
     length = t[CHAMBER] / LENGTH_UNIT
     ok = np.isfinite(t["mean"])
-    paper = {"c_A": float("nan"), "c_B": float("nan")}
+    paper: dict[str, float | str] = {"c_A": float("nan"), "c_B": float("nan")}
     if ok.sum() >= 2:
         coef, err = _linear_fit(1 / np.sqrt(length[ok]), t["mean"][ok], t["sem"][ok])
         paper = {

@@ -185,8 +185,10 @@ def run_sweep(
     bar = _progress_bar(progress, len(sweep.runs), report.skipped)
     try:
         if not pending:
+            assert store is not None  # nothing pending: the store exists
             report.session = store.start_session()
         elif serial:
+            assert store is not None  # opened or created above
             _serial(pending, store, report, bar)
         else:
             _dask(pending, lambda: store or SweepStore(out, sweep), report, bar, scheduler, workers)

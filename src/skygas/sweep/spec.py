@@ -144,6 +144,7 @@ def _expand_range(key: str, spec: dict) -> list[float]:
         num,
         "a whole number of values",
     )
+    assert isinstance(num, int)  # checked just above
     require(num >= 1, f"grid.{key}.num", num, "at least 1 value (the range is empty)")
     start, stop = spec.get("start"), spec.get("stop")
     for name, v in (("start", start), ("stop", stop)):
@@ -153,6 +154,7 @@ def _expand_range(key: str, spec: dict) -> list[float]:
             v,
             "a number",
         )
+    assert isinstance(start, (int, float)) and isinstance(stop, (int, float))  # checked above
     spacing = spec.get("spacing", "linear")
     require(spacing in ("linear", "log"), f"grid.{key}.spacing", spacing, '"linear" or "log"')
     if spacing == "log":
@@ -188,7 +190,7 @@ def _check_value(key: str, value: Any, where: str) -> None:
 
 def _grid(data: dict) -> tuple[list[str], list[list[Any]]]:
     require(
-        isinstance(data, dict) and data,
+        isinstance(data, dict) and bool(data),
         "grid",
         data,
         "a table of dotted config fields, each with a list or a {start, stop, num} range",
@@ -384,7 +386,7 @@ def _apply_setting(data: dict, setting: str) -> None:
     key = key.strip()
     table, _, rest = key.partition(".")
     require(
-        sep and table in ("sweep", "base", "grid") and rest,
+        bool(sep and table in ("sweep", "base", "grid") and rest),
         "--set",
         setting,
         "TABLE.KEY=VALUE with TABLE one of sweep, base, grid (e.g. base.duration=1e-5)",

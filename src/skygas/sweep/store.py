@@ -34,6 +34,7 @@ import asyncio
 import json
 import time
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 import xarray as xr
@@ -65,7 +66,7 @@ def _create(path: Path, sweep: Sweep) -> None:
     dims = (*sweep.point_dims, "replica")
     shape = (*sweep.shape, sweep.replicas)
     n_running = max(run.config.output.running_points for run in sweep.runs)
-    coords = {"replica": np.arange(sweep.replicas)}
+    coords: dict[str, Any] = {"replica": np.arange(sweep.replicas)}
     if sweep.layout == "grid":
         for dim, values in zip(sweep.dims, sweep.values, strict=True):
             coords[dim] = (dim, _coordinate(values))
@@ -98,7 +99,8 @@ def _create(path: Path, sweep: Sweep) -> None:
         path, mode="w", encoding={"seed": {"chunks": shape}}, consolidated=False, zarr_format=3
     )
     group = zarr.open_group(path, mode="r+")
-    per_run = {  # name: (extra dimensions and their sizes, dtype, fill value, attributes)
+    # name: (extra dimensions and their sizes, dtype, fill value, attributes)
+    per_run: dict[str, tuple[dict[str, int], Any, float, dict[str, Any]]] = {
         "summary": (
             {"quantity": len(QUANTITIES)},
             np.float64,
@@ -180,8 +182,9 @@ class SweepStore:
                 "written by another skygas version: open_sweep still reads it; "
                 "to continue the sweep, rerun it into a new store)",
             )
+        # the per-run arrays that _create wrote (a group's item may also be a group)
         self._arrays = {
-            name: self.group[name]
+            name: cast(zarr.Array, self.group[name])
             for name in ("summary", "running_curves", "done", "finished_at", "session")
         }
         self._async = {name: _async_of(array) for name, array in self._arrays.items()}
@@ -199,7 +202,7 @@ class SweepStore:
         return [run for run in self.sweep.runs if not done[(*run.index, run.replica)]]
 
     def start_session(self) -> int:
-        sessions = json.loads(self.group.attrs.get("sessions_json", "[]"))
+        sessions = json.loads(cast(str, self.group.attrs.get("sessions_json", "[]")))  # JSON text
         sessions.append({"started": time.time(), "skygas_version": __version__})
         self.group.attrs["sessions_json"] = json.dumps(sessions)
         return len(sessions) - 1

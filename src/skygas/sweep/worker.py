@@ -52,7 +52,7 @@ def run_one(config_json: str) -> dict:
     summary = dict(result.summary)
     # the 95 % interval of p_out (Clopper-Pearson), NaN without read-outs
     summary["p_out_low"], summary["p_out_high"] = summary["p_out_interval"] or (np.nan, np.nan)
-    out = {name: float(summary[name]) for name in QUANTITIES}
+    out: dict[str, float | np.ndarray] = {name: float(summary[name]) for name in QUANTITIES}
     running = result.running
     out["running_rho"] = np.asarray(running.rho if running else [], dtype=np.float64)
     out["running_time"] = np.asarray(running.times if running else [], dtype=np.float64)
