@@ -27,7 +27,7 @@ from machine_clock import clock_ghz
 from machine_steal import StealMeter
 from pair_pass import repeated_pair_pass
 from skygas.engine import Simulation
-from skygas.geometry import disk, random_positions
+from skygas.physics.geometry import disk, random_positions
 
 HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
 

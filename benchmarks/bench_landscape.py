@@ -30,8 +30,8 @@ import time
 import numpy as np
 
 from skygas.engine import Simulation
-from skygas.geometry import disk, random_positions
-from skygas.landscape import Disorder, RandomPinning
+from skygas.fields.landscape import Disorder, RandomPinning
+from skygas.physics.geometry import disk, random_positions
 
 HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
 LANDSCAPES = {

@@ -3,9 +3,9 @@
 Workload: the ``paper`` preset (1024 nm chambers), 4 current densities × 4 p-values, one
 replica, ``--duration`` of simulated time per run (default 2 µs). Every point of this sweep
 shares one device: a process builds its set-up (current solve, wall field: ~1.5-2 s) once and
-keeps it (:mod:`skygas.memo`), and the disk cache (:mod:`skygas.disk_cache`) lets a new process
-load it in ~0.1 s instead. A point then costs its simulation, ~0.2 s at 2 µs. Prints the median
-wall time (and the range) over ``--repeats`` sweeps for 1 and 2 workers and their ratio, in
+keeps it (:mod:`skygas.core.memo`), and the disk cache (:mod:`skygas.core.disk_cache`) lets a new
+process load it in ~0.1 s instead. A point then costs its simulation, ~0.2 s at 2 µs. Prints the
+median wall time (and the range) over ``--repeats`` sweeps for 1 and 2 workers and their ratio, in
 four modes:
 
 - ``first``: each sweep starts its own local cluster (``skygas sweep --workers N``) with an
@@ -26,8 +26,8 @@ the first serial sweep; ``first`` gives each sweep a new, empty one. It also run
 serially in this process, with its set-up built (``first``), loaded from disk (``cold``,
 ``warm``) or already in memory (``hot``), and prints the Dask path's overhead per point,
 (T(1 worker) − T(serial)) / 16, for each mode. In ``warm``/``hot`` it prints how many current
-solves each worker did (``skygas.memo`` counts), to show the set-up was not rebuilt, and the CPU
-time this process (the client, the scheduler and the nannies of the local cluster) used during a
+solves each worker did (``skygas.core.memo`` counts), to show the set-up was not rebuilt, and the
+CPU time this process (the client, the scheduler and the nannies of the local cluster) used during a
 sweep: on a machine with as many cores as workers, that time is taken from them.
 
 Run: ``.venv/bin/python benchmarks/bench_sweep.py [--repeats 3] [--duration 2e-6]
@@ -45,7 +45,7 @@ import tempfile
 import time
 from pathlib import Path
 
-import skygas.memo as memo
+import skygas.core.memo as memo
 import skygas.sweep as api  # its names load on first use (skygas.sweep's lazy exports)
 from machine_steal import StealMeter
 

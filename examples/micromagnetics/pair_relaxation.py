@@ -35,10 +35,10 @@ import numpy as np
 from skygas._version import __version__
 from skygas.calibration import solver
 from skygas.calibration.material import load_micromagnetic_material
-from skygas.errors import InputError
-from skygas.materials import preset
+from skygas.core.errors import InputError
 from skygas.micromag import field_from_array, write_ovf
-from skygas.run_driver import write_atomic, write_json
+from skygas.physics.materials import preset
+from skygas.runs.run_driver import write_atomic, write_json
 
 WIDTH, HEIGHT = 400e-9, 250e-9  # m, the film (rounded to whole cells)
 # The pinned disk of each core [m]. The core of an S2 skyrmion (R ≈ 20 nm) is flat: with only

@@ -1,11 +1,10 @@
 """Names of :mod:`skygas`, imported on first use (see ``__init__.py``)."""
 
 from ._version import __version__
-from .config import SimulationConfig, load_config
+from .core.errors import InputError
 from .engine import Simulation
-from .errors import InputError
-from .geometry import Outline, chamber_with_conduits, disk, polygon, rectangle, union
-from .materials import (
+from .physics.geometry import Outline, chamber_with_conduits, disk, polygon, rectangle, union
+from .physics.materials import (
     Material,
     ThieleParameters,
     derive_thiele,
@@ -13,7 +12,8 @@ from .materials import (
     preset,
     preset_names,
 )
-from .runner import run_simulation
+from .runs.config import SimulationConfig, load_config
+from .runs.runner import run_simulation
 
 __all__ = [
     "__version__",

@@ -9,10 +9,10 @@ anything the CLI does can be done from Python as well.
 
     skygas: error: <field> = <value>: <why>; <what to do>
 
-and exits with status 2: invalid input (:class:`~skygas.errors.InputError`), an output path
+and exits with status 2: invalid input (:class:`~skygas.core.errors.InputError`), an output path
 that cannot be written (any :class:`OSError`), and a job too large to compute
 (:class:`OverflowError`, :class:`MemoryError`; the commands estimate their memory before
-allocating, :mod:`skygas.resources`). Anything else is a bug in skygas: one line saying so,
+allocating, :mod:`skygas.core.resources`). Anything else is a bug in skygas: one line saying so,
 exit status 70 (``EX_SOFTWARE``). ``skygas --debug COMMAND ...`` shows the traceback instead.
 An ``--out`` folder that the failing command created is removed again when it is still empty,
 so a refused command leaves nothing behind.
@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 
 from skygas._version import __version__
-from skygas.errors import InputError, RunInterrupted
+from skygas.core.errors import InputError, RunInterrupted
 
 # Modules that add sub-commands; each defines ``register(subparsers)``.
 _COMMAND_MODULES = [
@@ -243,7 +243,7 @@ def describe_error(err: BaseException, args: argparse.Namespace | None = None) -
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    from skygas import manifest
+    from skygas.runs import manifest
 
     manifest.set_command(command_name(args), sys.argv[1:] if argv is None else list(argv))
     out = _output_folder(args)

@@ -26,8 +26,8 @@ from skygas.analysis import (
 )
 from skygas.analysis.structure import isotropic_covariogram
 from skygas.engine import Simulation
-from skygas.geometry import disk, rectangle
-from skygas.materials import derive_thiele, preset
+from skygas.physics.geometry import disk, rectangle
+from skygas.physics.materials import derive_thiele, preset
 
 S2 = preset("S2")
 

@@ -16,7 +16,7 @@ import pytest
 pytest.importorskip("magnumnp")
 
 from skygas import cli  # noqa: E402
-from skygas.materials import load_material  # noqa: E402
+from skygas.physics.materials import load_material  # noqa: E402
 
 pytestmark = pytest.mark.slow
 

@@ -10,8 +10,8 @@ import pytest
 
 from skygas.calibration import laws
 from skygas.calibration.model_file import dumps, write_model
-from skygas.errors import InputError
-from skygas.units import MU_0
+from skygas.core.errors import InputError
+from skygas.core.units import MU_0
 
 
 def test_force_of_an_exponential_energy_and_its_continuation():
@@ -53,9 +53,9 @@ def test_half_plane_stray_energy_far_from_the_edge_is_the_point_dipole_limit():
 
 def test_half_plane_energy_agrees_with_the_engines_stray_field_on_a_large_film():
     """The calibration's straight-edge energy and the engine's stray-field term
-    (skygas.landscape.stray_field) are the same formula: on a film much larger than the
+    (skygas.fields.landscape.stray_field) are the same formula: on a film much larger than the
     distances involved, their differences between two distances from one edge agree."""
-    from skygas.landscape.stray_field import stray_field_energy
+    from skygas.fields.landscape.stray_field import stray_field_energy
 
     ms, t, cell = 1.45e6, 2e-9, 2e-9
     r = np.linspace(0, 40e-9, 401)
@@ -71,7 +71,7 @@ def test_half_plane_energy_agrees_with_the_engines_stray_field_on_a_large_film()
 
 
 def test_model_file_round_trips_and_refuses_an_invalid_material(tmp_path):
-    from skygas.materials import load_material, preset
+    from skygas.physics.materials import load_material, preset
 
     base = preset("S2").model_dump()
     base["pair_table"] = {"distance": [1e-8, 2e-8, 3e-8, 4e-8], "force": [4e-12, 2e-12, 1e-12, 0.0]}

@@ -9,8 +9,8 @@ import pytest
 
 from skygas import cli
 from skygas.calibration.material import load_micromagnetic_material
-from skygas.errors import InputError
-from skygas.units import MU_0
+from skygas.core.errors import InputError
+from skygas.core.units import MU_0
 
 
 @pytest.mark.parametrize("name", ["S1", "S2", "S3", "S4", "S5", "S6", "S7"])

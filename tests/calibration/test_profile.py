@@ -78,7 +78,7 @@ def test_radius_and_wall_width_are_recovered():
 def test_a_texture_without_one_skyrmion_is_refused_in_one_line():
     film = Film(41, 41, 2e-9)
     uniform = skyrmion_texture(film, [], 10e-9, 3e-9)
-    from skygas.errors import InputError
+    from skygas.core.errors import InputError
 
     with pytest.raises(InputError, match="isolated skyrmion"):
         measure_isolated(uniform, film, load_micromagnetic_material("S2"), 0.0)

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from skygas.forces import paper_pair_force, paper_wall_force
-from skygas.materials import Material, derive_thiele, preset
+from skygas.physics.forces import paper_pair_force, paper_wall_force
+from skygas.physics.materials import Material, derive_thiele, preset
 
 FILM = 2e-9
 

@@ -10,14 +10,14 @@ import pytest
 from tests.engine.calibrated_model import calibrated_data, calibrated_material, model_toml
 
 from skygas.cli import main
-from skygas.config import parse_config
+from skygas.core.errors import InputError
 from skygas.engine import Simulation
-from skygas.errors import InputError
-from skygas.geometry import disk
-from skygas.landscape import EdgeStrayField
-from skygas.materials import derive_thiele, load_material, preset
+from skygas.fields.landscape import EdgeStrayField
 from skygas.neuron.config import NeuronConfig
+from skygas.physics.geometry import disk
+from skygas.physics.materials import derive_thiele, load_material, preset
 from skygas.reshuffler.config import ReshufflerConfig
+from skygas.runs.config import parse_config
 from skygas.sweep.spec import _field_exists
 
 CHAMBER_TOML = """\
@@ -196,7 +196,7 @@ def test_sweeps_and_devices_can_choose_the_wall_law(model_file):
     with pytest.raises(InputError) as err:
         from pydantic import ValidationError
 
-        from skygas.config_types import to_input_error
+        from skygas.core.config_types import to_input_error
 
         try:
             ReshufflerConfig(forces={"wall_law": "lin-reichhardt"})

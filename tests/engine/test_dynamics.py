@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 from scipy import integrate, stats
 
-from skygas import units
+from skygas.core import units
 from skygas.engine import INTEGRATOR_ORDERS, Simulation
-from skygas.forces import wall_potential
-from skygas.geometry import disk, rectangle
-from skygas.materials import derive_thiele, preset
+from skygas.physics.forces import wall_potential
+from skygas.physics.geometry import disk, rectangle
+from skygas.physics.materials import derive_thiele, preset
 
 S2 = preset("S2")
 NO_PAIRS = {"pair_law": "lin-reichhardt", "pair_law_params": {"amplitude": 0.0}}
@@ -242,7 +242,7 @@ def final_positions(integrator, dt, temperature=0.0, substeps=1, seed=0):
         brownian_substeps=substeps,
     )
     rng = np.random.default_rng(42)
-    from skygas.geometry import random_positions
+    from skygas.physics.geometry import random_positions
 
     d_sk = sim.thiele.skyrmion_diameter_internal
     pts = random_positions(sim.outline, 20, 1.05 * d_sk, 0.5 * d_sk, rng)
@@ -291,7 +291,7 @@ def test_strong_order_with_additive_noise():
 
 # -- robustness and reproducibility --------------------------------------------------------------
 def dense_chamber_run(seed: int, duration=30e-9):
-    from skygas.geometry import Outline, chamber_with_conduits, random_positions
+    from skygas.physics.geometry import Outline, chamber_with_conduits, random_positions
 
     outline = Outline(chamber_with_conduits().region)  # closed conduits
     sim = Simulation(outline, S2, temperature=300.0, seed=seed)
@@ -370,7 +370,7 @@ def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypat
     def run(sort_above):
         monkeypatch.setattr(engine, "SORT_ABOVE", sort_above)
         sim = Simulation(disk(1.2e-6), S2, temperature=300.0, seed=17)
-        from skygas.geometry import random_positions
+        from skygas.physics.geometry import random_positions
 
         d_sk = sim.thiele.skyrmion_diameter_internal
         pts = random_positions(sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk, np.random.default_rng(3))

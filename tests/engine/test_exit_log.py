@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from skygas.exit_log import ExitLog
+from skygas.engine.exit_log import ExitLog
 
 
 def test_batches_read_back_as_arrays_and_tuples_in_order():

@@ -10,11 +10,11 @@ import numba
 import numpy as np
 import pytest
 
-from skygas._rng import _log
 from skygas.engine import Simulation
+from skygas.engine._rng import _log
 from skygas.engine.neighbors import build_neighbor_list
 from skygas.engine.stages import BRANCH_FREE_ENTRIES
-from skygas.geometry import disk, random_positions
+from skygas.physics.geometry import disk, random_positions
 
 # the benchmarks' pair-pass kernel (benchmarks/pair_pass.py), checked here against a direct sum
 sys.path.insert(0, str(Path(__file__).parents[2] / "benchmarks"))

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from skygas._rng import fill_gaussian_pairs, gaussians, philox_words
+from skygas.engine._rng import fill_gaussian_pairs, gaussians, philox_words
 
 # Known-answer vectors of Philox4x32-10 (Random123, kat_vectors).
 KAT = [

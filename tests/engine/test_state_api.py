@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from skygas.core.errors import InputError
 from skygas.engine import Simulation
-from skygas.errors import InputError
-from skygas.geometry import chamber_with_conduits, disk
+from skygas.physics.geometry import chamber_with_conduits, disk
 
 
 def _sim(seed=2) -> Simulation:

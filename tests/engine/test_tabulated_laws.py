@@ -7,18 +7,18 @@ import pytest
 from scipy.interpolate import PchipInterpolator
 from tests.engine.calibrated_model import calibrated_data, calibrated_material
 
+from skygas.core.errors import InputError
 from skygas.engine import ForceModel, Simulation
 from skygas.engine.force_model import resolve_law_names
-from skygas.errors import InputError
-from skygas.forces import (
+from skygas.physics.forces import (
     DEFAULT_CUTOFF_FRACTION,
     paper_pair_force,
     paper_wall_force,
     tabulated_force,
     tabulated_law,
 )
-from skygas.geometry import disk
-from skygas.materials import Material, derive_thiele, preset
+from skygas.physics.geometry import disk
+from skygas.physics.materials import Material, derive_thiele, preset
 
 D_SK = 38.2e-9  # [m]
 F0 = 1.44e-12  # [N]
@@ -77,7 +77,7 @@ def test_bad_tables_are_refused_with_the_field_named(field, value):
         field: value,
     }
     with pytest.raises(InputError) as err:
-        from skygas.materials import material_from_mapping
+        from skygas.physics.materials import material_from_mapping
 
         material_from_mapping({**calibrated_data(), "pair_table": table})
     assert err.value.field.startswith("material.pair_table")

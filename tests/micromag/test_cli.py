@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from skygas.cli import main
-from skygas.materials import load_material, preset
 from skygas.micromag import field_from_array, pair_law_magnitude, synthetic, write_ovf
 from skygas.micromag.forces import disk_from_mask, law_problem
 from skygas.micromag.workflow import thiele_coefficients
+from skygas.physics.materials import load_material, preset
 
 
 def test_inspect_json(tmp_path, two_skyrmions, profile, capsys):

@@ -3,8 +3,7 @@
 import numpy as np
 import pytest
 
-from skygas.errors import InputError
-from skygas.materials import load_material, preset, preset_names
+from skygas.core.errors import InputError
 from skygas.micromag import (
     DiskBoundary,
     Skyrmion,
@@ -22,6 +21,7 @@ from skygas.micromag import (
 )
 from skygas.micromag.forces import PAIR_A2_FLOOR, law_problem
 from skygas.micromag.workflow import thiele_coefficients
+from skygas.physics.materials import load_material, preset, preset_names
 
 FILM = 2e-9  # m
 DISSIPATION = 20.0

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.micromag import field_from_array, load_field, read_ovf, write_ovf
 from skygas.micromag.ovf import OVFUnitWarning
 

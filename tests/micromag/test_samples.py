@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from skygas.cli import main
-from skygas.materials import load_material, preset
 from skygas.micromag import pair_law_magnitude, read_ovf, samples
+from skygas.physics.materials import load_material, preset
 
 
 def test_shipped_samples_are_what_the_generator_makes(tmp_path):

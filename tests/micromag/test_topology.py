@@ -5,7 +5,6 @@ import math
 import numpy as np
 import pytest
 
-from skygas.materials import derive_thiele, preset
 from skygas.micromag import (
     detect_skyrmions,
     dissipation,
@@ -14,6 +13,7 @@ from skygas.micromag import (
     topological_charge,
 )
 from skygas.micromag.workflow import thiele_coefficients
+from skygas.physics.materials import derive_thiele, preset
 
 CELL = 1e-9  # m, as the conftest's field
 RADIUS = 10e-9  # m
@@ -125,7 +125,7 @@ def test_no_skyrmion_in_a_uniform_film():
 
 
 def test_gyrocoupling_convention_matches_materials():
-    # G = −4πQk and α𝒟k, as skygas.materials.derive_thiele computes them for Q = −1.
+    # G = −4πQk and α𝒟k, as skygas.physics.materials.derive_thiele computes them for Q = −1.
     material = preset("S2")
     derived = derive_thiele(material, 2e-9, dissipation=25.0)
     measured = thiele_coefficients(-1.0, 25.0, material, 2e-9)

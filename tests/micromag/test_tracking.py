@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.micromag import Skyrmion, Snapshot, detect_skyrmions, link, synthetic
 
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from skygas import units
+from skygas.core import units
 from skygas.neuron import NeuronDevice, neuron_config
 from skygas.neuron.gate_study import hold_crowd
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from skygas.cli import main
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.neuron import (
     AnnihilationModel,
     NeuronDevice,

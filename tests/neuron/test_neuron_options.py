@@ -8,8 +8,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from skygas.engine import Simulation
-from skygas.geometry import disk
 from skygas.neuron import AnnihilationModel, Annihilator, NeuronDevice, neuron_config
+from skygas.physics.geometry import disk
 
 SMALL = {"chamber_diameter": 400e-9, "conduit_width": 80e-9, "conduit_length": 50e-9}
 RADIUS = 300e-9

@@ -7,7 +7,7 @@ import time
 import pytest
 
 from skygas.cli import main
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.neuron import NeuronDevice, neuron_config
 
 SMALL = {"chamber_diameter": 400e-9, "conduit_width": 80e-9, "conduit_length": 50e-9}

@@ -24,8 +24,8 @@ SIMULATION = {
 @pytest.fixture(scope="session")
 def simulation_run(tmp_path_factory):
     """A 30 ns closed-chamber run with 20 skyrmions: trajectories.nc and its files."""
-    from skygas.config import parse_config
-    from skygas.runner import run_simulation
+    from skygas.runs.config import parse_config
+    from skygas.runs.runner import run_simulation
 
     out = tmp_path_factory.mktemp("simulation")
     run_simulation(parse_config(SIMULATION), out, progress=False)

@@ -19,7 +19,7 @@ PINS = Path(__file__).with_name("pins.npz")
 def gas_in_chamber() -> dict[str, np.ndarray]:
     """25 interacting skyrmions in the paper's chamber at 300 K, Heun, 600 steps."""
     import skygas
-    from skygas.geometry import random_positions
+    from skygas.physics.geometry import random_positions
 
     outline = skygas.chamber_with_conduits(chamber_diameter=1024e-9)
     sim = skygas.Simulation(outline, "S2", temperature=300.0, seed=3)
@@ -40,8 +40,8 @@ def drifting_gas() -> dict[str, np.ndarray]:
     """Skyrmions pushed out of an open rectangle by a uniform drift (η ≠ α: Hall angle), with
     exits; Euler–Maruyama with two Brownian sub-steps and the Lin–Reichhardt pair law."""
     import skygas
-    from skygas.geometry import rectangle
-    from skygas.materials import derive_thiele, preset
+    from skygas.physics.geometry import rectangle
+    from skygas.physics.materials import derive_thiele, preset
 
     material = preset("S2")
     thiele = replace(derive_thiele(material), eta=0.3)

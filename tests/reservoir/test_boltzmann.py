@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
+from skygas.core.units import BOLTZMANN
 from skygas.engine import Simulation
-from skygas.materials import derive_thiele, preset
+from skygas.physics.materials import derive_thiele, preset
 from skygas.reservoir.boltzmann import boltzmann_wall_distance_pdf, wall_energy
 from skygas.reservoir.chamber import build_chamber
 from skygas.reservoir.config import ChamberSpec
-from skygas.units import BOLTZMANN
 
 SIDE = 200e-9
 CUT = 30e-9
@@ -28,7 +28,7 @@ def setting():
 
 
 def test_quadrature_matches_the_exact_marginal_of_a_triangle(setting):
-    from skygas import geometry as geo
+    from skygas.physics import geometry as geo
 
     # the points at wall distance d of a triangle form a triangle of inradius r − d, so the
     # exact marginal is p(d) ∝ (1 − d/r)·exp(−U(d)/k_BT)
@@ -64,7 +64,7 @@ def test_quadrature_matches_the_exact_marginal_of_a_triangle(setting):
     ],
 )
 def test_current_free_occupation_converges_to_boltzmann(setting, shape, tolerance):
-    from skygas import geometry as geo
+    from skygas.physics import geometry as geo
 
     walls, material, thiele = setting
     if shape == "disk":

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skygas.current import ContactBasis, solve_contacts, solve_current
+from skygas.fields.current import ContactBasis, solve_contacts, solve_current
 from skygas.reservoir.chamber import build_chamber
 from skygas.reservoir.config import ChamberSpec
 

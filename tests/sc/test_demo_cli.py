@@ -9,7 +9,7 @@ import pytest
 from skygas._version import __version__
 from skygas.cli import _COMMAND_MODULES
 from skygas.commands.sc import register
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.sc import DelayIsolator, ShuffleBuffer, run_demo, squaring_curve
 
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.sc import (
     Circuit,
     DelayIsolator,

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import zarr
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.sweep import load_sweep, open_sweep, parse_sweep, run_sweep, start_local_cluster
 from skygas.sweep.execute import LOCAL_CLUSTER_CONFIG
 from skygas.sweep.store import QUANTITIES, SweepStore

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from skygas.cli import main
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.sweep import load_sweep, parse_sweep
 from skygas.sweep.spec import derive_seeds
 

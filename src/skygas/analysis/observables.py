@@ -19,9 +19,9 @@ from skygas.analysis.structure import pair_correlation
 from skygas.analysis.transport import mean_velocity
 
 if TYPE_CHECKING:
-    from skygas.config import SimulationConfig
     from skygas.neuron.config import NeuronConfig
     from skygas.reshuffler.config import ReshufflerConfig
+    from skygas.runs.config import SimulationConfig
 
 
 def _free_diffusion_constant(record) -> float | None:
@@ -30,7 +30,7 @@ def _free_diffusion_constant(record) -> float | None:
         return None
     Config: type[SimulationConfig] | type[ReshufflerConfig] | type[NeuronConfig]
     if record.kind == "simulate":
-        from skygas.config import SimulationConfig as Config
+        from skygas.runs.config import SimulationConfig as Config
     elif record.kind == "reshuffle":
         from skygas.reshuffler.config import ReshufflerConfig as Config
     else:

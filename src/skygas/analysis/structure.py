@@ -20,7 +20,7 @@ import numpy as np
 from shapely import affinity
 
 from skygas.analysis.frames import Frames
-from skygas.units import M_TO_NM
+from skygas.core.units import M_TO_NM
 
 #: contiguous blocks of frames for the jackknife error of g(r)
 ERROR_BLOCKS = 20
@@ -81,8 +81,8 @@ def pair_correlation(
     frames: Frames, region, r_max: float, bins: int = 40, max_frames: int = 400
 ) -> PairCorrelation:
     """g(r) for 0 ≤ r ≤ ``r_max`` [m] from up to ``max_frames`` evenly chosen frames.
-    ``region`` is the area the skyrmions' centres explore: an :class:`~skygas.geometry.Outline`
-    (its region) or a shapely geometry in nm."""
+    ``region`` is the area the skyrmions' centres explore: an
+    :class:`~skygas.physics.geometry.Outline` (its region) or a shapely geometry in nm."""
     from scipy.spatial.distance import pdist
 
     region = getattr(region, "region", region)

@@ -5,7 +5,7 @@ v = Σ Δr / (n τ), over every skyrmion and time origin. The Hall angle is the 
 drive direction (the spin-drift velocity v_s, or the current) to v:
 θ_H = atan2(v_s × v, v_s · v), positive counter-clockwise. The Thiele equation with a uniform
 v_s gives θ_H = 0 for η = α and a non-zero angle otherwise
-(:meth:`~skygas.materials.ThieleParameters.hall_angle`).
+(:meth:`~skygas.physics.materials.ThieleParameters.hall_angle`).
 """
 
 from __future__ import annotations

@@ -51,9 +51,9 @@ def calibrate(
     from skygas.calibration.pipeline import CalibrationJob
     from skygas.calibration.plan import CalibrationConfig
     from skygas.calibration.solver import default_workers, require_installed
-    from skygas.config_types import to_input_error
-    from skygas.errors import require
-    from skygas.run_driver import drive
+    from skygas.core.config_types import to_input_error
+    from skygas.core.errors import require
+    from skygas.runs.run_driver import drive
 
     try:
         config = CalibrationConfig(material=load_micromagnetic_material(material), **settings)

@@ -16,8 +16,8 @@ import numpy as np
 
 from skygas.calibration import laws, plan
 from skygas.calibration.profile import IsolatedSkyrmion, measure_isolated
-from skygas.errors import InputError
-from skygas.units import MU_0
+from skygas.core.errors import InputError
+from skygas.core.units import MU_0
 
 #: Skyrmions whose measured |Q| is below this are not (or no longer) skyrmions.
 MIN_CHARGE = 0.9
@@ -52,12 +52,12 @@ class Calibration:
     provenance: dict[str, Any] = field(default_factory=dict)
 
     def material_table(self) -> dict[str, Any]:
-        """The ``[material]`` table of model.toml (a :class:`skygas.materials.Material`)."""
+        """The ``[material]`` table of model.toml (a :class:`skygas.physics.materials.Material`)."""
         m = self.config.material
         iso = self.isolated
         pair_fit = self.fits["pair"]["coefficients"]
         wall_fit = self.fits["wall"]["coefficients"]
-        from skygas.materials import preset
+        from skygas.physics.materials import preset
 
         paper = preset("S2")  # the paper's forms, when a fit of this material's laws failed
         return {
@@ -91,9 +91,9 @@ class Calibration:
         }
 
     def particle_material(self, stray_field: bool = True):
-        """The calibrated :class:`~skygas.materials.Material` (without its stray-field
+        """The calibrated :class:`~skygas.physics.materials.Material` (without its stray-field
         profile when ``stray_field`` is False: a compensated film has no edge stray field)."""
-        from skygas.materials import material_from_mapping
+        from skygas.physics.materials import material_from_mapping
 
         table = self.material_table()
         if not stray_field:

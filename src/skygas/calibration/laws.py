@@ -10,12 +10,13 @@ from the calibration film's edge (compensated film: the edge acts only at short 
 laws' decay at long range; E stays positive for a repulsion), tabulated on a fine grid over
 the measured range, and continued beyond the farthest point with the exponential decay of the
 last three points until the force is far below the engine's cutoff (1e-4 F₀). Below the closest
-measured distance the engine holds the force constant (:class:`skygas.materials.ForceTableSpec`).
+measured distance the engine holds the force constant
+(:class:`skygas.physics.materials.ForceTableSpec`).
 
 **Straight edge.** A skyrmion near one straight edge of a real (uncompensated) film feels the
 short-range law plus the first-order energy in the edge's stray field,
 U(x) = μ₀M_s t ∫ w(|r' − r|) H(x') dA' over the film x' > 0, H(x') = (M_s/π)·atan(h/x')
-(h = t/2, :mod:`skygas.landscape.stray_field`): what the paper's wall law describes, and what
+(h = t/2, :mod:`skygas.fields.landscape.stray_field`): what the paper's wall law describes, and what
 :func:`straight_edge_force` returns, to fit the paper's form and compare with the paper.
 """
 
@@ -28,7 +29,7 @@ from typing import Any
 import numpy as np
 from scipy import interpolate
 
-from skygas.units import MU_0
+from skygas.core.units import MU_0
 
 #: The farthest tabulated force [F₀]: far below the engine's default cutoff (1e-3 F₀).
 TABLE_FLOOR = 1e-4
@@ -158,7 +159,7 @@ def paper_form_fits(
     """The paper's forms fitted to the tabulated laws over their measured ranges
     (:func:`skygas.micromag.fit_pair_law`, :func:`~skygas.micromag.fit_wall_law`): the
     coefficients, the range [d_sk] and the rms residual of ln|F|, or why there is no fit."""
-    from skygas.errors import InputError
+    from skygas.core.errors import InputError
     from skygas.micromag.forces import fit_pair_law, fit_wall_law
 
     out: dict[str, dict[str, Any]] = {}

@@ -29,9 +29,9 @@ from typing import Any
 
 from pydantic import Field, ValidationError, model_validator
 
-from skygas import units
-from skygas.config_types import Length, PositiveFloat, StrictModel, to_input_error
-from skygas.errors import InputError
+from skygas.core import units
+from skygas.core.config_types import Length, PositiveFloat, StrictModel, to_input_error
+from skygas.core.errors import InputError
 
 #: Defaults of the paper's simulations (Methods): 2 nm film, 2 nm cells, α = 0.1.
 DEFAULT_FILM_THICKNESS = 2e-9
@@ -195,7 +195,7 @@ def _split_error(err: ValidationError, source: str) -> InputError:
 
 
 def _preset_parameters(name: str) -> dict[str, Any]:
-    from skygas.materials import preset
+    from skygas.physics.materials import preset
 
     m = preset(name)
     return {
@@ -215,7 +215,7 @@ def micromagnetic_material(data: dict[str, Any], source: str = "") -> Micromagne
     data = dict(data)
     base = data.pop("base", None)
     if base is not None:
-        from skygas.materials import preset_names
+        from skygas.physics.materials import preset_names
 
         if base not in preset_names():
             raise InputError(f"{source}base", base, f"one of {', '.join(preset_names())}")
@@ -232,7 +232,7 @@ def load_micromagnetic_material(
     """The film to calibrate: a preset name (``"S1"`` … ``"S7"``), a TOML file (its
     ``[micromagnetics]`` table, or its top level), a mapping or a material; ``overrides``
     (``cell_size=1e-9``) replace single fields and are validated like the rest."""
-    from skygas.materials import preset_names
+    from skygas.physics.materials import preset_names
 
     if isinstance(source, MicromagneticMaterial):
         data, where = source.model_dump(), ""

@@ -1,9 +1,9 @@
 """``model.toml``: a calibrated particle model, readable by every command that takes a material.
 
-Its ``[material]`` table is a :class:`skygas.materials.Material` (what
-:func:`skygas.materials.load_material` reads from a TOML file): the Thiele parameters (radius,
-wall width, measured 𝒟, charge sign, damping, γ, the film thickness), the tabulated pair and
-short-range wall laws (``[material.pair_table]``, ``[material.wall_table]``, SI), the skyrmion's
+Its ``[material]`` table is a :class:`skygas.physics.materials.Material` (what
+:func:`skygas.physics.materials.load_material` reads from a TOML file): the Thiele parameters
+(radius, wall width, measured 𝒟, charge sign, damping, γ, the film thickness), the tabulated pair
+and short-range wall laws (``[material.pair_table]``, ``[material.wall_table]``, SI), the skyrmion's
 profile for the edge stray field (``[material.stray_field]``) and the paper's forms fitted to
 the same laws (``pair_law``, ``wall_law``: used when a configuration asks for
 ``forces.pair_law = "paper"`` or ``forces.wall_law = "paper"``). The other tables say what the
@@ -20,7 +20,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 
 def _value(value: Any) -> str:
@@ -75,9 +75,9 @@ def write_model(
     comments: dict[str, str],
 ) -> Path:
     """Write ``model.toml`` atomically: the ``[material]`` table (validated first as a
-    :class:`skygas.materials.Material`, so the file always loads), then ``sections``."""
-    from skygas.materials import material_from_mapping
-    from skygas.run_driver import write_atomic
+    :class:`skygas.physics.materials.Material`, so the file always loads), then ``sections``."""
+    from skygas.physics.materials import material_from_mapping
+    from skygas.runs.run_driver import write_atomic
 
     material_from_mapping(material, field="calibrated material")
     text = "".join(f"# {line}\n" for line in header) + "\n"

@@ -1,6 +1,6 @@
 """The calibration as a run-driver job: solves in worker processes, checkpoints, resume.
 
-:class:`CalibrationJob` follows :class:`skygas.run_driver.Job`. Its *work* is the planned
+:class:`CalibrationJob` follows :class:`skygas.runs.run_driver.Job`. Its *work* is the planned
 solves, weighted by their expected cost; each piece of the job waits (at most a second) for
 solves to finish, records them and hands new ones to idle workers. What can run depends on what
 has finished (:mod:`skygas.calibration.plan`): the isolated skyrmion first, then, once its
@@ -27,7 +27,7 @@ import numpy as np
 from skygas.calibration import plan
 from skygas.calibration.plan import CalibrationConfig, Relaxation
 from skygas.calibration.solver import Film
-from skygas.run_driver import from_json_array, json_array
+from skygas.runs.run_driver import from_json_array, json_array
 
 if TYPE_CHECKING:
     from multiprocessing.pool import Pool

@@ -6,8 +6,8 @@ of the same material.
 **The reference environment.** A skyrmion's size depends on the stray field it sits in, and a
 film's own stray field depends on where its edges are: in a finite film the demagnetising field
 is weaker than an infinite film's −M_s by H_dev(r), about M_s t/D in the middle of a device of
-width D and more near its edges (:mod:`skygas.landscape.stray_field`). For soft skyrmions this
-matters a great deal: the S2 skyrmion (2 nm cells) has a radius of 26 nm in the middle of a
+width D and more near its edges (:mod:`skygas.fields.landscape.stray_field`). For soft skyrmions
+this matters a great deal: the S2 skyrmion (2 nm cells) has a radius of 26 nm in the middle of a
 300 nm film, 39 nm in the middle of a 1024 nm disk and 52 nm in an infinite film. The laws
 are therefore calibrated in *compensated* films (:class:`~skygas.calibration.solver.Film`):
 an extra field cancels the film's own H_dev, so that the film's edges act only at short range,
@@ -63,8 +63,8 @@ from pydantic import Field, model_validator
 
 from skygas.calibration.material import MicromagneticMaterial
 from skygas.calibration.solver import Film
-from skygas.config_types import Length, PositiveFloat, StrictModel
-from skygas.units import MU_0
+from skygas.core.config_types import Length, PositiveFloat, StrictModel
+from skygas.core.units import MU_0
 
 #: Relaxations stop below max|m × (m × H')| of this [A/m]. Pair energies of S2 (4 nm cells,
 #: 1.3–5 d_sk) at 30 A/m differ from those at 10 A/m by less than 4e-5 of themselves, with
@@ -436,7 +436,7 @@ def validation_positions(film: Film, diameter: float, count: int) -> list[tuple[
         gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
         if reach > 0 and (not gaps or 1.3 * diameter <= min(gaps) <= 1.8 * diameter):
             return [(float(x), float(y)) for x, y in points]
-    from skygas.errors import InputError
+    from skygas.core.errors import InputError
 
     raise InputError(
         "validation.disk_radius",

@@ -28,7 +28,7 @@ from scipy import ndimage, optimize
 
 from skygas.calibration.material import MicromagneticMaterial
 from skygas.calibration.solver import Film
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.micromag.synthetic import ansatz_dissipation
 
 

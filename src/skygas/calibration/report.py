@@ -13,9 +13,9 @@ from typing import Any
 from skygas._version import __version__
 from skygas.calibration.analysis import Calibration
 from skygas.calibration.results import FIGURES, _paper_laws
+from skygas.core.units import MU_0
 from skygas.outputs.report import Page
-from skygas.run_driver import write_atomic
-from skygas.units import MU_0
+from skygas.runs.run_driver import write_atomic
 
 #: The goal of the validation: RMS centre error below this many diameters.
 VALIDATION_GOAL = 0.1
@@ -64,7 +64,7 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
     values = ", ".join(f"{_pn(float(cal.pair(x * d)))} at {x:g} d_sk" for x in points)
     if paper:
         p, pd, pf = paper
-        from skygas.forces import paper_pair_force
+        from skygas.physics.forces import paper_pair_force
 
         compare = ", ".join(
             f"{_pn(pf * float(paper_pair_force(x * d / pd, *p.pair_law)))}" for x in points

@@ -18,8 +18,8 @@ import numpy as np
 from skygas._version import __version__
 from skygas.calibration.analysis import Calibration, analyse
 from skygas.calibration.model_file import write_model
-from skygas.run_driver import write_figure, write_json
-from skygas.units import MU_0
+from skygas.core.units import MU_0
+from skygas.runs.run_driver import write_figure, write_json
 
 FIGURES = ("profile.png", "pair.png", "wall.png", "validation.png")
 
@@ -192,7 +192,7 @@ def write_model_file(cal: Calibration, job, path: Path) -> Path:
 def _paper_laws(cal: Calibration):
     """The paper's pair and wall laws for the same material, in its own units (the preset's
     table diameter and F₀), or None when the material is not a preset."""
-    from skygas.materials import derive_thiele, preset, preset_names
+    from skygas.physics.materials import derive_thiele, preset, preset_names
 
     name = cal.config.material.name
     if name not in preset_names():
@@ -248,7 +248,7 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from skygas.forces import paper_pair_force, paper_wall_force
+    from skygas.physics.forces import paper_pair_force, paper_wall_force
 
     law = cal.pair if which == "pair" else cal.wall
     energy = cal.pair_energy if which == "pair" else cal.wall_energy
@@ -406,7 +406,7 @@ def write_results(job, out: Path) -> dict[str, Any]:
 
 def _save_textures(job, path: Path) -> None:
     """The relaxed isolated skyrmion and the validation run's first and last textures."""
-    from skygas.run_driver import write_atomic
+    from skygas.runs.run_driver import write_atomic
 
     arrays = {}
     prefix = job.isolated_prefix()

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from skygas.calibration.material import MicromagneticMaterial
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 #: Default convergence of a relaxation: max |m × (m × H_eff)| below this [A/m].
 DEFAULT_TORQUE_TOLERANCE = 1.0
@@ -170,7 +170,7 @@ class Film:
     so a skyrmion in it meets the film's edges only at short range: its long-range coupling to
     the edges' stray field (and the change of its size that this field causes) is gone. The
     laws are calibrated in such films; the particle model adds the edges' stray field for the
-    device's own outline (:mod:`skygas.landscape.stray_field`). ``reference_field`` [A/m] is
+    device's own outline (:mod:`skygas.fields.landscape.stray_field`). ``reference_field`` [A/m] is
     added along +z in a compensated film: the stray field that the interior of the device the
     model is meant for has on top of an infinite film's. ``real_left_edge``: the compensation
     leaves the stray field of the film's left edge (x = 0), (M_s/π)·atan(h/x), h = t/2: the

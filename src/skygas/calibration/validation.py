@@ -84,8 +84,8 @@ class Comparison:
 def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness: float):
     """Positions (frames, n, 2) [m] of the particle model from ``start`` (n, 2) [m] at
     ``times`` [s] (the first is 0), in a disk of the film's equal-area radius."""
-    from skygas import geometry
     from skygas.engine import Simulation
+    from skygas.physics import geometry
 
     centre = (0.5 * film.size[0], 0.5 * film.size[1])
     radius = math.sqrt(film.magnetic().sum() / math.pi) * film.cell_size

@@ -3,7 +3,7 @@ of a finished run (see :mod:`skygas.outputs.movie`)."""
 
 from __future__ import annotations
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 
 def parse_window(text: str | None) -> tuple[float | None, float | None]:

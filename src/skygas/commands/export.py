@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 FORMATS = ("gsd", "extxyz")
 

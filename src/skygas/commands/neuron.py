@@ -8,7 +8,7 @@ from pathlib import Path
 
 from skygas.commands.json_output import print_json
 from skygas.commands.run_options import add_run_options, named_by_flags, run_options
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.outputs.flags import add_output_flags
 
 

@@ -9,7 +9,7 @@ import json
 import sys
 from pathlib import Path
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 # command-line option → top-level or nested configuration field it overrides
 OVERRIDES = {
@@ -136,7 +136,7 @@ def _reservoir(args) -> int:
 
     data = {}
     if args.config is not None:
-        from skygas.config_types import read_toml
+        from skygas.core.config_types import read_toml
 
         data = read_toml(args.config)
     for opt, path in OVERRIDES.items():

@@ -1,12 +1,12 @@
 """The options every long-running command shares (``--resume``, ``--overwrite``, ``--strict``,
-``--quiet``, ``--checkpoint-seconds``), handed to :func:`skygas.run_driver.drive` and to the
-sanity checks (:mod:`skygas.sanity`)."""
+``--quiet``, ``--checkpoint-seconds``), handed to :func:`skygas.runs.run_driver.drive` and to the
+sanity checks (:mod:`skygas.runs.sanity`)."""
 
 from __future__ import annotations
 
 from contextlib import contextmanager
 
-from skygas.errors import InputError, require
+from skygas.core.errors import InputError, require
 
 
 def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True) -> None:
@@ -42,7 +42,7 @@ def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True
 
 
 def run_options(args, progress: bool = True) -> dict:
-    """The keyword arguments of :func:`skygas.run_driver.drive` given on the command line;
+    """The keyword arguments of :func:`skygas.runs.run_driver.drive` given on the command line;
     ``progress=False`` when the command prints machine-readable output instead."""
     seconds = args.checkpoint_seconds
     require(seconds >= 0, "--checkpoint-seconds", seconds, "a wall time >= 0 in seconds")

@@ -15,8 +15,8 @@ from skygas.outputs.flags import add_output_flags
 
 
 def _simulate(args) -> int:
-    from skygas.config import load_config
-    from skygas.runner import run_simulation
+    from skygas.runs.config import load_config
+    from skygas.runs.runner import run_simulation
 
     config = load_config(args.config)
     summary = run_simulation(config, args.out, **run_options(args))
@@ -28,8 +28,8 @@ def _simulate(args) -> int:
 
 
 def _check_timestep(args) -> int:
-    from skygas.config import load_config
-    from skygas.timestep import check_config_time_step
+    from skygas.runs.config import load_config
+    from skygas.runs.timestep import check_config_time_step
 
     report = check_config_time_step(
         load_config(args.config),
@@ -48,14 +48,14 @@ def default_demo_config():
     """The closed-chamber demonstration configuration shipped with the package."""
     import tomllib
 
-    from skygas.config import parse_config
+    from skygas.runs.config import parse_config
 
     text = resources.files("skygas").joinpath("data/demo-closed-chamber.toml").read_text()
     return parse_config(tomllib.loads(text), source="demo config: ")
 
 
 def _demo(args) -> int:
-    from skygas.runner import run_simulation
+    from skygas.runs.runner import run_simulation
 
     summary = run_simulation(default_demo_config(), args.out, **run_options(args))
     from skygas.outputs.finish import finish_outputs

@@ -17,8 +17,8 @@ when the time step approaches the fastest force-relaxation time τ_min (see
 :meth:`Simulation.max_time_step`); steps above τ_min are refused. The integrators state
 their orders in :data:`INTEGRATOR_ORDERS`.
 
-Noise is drawn from Philox4x32-10 keyed on (seed, id, step) (:mod:`skygas._rng`), so results do
-not depend on storage order, insertions or removals.
+Noise is drawn from Philox4x32-10 keyed on (seed, id, step) (:mod:`skygas.engine._rng`), so results
+do not depend on storage order, insertions or removals.
 
 The package, layer by layer:
 

@@ -1,9 +1,9 @@
 """The tabulated force laws of a run, and the time step they allow.
 
-:class:`ForceModel` tabulates the pair and wall laws of :mod:`skygas.forces` in internal units
-(nm, pN). :func:`relaxation_time` is the fastest force relaxation τ_min; steps longer than
+:class:`ForceModel` tabulates the pair and wall laws of :mod:`skygas.physics.forces` in internal
+units (nm, pN). :func:`relaxation_time` is the fastest force relaxation τ_min; steps longer than
 ``MAX_STEP_FRACTION`` · τ_min are refused and ``SUGGESTED_STEP_FRACTION`` · τ_min is the
-default (checked by :func:`skygas.timestep.check_time_step`).
+default (checked by :func:`skygas.runs.timestep.check_time_step`).
 """
 
 from __future__ import annotations
@@ -15,17 +15,17 @@ from typing import Any
 
 import numpy as np
 
-from skygas import units
-from skygas.errors import InputError
-from skygas.forces import (
+from skygas.core import units
+from skygas.core.errors import InputError
+from skygas.core.memo import Memo, frozen
+from skygas.physics.forces import (
     DEFAULT_CUTOFF_FRACTION,
     ForceTable,
     pair_law,
     tabulated_law,
     wall_law,
 )
-from skygas.materials import ForceTableSpec, Material, ThieleParameters
-from skygas.memo import Memo, frozen
+from skygas.physics.materials import ForceTableSpec, Material, ThieleParameters
 
 #: Time steps longer than this fraction of τ_min are refused (see Simulation.max_time_step).
 MAX_STEP_FRACTION = 1.0
@@ -41,7 +41,7 @@ MIN_PLACEMENT_SEPARATION = 0.5
 PAIR_LAWS = ("paper", "lin-reichhardt", "table")
 WALL_LAWS = ("paper", "table")
 
-# Force tables per law, coefficients, F₀, d_sk and cutoff fraction (see skygas.memo): finding a
+# Force tables per law, coefficients, F₀, d_sk and cutoff fraction (see skygas.core.memo): finding a
 # law's cutoff scans it at 2·10⁵ points, 10 ms per model.
 _FORCE_TABLES = Memo("force_tables", maxsize=8)
 

@@ -15,7 +15,6 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from skygas._field_lookup import prefetch_at
 from skygas.engine._jit import JIT
 from skygas.engine.neighbors import (
     build_neighbor_list,
@@ -34,7 +33,8 @@ from skygas.engine.stages import (
     is_inside,
     record_frame,
 )
-from skygas.landscape.hermite import prefetch_cell
+from skygas.fields._field_lookup import prefetch_at
+from skygas.fields.landscape.hermite import prefetch_cell
 
 
 class Frames(NamedTuple):

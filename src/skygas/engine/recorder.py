@@ -1,10 +1,10 @@
 """What a run records: frames of positions, exits through ports, and the trajectories Dataset.
 
 The kernel records frames itself, into one block per call (:class:`FrameBlock`), so a run does
-not return to Python for every frame; exits arrive in batches (:class:`~skygas.exit_log.ExitLog`).
-The recorder keeps both, turns them into an xarray Dataset on request
-(:meth:`Recorder.trajectories`), and saves and restores them exactly for checkpoints (raw
-arrays, no unit conversion, no Dataset).
+not return to Python for every frame; exits arrive in batches
+(:class:`~skygas.engine.exit_log.ExitLog`). The recorder keeps both, turns them into an xarray
+Dataset on request (:meth:`Recorder.trajectories`), and saves and restores them exactly for
+checkpoints (raw arrays, no unit conversion, no Dataset).
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from skygas import units
 from skygas._version import __version__
+from skygas.core import units
+from skygas.engine.exit_log import ExitLog
 from skygas.engine.kernel import Exits, Frames
 from skygas.engine.store import by_id
-from skygas.exit_log import ExitLog
 
 
 class FrameBlock(NamedTuple):

@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from skygas.core.errors import require
 from skygas.engine.terms import PlannedInsertions as InsertionPlan
-from skygas.errors import require
 
 if TYPE_CHECKING:
     from skygas.engine.simulation import Simulation

@@ -18,9 +18,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from skygas import units
-from skygas._field_lookup import empty_fields
 from skygas._version import __version__
+from skygas.core import units
+from skygas.core.errors import InputError, require
+from skygas.core.memo import Memo, frozen
 from skygas.engine import terms as T
 from skygas.engine.force_model import (
     MAX_STEP_FRACTION,
@@ -35,19 +36,18 @@ from skygas.engine.recorder import FrameBlock, Recorder
 from skygas.engine.scheduler import NO_PLAN, Operation, first_plan
 from skygas.engine.state import StateView
 from skygas.engine.store import SkyrmionStore
-from skygas.errors import InputError, require
-from skygas.forces import DEFAULT_CUTOFF_FRACTION
-from skygas.geometry import Outline
-from skygas.landscape import EdgeStrayField, LandscapeField, parse_potentials
-from skygas.materials import (
+from skygas.fields._field_lookup import empty_fields
+from skygas.fields.landscape import EdgeStrayField, LandscapeField, parse_potentials
+from skygas.fields.wall_field import WallField
+from skygas.physics.forces import DEFAULT_CUTOFF_FRACTION
+from skygas.physics.geometry import Outline
+from skygas.physics.materials import (
     Material,
     ThieleParameters,
     derive_thiele,
     load_material,
     resolve_film_thickness,
 )
-from skygas.memo import Memo, frozen
-from skygas.wall_field import WallField
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -72,12 +72,12 @@ PLAN_SLOTS = 4
 SORT_ABOVE = 256
 
 # The wall channels of the kernels' packed grid, per wall field (WallField.key; see
-# skygas.memo): each run of a device copies them instead of re-packing four float64 fields.
+# skygas.core.memo): each run of a device copies them instead of re-packing four float64 fields.
 _WALL_CHANNELS = Memo("wall_channels", maxsize=4)
 
 
 def _packed_wall_channels(wall_field: WallField) -> np.ndarray:
-    """The packed float32 grid (:func:`~skygas._field_lookup.empty_fields`) with the wall
+    """The packed float32 grid (:func:`~skygas.fields._field_lookup.empty_fields`) with the wall
     channels filled in and no drift (read-only)."""
     packed = empty_fields(wall_field.grid.ny, wall_field.grid.nx)
     packed[..., T.CH_WALL_DIST] = wall_field.wall_distance
@@ -93,8 +93,8 @@ class Simulation:
 
     Parameters
     ----------
-    outline: the device (:mod:`skygas.geometry`).
-    material: a :class:`~skygas.materials.Material`, preset name or TOML path.
+    outline: the device (:mod:`skygas.physics.geometry`).
+    material: a :class:`~skygas.physics.materials.Material`, preset name or TOML path.
     temperature: T [K] (0 for deterministic dynamics).
     time_step: dt [s]; refused above :meth:`max_time_step`; ``None`` takes
         :meth:`suggested_time_step`.
@@ -108,14 +108,14 @@ class Simulation:
         when it has the table, else ``"paper"`` (:func:`~skygas.engine.force_model.
         resolve_law_names`). With the table wall law, a material with a ``stray_field``
         profile also gets the edge stray-field energy as a landscape term
-        (:class:`~skygas.landscape.kinds.EdgeStrayField`, docs/physics.md §2).
-    pair_law_params, cutoff_fraction: see :mod:`skygas.forces`.
+        (:class:`~skygas.fields.landscape.kinds.EdgeStrayField`, docs/physics.md §2).
+    pair_law_params, cutoff_fraction: see :mod:`skygas.physics.forces`.
     grid_spacing: wall-field grid spacing [m] (default d_sk/16).
     integrator: ``"heun"`` (default) or ``"euler-maruyama"`` (for comparison only).
     brownian_substeps: draw each step's noise as the sum of this many sub-increments, so that
         runs with steps dt and dt/m share one Brownian path (strong-convergence studies).
     capacity: initial room in the store (it grows on demand).
-    landscape: external potentials (:mod:`skygas.landscape`: objects or their TOML tables),
+    landscape: external potentials (:mod:`skygas.fields.landscape`: objects or their TOML tables),
         added up on the field grid; their force −∇U enters like the pair and wall forces.
     step_interval: with ``time_step=None``, the suggested step is shortened so that this
         interval [s] (a recording or injection interval) is a whole number of steps
@@ -238,7 +238,7 @@ class Simulation:
             self.thiele, self.temperature, self._dt_ns, self.seed, self.brownian_substeps
         )
         # Every per-node field in one interleaved float32 array: a bilinear lookup then reads
-        # four 32-byte nodes (one vector load each, skygas._field_lookup) instead of twenty
+        # four 32-byte nodes (one vector load each, skygas.fields._field_lookup) instead of twenty
         # scattered values.
         grid = self.wall_field.grid
         fields = empty_fields(grid.ny, grid.nx)
@@ -372,7 +372,7 @@ class Simulation:
 
     def suggested_time_step(self) -> float:
         """A safe default [s]: SUGGESTED_STEP_FRACTION · τ_min. Check it with
-        :func:`skygas.timestep.check_time_step`."""
+        :func:`skygas.runs.timestep.check_time_step`."""
         return SUGGESTED_STEP_FRACTION * self.relaxation_time()
 
     # -- landscape -----------------------------------------------------------------------------
@@ -435,7 +435,7 @@ class Simulation:
 
     @property
     def exits(self):
-        """Skyrmions that left through a port (:class:`~skygas.exit_log.ExitLog`)."""
+        """Skyrmions that left through a port (:class:`~skygas.engine.exit_log.ExitLog`)."""
         return self.recorder.exits
 
     def positions(self) -> tuple[np.ndarray, np.ndarray]:

@@ -16,9 +16,8 @@ import math
 import numba
 import numpy as np
 
-from skygas._field_lookup import field_at
-from skygas._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
 from skygas.engine._jit import U
+from skygas.engine._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
 from skygas.engine.terms import (
     CH_DOMAIN,
     CH_DRIFT_X,
@@ -27,7 +26,8 @@ from skygas.engine.terms import (
     CH_NORMAL_Y,
     CH_WALL_DIST,
 )
-from skygas.landscape.hermite import hermite_gradient
+from skygas.fields._field_lookup import field_at
+from skygas.fields.landscape.hermite import hermite_gradient
 
 # Neighbour lists longer than this are run through without a branch on the cutoff: every
 # entry gets the full force arithmetic, with the force set to zero beyond the cutoff. About a

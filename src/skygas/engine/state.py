@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from skygas import units
+from skygas.core import units
 
 if TYPE_CHECKING:
     from skygas.engine.simulation import Simulation

@@ -15,9 +15,9 @@ from typing import Any
 import numba
 import numpy as np
 
-from skygas import units
+from skygas.core import units
+from skygas.core.errors import require
 from skygas.engine.stages import free_slot_if_clear
-from skygas.errors import require
 
 
 @numba.njit(cache=True)

@@ -11,14 +11,14 @@ Force terms, summed into the total force F on each skyrmion before it is turned 
 velocity by the mobility (:class:`Mobility`):
 
 - :class:`PairTerm`: the skyrmion–skyrmion law, tabulated (paper, Lin–Reichhardt or a user's
-  law, :mod:`skygas.forces`), summed over a neighbour list;
+  law, :mod:`skygas.physics.forces`), summed over a neighbour list;
 - :class:`WallTerm`: the skyrmion–wall law along the inward wall normal of the field grid;
 - :class:`DriftTerm`: the current's drive μ(G ε + η𝒟k I)·v_s, v_s uniform or from the grid;
 - :class:`LandscapeTerm`: an external potential's force −∇U (gates, pinning, disorder;
-  :mod:`skygas.landscape`), the exact gradient of its bicubic Hermite interpolant.
+  :mod:`skygas.fields.landscape`), the exact gradient of its bicubic Hermite interpolant.
 
 The per-node fields (wall distance and normal, boundary distance, drift) share one packed grid,
-:class:`FieldGrid`, read with one bilinear lookup (:mod:`skygas._field_lookup`).
+:class:`FieldGrid`, read with one bilinear lookup (:mod:`skygas.fields._field_lookup`).
 
 **Adding a force term**: declare its record here (fields in internal units, documented), add
 it to :class:`ForceTerms`, and add its contribution in one place,
@@ -35,9 +35,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from skygas import units
+from skygas.core import units
 
-# The field grid's channels (float32, nm and nm/ns; 8 per node, see skygas._field_lookup).
+# The field grid's channels (float32, nm and nm/ns; 8 per node, see skygas.fields._field_lookup).
 CH_WALL_DIST = 0  # signed distance to the nearest wall
 CH_NORMAL_X = 1  # inward wall normal
 CH_NORMAL_Y = 2
@@ -95,7 +95,7 @@ class DriftTerm(NamedTuple):
 class LandscapeTerm(NamedTuple):
     """An external potential: the polynomial coefficients of its interpolant in every cell of
     a grid of origin (x0, y0) and spacing h [nm], ``coefficients[j, i, 4b + a]`` of tᵃuᵇ
-    [pN·nm] (:mod:`skygas.landscape.hermite`)."""
+    [pN·nm] (:mod:`skygas.fields.landscape.hermite`)."""
 
     coefficients: np.ndarray
     x0: float
@@ -174,7 +174,7 @@ COUNTERS = np.dtype(
 
 
 def mobility(thiele) -> Mobility:
-    """:class:`Mobility` of :class:`~skygas.materials.ThieleParameters`."""
+    """:class:`Mobility` of :class:`~skygas.physics.materials.ThieleParameters`."""
     a, g = thiele.friction_internal, thiele.gyrocoupling_internal
     return Mobility(a / (a * a + g * g), g / (a * a + g * g))
 
@@ -189,12 +189,12 @@ def noise_term(thiele, temperature: float, dt_ns: float, seed: int, substeps: in
 
 
 def pair_term(table) -> PairTerm:
-    """:class:`PairTerm` of a squared-layout :class:`~skygas.forces.ForceTable`."""
+    """:class:`PairTerm` of a squared-layout :class:`~skygas.physics.forces.ForceTable`."""
     return PairTerm(table.values, table.spacing, table.cutoff)
 
 
 def wall_term(table) -> WallTerm:
-    """:class:`WallTerm` of a :class:`~skygas.forces.ForceTable`."""
+    """:class:`WallTerm` of a :class:`~skygas.physics.forces.ForceTable`."""
     return WallTerm(table.values, table.spacing, table.cutoff)
 
 
@@ -210,12 +210,12 @@ def drift_term(thiele, velocity=(0.0, 0.0), from_grid: bool = False) -> DriftTer
 
 
 def landscape_term(field=None) -> LandscapeTerm:
-    """:class:`LandscapeTerm` of a :class:`~skygas.landscape.LandscapeField` (or none)."""
+    """:class:`LandscapeTerm` of a :class:`~skygas.fields.landscape.LandscapeField` (or none)."""
     if field is None or not field.terms:
         return LandscapeTerm(np.zeros((1, 1, 16), dtype=np.float32), 0.0, 0.0, 1.0, False)
     return LandscapeTerm(field.coefficients, field.grid.x0, field.grid.y0, field.grid.spacing, True)
 
 
 def field_grid(fields: np.ndarray, grid) -> FieldGrid:
-    """:class:`FieldGrid` of packed ``fields`` on a :class:`~skygas.wall_field.Grid`."""
+    """:class:`FieldGrid` of packed ``fields`` on a :class:`~skygas.fields.wall_field.Grid`."""
     return FieldGrid(fields, grid.x0, grid.y0, grid.spacing)

@@ -4,7 +4,7 @@ Read OVF snapshots (:func:`read_ovf`), measure the topological charge Q and the 
 (:func:`topological_charge`, :func:`dissipation`), find skyrmions (:func:`detect_skyrmions`),
 link them into trajectories (:func:`link`), turn their motion into forces F = Ĝ^α·ẋ and fit the
 paper's pair and wall laws (:func:`fit_trajectories`, :func:`fit_snapshots`), and export the
-result as a material preset that :func:`skygas.materials.load_material` reads.
+result as a material preset that :func:`skygas.physics.materials.load_material` reads.
 See ``docs/micromagnetics.md``.
 """
 

@@ -46,7 +46,7 @@ import xarray as xr
 from scipy import ndimage
 
 from skygas._version import __version__
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.micromag import topology
 
 

@@ -1,5 +1,6 @@
-"""Writing a fitted material as a skygas preset (TOML) that :func:`skygas.materials.load_material`
-loads, and the plot of fitted laws against their data."""
+"""Writing a fitted material as a skygas preset (TOML) that
+:func:`skygas.physics.materials.load_material` loads, and the plot of fitted laws against their
+data."""
 
 from __future__ import annotations
 
@@ -11,8 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from skygas._version import __version__
-from skygas.errors import InputError
-from skygas.materials import Material, material_from_mapping
+from skygas.core.errors import InputError
+from skygas.physics.materials import Material, material_from_mapping
 
 
 def _toml_value(value) -> str:
@@ -31,7 +32,7 @@ def _toml_value(value) -> str:
 
 def material_preset(base: Material, **updates) -> Material:
     """``base`` with ``updates`` (e.g. pair_law, wall_law, skyrmion_radius, dissipation),
-    validated as a :class:`~skygas.materials.Material`."""
+    validated as a :class:`~skygas.physics.materials.Material`."""
     data = {**base.model_dump(), **{k: v for k, v in updates.items() if v is not None}}
     return material_from_mapping(data, field="fitted material")
 

@@ -2,7 +2,7 @@
 
 Force extraction (paper, "Skyrmion Interactions"): with no current and no noise the Thiele
 equation reads F = Ĝ^α·ẋ with Ĝ^α = G ε + α𝒟k I, ε = [[0, 1], [−1, 0]], k = M_s t_F/γ and
-G = −4πQk, the conventions of :func:`skygas.materials.derive_thiele`. Componentwise
+G = −4πQk, the conventions of :func:`skygas.physics.materials.derive_thiele`. Componentwise
 
     F_x = α𝒟k ẋ + G ẏ,    F_y = −G ẋ + α𝒟k ẏ.
 
@@ -20,7 +20,7 @@ weight to every sample in relative terms), whose covariance gives the quoted 1σ
 
 Checks (:func:`law_problem`): the engine uses a law from the closest approach it allows
 (``MIN_PLACEMENT_SEPARATION`` = 0.5 d_sk) out to its cutoff, where |F| stays below 10⁻³ F₀
-(:func:`skygas.forces.cutoff_distance`). A fitted law must there be
+(:func:`skygas.physics.forces.cutoff_distance`). A fitted law must there be
 
 - bounded: it decays to zero far away (a₂ > 0; for the wall law a positive leading
   coefficient), and falls below the cutoff fraction within 50 d_sk, as the engine requires;
@@ -33,9 +33,9 @@ fixes a₂ poorly, and a₂ < 0 makes the force grow without bound) is refitted 
 constraints built in (:func:`fit_pair_law`): a₂ ≥ ``PAIR_A2_FLOOR`` and
 p'(1) ∝ 3a₂ + a₁ − a₀ ≥ 0, which with a₂ > 0 makes p(d) = (a₂d² + a₁d + a₀)/(d + 1) increase,
 and the force decrease, for all d ≥ 1. A law that rises inside its own data is refused
-(:class:`~skygas.errors.InputError`): the samples do not show a decaying repulsion. A law
+(:class:`~skygas.core.errors.InputError`): the samples do not show a decaying repulsion. A law
 that no constrained law repairs (or a wall polynomial that fails the checks outside its data)
-raises :class:`UnfixedLawError`, an :class:`~skygas.errors.InputError` that says the samples
+raises :class:`UnfixedLawError`, an :class:`~skygas.core.errors.InputError` that says the samples
 do not fix the law *outside their range*; :func:`skygas.micromag.fit_trajectories` then keeps
 what the data do fix, the law tabulated over the measured range (:func:`tabulate_law`).
 """
@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, signal
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 #: Smallest distance [d_sk] from which a fitted law must decrease (see the module docstring).
 DECREASING_FROM = 1.0
@@ -518,7 +518,7 @@ def engine_range(law: str, coefficients) -> tuple[float, float]:
     The cutoff is NaN where the law does not fall below the cutoff fraction within 50 d_sk.
     """
     from skygas.engine import MIN_PLACEMENT_SEPARATION  # imports numba: only when fitting
-    from skygas.forces import cutoff_distance
+    from skygas.physics.forces import cutoff_distance
 
     try:
         cutoff = cutoff_distance(_magnitude(law, coefficients))
@@ -543,7 +543,7 @@ def law_problem(law: str, coefficients) -> str | None:
     decays to zero far away); the force falls below the engine's cutoff fraction within 50 d_sk;
     it decreases from ``DECREASING_FROM`` (or the closest approach, if larger) to the cutoff.
     """
-    from skygas.forces import DEFAULT_CUTOFF_FRACTION
+    from skygas.physics.forces import DEFAULT_CUTOFF_FRACTION
 
     name = "a₂" if law == "pair" else "the leading coefficient"
     if not coefficients[0] > 0:

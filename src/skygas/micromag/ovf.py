@@ -19,7 +19,7 @@ lengths are converted to metres, with an :class:`OVFUnitWarning` when the unit i
 (the OVF format treats the unit as a label, so the conversion is this reader's reading of it).
 
 Every problem with a file (truncated, unknown header line, mesh and header disagreeing, NaN
-values, too few values) raises :class:`~skygas.errors.InputError` naming the file.
+values, too few values) raises :class:`~skygas.core.errors.InputError` naming the file.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from typing import cast
 import numpy as np
 import xarray as xr
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 # First lines, compared after lower-casing and collapsing white space.
 _MAGIC = {"# oommf: rectangular mesh v1.0": 1, "# oommf ovf 2.0": 2}

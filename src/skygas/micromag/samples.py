@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas.materials import preset
+from skygas.physics.materials import preset
 
 RADIUS = 6e-9  # m
 WALL_WIDTH = 2e-9  # m

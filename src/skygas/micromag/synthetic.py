@@ -30,7 +30,7 @@ import numpy as np
 import xarray as xr
 from scipy import integrate, ndimage
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.micromag.forces import LineBoundary, pair_law_magnitude, wall_law_magnitude
 from skygas.micromag.ovf import field_from_array
 

@@ -1,6 +1,6 @@
 """Topological charge and dissipation integral of a magnetisation snapshot, in total and per region.
 
-Sign convention (the one of :mod:`skygas.materials`): with x to the right and y up,
+Sign convention (the one of :mod:`skygas.physics.materials`): with x to the right and y up,
 
     Q = (1/4π) ∫ n·(∂x n × ∂y n) dA,
 
@@ -37,7 +37,7 @@ from typing import cast
 import numpy as np
 import xarray as xr
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 _EMPTY_CELL = 0.5
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.micromag.detection import Skyrmion, Snapshot
 
 

@@ -3,7 +3,7 @@
 :func:`fit_trajectories` does the physics on trajectories (synthetic or detected);
 :func:`fit_snapshots` reads a directory of OVF files, runs it, and writes the results.
 
-Thiele coefficients (conventions of :func:`skygas.materials.derive_thiele`): k = M_s t_F/γ,
+Thiele coefficients (conventions of :func:`skygas.physics.materials.derive_thiele`): k = M_s t_F/γ,
 G = −4π⟨Q⟩k with ⟨Q⟩ the median measured charge (the lattice charge rather than the integer, as
 in the paper's measured G), and α𝒟k with ⟨𝒟⟩ the median measured dissipation. The laws' length
 unit d_sk defaults to twice the median measured radius, and F₀ to A_ex t_F / d_sk, exactly what
@@ -19,16 +19,16 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas import units
 from skygas._version import __version__
-from skygas.errors import InputError
-from skygas.materials import Material, load_material
+from skygas.core import units
+from skygas.core.errors import InputError
 from skygas.micromag import export, forces
 from skygas.micromag.detection import detect_skyrmions
 from skygas.micromag.ovf import read_mesh, read_ovf
 from skygas.micromag.topology import unit_layer
 from skygas.micromag.tracking import Trajectory, link
-from skygas.run_driver import write_atomic, write_figure, write_json
+from skygas.physics.materials import Material, load_material
+from skygas.runs.run_driver import write_atomic, write_figure, write_json
 
 #: Why a fit writes no material.toml, when a requested law is not fixed by the data.
 NO_PRESET = (

@@ -22,7 +22,7 @@ import numpy as np
 @numba.njit(inline="always")
 def _bilinear(field, x0, y0, spacing, x, y):
     """Bilinear interpolation of ``field`` (ny, nx) at (x, y) nm, clamped to the grid (the
-    arithmetic of :func:`skygas.wall_field.bilinear_at_indices`)."""
+    arithmetic of :func:`skygas.fields.wall_field.bilinear_at_indices`)."""
     ny, nx = field.shape
     fx = min(max((x - x0) / spacing, 0.0), nx - 1 - 1e-9)
     fy = min(max((y - y0) / spacing, 0.0), ny - 1 - 1e-9)

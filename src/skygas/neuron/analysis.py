@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from skygas.errors import require
+from skygas.core.errors import require
 
 # the LIF names stay importable from here, where they used to live
 from skygas.neuron.lif import (
@@ -57,7 +57,7 @@ def isi_statistics(spike_times) -> dict:
 def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> dict:
     """The leak experiment: gate closed, no input, ``initial_count`` skyrmions at random in the
     chamber; returns the trace and the fitted leak time with its error."""
-    from skygas.geometry import random_positions
+    from skygas.physics.geometry import random_positions
 
     require(
         isinstance(initial_count, (int, np.integer)) and initial_count >= 0,

@@ -59,8 +59,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from skygas import units
-from skygas.errors import require
+from skygas.core import units
+from skygas.core.errors import require
 from skygas.neuron._compiled import annihilation_check, total_rate
 
 if TYPE_CHECKING:

@@ -28,12 +28,12 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field, ValidationError, model_validator
 
-from skygas.config import MaterialFields, resolve_paths
-from skygas.config_types import ChamberSize, StrictModel, read_toml, to_input_error
-from skygas.errors import InputError
+from skygas.core.config_types import ChamberSize, StrictModel, read_toml, to_input_error
+from skygas.core.errors import InputError
 from skygas.neuron.annihilation import AnnihilationModel
 from skygas.neuron.calibration import CALIBRATED
 from skygas.neuron.inputs import InputSpec
+from skygas.runs.config import MaterialFields, resolve_paths
 
 
 class DeviceSpec(ChamberSize):

@@ -2,7 +2,7 @@
 reshuffler whose output conduit is closed by a voltage gate, a read element inside the chamber,
 and a threshold rule that opens the gate (the neuron fires) and closes it again.
 
-Layout: :func:`~skygas.geometry.chamber_with_conduits`; the input conduit's end is a wall
+Layout: :func:`~skygas.physics.geometry.chamber_with_conduits`; the input conduit's end is a wall
 (nucleation site at its middle), the output conduit's end is the read-out line where emitted
 skyrmions are detected and removed. The current (conduit density J, v_s = ξ j) drives skyrmions
 from input to output; the gate (:class:`~skygas.neuron.gate.PotentialGate`, a potential band
@@ -30,11 +30,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from skygas import units
-from skygas.current import solve_current
+from skygas.core import units
+from skygas.core.errors import InputError, require
 from skygas.engine import Simulation
-from skygas.errors import InputError, require
-from skygas.geometry import chamber_with_conduits
+from skygas.fields.current import solve_current
 from skygas.neuron.annihilation import Annihilator
 from skygas.neuron.config import NeuronConfig
 from skygas.neuron.gate import (
@@ -46,6 +45,7 @@ from skygas.neuron.gate import (
 )
 from skygas.neuron.inputs import SiteInjector, injection_schedule
 from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
+from skygas.physics.geometry import chamber_with_conduits
 
 #: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
 PIECES = 100
@@ -325,7 +325,7 @@ class NeuronRun:
 
     @property
     def total_steps(self) -> int:
-        from skygas.resources import step_count
+        from skygas.core.resources import step_count
 
         return step_count(self.duration, self.sim.time_step)
 

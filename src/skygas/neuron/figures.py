@@ -13,7 +13,7 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
     """The device over its energy landscape (the gate's band drawn closed, with the user's
     potentials), the nucleation site, and the recorded trajectories (start ○, end ●) or, for a
     run that recorded none, the skyrmions present at its end."""
-    from skygas.plotting import draw_landscape, draw_outline, draw_tracks
+    from skygas.runs.plotting import draw_landscape, draw_outline, draw_tracks
 
     sim = run.sim
     fig = Figure(figsize=(7, 5), dpi=120)

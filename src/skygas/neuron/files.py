@@ -1,4 +1,4 @@
-"""Neuron and saturation runs to files, through the run driver (:mod:`skygas.run_driver`).
+"""Neuron and saturation runs to files, through the run driver (:mod:`skygas.runs.run_driver`).
 
 :func:`run_neuron_to_files` (``skygas neuron``) writes into ``out_dir``: ``trace.npz`` (count
 trace, spikes, emissions, injections; with the configuration, the seed and the version),
@@ -10,7 +10,7 @@ too: they show progress and resume).
 :func:`run_saturation_to_files` (``skygas saturation``) writes ``saturation.json`` and
 ``max_density.png``.
 
-Both keep ``checkpoint.npz`` while running; see :func:`skygas.run_driver.drive`.
+Both keep ``checkpoint.npz`` while running; see :func:`skygas.runs.run_driver.drive`.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from skygas._version import __version__
 from skygas.neuron.config import NeuronConfig
 from skygas.neuron.device import NeuronDevice
 from skygas.neuron.saturation import SaturationProtocol, SaturationResult
-from skygas.run_driver import (
+from skygas.runs.run_driver import (
     PiecewiseRunJob,
     drive,
     from_json_array,
@@ -168,7 +168,7 @@ def run_neuron_to_files(
 ) -> dict:
     """Run the neuron of ``config`` and write its files; returns the summary. With
     ``record_interval`` [s] it records positions and writes them as ``frames.nc`` (a movie's
-    input). ``drive_options``: those of :func:`~skygas.run_driver.drive`."""
+    input). ``drive_options``: those of :func:`~skygas.runs.run_driver.drive`."""
     return drive(NeuronJob(config, transfer, record_interval), out_dir, **drive_options)
 
 

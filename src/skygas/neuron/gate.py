@@ -1,7 +1,7 @@
 r"""The neuron's voltage gate (a switchable potential barrier across the output conduit) and
 its read element (a sensor region inside the chamber).
 
-**Gate as a potential.** A closed gate is a :class:`~skygas.landscape.Band` across the output
+**Gate as a potential.** A closed gate is a :class:`~skygas.fields.landscape.Band` across the output
 conduit: an energy barrier U(x, y) = H g(s) f(n) whose profile along the conduit,
 
 .. math::
@@ -39,8 +39,8 @@ import math
 
 import numpy as np
 
-from skygas import units
-from skygas.landscape import Band
+from skygas.core import units
+from skygas.fields.landscape import Band
 from skygas.neuron._compiled import count_in_disk, covered_fraction
 
 #: k_BT of the gate's height at T = 0, where the run's own k_BT is zero [K].
@@ -66,7 +66,7 @@ def gate_band(
     barrier_height: float,
     temperature: float,
 ) -> Band:
-    """The closed gate's :class:`~skygas.landscape.Band` (all lengths in m): centred at
+    """The closed gate's :class:`~skygas.fields.landscape.Band` (all lengths in m): centred at
     (``center_x``, 0) on a conduit along x of width ``conduit_width``, ``band_width`` w between
     its half-height points, tanh edges of ``edge_width`` e, its top ``barrier_height`` [k_BT]."""
     w, e = band_width, edge_width
@@ -111,7 +111,7 @@ class PotentialGate:
 
     hold_vx, hold_vy: holding drift field [m/s] on the simulation grid; open_vx, open_vy: drift
     field [m/s] while open (default: the holding field); band: the gate's
-    :class:`~skygas.landscape.Band` (for the record).
+    :class:`~skygas.fields.landscape.Band` (for the record).
     """
 
     def __init__(self, sim, term: int, band: Band, hold_vx, hold_vy, open_vx=None, open_vy=None):

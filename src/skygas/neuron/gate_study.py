@@ -27,8 +27,8 @@ import math
 
 import numpy as np
 
-from skygas import units
-from skygas.errors import require
+from skygas.core import units
+from skygas.core.errors import require
 
 #: Spacing of the initial crowd's lattice in skyrmion diameters.
 CROWD_SPACING = 1.5
@@ -132,8 +132,8 @@ def release_crowd(
     count reaches the reset level or ``limit`` [s] has passed. Returns the count against the
     time since the opening (sampled every ``step``), the time to the reset level [s] (None if
     not reached), and the skyrmions emitted and annihilated during the release."""
-    from skygas.geometry import random_positions
     from skygas.neuron.device import NeuronDevice
+    from skygas.physics.geometry import random_positions
 
     device = NeuronDevice(config)
     run = device.build(inputs=[], duration=hold, seed=seed)

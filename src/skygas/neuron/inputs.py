@@ -6,7 +6,7 @@ injectors sharing the input conduit's nucleation site). Kinds:
 
 - ``"poisson"``: Poisson spike train of ``rate`` [Hz].
 - ``"telegraph"`` / ``"bernoulli"``: a clock of period ``interval`` [s]; an event at every tick
-  where the bit (:func:`skygas.signals.generate_bits`, P(1) = ``p``) is 1. Rate p/interval.
+  where the bit (:func:`skygas.sc.signals.generate_bits`, P(1) = ``p``) is 1. Rate p/interval.
 - ``"regular"``: a clock of period 1/``rate`` (one event per tick).
 - ``"bits"``: an explicit bitstream ``bits`` sampled at ``interval`` (a stochastic-computing
   stream from :mod:`skygas.sc.bitstreams`, for example).
@@ -25,8 +25,8 @@ from typing import cast
 
 import numpy as np
 
-from skygas.errors import InputError, require
-from skygas.signals import SignalKind, SignalSpec, generate_bits
+from skygas.core.errors import InputError, require
+from skygas.sc.signals import SignalKind, SignalSpec, generate_bits
 
 KINDS = ("poisson", "telegraph", "bernoulli", "regular", "bits")
 
@@ -75,7 +75,7 @@ class InputSpec:
 
     def event_times(self, duration: float, rng: np.random.Generator) -> np.ndarray:
         """Event times [s] in [0, duration) (weight not applied)."""
-        from skygas.resources import require_memory
+        from skygas.core.resources import require_memory
 
         # the times, their sort and the draws: about three float64 arrays of the expected count
         expected = (

@@ -21,12 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skygas.core.errors import require
 from skygas.engine import MIN_PLACEMENT_SEPARATION, Simulation
-from skygas.errors import require
-from skygas.geometry import disk, random_positions
-from skygas.materials import derive_thiele, load_material
 from skygas.neuron.annihilation import AnnihilationModel, Annihilator
 from skygas.neuron.calibration import CALIBRATED
+from skygas.physics.geometry import disk, random_positions
+from skygas.physics.materials import derive_thiele, load_material
 
 HEX_PACKING = math.pi / (2 * math.sqrt(3))
 

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 FORMATS = ("gsd", "extxyz")
 

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 #: colours of the skyrmion groups (RGB), in group order
 GROUP_COLOURS = ((230, 97, 1), (94, 60, 153), (150, 150, 150))
@@ -114,7 +114,7 @@ class _Canvas:
         from matplotlib.patches import Patch
         from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
 
-        from skygas.plotting import draw_outline
+        from skygas.runs.plotting import draw_outline
 
         x0, y0, x1, y1 = np.array(record.outline.bounds_nm) * 1e-3  # µm
         aspect = (y1 - y0) / (x1 - x0)

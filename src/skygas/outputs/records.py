@@ -22,10 +22,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from skygas.analysis.frames import Frames
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 if TYPE_CHECKING:
-    from skygas.geometry import Outline
+    from skygas.physics.geometry import Outline
 
 #: result files in the order a directory is searched
 RESULT_FILES = ("trajectories.nc", "reshuffler.nc", "frames.nc")
@@ -65,7 +65,7 @@ class RunRecord:
         (``scale`` "log")."""
         field_ = self.landscape_fn() if self.landscape_fn is not None else None
         if field_ is not None and field_.terms:
-            from skygas.plotting import landscape_energy
+            from skygas.runs.plotting import landscape_energy
 
             energy = landscape_energy(field_, self.outline)
             assert energy is not None  # the field has terms
@@ -139,7 +139,7 @@ def _one_group(ids, x, y):
 
 
 def _simulation_record(ds, file: Path) -> RunRecord:
-    from skygas.config import SimulationConfig
+    from skygas.runs.config import SimulationConfig
 
     config = SimulationConfig.model_validate_json(ds.attrs["config_json"])
     v = np.asarray(config.drift.velocity, float)
@@ -193,7 +193,7 @@ def _reshuffler_record(ds, file: Path) -> RunRecord:
         return out
 
     def background(x, y):
-        from skygas.current import solve_current
+        from skygas.fields.current import solve_current
 
         c = config.current
         solution = solve_current(
@@ -243,10 +243,10 @@ def _reshuffler_landscape(config):
 
 
 def _neuron_record(ds, file: Path) -> RunRecord:
-    from skygas.current import solve_current
-    from skygas.geometry import chamber_with_conduits
+    from skygas.fields.current import solve_current
     from skygas.neuron.config import NeuronConfig
     from skygas.neuron.device import NeuronDevice
+    from skygas.physics.geometry import chamber_with_conduits
 
     config = NeuronConfig.model_validate_json(ds.attrs["config_json"])
     d = config.device

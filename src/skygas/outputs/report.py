@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from skygas._version import __version__
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 MOVIE_NAMES = ("movie.mp4", "movie.gif")
 _STYLE = """

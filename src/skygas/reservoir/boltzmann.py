@@ -5,7 +5,7 @@ force F = F₀ f(d/d_sk) n̂, d the distance to the nearest wall. That force is 
 
     U(x) = F₀ d_sk · u(d(x)/d_sk),   u(δ) = ∫_δ^{δ_c} f(s) ds
 
-(:func:`skygas.forces.wall_potential`), so the stationary density is p(x) ∝ exp(−U(x)/k_BT),
+(:func:`skygas.physics.forces.wall_potential`), so the stationary density is p(x) ∝ exp(−U(x)/k_BT),
 whatever the gyrocoupling (the gyrotropic term does no work).
 :func:`boltzmann_wall_distance_pdf` integrates it over the chamber: the probability of each
 bin of wall distance. For a convex polygon the points at distance d from the walls form a
@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from skygas.forces import wall_potential
-from skygas.geometry import Outline
-from skygas.materials import Material, ThieleParameters
-from skygas.units import BOLTZMANN, M_TO_NM
+from skygas.core.units import BOLTZMANN, M_TO_NM
+from skygas.physics.forces import wall_potential
+from skygas.physics.geometry import Outline
+from skygas.physics.materials import Material, ThieleParameters
 
 
 def wall_energy(d_nm, material: Material, thiele: ThieleParameters) -> np.ndarray:

@@ -11,10 +11,10 @@ Shapes (``ChamberSpec.shape``), all centred on the origin:
 - ``polygon``: the convex or concave ``vertices``, contacts named A, B, C, … in vertex order.
 
 Each corner is cut by a straight contact of width ``contact_width`` (a port of the outline,
-:meth:`~skygas.geometry.Outline.with_port`); explicit ``contacts`` replace the cuts. The current
-solver uses the ports as electrodes; the engine gets the same outline with every port closed
-(:meth:`~skygas.geometry.Outline.without_ports`), so that a skyrmion is reflected by a contact
-like by any wall instead of leaving through it.
+:meth:`~skygas.physics.geometry.Outline.with_port`); explicit ``contacts`` replace the cuts. The
+current solver uses the ports as electrodes; the engine gets the same outline with every port closed
+(:meth:`~skygas.physics.geometry.Outline.without_ports`), so that a skyrmion is reflected by a
+contact like by any wall instead of leaving through it.
 """
 
 from __future__ import annotations
@@ -24,10 +24,10 @@ import string
 
 import numpy as np
 
-from skygas import geometry as geo
-from skygas.errors import InputError, require
+from skygas.core.errors import InputError, require
+from skygas.core.units import M_TO_NM
+from skygas.physics import geometry as geo
 from skygas.reservoir.config import ChamberSpec
-from skygas.units import M_TO_NM
 
 
 def _names(n: int) -> list[str]:
@@ -69,7 +69,7 @@ def _cut_corners(vertices: np.ndarray, width: float) -> tuple[np.ndarray, list]:
 def _disk_with_flats(diameter: float, width: float) -> geo.Outline:
     """A disk with straight flats of length ``width`` [m] centred at 210°, 330° and 90°: the
     flats' ends lie exactly on the circle, the arcs between them are polygons whose chords stray
-    at most 0.05 nm from the circle (like :func:`skygas.geometry.disk`)."""
+    at most 0.05 nm from the circle (like :func:`skygas.physics.geometry.disk`)."""
     radius = diameter / 2
     require(
         width < diameter,

@@ -20,11 +20,15 @@ from typing import Annotated, Literal
 
 from pydantic import Field, ValidationError
 
-from skygas.config import MaterialFields, PortSpec
-from skygas.config_types import StrictModel as _Strict  # noqa: N814 (the name every config uses)
-from skygas.config_types import read_toml, to_input_error
-from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
-from skygas.errors import InputError
+from skygas.core.config_types import StrictModel as _Strict  # noqa: N814 (the name every config uses)
+from skygas.core.config_types import read_toml, to_input_error
+from skygas.core.errors import InputError
+from skygas.fields.current import (
+    DEFAULT_CELL_SIZE,
+    DEFAULT_CONDUCTOR_THICKNESS,
+    DEFAULT_RESISTIVITY,
+)
+from skygas.runs.config import MaterialFields, PortSpec
 
 
 class ChamberSpec(_Strict):

@@ -19,14 +19,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from skygas import geometry as geo
 from skygas._version import __version__
-from skygas.errors import require
+from skygas.core.errors import require
+from skygas.core.units import M_TO_NM
+from skygas.physics import geometry as geo
 from skygas.reservoir.chamber import build_chamber, contact_middles
 from skygas.reservoir.config import ReservoirConfig
 from skygas.reservoir.drive import Drive
 from skygas.reservoir.sensors import coverage
-from skygas.units import M_TO_NM
 
 #: Landscape kinds drawn at random from the run's seed (see :func:`run_streams`).
 RANDOM_LANDSCAPES = ("random_pinning", "disorder")

@@ -3,8 +3,8 @@
 A symbol is a tuple of bits, one per input contact. Bit b on input contact k puts
 V_k = levels[b]·V₀ on it; every other contact is at 0 V. The current pattern is the
 superposition Σ_k V_k·(unit flow k) of the unit solutions of the current solver
-(:class:`~skygas.current.ContactBasis`: contact k at 1 V, the others at 0 V), and the skyrmions
-drift with v_s = ξ·j (docs/physics.md §1).
+(:class:`~skygas.fields.current.ContactBasis`: contact k at 1 V, the others at 0 V), and the
+skyrmions drift with v_s = ξ·j (docs/physics.md §1).
 
 V₀ is set by ``drive.current_density`` J: the chamber-mean |j| of the unit pattern "first input
 contact at V₀, every other contact at 0 V" is J. The Joule power of a symbol is P = Vᵀ G V
@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from skygas.current import ContactBasis, ContactFlow
-from skygas.errors import require
-from skygas.geometry import Outline
+from skygas.core.errors import require
+from skygas.fields.current import ContactBasis, ContactFlow
+from skygas.physics.geometry import Outline
 from skygas.reservoir.config import DriveSpec
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
-from skygas.plotting import draw_outline
+from skygas.runs.plotting import draw_outline
 
 
 def plot_occupation(device, streams, path: Path) -> Path:

@@ -1,6 +1,6 @@
 """Results of a reshuffler run: events, correlation figures of merit, power, and the dataset.
 
-Signals compared (docs/physics.md §3, :mod:`skygas.correlation`):
+Signals compared (docs/physics.md §3, :mod:`skygas.reshuffler.correlation`):
 
 - input: the bits of the nucleated skyrmions in nucleation order. With the default ``delay``
   rule this is the input signal itself (delays only reorder events that waited at an occupied
@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from skygas import correlation as corr
 from skygas._version import __version__
+from skygas.reshuffler import correlation as corr
 
 if TYPE_CHECKING:
     import xarray as xr

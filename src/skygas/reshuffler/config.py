@@ -9,11 +9,11 @@ documented defaults (docs/physics.md §4) and are recorded with every result:
   ``paper`` preset calibrates it instead (see ``docs/paper-reproduction.md``).
 - the input's correlation time (``signal.correlation_time``, default one injection interval);
 - the occupied-site rule (:mod:`skygas.reshuffler.injection`);
-- the conductor's thickness and resistivity for the power (:mod:`skygas.current`).
+- the conductor's thickness and resistivity for the power (:mod:`skygas.fields.current`).
 
-``[hypothesis]`` holds knobs that are not physics (:mod:`skygas.hypothesis`): a dynamics time
-scale s (k → k/s: forces and thermal noise s times faster, drift from v_s unchanged) and a noise
-scale n (noise temperature nT). Both default to 1; the ``paper-figures`` preset sets s.
+``[hypothesis]`` holds knobs that are not physics (:mod:`skygas.physics.hypothesis`): a dynamics
+time scale s (k → k/s: forces and thermal noise s times faster, drift from v_s unchanged) and a
+noise scale n (noise temperature nT). Both default to 1; the ``paper-figures`` preset sets s.
 """
 
 from __future__ import annotations
@@ -23,9 +23,8 @@ from typing import Any, Literal
 
 from pydantic import Field, ValidationError
 
-from skygas import units
-from skygas.config import MaterialFields, resolve_paths
-from skygas.config_types import (
+from skygas.core import units
+from skygas.core.config_types import (
     CHAMBER_GAP,
     ChamberSize,
     Length,
@@ -34,11 +33,16 @@ from skygas.config_types import (
     read_toml,
     to_input_error,
 )
-from skygas.current import DEFAULT_CELL_SIZE, DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY
-from skygas.errors import require
-from skygas.hypothesis import HypothesisSpec, noise_temperature, scale_dynamics
-from skygas.materials import ThieleParameters
+from skygas.core.errors import require
+from skygas.fields.current import (
+    DEFAULT_CELL_SIZE,
+    DEFAULT_CONDUCTOR_THICKNESS,
+    DEFAULT_RESISTIVITY,
+)
+from skygas.physics.hypothesis import HypothesisSpec, noise_temperature, scale_dynamics
+from skygas.physics.materials import ThieleParameters
 from skygas.reshuffler.presets import preset_data
+from skygas.runs.config import MaterialFields, resolve_paths
 
 
 class DeviceSpec(ChamberSize):
@@ -46,7 +50,7 @@ class DeviceSpec(ChamberSize):
 
 
 class SignalConfig(StrictModel):
-    """The input signal (see :mod:`skygas.signals`)."""
+    """The input signal (see :mod:`skygas.sc.signals`)."""
 
     kind: Literal["telegraph", "bernoulli", "file"] = "telegraph"
     p: float = Field(0.5, ge=0, le=1)
@@ -94,7 +98,7 @@ class ReshufflerConfig(MaterialFields):
 
     def thiele_parameters(self) -> ThieleParameters:
         """The material's Thiele coefficients with the overrides, then the dynamics time scale
-        (``hypothesis.dynamics_time_scale``, :func:`skygas.hypothesis.scale_dynamics`)."""
+        (``hypothesis.dynamics_time_scale``, :func:`skygas.physics.hypothesis.scale_dynamics`)."""
         return scale_dynamics(super().thiele_parameters(), self.hypothesis.dynamics_time_scale)
 
     def noise_temperature(self) -> float:

@@ -3,10 +3,11 @@ and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler"
 docs/physics.md §3).
 
 Layout: the UP chamber sits above the DOWN chamber, each the paper's disk with an input conduit
-on the left and an output conduit on the right (:func:`~skygas.geometry.chamber_with_conduits`).
-For the current, both conduit ends are electrodes. For skyrmions, only the output end is open:
-it is the read-out line, where a skyrmion is detected and removed. The input end is the end of
-the track: a wall. So every skyrmion is either detected, still present or annihilated.
+on the left and an output conduit on the right
+(:func:`~skygas.physics.geometry.chamber_with_conduits`). For the current, both conduit ends are
+electrodes. For skyrmions, only the output end is open: it is the read-out line, where a skyrmion is
+detected and removed. The input end is the end of the track: a wall. So every skyrmion is either
+detected, still present or annihilated.
 
 Each chamber carries its own copy of the current solved for one chamber (the chambers are
 identical and driven in parallel), so the Joule power of the device is twice one chamber's.
@@ -20,11 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 from shapely.geometry import MultiPolygon
 
-from skygas.config_types import CHAMBER_DIAMETER, CHAMBER_GAP, CONDUIT_LENGTH, CONDUIT_WIDTH
-from skygas.errors import require
-from skygas.geometry import Outline, chamber_with_conduits
-from skygas.memo import Memo, frozen
-from skygas.units import M_TO_NM
+from skygas.core.config_types import CHAMBER_DIAMETER, CHAMBER_GAP, CONDUIT_LENGTH, CONDUIT_WIDTH
+from skygas.core.errors import require
+from skygas.core.memo import Memo, frozen
+from skygas.core.units import M_TO_NM
+from skygas.physics.geometry import Outline, chamber_with_conduits
 
 CHAMBERS = ("up", "down")
 
@@ -113,11 +114,11 @@ def drift_field_on_grid(
     geometry: ReshufflerGeometry, solution, grid, spin_drift_coefficient: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """v_s = ξ·j [m/s] on the simulation grid: the one-chamber current copied into both
-    chambers. ``solution`` is a :class:`~skygas.current.CurrentSolution` of one chamber
-    centred at the origin; ``grid`` the engine's :class:`~skygas.wall_field.Grid` (nm).
+    chambers. ``solution`` is a :class:`~skygas.fields.current.CurrentSolution` of one chamber
+    centred at the origin; ``grid`` the engine's :class:`~skygas.fields.wall_field.Grid` (nm).
 
     The current is linear in J: its field for J = 1 A/m² is sampled on the grid once per
-    process for each device and grid (:mod:`skygas.memo`) and every run scales it by ξJ, so
+    process for each device and grid (:mod:`skygas.core.memo`) and every run scales it by ξJ, so
     runs that differ in J (or p, temperature, …) do not sample the solution again."""
     key = (geometry, grid, solution.cell_grid, solution.sources, solution.sinks)
     jx, jy = _UNIT_SAMPLE.get(

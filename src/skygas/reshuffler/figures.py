@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas.plotting import draw_landscape, draw_outline, landscape_energy
 from skygas.reshuffler.device import drift_field_on_grid
+from skygas.runs.plotting import draw_landscape, draw_outline, landscape_energy
 
 
 def plot_device(run, path: Path, max_tracks: int = 40) -> Path:

@@ -1,10 +1,10 @@
-"""A reshuffler run to files, through the run driver (:mod:`skygas.run_driver`).
+"""A reshuffler run to files, through the run driver (:mod:`skygas.runs.run_driver`).
 
 :func:`run_reshuffler` (what ``skygas reshuffle`` calls) writes into ``out_dir``:
 ``reshuffler.nc`` (events, snapshots, analyses; every parameter, the seed and the version in
 its attributes), ``summary.json``, ``device.png``, ``running_correlation.png`` and
 ``occupancy.png``. While running it keeps ``checkpoint.npz``; see
-:func:`skygas.run_driver.drive` for checkpoints, interruption and ``resume``.
+:func:`skygas.runs.run_driver.drive` for checkpoints, interruption and ``resume``.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from pathlib import Path
 from skygas.reshuffler.analysis import ReshufflerResult, summarize
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.run import ReshufflerRun
-from skygas.run_driver import (
+from skygas.runs.run_driver import (
     PiecewiseRunJob,
     drive,
     run_record,

@@ -9,7 +9,7 @@ from __future__ import annotations
 import tomllib
 from importlib import resources
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 
 PRESETS = ("default", "paper", "paper-figures")
 

@@ -2,13 +2,13 @@
 
 :class:`ReshufflerRun` wires the pieces together:
 
-1. the device (:mod:`~skygas.reshuffler.device`) and its current (:mod:`skygas.current`),
+1. the device (:mod:`~skygas.reshuffler.device`) and its current (:mod:`skygas.fields.current`),
    giving the drift field v_s = ξ j in both chambers;
 2. the engine (:class:`~skygas.engine.Simulation`) with the input bits driving an
    :class:`~skygas.reshuffler.injection.Injector`;
 3. read-out: a skyrmion crossing an output line is detected (time, chamber) and removed;
-4. the analyses of :mod:`skygas.correlation` on the input bits and the output bits rebuilt from
-   the read-out order.
+4. the analyses of :mod:`skygas.reshuffler.correlation` on the input bits and the output bits
+   rebuilt from the read-out order.
 
 Counts are conserved by construction and checked at the end of every run:
 injected = detected + present + annihilated (annihilation is not modelled here yet: 0).
@@ -23,13 +23,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from skygas.current import solve_current
+from skygas.core.errors import require
 from skygas.engine import FrameBlock, Simulation
-from skygas.errors import require
+from skygas.fields.current import solve_current
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
-from skygas.signals import SignalSpec, as_bits, generate_bits
+from skygas.sc.signals import SignalSpec, as_bits, generate_bits
 
 #: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
 PIECES = 200
@@ -153,7 +153,7 @@ class ReshufflerRun:
     # -- running ------------------------------------------------------------------------------
     @property
     def total_steps(self) -> int:
-        from skygas.resources import step_count
+        from skygas.core.resources import step_count
 
         return step_count(self.config.duration, self.sim.time_step)
 

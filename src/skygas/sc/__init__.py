@@ -4,7 +4,8 @@ The skyrmion reshuffler exists to make stochastic-computing circuits work (paper
 "Motivation: Stochastic Computing"). This subpackage provides the circuit side: stream
 generators, the metrics that say how correlated two streams are, gates that compute on whole
 streams, and the CMOS decorrelators the reshuffler is measured against. See
-``docs/stochastic-computing.md``.
+``docs/stochastic-computing.md``. The input signals of the devices (telegraph, Bernoulli or a
+file, sampled at an injection clock) are :mod:`skygas.sc.signals`.
 """
 
 # The public names are imported on first use (SPEC 1 lazy loading; the names and their modules

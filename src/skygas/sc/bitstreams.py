@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas import validate as v
-from skygas.errors import InputError
+from skygas.core import validate as v
+from skygas.core.errors import InputError
 
 # Maximal-length Fibonacci LFSR taps, 1-indexed bit positions, from Xilinx application note
 # XAPP 052 (P. Alfke, "Efficient Shift Registers, LFSR Counters, and Long Pseudo-Random

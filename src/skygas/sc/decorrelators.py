@@ -33,8 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas import validate as v
-from skygas.errors import InputError
+from skygas.core import validate as v
+from skygas.core.errors import InputError
 
 PAPER_CMOS_RESHUFFLER_SOURCE = (
     "order-of-magnitude estimate for CMOS reshufflers of clocked stochastic bitstreams "

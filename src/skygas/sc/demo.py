@@ -23,10 +23,10 @@ from typing import Any
 
 import numpy as np
 
-from skygas import validate as v
 from skygas._version import __version__
-from skygas.errors import InputError
-from skygas.resources import require_memory
+from skygas.core import validate as v
+from skygas.core.errors import InputError
+from skygas.core.resources import require_memory
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 from skygas.sc.decorrelators import Decorrelator, DelayIsolator, Regenerator, ShuffleBuffer
 from skygas.sc.metrics import binomial_std, p_value, scc

@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas import validate as v
-from skygas.errors import InputError
+from skygas.core import validate as v
+from skygas.core.errors import InputError
 
 
 def _two(a: Any, b: Any) -> tuple[np.ndarray, np.ndarray]:

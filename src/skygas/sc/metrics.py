@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 from scipy import special
 
-from skygas import validate as v
-from skygas.errors import InputError
+from skygas.core import validate as v
+from skygas.core.errors import InputError
 
 
 def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -45,7 +45,7 @@ def p_value(stream: Any) -> np.ndarray:
 @dataclass(frozen=True)
 class PValueEstimate:
     """A p-value estimate with its two-sided confidence interval (arrays of the batch shape;
-    floats for one stream, as :mod:`skygas.correlation` reports them)."""
+    floats for one stream, as :mod:`skygas.reshuffler.correlation` reports them)."""
 
     estimate: np.ndarray | float
     low: np.ndarray | float

@@ -31,8 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from skygas import validate as v
-from skygas.errors import InputError
+from skygas.core import validate as v
+from skygas.core.errors import InputError
 from skygas.sc.bitstreams import _refreshed_chain
 
 

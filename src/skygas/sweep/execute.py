@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from skygas.errors import require
+from skygas.core.errors import require
 from skygas.sweep.spec import Run, Sweep
 from skygas.sweep.store import SweepStore
 from skygas.sweep.worker import run_one

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.sweep.analysis import (
     CHAMBER,
     CURRENT,

@@ -44,10 +44,10 @@ from typing import Any
 import numpy as np
 from pydantic import BaseModel
 
-from skygas.config import read_toml, resolve_paths
-from skygas.errors import InputError, require
+from skygas.core.errors import InputError, require
 from skygas.reshuffler.config import ReshufflerConfig, parse_reshuffler_config
 from skygas.reshuffler.device import ReshufflerGeometry
+from skygas.runs.config import read_toml, resolve_paths
 
 _SWEEP_KEYS = {"seed", "replicas", "config", "name", "description"}
 _TOP_KEYS = {"sweep", "base", "grid", "points"}
@@ -125,7 +125,7 @@ def _field_exists(model: type[BaseModel], dotted: str) -> bool:
     if head in _LEAF_FIELDS:
         return False
     if head == "potentials":  # "potentials.<index>.<field of a potential kind>"
-        from skygas.landscape import KINDS
+        from skygas.fields.landscape import KINDS
 
         index, _, name = rest.partition(".")
         return index.isdigit() and any(name in kind.model_fields for kind in KINDS.values())

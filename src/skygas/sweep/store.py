@@ -42,7 +42,7 @@ import zarr
 from zarr.core.sync import sync as _sync
 
 from skygas._version import __version__
-from skygas.errors import InputError
+from skygas.core.errors import InputError
 from skygas.sweep.spec import Run, Sweep
 from skygas.sweep.worker import QUANTITIES, RUNNING
 

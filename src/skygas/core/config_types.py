@@ -1,0 +1,170 @@
+"""Types shared by every configuration (simulation, reshuffler, neuron), and the paper's
+chamber dimensions, defined once.
+
+- :class:`StrictModel`: the pydantic base of every configuration section: unknown fields
+  (spelling mistakes) and non-finite numbers (``inf``, ``nan``) are refused;
+- :data:`PositiveFloat` and :data:`Length` (metres, from 1 pm to 1 m);
+- :data:`CHAMBER_DIAMETER`, :data:`CONDUIT_WIDTH`, :data:`CONDUIT_LENGTH`,
+  :data:`CHAMBER_GAP`: the paper's device (a 1024 nm chamber with 100 nm × 50 nm conduits;
+  two such chambers 400 nm apart in the reshuffler), and :class:`ChamberSize`, the section that
+  holds them;
+- :func:`to_input_error` and :func:`read_toml`: validation failures and unreadable files as
+  one :class:`~skygas.core.errors.InputError` naming the field (a tagged union's tags are
+  left out of that name once registered: :func:`register_union_tags`).
+
+Only pydantic is imported here: geometry, fields, engine and devices import this module, not
+the other way round.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Annotated
+
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
+from pydantic_core import ErrorDetails
+
+from skygas.core.errors import InputError
+
+#: Diameter [m] of the paper's chamber.
+CHAMBER_DIAMETER = 1024e-9
+#: Width [m] of its input and output conduits.
+CONDUIT_WIDTH = 100e-9
+#: Length [m] of each conduit, from where its edges meet the disk to its end.
+CONDUIT_LENGTH = 50e-9
+#: Spacing [m] between the reshuffler's two chambers.
+CHAMBER_GAP = 400e-9
+
+#: The lengths a configuration accepts [m]: outside, the number was almost surely given in
+#: another unit (``chamber_diameter = 1024`` for 1024 nm). A device larger than a metre could
+#: not be held in memory anyway (its wall field is sampled on a nanometre grid), and nothing
+#: in the model is smaller than a picometre.
+MIN_LENGTH = 1e-12
+MAX_LENGTH = 1.0
+
+
+def _metres(value: float) -> float:
+    if not MIN_LENGTH <= value <= MAX_LENGTH:
+        hint = (
+            f"did you mean {value:g}e-9 (nanometres)?"
+            if value > MAX_LENGTH
+            else "did you mean nanometres (e.g. 2e-9)?"
+        )
+        raise ValueError(
+            f"a length between {MIN_LENGTH:g} m and {MAX_LENGTH:g} m; lengths are in metres: {hint}"
+        )
+    return value
+
+
+PositiveFloat = Annotated[float, Field(gt=0)]
+#: A length in metres, between :data:`MIN_LENGTH` and :data:`MAX_LENGTH`.
+Length = Annotated[float, Field(gt=0, description="metres"), AfterValidator(_metres)]
+
+
+class StrictModel(BaseModel):
+    """A configuration section: unknown fields and non-finite numbers are refused."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+
+class ChamberSize(StrictModel):
+    """A chamber with its two conduits [m] (the paper's device by default)."""
+
+    chamber_diameter: Length = CHAMBER_DIAMETER
+    conduit_width: Length = CONDUIT_WIDTH
+    conduit_length: Length = CONDUIT_LENGTH
+
+
+#: pydantic's error types, in skygas's words (``{gt}`` etc. are the error's context)
+_ALLOWED = {
+    "missing": "this required field to be given",
+    "extra_forbidden": "no such field (check the spelling)",
+    "finite_number": "a finite number (not inf or nan)",
+    "greater_than": "a number > {gt}",
+    "greater_than_equal": "a number >= {ge}",
+    "less_than": "a number < {lt}",
+    "less_than_equal": "a number <= {le}",
+    "float_parsing": "a number",
+    "float_type": "a number",
+    "int_parsing": "an integer",
+    "int_type": "an integer",
+    "int_from_float": "an integer",
+    "bool_parsing": "true or false",
+    "string_type": "a string",
+    "too_short": "at least {min_length} entries",
+}
+
+#: pydantic's error types for a tagged union whose tag is unknown or missing
+_TAG_ERRORS = ("union_tag_invalid", "union_tag_not_found")
+
+
+def _allowed(error: ErrorDetails) -> str:
+    template = _ALLOWED.get(error["type"])
+    if template is not None:
+        try:
+            return template.format(**error.get("ctx", {}))
+        except (KeyError, IndexError):
+            pass
+    msg = error["msg"]
+    for prefix in ("Value error, ", "Input should be "):
+        msg = msg.removeprefix(prefix)
+    return msg
+
+
+#: Tags of tagged unions: the member names pydantic puts into an error's location
+#: (``potentials.0.gaussian.sigma``), which :func:`to_input_error` leaves out of the field's name.
+#: The module that defines such a union registers its tags when it is imported
+#: (:func:`register_union_tags`; the energy landscape's kinds,
+#: :data:`skygas.fields.landscape.kinds.KINDS`), so that this module imports nothing above the
+#: foundations. An error can hold a tag only once its union exists, and so once it is registered.
+_UNION_TAGS: set[str] = set()
+
+
+def register_union_tags(tags: Iterable[str]) -> None:
+    """Name a tagged union's tags (its members' names) as such to :func:`to_input_error`, which
+    leaves them out of the field names it reports."""
+    _UNION_TAGS.update(tags)
+
+
+def _is_tag(loc: tuple, i: int) -> bool:
+    """True if element ``i`` of a pydantic error location is a union's tag (the name of the
+    member tried, as in ``potentials.0.gaussian.sigma``), not a field."""
+    return i >= 1 and isinstance(loc[i - 1], int) and loc[i] in _UNION_TAGS
+
+
+def to_input_error(err: ValidationError, source: str = "", prefix: str = "") -> InputError:
+    """The first error of a pydantic validation as one :class:`InputError` line naming the
+    field (``source``, e.g. the file name, then ``prefix`` and the dotted location), the value
+    and what is allowed, in skygas's words rather than pydantic's. The field's dotted path
+    without ``source`` is kept as the error's ``loc`` (a command names the option instead when
+    it came from one).
+
+    A tagged union's tag (``potentials.0.gaussian.sigma``) is left out of the name
+    (``potentials.0.sigma``), and an unknown or missing tag is reported as the ``kind`` field
+    with the allowed kinds."""
+    first = err.errors()[0]
+    parts = [p for i, p in enumerate(first["loc"]) if not _is_tag(first["loc"], i)]
+    value = first.get("input") if first["type"] != "missing" else "(missing)"
+    allowed = _allowed(first)
+    if first["type"] in _TAG_ERRORS:
+        parts.append(first.get("ctx", {}).get("discriminator", "kind").strip("'"))
+        value = first.get("ctx", {}).get("tag", "(missing)")
+        allowed = f"one of {first.get('ctx', {}).get('expected_tags', '')}"
+    loc = ".".join(str(p) for p in [*prefix.split("."), *parts] if p != "")
+    error = InputError(f"{source}{loc}", value, allowed)
+    error.loc = loc
+    return error
+
+
+def read_toml(path: str | Path, field: str = "config") -> dict:
+    """Parse a TOML file, or raise :class:`InputError` naming ``field`` if it is missing or
+    malformed."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(field, str(path), "an existing TOML file")
+    try:
+        return tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(field, str(path), f"valid TOML ({err})") from None

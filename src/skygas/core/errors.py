@@ -1,0 +1,71 @@
+"""The exception that user-facing validation raises, and the one an interrupted run raises.
+
+Every check on user input (a config file, a CLI option, an array handed to the API) raises
+:class:`InputError` *before* any long computation starts. The message always names the field,
+the offending value and what is allowed, so that a user can fix the input without reading code;
+the command line prints it as one line, ``skygas: error: <field> = <value>: <why>; <what to
+do>``, and exits with status 2 (see :mod:`skygas.cli`).
+"""
+
+from __future__ import annotations
+
+import signal
+from pathlib import Path
+from typing import Any
+
+
+class InputError(ValueError):
+    """Invalid user input.
+
+    Parameters
+    ----------
+    field:
+        Dotted name of the offending field (``"temperature"``, ``"skyrmions[3].x"``).
+    value:
+        The value that was given.
+    allowed:
+        A short phrase saying what would be accepted (``"a number >= 0 (kelvin)"``).
+    hint:
+        Optional: what to do about it (``"choose another --out"``).
+    """
+
+    #: the dotted field path of a configuration error, without its source; set only by
+    #: :func:`skygas.core.config_types.to_input_error` (read with ``getattr(err, "loc", ...)``)
+    loc: str
+
+    def __init__(self, field: str, value: Any, allowed: str, hint: str | None = None):
+        self.field = field
+        self.value = value
+        self.allowed = allowed
+        self.hint = hint
+        text = f"{field} = {value!r}: expected {allowed}"
+        super().__init__(text if hint is None else f"{text}; {hint}")
+
+
+def require(condition: bool, field: str, value: Any, allowed: str, hint: str | None = None) -> None:
+    """Raise :class:`InputError` unless ``condition`` holds."""
+    if not condition:
+        raise InputError(field, value, allowed, hint)
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """A run stopped by SIGINT/SIGTERM after saving its checkpoint where its state was
+    consistent (:func:`skygas.runs.run_driver.drive`). ``signum``: the signal received;
+    ``checkpoint``: the saved file. The command line prints the message and exits with
+    :attr:`exit_status`."""
+
+    def __init__(self, signum: int, checkpoint: Path | None):
+        self.signum = signum
+        self.checkpoint = checkpoint
+        where = (
+            f"state saved in {checkpoint}; run the same command with --resume to continue"
+            if checkpoint is not None
+            else "no checkpoint was saved"
+        )
+        super().__init__(f"interrupted by {signal.Signals(signum).name}: {where}")
+
+    @property
+    def exit_status(self) -> int:
+        """The shell's convention for a process ended by a signal: 128 + its number (130 for
+        Ctrl-C)."""
+        return 128 + self.signum

@@ -1,0 +1,304 @@
+"""Device outlines: shapes, unions, named open ports, and the paper's chamber.
+
+An :class:`Outline` is the region a skyrmion may occupy (a shapely polygon) plus named
+**ports**: stretches of its boundary that are open rather than walls. Skyrmions feel the wall
+force from every other part of the boundary; a skyrmion that crosses a port leaves the device.
+
+The outline only describes *shape*. The force a wall exerts lives in :mod:`skygas.physics.forces`,
+and the precomputed distance/normal grid the engine reads lives in :mod:`skygas.fields.wall_field`.
+
+Public constructors take metres (SI); the outline stores nanometres internally (shapely's
+tolerances assume coordinates of order one).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import shapely
+import shapely.validation
+from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
+from shapely.ops import unary_union
+
+from skygas.core.config_types import CHAMBER_DIAMETER, CONDUIT_LENGTH, CONDUIT_WIDTH
+from skygas.core.errors import InputError, require
+from skygas.core.units import M_TO_NM
+
+# Ports are matched against the boundary with this tolerance (nm).
+_PORT_TOLERANCE_NM = 1e-6
+
+
+@dataclass(frozen=True)
+class Outline:
+    """A device outline in nanometres: ``region`` and open ``ports``.
+
+    ``region`` is a shapely Polygon, or a MultiPolygon for devices made of separate chambers
+    (the reshuffler's UP and DOWN chambers). Build it with :func:`disk`, :func:`rectangle`,
+    :func:`polygon`, :func:`union` and :meth:`with_port`, or :func:`chamber_with_conduits` for
+    the paper's chamber.
+    """
+
+    region: Polygon | MultiPolygon
+    ports: dict[str, LineString] = field(default_factory=dict)
+
+    def __post_init__(self):
+        if not isinstance(self.region, (Polygon, MultiPolygon)) or self.region.is_empty:
+            raise InputError("geometry", self.region, "a non-empty region of one or more pieces")
+        if not self.region.is_valid:
+            raise InputError(
+                "geometry",
+                shapely.validation.explain_validity(self.region),
+                "a valid (non self-intersecting) outline",
+            )
+
+    # -- composition ------------------------------------------------------------------------
+    def __or__(self, other: Outline) -> Outline:
+        return union(self, other)
+
+    def with_port(self, name: str, start, end) -> Outline:
+        """Open the boundary segment from ``start`` to ``end`` (metres) as port ``name``."""
+        segment = LineString([np.asarray(start) * M_TO_NM, np.asarray(end) * M_TO_NM])
+        return self._with_port_nm(name, segment)
+
+    def _with_port_nm(self, name: str, segment: LineString) -> Outline:
+        require(name not in self.ports, "port name", name, "a name not already used")
+        on_boundary = self.region.boundary.buffer(_PORT_TOLERANCE_NM).contains(segment)
+        require(
+            on_boundary,
+            f"ports.{name}",
+            list(segment.coords),
+            "a segment lying on the outline's boundary",
+        )
+        return Outline(self.region, {**self.ports, name: segment})
+
+    # -- queries (nanometres) ---------------------------------------------------------------
+    @cached_property
+    def walls(self):
+        """The boundary minus the ports (a (Multi)LineString in nm)."""
+        boundary = self.region.boundary
+        if not self.ports:
+            return boundary
+        openings = unary_union(list(self.ports.values())).buffer(_PORT_TOLERANCE_NM)
+        return boundary.difference(openings)
+
+    @property
+    def bounds_nm(self) -> tuple[float, float, float, float]:
+        return tuple(self.region.bounds)
+
+    def translated(self, dx: float, dy: float) -> Outline:
+        """The same outline moved by (dx, dy) metres (port names kept)."""
+        from shapely import affinity
+
+        dx, dy = dx * M_TO_NM, dy * M_TO_NM
+        return Outline(
+            affinity.translate(self.region, dx, dy),
+            {k: affinity.translate(v, dx, dy) for k, v in self.ports.items()},
+        )
+
+    def without_ports(self, *names: str) -> Outline:
+        """The same outline with the named ports closed into walls."""
+        for name in names:
+            require(name in self.ports, "port name", name, f"one of {list(self.ports)}")
+        return Outline(self.region, {k: v for k, v in self.ports.items() if k not in names})
+
+    def contains_nm(self, x, y) -> np.ndarray:
+        """True where (x, y) [nm] is strictly inside the region."""
+        return shapely.contains_xy(self.region, np.asarray(x, float), np.asarray(y, float))
+
+    def wall_distance_nm(self, x, y) -> np.ndarray:
+        """Exact distance [nm] from (x, y) [nm] to the nearest wall (shapely)."""
+        points = shapely.points(np.asarray(x, float), np.asarray(y, float))
+        return shapely.distance(points, self.walls)
+
+    def area_nm2(self) -> float:
+        return float(self.region.area)
+
+    def port_names(self) -> list[str]:
+        return list(self.ports)
+
+    def describe(self) -> dict:
+        """A JSON-able record of the outline (WKT in nm and the ports)."""
+        return {
+            "region_wkt_nm": self.region.wkt,
+            "ports_nm": {k: [list(c) for c in v.coords] for k, v in self.ports.items()},
+        }
+
+    @classmethod
+    def from_record(cls, record: dict) -> Outline:
+        region = shapely.from_wkt(record["region_wkt_nm"])
+        ports = {k: LineString(v) for k, v in record.get("ports_nm", {}).items()}
+        return cls(region, ports)
+
+
+def _positive(name: str, value: float) -> float:
+    require(
+        isinstance(value, (int, float)) and value > 0 and math.isfinite(value),
+        name,
+        value,
+        "a length > 0 in metres",
+    )
+    return float(value)
+
+
+# Circles become polygons whose chords stray at most this far from the true circle (nm).
+_CHORD_ERROR_NM = 0.05
+
+
+def _circle_segments(radius_nm: float) -> int:
+    """Segments per quarter circle so that the chord error R(1 − cos θ/2) ≤ _CHORD_ERROR_NM."""
+    return max(8, int(math.ceil(math.pi / 4 * math.sqrt(radius_nm / (2 * _CHORD_ERROR_NM)))))
+
+
+def _circle(cx: float, cy: float, r: float) -> Polygon:
+    return Point(cx, cy).buffer(r, quad_segs=_circle_segments(r))
+
+
+def disk(radius: float, center=(0.0, 0.0)) -> Outline:
+    """A disk of ``radius`` [m] at ``center`` [m] (a polygon within 0.05 nm of the circle)."""
+    r = _positive("radius", radius) * M_TO_NM
+    cx, cy = np.asarray(center, float) * M_TO_NM
+    return Outline(_circle(cx, cy, r))
+
+
+def rectangle(width: float, height: float, center=(0.0, 0.0)) -> Outline:
+    """An axis-aligned rectangle of ``width`` × ``height`` [m] centred at ``center`` [m]."""
+    w = _positive("width", width) * M_TO_NM
+    h = _positive("height", height) * M_TO_NM
+    cx, cy = np.asarray(center, float) * M_TO_NM
+    return Outline(box(cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2))
+
+
+def polygon(vertices) -> Outline:
+    """A polygon through ``vertices`` [m] (an (n, 2) sequence, n ≥ 3)."""
+    v = np.asarray(vertices, float)
+    require(
+        v.ndim == 2 and v.shape[1] == 2 and len(v) >= 3,
+        "vertices",
+        vertices,
+        "at least three (x, y) points in metres",
+    )
+    return Outline(Polygon(v * M_TO_NM))
+
+
+def union(*outlines: Outline) -> Outline:
+    """The union of overlapping outlines (ports are kept)."""
+    region = unary_union([o.region for o in outlines])
+    if not isinstance(region, Polygon):
+        raise InputError(
+            "geometry",
+            f"{len(getattr(region, 'geoms', []))} disjoint pieces",
+            "shapes that overlap into one connected region",
+        )
+    result = Outline(region)
+    for o in outlines:
+        for name, seg in o.ports.items():
+            result = result._with_port_nm(name, seg)
+    return result
+
+
+def chamber_with_conduits(
+    chamber_diameter: float = CHAMBER_DIAMETER,
+    conduit_width: float = CONDUIT_WIDTH,
+    conduit_length: float = CONDUIT_LENGTH,
+    center=(0.0, 0.0),
+    corner_radius: float = 20e-9,
+) -> Outline:
+    """The paper's device chamber: a disk with an input conduit on the left and an output
+    conduit on the right, along the x axis (paper, "Skyrmion Reshuffler" and Methods).
+
+    ``conduit_length`` [m] is measured from where the conduit's edges meet the disk to its
+    open end. The open ends are the ports ``"input"`` (left) and ``"output"`` (right).
+
+    The four re-entrant corners where the conduits meet the disk are rounded with
+    ``corner_radius`` [m] (0 keeps them sharp). A sharp re-entrant corner makes the current
+    density diverge there (as r^(−1/3)), and the drift then drives skyrmions into the wall
+    faster than the wall law can push them back; lithographed devices have rounded corners.
+    """
+    d = _positive("chamber_diameter", chamber_diameter)
+    w = _positive("conduit_width", conduit_width)
+    length = _positive("conduit_length", conduit_length)
+    require(w < d, "conduit_width", w, f"a width smaller than the chamber diameter ({d} m)")
+    r = d / 2 * M_TO_NM
+    half_w = w / 2 * M_TO_NM
+    cx, cy = np.asarray(center, float) * M_TO_NM
+    # x where the conduit edges (y = ±w/2) meet the circle; the conduit overlaps the disk
+    # from there to a little past it, so the union is one region.
+    x_meet = math.sqrt(r * r - half_w * half_w)
+    x_end = x_meet + length * M_TO_NM
+    chamber = _circle(cx, cy, r)
+    overlap = 0.5 * (r - x_meet) + 1.0
+    left = box(cx - x_end, cy - half_w, cx - x_meet + overlap, cy + half_w)
+    right = box(cx + x_meet - overlap, cy - half_w, cx + x_end, cy + half_w)
+    region = unary_union([chamber, left, right])
+    require(
+        corner_radius >= 0 and math.isfinite(corner_radius),
+        "corner_radius",
+        corner_radius,
+        "a radius >= 0 in metres",
+    )
+    if corner_radius > 0:
+        # A closing (grow, then shrink) fills re-entrant corners with arcs. Only its material
+        # near the four junctions is added, so every other vertex (the conduit ends with
+        # their ports) stays exactly where it was.
+        rad = corner_radius * M_TO_NM
+        segs = _circle_segments(rad)
+        closed = region.buffer(rad, quad_segs=segs, join_style="mitre").buffer(
+            -rad, quad_segs=segs, join_style="round"
+        )
+        junctions = unary_union(
+            [
+                Point(cx + sx * x_meet, cy + sy * half_w).buffer(3 * rad)
+                for sx in (-1, 1)
+                for sy in (-1, 1)
+            ]
+        )
+        region = unary_union([region, closed.intersection(junctions)])
+    outline = Outline(region)
+    outline = outline._with_port_nm(
+        "input", LineString([(cx - x_end, cy - half_w), (cx - x_end, cy + half_w)])
+    )
+    return outline._with_port_nm(
+        "output", LineString([(cx + x_end, cy - half_w), (cx + x_end, cy + half_w)])
+    )
+
+
+def random_positions(
+    outline: Outline,
+    count: int,
+    min_separation_nm: float,
+    min_wall_distance_nm: float,
+    rng: np.random.Generator,
+    max_tries: int = 200_000,
+) -> np.ndarray:
+    """``count`` random points [nm] inside ``outline``, pairwise ≥ ``min_separation_nm`` apart
+    and ≥ ``min_wall_distance_nm`` from walls (random sequential addition).
+
+    Raises :class:`InputError` if the points do not fit.
+    """
+    x0, y0, x1, y1 = outline.bounds_nm
+    points = np.empty((0, 2))
+    tries = 0
+    while len(points) < count:
+        batch = rng.uniform((x0, y0), (x1, y1), size=(256, 2))
+        inside = outline.contains_nm(batch[:, 0], batch[:, 1])
+        batch = batch[inside]
+        if len(batch):
+            far = outline.wall_distance_nm(batch[:, 0], batch[:, 1]) >= min_wall_distance_nm
+            batch = batch[far]
+        for p in batch:
+            tries += 1
+            if len(points) == 0 or np.min(np.hypot(*(points - p).T)) >= min_separation_nm:
+                points = np.vstack([points, p])
+                if len(points) == count:
+                    break
+        tries += 1
+        if tries > max_tries:
+            raise InputError(
+                "skyrmions.count",
+                count,
+                f"fewer skyrmions: only {len(points)} fit at {min_separation_nm:.1f} nm separation",
+            )
+    return points

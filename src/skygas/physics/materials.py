@@ -1,0 +1,444 @@
+"""Materials: the paper's presets S1–S7, user materials from TOML, and the Thiele parameters
+derived from a material and a film thickness.
+
+Everything here is SI at the interface. The derived :class:`ThieleParameters` carry both SI values
+(for records) and the internal nm/ns/pN values the engine uses (see :mod:`skygas.core.units`).
+
+Derivations (docs/physics.md §1, with its sign convention):
+
+- ``k = M_s t_F / γ`` [kg/s], γ = 1.7595e11 rad/(s·T).
+- ``G = −4π Q k`` with Q = (1/4π)∫ n·(∂x n × ∂y n) dA (−1 for the paper's skyrmion, so G > 0);
+  ``G = 0`` for an antiferromagnetic skyrmion.
+- ``𝒟 ≈ 2π (R/Δ + Δ/R)`` (thin-wall estimate) with wall width Δ = √(A_ex/K_u), unless given.
+- ``F₀ = A_ex t_F / d_sk`` (exchange force scale), unless given.
+- free diffusion ``D = k_B T α𝒟 / (k (G̃² + (α𝒟)²))`` with G̃ = G/k.
+
+A calibrated material (``skygas calibrate``'s ``model.toml``) may carry more: the film thickness
+its laws were measured for (any other thickness is refused), its own γ, tabulated pair and wall
+laws (:class:`ForceTableSpec`) and the profile of its skyrmion for the edge stray field
+(:class:`StrayFieldSpec`; docs/physics.md §2, "Tabulated laws and the edge stray field").
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import asdict, dataclass
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+from skygas.core import units
+from skygas.core.config_types import PositiveFloat
+from skygas.core.errors import InputError
+
+#: The film thickness [m] of a material that does not name its own (the paper's 2 nm).
+DEFAULT_FILM_THICKNESS = 2e-9
+
+FinitePositive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+
+#: Relative difference of two film thicknesses above which they are different films.
+FILM_THICKNESS_RTOL = 1e-9
+#: Largest deficit 1 − m_z accepted at a profile's last radius: w is taken as 0 beyond it, so
+#: the profile must have decayed there (1 % of the core's 2).
+PROFILE_TAIL_MAX = 0.02
+
+
+def _strictly_increasing(values: tuple[float, ...], name: str) -> None:
+    if any(b <= a for a, b in zip(values, values[1:], strict=False)):
+        raise ValueError(f"{name} must be strictly increasing")
+
+
+class ForceTableSpec(BaseModel):
+    """A tabulated repulsive force law in physical units (a calibrated model's pair or wall law).
+
+    Attributes
+    ----------
+    distance: centre–centre distance (pair) or distance from the skyrmion's centre to the
+        nearest wall (wall) [m]; at least 4 points, strictly increasing, ≥ 0.
+    force: |F| at those distances [N]; finite, ≥ 0.
+
+    The engine interpolates it with PCHIP, holds it at ``force[0]`` below the first distance and
+    sets it to 0 beyond the last (:func:`skygas.physics.forces.tabulated_law`). The table is in SI,
+    not in units of d_sk and F₀: overriding either never changes a tabulated law.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    distance: tuple[float, ...]
+    force: tuple[float, ...]
+
+    @field_validator("distance")
+    @classmethod
+    def _distances(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if len(value) < 4:
+            raise ValueError("at least 4 distances (m)")
+        if value[0] < 0:
+            raise ValueError("distances (m) must be >= 0")
+        _strictly_increasing(value, "distance")
+        return value
+
+    @field_validator("force")
+    @classmethod
+    def _forces(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if any(f < 0 for f in value):
+            raise ValueError("forces (N) must be >= 0 (a repulsion's magnitude)")
+        return value
+
+    @model_validator(mode="after")
+    def _same_length(self):
+        if len(self.force) != len(self.distance):
+            raise ValueError(
+                f"force needs one value per distance ({len(self.distance)}), not {len(self.force)}"
+            )
+        return self
+
+
+class StrayFieldSpec(BaseModel):
+    """The isolated skyrmion's radial profile, for its energy in the film's edge stray field.
+
+    Attributes
+    ----------
+    profile_radius: radii ρ [m], strictly increasing from 0 (at least 2).
+    profile_deficit: w(ρ) = 1 − m_z at those radii (dimensionless): 2 at a fully reversed core,
+        decaying to ~0 (at most PROFILE_TAIL_MAX) at the last radius; linearly interpolated and
+        0 beyond the last radius (:mod:`skygas.fields.landscape.stray_field`).
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    profile_radius: tuple[float, ...]
+    profile_deficit: tuple[float, ...]
+
+    @field_validator("profile_radius")
+    @classmethod
+    def _radii(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if len(value) < 2:
+            raise ValueError("at least 2 radii (m)")
+        if value[0] != 0:
+            raise ValueError("radii (m) must start at 0 (the skyrmion's centre)")
+        _strictly_increasing(value, "profile_radius")
+        return value
+
+    @field_validator("profile_deficit")
+    @classmethod
+    def _deficits(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if any(not 0 <= w <= 2 for w in value):
+            raise ValueError("deficits 1 - m_z between 0 and 2")
+        if value and value[-1] > PROFILE_TAIL_MAX:
+            raise ValueError(
+                f"a deficit that has decayed to <= {PROFILE_TAIL_MAX} at the last "
+                "radius (it is taken as 0 beyond)"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _same_length(self):
+        if len(self.profile_deficit) != len(self.profile_radius):
+            raise ValueError(
+                f"profile_deficit needs one value per radius "
+                f"({len(self.profile_radius)}), not {len(self.profile_deficit)}"
+            )
+        return self
+
+
+class Material(BaseModel):
+    """A magnetic film and its fitted particle-model laws (SI units).
+
+    Attributes
+    ----------
+    name: preset or user name.
+    saturation_magnetization: M_s [A/m].
+    exchange_stiffness: A_ex [J/m].
+    dmi: interfacial DMI constant D [J/m²] (recorded; the particle model does not use it).
+    anisotropy: uniaxial anisotropy K_u [J/m³].
+    applied_field: out-of-plane field B [T] (recorded only).
+    skyrmion_radius: R_sk [m]; the laws' length unit is the diameter 2 R_sk.
+    damping: Gilbert damping α.
+    pair_law: [a2, a1, a0] of the skyrmion–skyrmion law (docs/physics.md §2).
+    wall_law: wall-law polynomial p(d), highest power first.
+    topological_charge: Q = ±1 (standard micromagnetic sign).
+    antiferromagnetic: if true, the gyrocoupling vanishes (G = 0).
+    dissipation: dimensionless 𝒟; ``None`` uses the thin-wall estimate.
+    wall_width: Δ [m]; ``None`` uses √(A_ex/K_u).
+    film_thickness: t_F [m] the laws were measured for (a calibrated model); ``None``: any
+        film (default 2 nm). When set, a run in another film is refused.
+    gyromagnetic_ratio: γ [rad/(s·T)] for k = M_s t_F/γ; ``None`` uses
+        :data:`skygas.core.units.GYROMAGNETIC_RATIO`.
+    pair_table, wall_table: tabulated laws in SI (:class:`ForceTableSpec`), chosen by
+        ``forces.pair_law`` / ``forces.wall_law = "table"`` (the default when present).
+    stray_field: the skyrmion's profile (:class:`StrayFieldSpec`) for the edge stray-field
+        energy, added with a tabulated wall law (docs/physics.md §2).
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    name: str = "custom"
+    saturation_magnetization: PositiveFloat
+    exchange_stiffness: PositiveFloat
+    dmi: float = 0.0
+    anisotropy: PositiveFloat
+    applied_field: float = 0.0
+    skyrmion_radius: PositiveFloat
+    damping: PositiveFloat = 0.1
+    pair_law: tuple[float, float, float]
+    wall_law: tuple[float, ...]
+    topological_charge: Literal[-1, 1] = -1
+    antiferromagnetic: bool = False
+    dissipation: PositiveFloat | None = None
+    wall_width: PositiveFloat | None = None
+    film_thickness: FinitePositive | None = None
+    gyromagnetic_ratio: FinitePositive | None = None
+    pair_table: ForceTableSpec | None = None
+    wall_table: ForceTableSpec | None = None
+    stray_field: StrayFieldSpec | None = None
+
+    @field_validator("wall_law")
+    @classmethod
+    def _wall_law_grows(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if len(value) < 2:
+            raise ValueError("needs at least two coefficients (highest power first)")
+        if value[0] <= 0:
+            raise ValueError(
+                "leading (highest-power) coefficient must be > 0 so that the wall force "
+                "decays away from the wall; coefficients are highest power first"
+            )
+        return value
+
+    @property
+    def skyrmion_diameter(self) -> float:
+        """d_sk = 2 R_sk [m]."""
+        return 2.0 * self.skyrmion_radius
+
+    def antiferromagnetic_variant(self) -> Material:
+        """The same material with G = 0 (an antiferromagnetic skyrmion, paper §Reshuffler)."""
+        return self.model_copy(update={"antiferromagnetic": True, "name": f"{self.name}-AFM"})
+
+
+@cache
+def _preset_table() -> dict[str, dict]:
+    text = resources.files("skygas").joinpath("data/materials.toml").read_text()
+    table = tomllib.loads(text)
+    defaults = table.pop("defaults")
+    return {name: {**defaults, **row, "name": name} for name, row in table.items()}
+
+
+def preset_names() -> list[str]:
+    """Names of the built-in material presets (S1–S7)."""
+    return sorted(_preset_table())
+
+
+def preset(name: str) -> Material:
+    """A built-in material preset by name (``"S1"`` … ``"S7"``)."""
+    table = _preset_table()
+    if name not in table:
+        raise InputError("material", name, f"one of {', '.join(sorted(table))} or a TOML file")
+    return Material(**table[name])
+
+
+def material_from_mapping(data: dict, field: str = "material") -> Material:
+    """Build a :class:`Material` from a mapping, optionally starting from a preset.
+
+    A key ``base = "S2"`` starts from that preset and overrides only the keys given.
+    """
+    data = dict(data)
+    base = data.pop("base", None)
+    if base is not None:
+        data = {**_preset_table()[preset(base).name], **data}
+    try:
+        return Material(**data)
+    except ValidationError as err:
+        first = err.errors()[0]
+        loc = ".".join(str(p) for p in first["loc"])
+        raise InputError(
+            f"{field}.{loc}" if loc else field, first.get("input"), first["msg"]
+        ) from None
+
+
+def load_material(source: str | Path | dict | Material) -> Material:
+    """A material from a preset name, a TOML file path, a mapping, or a Material."""
+    if isinstance(source, Material):
+        return source
+    if isinstance(source, dict):
+        return material_from_mapping(source)
+    text = str(source)
+    if text in _preset_table():
+        return preset(text)
+    path = Path(text)
+    if path.suffix == ".toml" and path.is_file():
+        data = tomllib.loads(path.read_text())
+        return material_from_mapping(data.get("material", data), field=f"{path.name}:material")
+    raise InputError(
+        "material", text, f"a preset ({', '.join(preset_names())}) or an existing .toml file"
+    )
+
+
+def thin_wall_dissipation(radius: float, wall_width: float) -> float:
+    """Thin-wall estimate of the dissipation integral, 𝒟 ≈ 2π (R/Δ + Δ/R) (dimensionless)."""
+    return 2.0 * math.pi * (radius / wall_width + wall_width / radius)
+
+
+@dataclass(frozen=True)
+class ThieleParameters:
+    """Coefficients of the Thiele equation for one material and film (SI units).
+
+    (G ε + α𝒟k I)·ẋ = μ (G ε + η𝒟k I)·v_s + F_th + F_ss + F_wall
+
+    Attributes
+    ----------
+    k: M_s t_F / γ [kg/s].
+    gyrocoupling: G [kg/s] (= −4πQk, or 0 for antiferromagnets).
+    dissipation: 𝒟 (dimensionless).
+    damping: α.
+    eta: η, the non-adiabatic drive parameter (paper: η = α).
+    mu: μ, the drive intensity (paper: μ = 1).
+    force_scale: F₀ [N].
+    skyrmion_diameter: d_sk [m], the length unit of the force laws.
+    film_thickness: t_F [m].
+    """
+
+    k: float
+    gyrocoupling: float
+    dissipation: float
+    damping: float
+    eta: float
+    mu: float
+    force_scale: float
+    skyrmion_diameter: float
+    film_thickness: float
+
+    @property
+    def friction(self) -> float:
+        """α𝒟k [kg/s], the dissipative coefficient."""
+        return self.damping * self.dissipation * self.k
+
+    def diffusion_constant(self, temperature: float) -> float:
+        """Free diffusion constant D [m²/s]; ⟨|Δx|²⟩ = 4 D t in 2D (docs/physics.md §1)."""
+        a, g = self.friction, self.gyrocoupling
+        return units.BOLTZMANN * temperature * a / (a * a + g * g)
+
+    def hall_angle(self) -> float:
+        """Skyrmion Hall angle [rad] of the drift under a uniform v_s (see engine docs)."""
+        a, g = self.friction, self.gyrocoupling
+        b = self.eta * self.dissipation * self.k
+        # velocity = μ (aI − gε)(gε + bI) v_s / (a² + g²) = μ [(ab + g²) I + g(a − b) ε] v_s
+        # / (a² + g²); for v_s = x̂ (ε x̂ = −ŷ) the components are:
+        vx = (a * b + g * g) / (a * a + g * g)
+        vy = g * (b - a) / (a * a + g * g)
+        return math.atan2(vy, vx)
+
+    def as_record(self) -> dict[str, float]:
+        """Flat dict for result attributes (SI, names with units)."""
+        return {f"thiele_{key}": value for key, value in asdict(self).items()}
+
+    # Internal-unit views used by the engine -----------------------------------------------
+    @property
+    def friction_internal(self) -> float:
+        return self.friction * units.KG_PER_S_TO_INTERNAL
+
+    @property
+    def gyrocoupling_internal(self) -> float:
+        return self.gyrocoupling * units.KG_PER_S_TO_INTERNAL
+
+    @property
+    def drive_friction_internal(self) -> float:
+        """η𝒟k in pN·ns/nm."""
+        return self.eta * self.dissipation * self.k * units.KG_PER_S_TO_INTERNAL
+
+    @property
+    def force_scale_internal(self) -> float:
+        return self.force_scale * units.N_TO_PN
+
+    @property
+    def skyrmion_diameter_internal(self) -> float:
+        return self.skyrmion_diameter * units.M_TO_NM
+
+
+def resolve_film_thickness(
+    material: Material, film_thickness: float | None = None, field: str = "film_thickness"
+) -> float:
+    """The film thickness t_F [m] of a run of ``material``.
+
+    ``None`` takes the material's own ``film_thickness`` (a calibrated model), else
+    :data:`DEFAULT_FILM_THICKNESS`. A material calibrated for one film refuses any other
+    (relative difference above :data:`FILM_THICKNESS_RTOL`): its laws hold for that film only.
+    """
+    if film_thickness is None:
+        own = material.film_thickness
+        return DEFAULT_FILM_THICKNESS if own is None else own
+    mismatch = film_mismatch(material, film_thickness)
+    if mismatch is not None:
+        raise InputError(field, film_thickness, mismatch)
+    return film_thickness
+
+
+def film_mismatch(material: Material, film_thickness: float) -> str | None:
+    """What is allowed instead of ``film_thickness`` [m] for ``material``, or ``None`` if it is
+    allowed (any film for a material without ``film_thickness``)."""
+    own = material.film_thickness
+    if own is None or abs(film_thickness - own) <= FILM_THICKNESS_RTOL * own:
+        return None
+    return (
+        f"the {own:g} m film the model '{material.name}' was calibrated for "
+        "(leave film_thickness out to take it)"
+    )
+
+
+def derive_thiele(
+    material: Material,
+    film_thickness: float | None = None,
+    *,
+    dissipation: float | None = None,
+    force_scale: float | None = None,
+    skyrmion_diameter: float | None = None,
+    eta: float | None = None,
+    mu: float = 1.0,
+) -> ThieleParameters:
+    """Thiele coefficients of ``material`` in a film of ``film_thickness`` [m].
+
+    Arguments left ``None`` take the defaults of docs/physics.md §4: t_F from the material (a
+    calibrated model; :func:`resolve_film_thickness`) or 2 nm, 𝒟 from the material (or the
+    thin-wall estimate), F₀ = A_ex t_F / d_sk, d_sk = 2 R_sk, η = α; γ in k = M_s t_F/γ is the
+    material's ``gyromagnetic_ratio`` or :data:`skygas.core.units.GYROMAGNETIC_RATIO`.
+    """
+    if film_thickness is not None and not film_thickness > 0:
+        raise InputError("film_thickness", film_thickness, "a thickness > 0 in metres")
+    film_thickness = resolve_film_thickness(material, film_thickness)
+    gamma = material.gyromagnetic_ratio or units.GYROMAGNETIC_RATIO
+    k = material.saturation_magnetization * film_thickness / gamma
+    gyro = 0.0 if material.antiferromagnetic else -4.0 * math.pi * material.topological_charge * k
+    if dissipation is None:
+        dissipation = material.dissipation
+    if dissipation is None:
+        width = material.wall_width or math.sqrt(material.exchange_stiffness / material.anisotropy)
+        dissipation = thin_wall_dissipation(material.skyrmion_radius, width)
+    if not dissipation > 0:
+        raise InputError("dissipation", dissipation, "a dimensionless 𝒟 > 0")
+    diameter = skyrmion_diameter if skyrmion_diameter is not None else material.skyrmion_diameter
+    if not diameter > 0:
+        raise InputError("skyrmion_diameter", diameter, "a diameter > 0 in metres")
+    if force_scale is None:
+        force_scale = material.exchange_stiffness * film_thickness / diameter
+    if not force_scale > 0:
+        raise InputError("force_scale", force_scale, "a force > 0 in newtons")
+    return ThieleParameters(
+        k=k,
+        gyrocoupling=gyro,
+        dissipation=float(dissipation),
+        damping=material.damping,
+        eta=material.damping if eta is None else float(eta),
+        mu=float(mu),
+        force_scale=float(force_scale),
+        skyrmion_diameter=float(diameter),
+        film_thickness=float(film_thickness),
+    )

@@ -1,0 +1,219 @@
+"""Figures of geometries, trajectories and current flow (matplotlib, Agg backend; no display
+needed). The physics modules compute; the figures of their results live here."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from skygas.fields.current import CurrentSolution
+from skygas.physics.geometry import Outline
+
+
+def draw_outline(ax, outline: Outline, scale: float = 1e-3, labels: bool = True) -> None:
+    """Walls in black, ports in red; coordinates shown in µm (``scale`` µm per nm). With
+    ``labels``, each port's name sits just outside the device, beside the port, on a white
+    ground, so it covers neither the wall nor a colour bar beside the axes."""
+    walls = outline.walls
+    for part in getattr(walls, "geoms", [walls]):
+        xy = np.asarray(part.coords) * scale
+        ax.plot(xy[:, 0], xy[:, 1], color="black", lw=1.5)
+    for name, seg in outline.ports.items():
+        xy = np.asarray(seg.coords) * scale
+        ax.plot(xy[:, 0], xy[:, 1], color="tab:red", lw=2.5)
+        if labels:
+            _label_port(ax, outline, name, xy, scale)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (µm)")
+    ax.set_ylabel("y (µm)")
+
+
+def _label_port(ax, outline: Outline, name: str, xy: np.ndarray, scale: float) -> None:
+    """The port's name, offset from the port's middle along its outward normal."""
+    mid = xy.mean(axis=0)
+    tangent = xy[-1] - xy[0]
+    normal = np.array([tangent[1], -tangent[0]]) / max(np.hypot(*tangent), 1e-12)
+    probe = (mid + 1e-3 * normal) / scale
+    if outline.contains_nm(probe[0], probe[1]):
+        normal = -normal  # point away from the device
+    ax.annotate(
+        name,
+        mid,
+        xytext=12 * normal,
+        textcoords="offset points",
+        color="tab:red",
+        fontsize=7,
+        ha="left" if normal[0] > 0.5 else "right" if normal[0] < -0.5 else "center",
+        va="center",
+        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
+    )
+
+
+def landscape_energy(
+    field, outline: Outline | None = None, all_terms: bool = True
+) -> tuple[np.ndarray, str] | None:
+    """The landscape's energy U on its grid (ny, nx) in plotting units, and their label: U/k_BT
+    at the field's temperature (zJ at T = 0), NaN outside ``outline``. ``all_terms`` draws
+    every term, switched-off ones (an open gate) included. None without terms."""
+    from skygas.core import units
+
+    if field is None or not field.terms:
+        return None
+    enabled = list(field.enabled)
+    try:
+        for k in range(len(enabled)):
+            field.set_enabled(k, True if all_terms else enabled[k])
+        u = field.nodes[..., 0].copy()  # pN·nm
+    finally:
+        for k, on in enumerate(enabled):
+            field.set_enabled(k, on)
+    if field.temperature > 0:
+        u /= units.thermal_energy_internal(field.temperature)
+        label = f"U (k_BT, T = {field.temperature:g} K)"
+    else:
+        u *= 1e21 / units.J_TO_PN_NM
+        label = "U (zJ)"
+    if outline is not None:
+        gx, gy = field.grid.nodes()
+        u = np.where(outline.contains_nm(gx, gy), u, np.nan)
+    return u, label
+
+
+def draw_landscape(
+    ax,
+    field,
+    outline: Outline | None = None,
+    all_terms: bool = True,
+    cmap: str = "cividis",
+    colorbar: bool = True,
+):
+    """Draw an energy landscape (:class:`~skygas.fields.landscape.LandscapeField`) on ``ax`` as an
+    image in µm, coloured by U/k_BT (:func:`landscape_energy`), with a labelled colour bar;
+    returns the image, or None when there is no landscape to draw."""
+    energy = landscape_energy(field, outline, all_terms)
+    if energy is None:
+        return None
+    u, label = energy
+    grid = field.grid
+    extent = np.array(
+        [
+            grid.x0 - grid.spacing / 2,
+            grid.x0 + grid.spacing * (grid.nx - 0.5),
+            grid.y0 - grid.spacing / 2,
+            grid.y0 + grid.spacing * (grid.ny - 0.5),
+        ]
+    )
+    image = ax.imshow(u, origin="lower", extent=extent * 1e-3, cmap=cmap, interpolation="nearest")
+    if colorbar:
+        ax.figure.colorbar(image, ax=ax, label=label, shrink=0.7)
+    return image
+
+
+def draw_tracks(ax, ds: xr.Dataset, max_tracks: int, color=None, ends: bool = True) -> None:
+    """Recorded trajectories in µm, one line each (start ○, end ● when ``ends``)."""
+    x = ds.x.values * 1e6
+    y = ds.y.values * 1e6
+    for k in range(min(x.shape[1], max_tracks)):
+        ok = np.isfinite(x[:, k])
+        if ok.sum() < 1:
+            continue
+        (line,) = ax.plot(x[ok, k], y[ok, k], lw=0.7, alpha=0.8, color=color)
+        if ends:
+            ax.plot(x[ok, k][0], y[ok, k][0], "o", mfc="none", color=line.get_color(), ms=3)
+            ax.plot(x[ok, k][-1], y[ok, k][-1], "o", color=line.get_color(), ms=3)
+
+
+def plot_trajectories(
+    ds: xr.Dataset,
+    outline: Outline,
+    path: str | Path,
+    max_tracks: int = 200,
+    title: str | None = None,
+    landscape=None,
+) -> Path:
+    """Save a PNG of the outline with the recorded trajectories (start ○, end ●), over the
+    energy ``landscape`` (a :class:`~skygas.fields.landscape.LandscapeField`) when there is one."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.5 if landscape is not None and landscape.terms else 6, 5.5), dpi=120)
+    ax = fig.add_subplot()
+    draw_landscape(ax, landscape, outline)
+    draw_outline(ax, outline)
+    draw_tracks(ax, ds, max_tracks)
+    ax.set_title(
+        title
+        or f"{ds.sizes.get('skyrmion', 0)} skyrmions, "
+        f"{ds.attrs.get('temperature_K', '?')} K, "
+        f"{ds.time.values[-1] * 1e9:.0f} ns"
+        if len(ds.time)
+        else "no frames"
+    )
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path)
+    return path
+
+
+def draw_current(
+    ax, solution: CurrentSolution, outline: Outline, scale: float = 1e-3, streamlines: bool = True
+):
+    """|j| map (A/m², log colour scale) with stream lines and the outline, in µm (``scale`` µm
+    per nm). Returns the image for a colour bar."""
+    from matplotlib.colors import LogNorm
+
+    jx, jy, inside, (x0, x1, y0, y1) = solution.cell_current_density
+    magnitude = np.where(inside, np.hypot(jx, jy), np.nan)
+    positive = magnitude[np.isfinite(magnitude) & (magnitude > 0)]
+    norm = None
+    if positive.size:
+        top = float(positive.max())
+        norm = LogNorm(vmin=max(float(positive.min()), top * 1e-3), vmax=top)
+    image = ax.imshow(
+        magnitude,
+        origin="lower",
+        extent=(x0 * scale, x1 * scale, y0 * scale, y1 * scale),
+        cmap="viridis",
+        norm=norm,
+        interpolation="nearest",
+    )
+    if streamlines and positive.size:
+        ny, nx = magnitude.shape
+        xs = (x0 + (x1 - x0) / nx * (np.arange(nx) + 0.5)) * scale  # cell centres
+        ys = (y0 + (y1 - y0) / ny * (np.arange(ny) + 0.5)) * scale
+        ax.streamplot(
+            xs,
+            ys,
+            np.where(inside, jx, np.nan),
+            np.where(inside, jy, np.nan),
+            color="white",
+            linewidth=0.5,
+            density=1.2,
+            arrowsize=0.6,
+        )
+    draw_outline(ax, outline, scale)
+    return image
+
+
+def plot_current(
+    solution: CurrentSolution, outline: Outline, path: str | Path, title: str | None = None
+) -> Path:
+    """Save a PNG of the current density map (:func:`draw_current`); returns the path."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.5, 5.5), dpi=120)
+    ax = fig.add_subplot()
+    image = draw_current(ax, solution, outline)
+    fig.colorbar(image, ax=ax, label="|j| (A/m²)")
+    ax.set_title(
+        title
+        or (
+            f"J = {solution.current_density:.3g} A/m², "
+            f"R = {solution.resistance:.3g} Ω, P = {solution.power:.3g} W"
+        ),
+        fontsize=9,
+    )
+    path = Path(path)
+    fig.savefig(path)
+    return path

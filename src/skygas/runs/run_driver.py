@@ -1,0 +1,393 @@
+"""One driver for every long run: progress bar, periodic checkpoints, interruption, resume.
+
+A *job* (``skygas simulate``, ``reshuffle``, ``neuron``, ``saturation``) is cut into *pieces*
+of work; between two pieces its state is consistent (the compiled kernel has returned, every
+Python record of the piece is complete). :func:`drive` runs the pieces and owns everything
+around them:
+
+- the progress bar (``tqdm``, in the job's unit of work, usually simulated time);
+- periodic checkpoints: ``OUT/checkpoint.npz``, saved after the first piece that ends more
+  than ``checkpoint_seconds`` of wall time after the previous save, through a temporary file
+  and :func:`os.replace`, so a crash (even SIGKILL) leaves the previous checkpoint intact;
+- interruption: while the job runs, SIGINT (Ctrl-C) and SIGTERM only raise a flag. The flag is
+  looked at after each piece, where the state is consistent; the driver then saves the
+  checkpoint and raises :class:`RunInterrupted` (the command line prints how to resume and
+  exits with 128 + the signal number, 130 for Ctrl-C). A second signal before the piece ends
+  stops at once without saving (the last periodic checkpoint stays valid). The previous
+  handlers are restored when the job stops;
+- resume: ``resume=True`` loads the checkpoint if there is one, after checking that it was
+  written by the same configuration (a fingerprint of the validated configuration); a run
+  resumed from a checkpoint is bit-identical to one left alone, because pieces start at fixed
+  steps and every random stream is part of the state;
+- results: the job's :meth:`Job.finish` is the one place where result files are written (each
+  through :func:`write_atomic`); the checkpoint is removed only after it has returned;
+- the output folder: finished results, an interrupted run (a checkpoint) or another command's
+  results (``OUT/manifest.json``, :mod:`skygas.runs.manifest`) are never replaced silently:
+  ``resume=True`` continues an interrupted run, ``overwrite=True`` starts again in place of the
+  job's own result files and checkpoint (nothing else in the folder is deleted). The manifest
+  is written when the run starts and completed when its results are written.
+
+The checkpoint records the configuration, the seed and the skygas version besides the state.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from skygas._version import __version__
+from skygas.core.errors import InputError, RunInterrupted
+
+CHECKPOINT = "checkpoint.npz"
+
+
+class Job(Protocol):
+    """What :func:`drive` needs from a run.
+
+    ``work_total`` and :meth:`work_done` measure the run in ``work_unit`` (e.g. ``"µs"`` of
+    simulated time, or ``"runs"``); the job is finished when ``work_done() >= work_total``.
+    :meth:`advance_piece` does one piece and returns with the state consistent;
+    :meth:`state_dict` holds NumPy arrays only (what :func:`numpy.savez` stores) and
+    :meth:`load_state_dict` restores it; :meth:`config_json` is the validated configuration
+    (its hash tells whether a checkpoint belongs to this run); :meth:`finish` writes the
+    results into the output directory and returns what the caller reports; ``result_files``
+    names the files whose presence means a finished run (never overwritten). The driver only
+    reads ``work_total``, ``work_unit`` and ``result_files`` (a job may compute
+    ``work_total`` as it goes, in a property)."""
+
+    @property
+    def work_total(self) -> float: ...
+
+    @property
+    def work_unit(self) -> str: ...
+
+    @property
+    def result_files(self) -> tuple[str, ...]: ...
+
+    def work_done(self) -> float: ...
+
+    def advance_piece(self) -> None: ...
+
+    def state_dict(self) -> dict[str, np.ndarray]: ...
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None: ...
+
+    def config_json(self) -> str: ...
+
+    def seed(self) -> int: ...
+
+    def finish(self, out_dir: Path) -> Any: ...
+
+
+class PiecewiseRunJob:
+    """A :class:`Job` for a device run that already steps in pieces: ``run`` has ``sim`` (the
+    :class:`~skygas.engine.Simulation`), ``total_steps``, ``advance_piece()`` and
+    ``state_dict()`` / ``load_state_dict()``; ``config`` is its validated pydantic
+    configuration (with a ``seed``). Work is simulated time in ``work_unit`` (``time_scale``
+    units per second). Subclasses add :meth:`finish`."""
+
+    work_unit = "ns"
+    time_scale = 1e9
+
+    def __init__(self, config, run):
+        self.config = config
+        self.run = run
+        self.work_total = self._time(run.total_steps)
+
+    def _time(self, steps: int) -> float:
+        return steps * self.run.sim.time_step * self.time_scale
+
+    def work_done(self) -> float:
+        return self._time(self.run.sim.step)
+
+    def advance_piece(self) -> None:
+        self.run.advance_piece()
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        return self.run.state_dict()
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.run.load_state_dict(state)
+
+    def config_json(self) -> str:
+        return self.config.model_dump_json()
+
+    def seed(self) -> int:
+        return self.config.seed
+
+
+def fingerprint(config_json: str) -> str:
+    """A hash of a configuration's JSON: a checkpoint only resumes the run that wrote it."""
+    return hashlib.sha256(config_json.encode()).hexdigest()[:16]
+
+
+# -- atomic files -----------------------------------------------------------------------------
+def write_atomic(path: str | Path, write: Callable[[Path], Any]) -> Path:
+    """Call ``write(tmp)`` on a temporary path beside ``path``, then rename it to ``path``: a
+    finished file is never partial, whatever stops the process. The temporary name keeps the
+    suffix (writers such as :func:`numpy.savez` and matplotlib choose the format by it)."""
+    path = Path(path)
+    tmp = partial_path(path)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return path
+
+
+def run_record(job: Job) -> dict[str, str]:
+    """What every file of a run records: the skygas version, the seed and the configuration."""
+    return {
+        "skygas_version": __version__,
+        "seed": str(job.seed()),
+        "config_json": job.config_json(),
+    }
+
+
+def write_figure(path: str | Path, plot: Callable[[Path], Any], record: dict[str, str]) -> Path:
+    """Write the PNG that ``plot(tmp)`` draws, atomically, with ``record`` (see
+    :func:`run_record`) in its text chunks (``PIL.Image.open(path).text``)."""
+
+    def write(tmp: Path) -> None:
+        from PIL import Image, PngImagePlugin
+
+        plot(tmp)
+        info = PngImagePlugin.PngInfo()
+        for key, value in record.items():
+            info.add_itxt(key, value)  # international text: UTF-8 (µ, ², ...)
+        with Image.open(tmp) as image:
+            image.load()
+        image.save(tmp, format="PNG", pnginfo=info, dpi=image.info.get("dpi", (72, 72)))
+
+    return write_atomic(path, write)
+
+
+def partial_path(path: Path) -> Path:
+    """The temporary file :func:`write_atomic` writes before renaming it to ``path`` (a
+    process killed while writing leaves it behind)."""
+    return path.with_name(f".{path.stem}.partial{path.suffix}")
+
+
+def write_json(path: str | Path, data: Any, indent: int | None = 2) -> Path:
+    """Write ``data`` as JSON, atomically (non-JSON numbers are written as floats)."""
+    text = json.dumps(data, indent=indent, default=float)
+    return write_atomic(path, lambda tmp: tmp.write_text(text))
+
+
+def write_netcdf(ds, path: str | Path) -> Path:
+    """Write an xarray Dataset to netCDF, atomically."""
+    return write_atomic(path, lambda tmp: ds.to_netcdf(tmp))
+
+
+def json_array(value: Any) -> np.ndarray:
+    """A JSON-able value as a 0-d string array (how non-array state enters a checkpoint)."""
+    return np.array(json.dumps(value))
+
+
+def from_json_array(array: np.ndarray) -> Any:
+    return json.loads(str(array))
+
+
+# -- checkpoints --------------------------------------------------------------------------------
+def save_checkpoint(job: Job, path: Path) -> None:
+    """Save the job's state with its configuration, seed and version, atomically."""
+    config = job.config_json()
+    # Any values: typed as arrays, mypy would match the ``**`` below against savez's bool
+    # ``allow_pickle`` (the keys are array names; the assertion rules out a clash)
+    state: dict[str, Any] = job.state_dict()
+    meta: dict[str, Any] = {
+        "fingerprint": np.array(fingerprint(config)),
+        "config_json": np.array(config),
+        "seed": np.array(job.seed()),
+        "skygas_version": np.array(__version__),
+    }
+    clash = set(meta) & set(state)
+    assert not clash, f"job state uses reserved checkpoint keys {clash}"
+    write_atomic(path, lambda tmp: np.savez(tmp, **meta, **state))
+
+
+def load_checkpoint(job: Job, path: Path) -> None:
+    """Restore a checkpoint written by :func:`save_checkpoint` for the same configuration;
+    refuse one written by another configuration (:class:`InputError`)."""
+    with np.load(path, allow_pickle=False) as data:
+        if str(data["fingerprint"]) != fingerprint(job.config_json()):
+            raise InputError(
+                "--resume",
+                str(path),
+                "a checkpoint written by the same configuration and options "
+                "(this one belongs to another run: use another --out, or delete it "
+                "to start again)",
+            )
+        job.load_state_dict(
+            {
+                k: data[k]
+                for k in data.files
+                if k not in ("fingerprint", "config_json", "seed", "skygas_version")
+            }
+        )
+
+
+# -- signals ----------------------------------------------------------------------------------
+class _DeferredSignals:
+    """Turns SIGINT and SIGTERM into a flag (``received``) while active; a second signal raises
+    :class:`KeyboardInterrupt` at once. Outside the main thread signals cannot be handled, and
+    nothing is changed."""
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+    def __init__(self) -> None:
+        self.received: int | None = None
+        self._previous: dict = {}
+
+    def _handle(self, signum, frame) -> None:
+        if self.received is not None:
+            raise KeyboardInterrupt
+        self.received = signum
+
+    def __enter__(self) -> _DeferredSignals:
+        if threading.current_thread() is threading.main_thread():
+            for s in self.SIGNALS:
+                self._previous[s] = signal.signal(s, self._handle)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        for s, handler in self._previous.items():
+            signal.signal(s, handler)
+        self._previous.clear()
+
+
+@contextmanager
+def _progress_bar(job: Job, enabled: bool):
+    if not enabled:
+        yield lambda: None
+        return
+    from tqdm import tqdm
+
+    bar = tqdm(
+        total=round(job.work_total, 6),
+        unit=job.work_unit,
+        desc=getattr(job, "work_description", "simulated"),
+        leave=False,
+        initial=round(job.work_done(), 6),
+        bar_format=getattr(job, "progress_format", None),
+    )
+
+    def update() -> None:
+        bar.total = round(job.work_total, 6)  # a job may learn its size as it goes
+        bar.update(round(job.work_done(), 6) - bar.n)  # tqdm throttles the redraws
+
+    try:
+        yield update
+    finally:
+        bar.close()
+
+
+# -- the driver ---------------------------------------------------------------------------------
+def _prepare_folder(job: Job, out: Path, resume: bool, overwrite: bool) -> Path | None:
+    """Check what ``out`` holds before anything is written (see the module docstring);
+    return the checkpoint to resume from, if any. With ``overwrite``, the job's own result
+    files and checkpoint are removed (after every check has passed)."""
+    from skygas.runs import manifest
+
+    command = manifest.current_command(type(job).__name__)
+    manifest.claim(out, command, fingerprint(job.config_json()), overwrite=overwrite, resume=resume)
+    ckpt = out / CHECKPOINT
+    finished = [name for name in job.result_files if (out / name).exists()]
+    if overwrite and not (resume and ckpt.exists()):
+        for name in finished:
+            (out / name).unlink()
+        ckpt.unlink(missing_ok=True)
+        return None
+    if finished and not ckpt.exists():
+        raise InputError(
+            "--out",
+            str(out),
+            f"a folder without finished results ({finished[0]} is there)",
+            "add --overwrite to replace them, or choose another --out",
+        )
+    if ckpt.exists():
+        if not resume:
+            raise InputError(
+                "--out",
+                str(out),
+                f"a folder without an interrupted run ({ckpt.name} is there)",
+                "add --resume to continue it, --overwrite to start again, or choose another --out",
+            )
+        return ckpt
+    return None
+
+
+def drive(
+    job: Job,
+    out_dir: str | Path,
+    *,
+    resume: bool = False,
+    progress: bool = True,
+    checkpoint_seconds: float = 30.0,
+    overwrite: bool = False,
+    strict: bool = False,
+) -> Any:
+    """Run ``job`` to its end and return ``job.finish(out_dir)`` (see the module docstring).
+
+    ``resume``: continue from ``OUT/checkpoint.npz`` when there is one. Without it, an existing
+    checkpoint is refused (it holds an interrupted run that a fresh start would overwrite), and
+    so are finished results (``job.result_files``) and another command's folder.
+    ``overwrite``: replace the job's finished results (or its interrupted run, without
+    ``resume``) instead of refusing them.
+    ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece).
+    ``strict``: the sanity checks (:mod:`skygas.runs.sanity`) refuse the run (before it starts; wall
+    escapes once its results are written) instead of warning.
+    Raises :class:`RunInterrupted` after saving the checkpoint when SIGINT/SIGTERM arrives."""
+    from skygas.runs import manifest, sanity
+
+    if not (checkpoint_seconds >= 0):
+        raise InputError("checkpoint_seconds", checkpoint_seconds, "a wall time >= 0 in seconds")
+    sanity.before_run(job, strict)
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise InputError(
+            "--out", str(out), "a folder (this is an existing file)", "choose another --out"
+        )
+    resume_from = _prepare_folder(job, out, resume, overwrite) if out.is_dir() else None
+    out.mkdir(parents=True, exist_ok=True)
+    ckpt = out / CHECKPOINT
+    command = manifest.current_command(type(job).__name__)
+    config_hash = fingerprint(job.config_json())
+    started = time.time()
+    manifest.write(out, command, config_hash, started_at=started)
+    if resume_from is not None:
+        load_checkpoint(job, resume_from)
+    last_save = time.perf_counter()
+    with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
+        while job.work_done() < job.work_total:
+            job.advance_piece()
+            update()
+            if signals.received is not None:
+                save_checkpoint(job, ckpt)
+                raise RunInterrupted(signals.received, ckpt)
+            if (
+                job.work_done() < job.work_total
+                and time.perf_counter() - last_save >= checkpoint_seconds
+            ):
+                save_checkpoint(job, ckpt)
+                last_save = time.perf_counter()
+        if signals.received is not None:  # arrived while loading, or with nothing left to do
+            save_checkpoint(job, ckpt)
+            raise RunInterrupted(signals.received, ckpt)
+    result = job.finish(out)
+    manifest.write(out, command, config_hash, started_at=started, finished_at=time.time())
+    ckpt.unlink(missing_ok=True)
+    partial_path(ckpt).unlink(missing_ok=True)  # left by a process killed while saving
+    sanity.after_run(job, strict)
+    return result
