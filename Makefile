@@ -29,10 +29,12 @@ test: $(STAMP)
 	$(BIN)/python -m pytest -n 2 -q
 
 # The quality gate (.ci/run runs it before the tests): lint rules and layout (pyproject.toml,
-# [tool.ruff]). `make format` applies the layout and the safe fixes.
+# [tool.ruff]) and types (mypy with the pydantic plugin, [tool.mypy]). `make format` applies
+# the layout and the safe fixes.
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/ruff format --check src tests benchmarks examples
+	$(BIN)/mypy
 
 format: $(STAMP)
 	$(BIN)/ruff check --fix src tests benchmarks examples
