@@ -51,7 +51,8 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
     table = f" (the paper's table: {paper[1] / 2 * 1e9:.1f} nm)" if paper else ""
     out.append(
         f"The isolated skyrmion has a radius of {_nm(iso.radius)}{table}, a wall width of "
-        f"{_nm(iso.wall_width)} and an energy of {iso.energy:.4g} J above the uniform film; "
+        f"{_nm(iso.wall_width)} and an energy {abs(iso.energy):.4g} J "
+        f"{'above' if iso.energy >= 0 else 'below'} that of the uniform film; "
         f"Q = {iso.charge:+.4f}, so G = −4πQk = {iso.gyrocoupling:.4g} kg/s (k = {iso.k:.4g} "
         f"kg/s). Its dissipation is 𝒟 = {iso.dissipation:.3f}; the thin-wall estimate of the "
         f"presets, 2π(R/Δ₀ + Δ₀/R) with Δ₀ = √(A/K_u) = {_nm(m.bare_wall_width)}, gives "
@@ -237,7 +238,7 @@ def write_report(cal: Calibration, data: dict[str, Any], out: Path) -> Path:
                 html.escape(str([[round(x, 4) for x in row] for row in iso.dissipation_tensor])),
             ),
             ("𝒟 thin-wall estimate (presets)", f"{iso.thin_wall_dissipation:.4f}"),
-            ("energy above the uniform film", f"{iso.energy:.5g} J"),
+            ("energy relative to the uniform film", f"{iso.energy:.5g} J"),
             ("moment deficit ∫(1 − m_z) dA", f"{iso.moment_deficit:.4g} m²"),
         ]
     )
