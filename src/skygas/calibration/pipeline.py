@@ -67,8 +67,11 @@ class CalibrationJob:
             "finished": False,
         }
         self.llg_m: np.ndarray | None = None
-        #: stage -> [first start, last end], seconds since 1970 (the wall clock)
+        #: stage -> [first start, last end], in seconds of the run clock (:meth:`run_seconds`)
         self.timeline: dict[str, list[float]] = {}
+        #: wall time of the run so far: its earlier sessions' (checkpointed), then this one's
+        self._seconds_before = 0.0
+        self._session_start: float | None = None
         self._pool: Pool | None = None
         self._in_flight: dict[str, Any] = {}
         self._measured: dict[str, tuple | None] = {}
@@ -259,8 +262,18 @@ class CalibrationJob:
             tasks.append((s.name, "relax", (self.material_json, s, self.config.torque_tolerance)))
         return tasks
 
+    def run_seconds(self) -> float:
+        """Wall time spent running, over all sessions: an interrupted and resumed run does not
+        count the time it was stopped (the solves lost with the interruption count twice)."""
+        if self._session_start is None:
+            return self._seconds_before
+        return self._seconds_before + time.perf_counter() - self._session_start
+
     def advance_piece(self) -> None:
         from skygas.calibration import worker
+
+        if self._session_start is None:
+            self._session_start = time.perf_counter()
 
         if self.workers == 0:  # in this process (a GPU), one task per piece
             from skygas.calibration import solver
@@ -288,9 +301,10 @@ class CalibrationJob:
 
     def _record(self, key: str, result: dict[str, Any]) -> None:
         stage = key.split("/")[0]
-        now = time.time()  # epoch seconds: a resumed run's times continue its first run's
-        span = self.timeline.setdefault(stage, [now - result.get("seconds", 0.0), now])
-        span[0] = min(span[0], now - result.get("seconds", 0.0))
+        now = self.run_seconds()
+        began = max(0.0, now - result.get("seconds", 0.0))
+        span = self.timeline.setdefault(stage, [began, now])
+        span[0] = min(span[0], began)
         span[1] = now
         if key.startswith("llg/"):
             self.llg_m = result["m"]
@@ -319,6 +333,7 @@ class CalibrationJob:
             "results": json_array(self.results),
             "llg": json_array(self.llg),
             "timeline": json_array(self.timeline),
+            "run_seconds": np.float64(self.run_seconds()),
         }
         for name, texture in self.textures.items():
             state[f"texture:{name}"] = texture
@@ -330,6 +345,8 @@ class CalibrationJob:
         self.results = from_json_array(state["results"])
         self.llg = from_json_array(state["llg"])
         self.timeline = from_json_array(state["timeline"])
+        self._seconds_before = float(state["run_seconds"])
+        self._session_start = None
         self.textures = {
             k.split(":", 1)[1]: np.asarray(v) for k, v in state.items() if k.startswith("texture:")
         }

@@ -40,7 +40,6 @@ def provenance(job) -> dict[str, Any]:
         seconds[stage] = seconds.get(stage, 0.0) + result["seconds"]
     if job.llg["frames"]:
         seconds["validation LLG"] = job.llg["seconds"]
-    start = min((v[0] for v in job.timeline.values()), default=0.0)
     return {
         "skygas_version": __version__,
         "solver": "magnum.np field terms (finite differences, FFT stray field); "
@@ -58,8 +57,9 @@ def provenance(job) -> dict[str, Any]:
         "llg_tolerance": job.config.validation.llg_tolerance,
         "solves": len(job.results),
         "solver_seconds_by_stage": seconds,
-        "stage_spans_s": {k: [v[0] - start, v[1] - start] for k, v in job.timeline.items()},
-        "wall_seconds": max((v[1] for v in job.timeline.values()), default=start) - start,
+        # seconds of the run clock (CalibrationJob.run_seconds: wall time while running)
+        "stage_spans_s": {k: list(v) for k, v in job.timeline.items()},
+        "wall_seconds": job.run_seconds(),
         "llg_steps": job.llg["steps"],
         "written_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
