@@ -333,7 +333,7 @@ class CalibrationJob:
             "results": json_array(self.results),
             "llg": json_array(self.llg),
             "timeline": json_array(self.timeline),
-            "run_seconds": np.float64(self.run_seconds()),
+            "run_seconds": np.array(self.run_seconds()),
         }
         for name, texture in self.textures.items():
             state[f"texture:{name}"] = texture
