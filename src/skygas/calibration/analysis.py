@@ -311,20 +311,8 @@ def analyse(job) -> Calibration:
     if config.validate_dynamics and "validation/start" in job.results:
         from skygas.calibration.validation import compare
 
-        result = compare(
-            calibration.particle_material(stray_field=False),
-            job.validation_film(),
-            job.results["validation/start"]["skyrmions"],
-            job.llg["frames"],
-            diameter,
-            material.film_thickness,
-        )
-        calibration.validation = result
-        if result is not None and len(result.times) > 8:
-            # the same comparison restarted after the release (the hold let go at t = 0,
-            # the skyrmions take up the shape of moving ones): what remains is the model's
-            settle = min(RESTART_TIME, 0.25 * float(result.times[-1]))
-            calibration.validation_restarted = compare(
+        def run_compare(settle: float = 0.0):
+            return compare(
                 calibration.particle_material(stray_field=False),
                 job.validation_film(),
                 job.results["validation/start"]["skyrmions"],
@@ -332,6 +320,15 @@ def analyse(job) -> Calibration:
                 diameter,
                 material.film_thickness,
                 settle=settle,
+            )
+
+        result = run_compare()
+        calibration.validation = result
+        if result is not None and len(result.times) > 8:
+            # the same comparison restarted after the release (the hold let go at t = 0,
+            # the skyrmions take up the shape of moving ones): what remains is the model's
+            calibration.validation_restarted = run_compare(
+                settle=min(RESTART_TIME, 0.25 * float(result.times[-1]))
             )
         if result is None:
             calibration.validation_note = (
