@@ -27,7 +27,11 @@ import sys
 ENGINE = """
 import time, numpy as np
 from skygas.engine import Simulation
-from skygas.physics.geometry import disk, random_positions
+from skygas import disk
+try:  # the module moved with the layers-as-folders layout
+    from skygas.physics.geometry import random_positions
+except ImportError:
+    from skygas.geometry import random_positions
 n = {n}
 radius_nm = np.sqrt(n / (np.pi * 45 / (np.pi * 512.0**2)))
 sim = Simulation(disk(radius_nm * 1e-9), "S2", temperature=300.0, seed=1, grid_spacing=4e-9,
