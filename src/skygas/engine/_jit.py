@@ -6,6 +6,12 @@ from typing import Literal, TypedDict
 
 import numba
 
+from skygas.core.kernel_cache import drop_stale_kernels
+
+# The kernels inline functions of other modules, which numba's cache does not watch: compiled
+# kernels of other source are deleted before any is loaded (skygas.core.kernel_cache).
+drop_stale_kernels()
+
 # Let LLVM fuse multiply-adds, reassociate and use reciprocals, but keep NaN/Inf semantics
 # (NaN marks absent skyrmions in recorded frames). Results stay bit-reproducible for a given
 # build of the package on a given machine.

@@ -36,6 +36,7 @@ from skygas.engine.recorder import FrameBlock, Recorder
 from skygas.engine.scheduler import NO_PLAN, Operation, first_plan
 from skygas.engine.state import StateView
 from skygas.engine.store import SkyrmionStore
+from skygas.engine.term_rules import ConstantForce
 from skygas.fields._field_lookup import empty_fields
 from skygas.fields.landscape import EdgeStrayField, LandscapeField, parse_potentials
 from skygas.fields.wall_field import WallField
@@ -103,6 +104,8 @@ class Simulation:
         any other), else 2 nm as in the paper.
     thiele: explicit Thiele parameters (otherwise derived from the material and film).
     drift_velocity: uniform spin-drift velocity v_s [m/s] (x, y).
+    external_force: a uniform force (F_x, F_y) [N] on every skyrmion, e.g. of a field gradient
+        (:class:`~skygas.engine.term_rules.ConstantForce`).
     pair_law, wall_law: ``"paper"``, ``"lin-reichhardt"`` (pair only) or ``"table"`` (the
         material's ``pair_table`` / ``wall_table``); ``None``: the material's own, ``"table"``
         when it has the table, else ``"paper"`` (:func:`~skygas.engine.force_model.
@@ -147,6 +150,7 @@ class Simulation:
         landscape=(),
         wall_law: str | None = None,
         step_interval: float | None = None,
+        external_force=(0.0, 0.0),
     ):
         require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
         require(
@@ -165,6 +169,12 @@ class Simulation:
             "brownian_substeps",
             brownian_substeps,
             "an integer >= 1",
+        )
+        require(
+            len(external_force) == 2 and all(np.isfinite(f) for f in external_force),
+            "external_force",
+            external_force,
+            "two finite numbers [N], (F_x, F_y)",
         )
         self.outline = outline
         self.material = load_material(material)
@@ -194,6 +204,9 @@ class Simulation:
         band = self.forces.wall.cutoff + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
         self.landscape = self._build_landscape(parse_potentials(landscape))
+        #: the one-body terms that carry their own rules (:mod:`skygas.engine.term_rules`)
+        constant = ConstantForce((float(external_force[0]), float(external_force[1])))
+        self.one_body_terms = (constant,)
         limit = self.max_time_step()
         if time_step is None and step_interval is not None:
             require(
@@ -208,7 +221,8 @@ class Simulation:
                 self.thiele,
                 self.forces,
                 step_interval,
-                self.landscape.max_curvature() if self.edge_stray_field is not None else 0.0,
+                (self.landscape.max_curvature() if self.edge_stray_field is not None else 0.0)
+                + sum(term.stiffness() for term in self.one_body_terms),
             )
         if time_step is None:
             time_step = self.suggested_time_step()
@@ -251,6 +265,7 @@ class Simulation:
             T.drift_term(self.thiele),
             T.landscape_term(self.landscape),
             T.field_grid(fields, grid),
+            constant.record(),
         )
         self._grid_drift_max = 0.0  # largest |v_s| on the grid [nm/ns] (set_drift_field)
         ports = list(outline.ports.values())
@@ -316,6 +331,8 @@ class Simulation:
         vs = self._grid_drift_max if drift.from_grid else math.hypot(drift.vs_x, drift.vs_y)
         # |v| of a free skyrmion = |mobility|·|drive|·|v_s| (both matrices are scaled rotations)
         speed = vs * math.hypot(drift.drive_g, drift.drive_b) * math.hypot(mob.a, mob.g)
+        for term in self.one_body_terms:  # a constant force moves skyrmions as a drift does
+            speed += term.speed_bound(mob)
         skin = NEIGHBOR_SKIN * self.thiele.skyrmion_diameter_internal
         base = 0.5 * skin
         cap = NEIGHBOR_MARGIN_MAX * self.thiele.skyrmion_diameter_internal
@@ -363,8 +380,12 @@ class Simulation:
     # -- time step -----------------------------------------------------------------------------
     def relaxation_time(self) -> float:
         """τ_min [s] of this simulation (see :func:`relaxation_time`), the landscape's
-        largest curvature counted as a stiffness like the force laws' slopes."""
-        return relaxation_time(self.thiele, self.forces, self.landscape.max_curvature())
+        largest curvature and the one-body terms' stiffness counted like the force laws'
+        slopes."""
+        stiffness = self.landscape.max_curvature()
+        for term in self.one_body_terms:
+            stiffness += term.stiffness()
+        return relaxation_time(self.thiele, self.forces, stiffness)
 
     def max_time_step(self) -> float:
         """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""
@@ -643,7 +664,14 @@ class Simulation:
             "drift": "field" if drift.from_grid else [drift.vs_x, drift.vs_y],
             "landscape": self.landscape.describe(),
             "geometry": self.outline.describe(),
+            **{k: v for term in self.one_body_terms for k, v in term.parameters().items()},
         }
+
+    def one_body_steps(self) -> dict[str, float]:
+        """Per term that carries its own rules, the diameters a free skyrmion moves in one
+        step under it alone (the sanity check before a run, docs/physics.md §5)."""
+        d_sk = self.thiele.skyrmion_diameter_internal
+        return {t.name: t.per_step(self._mobility, self._dt_ns, d_sk) for t in self.one_body_terms}
 
     @property
     def frame_blocks(self) -> tuple[FrameBlock, ...]:

@@ -207,8 +207,8 @@ def landscape_force(landscape, xi, yi):
 
 @numba.njit(inline="always")
 def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
-    """Add the one-body terms (wall, drive) to the forces in ``vx, vy`` and turn the totals into
-    velocities in place, v = M·F. The signed boundary distance at each position
+    """Add the one-body terms (wall, drive, constant force) to the forces in ``vx, vy`` and
+    turn the totals into velocities in place, v = M·F. The signed boundary distance at each position
     goes into ``domain`` (it shares the cache lines of the wall lookup, and lets the step's
     acceptance skip a lookup); a skyrmion with ``floor[i] > 0`` (:func:`interior_floor`)
     skips the lookup and gets that lower bound."""
@@ -239,6 +239,17 @@ def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
         # v = (a F − g εF)/(a² + g²)
         vx[i] = mobility.a * fx - mobility.g * fy
         vy[i] = mobility.a * fy + mobility.g * fx
+    # The constant force's velocity M·F_ext, added in a loop of its own: in the loop above the
+    # compiler may regroup the sum of the forces (fastmath), and a run without the force keeps
+    # the bits it had before the term existed.
+    cfx, cfy = terms.constant.fx, terms.constant.fy
+    if cfx != 0.0 or cfy != 0.0:
+        cvx = mobility.a * cfx - mobility.g * cfy
+        cvy = mobility.a * cfy + mobility.g * cfx
+        for i in range(x.shape[0]):
+            if alive[i]:
+                vx[i] += cvx
+                vy[i] += cvy
 
 
 @numba.njit(inline="always")

@@ -104,6 +104,14 @@ class LandscapeTerm(NamedTuple):
     active: bool  # False: no landscape (``nodes`` is a placeholder)
 
 
+class ConstantForceTerm(NamedTuple):
+    """A uniform external force F [pN] on every skyrmion, the same everywhere and at every
+    step (a field gradient, a tilted film): one of the one-body forces."""
+
+    fx: float
+    fy: float
+
+
 class FieldGrid(NamedTuple):
     """The packed per-node fields ``fields[j, i, channel]`` (float32) on a grid of origin
     (x0, y0) and spacing [nm]."""
@@ -122,6 +130,7 @@ class ForceTerms(NamedTuple):
     drift: DriftTerm
     landscape: LandscapeTerm
     grid: FieldGrid
+    constant: ConstantForceTerm
 
 
 class Stepper(NamedTuple):

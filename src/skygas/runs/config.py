@@ -124,6 +124,9 @@ class ForcesSpec(StrictModel):
     wall_law: Literal["paper", "table"] | None = None
     pair_law_params: dict[str, float] = {}
     cutoff_fraction: float = Field(DEFAULT_CUTOFF_FRACTION, gt=0, lt=1)
+    #: a uniform force (F_x, F_y) [N] on every skyrmion (a field gradient, a tilted film;
+    #: :class:`~skygas.engine.term_rules.ConstantForce`)
+    external_force: Point2 = (0.0, 0.0)
 
     def simulation_arguments(self) -> dict:
         """The keyword arguments of :class:`~skygas.engine.Simulation` these choices give."""
@@ -132,6 +135,7 @@ class ForcesSpec(StrictModel):
             "wall_law": self.wall_law,
             "pair_law_params": self.pair_law_params,
             "cutoff_fraction": self.cutoff_fraction,
+            "external_force": self.external_force,
         }
 
 
