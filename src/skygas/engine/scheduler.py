@@ -10,6 +10,7 @@ without returning to Python.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Protocol
 
@@ -20,6 +21,9 @@ from skygas.engine.terms import PlannedInsertions as InsertionPlan
 
 if TYPE_CHECKING:
     from skygas.engine.simulation import Simulation
+
+#: what an operation's name may hold (it becomes part of checkpoint keys)
+OPERATION_NAME = re.compile(r"[A-Za-z0-9_-]+")
 
 
 class Operation(Protocol):
@@ -34,6 +38,35 @@ class Operation(Protocol):
     def next_step(self, step: int) -> int: ...
 
     def act(self, sim: Simulation) -> None: ...
+
+
+class NamedOperation(Operation, Protocol):
+    """An :class:`Operation` with a ``name`` (letters, digits, ``-`` and ``_``; unique among a
+    simulation's operations) whose state :meth:`Simulation.state_dict
+    <skygas.engine.Simulation.state_dict>` saves and restores under that name, and whose
+    ``summary()`` (JSON-able numbers) the devices put in their summaries under
+    ``"operations"``. Any of ``state_dict``/``load_state_dict`` and ``summary`` may be left
+    out: an operation without them is neither saved nor summarised."""
+
+    name: str
+
+
+def named_operations(operations) -> dict[str, Operation]:
+    """The operations that have a ``name``, by name (refusing a repeated or malformed name)."""
+    named: dict[str, Operation] = {}
+    for op in operations:
+        name = getattr(op, "name", None)
+        if name is None:
+            continue
+        require(
+            isinstance(name, str) and bool(OPERATION_NAME.fullmatch(name)),
+            "operation name",
+            name,
+            "letters, digits, '-' and '_'",
+        )
+        require(name not in named, "operation name", name, "a name no other operation has")
+        named[name] = op
+    return named
 
 
 class PlannedInsertions(Protocol):

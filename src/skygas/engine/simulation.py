@@ -33,7 +33,7 @@ from skygas.engine.force_model import (
 )
 from skygas.engine.kernel import advance
 from skygas.engine.recorder import FrameBlock, Recorder
-from skygas.engine.scheduler import NO_PLAN, Operation, first_plan
+from skygas.engine.scheduler import NO_PLAN, Operation, first_plan, named_operations
 from skygas.engine.state import StateView
 from skygas.engine.store import SkyrmionStore
 from skygas.engine.term_rules import ConstantForce
@@ -626,6 +626,13 @@ class Simulation:
             ),
             # which landscape terms are switched on (a gate can be open or closed)
             "landscape_enabled": np.array(self.landscape.enabled, dtype=bool),
+            # each named operation's own state, under its name (the user's operations too)
+            **{
+                f"op.{name}.{k}": v
+                for name, op in named_operations(self.operations).items()
+                if hasattr(op, "state_dict")
+                for k, v in op.state_dict().items()
+            },
         }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -639,6 +646,21 @@ class Simulation:
         )
         for term, on in enumerate(state.get("landscape_enabled", ())):
             self.landscape.set_enabled(term, bool(on))
+        for name, op in named_operations(self.operations).items():
+            if hasattr(op, "load_state_dict"):
+                prefix = f"op.{name}."
+                op.load_state_dict(
+                    {k[len(prefix) :]: v for k, v in state.items() if k.startswith(prefix)}
+                )
+
+    def operation_summaries(self) -> dict[str, dict]:
+        """``summary()`` of every named operation that has one, by name (what the devices
+        report under ``"operations"``)."""
+        return {
+            name: op.summary()
+            for name, op in named_operations(self.operations).items()
+            if hasattr(op, "summary")
+        }
 
     # -- results -------------------------------------------------------------------------------
     def parameters(self) -> dict:

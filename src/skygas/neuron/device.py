@@ -443,6 +443,8 @@ class NeuronRun:
             "isi": isi_statistics(spikes),
             "gate_max_force_N": gate_max_force(self.gate.band),
             "config": self.device.config.model_dump(mode="json"),
+            # the user's named operations, if any
+            **({"operations": ops} if (ops := self.sim.operation_summaries()) else {}),
         }
 
 

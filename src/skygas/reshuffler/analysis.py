@@ -125,6 +125,9 @@ def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
         "seed": cfg.seed,
         "skygas_version": __version__,
     }
+    operations = run.sim.operation_summaries()  # the user's named operations, if any
+    if operations:
+        summary["operations"] = operations
     if not dataset:
         return ReshufflerResult(summary, running, None)
 

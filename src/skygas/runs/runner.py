@@ -95,6 +95,7 @@ class SimulationJob:
             "wall_time_s": self.wall_time,
             "pair_evaluations": sim.pair_evaluations,
             "config": json.loads(self.config_json()),
+            **({"operations": ops} if (ops := sim.operation_summaries()) else {}),
         }
 
     def finish(self, out: Path) -> dict:
