@@ -22,6 +22,7 @@ from skygas._version import __version__
 from skygas.core import units
 from skygas.core.errors import InputError, require
 from skygas.core.memo import Memo, frozen
+from skygas.core.state_keys import nest, unnest
 from skygas.engine import terms as T
 from skygas.engine.force_model import (
     MAX_STEP_FRACTION,
@@ -618,8 +619,8 @@ class Simulation:
         construction arguments, :meth:`load_state_dict` continues the run bit-identically,
         because the noise depends only on (seed, id, step)."""
         return {
-            **{f"store_{k}": v for k, v in self.store.state_dict().items()},
-            **{f"record_{k}": v for k, v in self.recorder.state_dict().items()},
+            **nest("store_", self.store.state_dict()),
+            **nest("record_", self.recorder.state_dict()),
             "counters": np.array(
                 [self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds],
                 dtype=np.int64,
@@ -628,19 +629,17 @@ class Simulation:
             "landscape_enabled": np.array(self.landscape.enabled, dtype=bool),
             # each named operation's own state, under its name (the user's operations too)
             **{
-                f"op.{name}.{k}": v
+                k: v
                 for name, op in named_operations(self.operations).items()
                 if hasattr(op, "state_dict")
-                for k, v in op.state_dict().items()
+                for k, v in nest(f"op.{name}.", op.state_dict()).items()
             },
         }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Restore a state saved by :meth:`state_dict`."""
-        self.store.load_state_dict({k[6:]: v for k, v in state.items() if k.startswith("store_")})
-        self.recorder.load_state_dict(
-            {k[7:]: v for k, v in state.items() if k.startswith("record_")}
-        )
+        self.store.load_state_dict(unnest("store_", state))
+        self.recorder.load_state_dict(unnest("record_", state))
         self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = (
             int(v) for v in state["counters"]
         )
@@ -648,10 +647,7 @@ class Simulation:
             self.landscape.set_enabled(term, bool(on))
         for name, op in named_operations(self.operations).items():
             if hasattr(op, "load_state_dict"):
-                prefix = f"op.{name}."
-                op.load_state_dict(
-                    {k[len(prefix) :]: v for k, v in state.items() if k.startswith(prefix)}
-                )
+                op.load_state_dict(unnest(f"op.{name}.", state))
 
     def operation_summaries(self) -> dict[str, dict]:
         """``summary()`` of every named operation that has one, by name (what the devices

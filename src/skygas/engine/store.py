@@ -17,6 +17,7 @@ import numpy as np
 
 from skygas.core import units
 from skygas.core.errors import require
+from skygas.core.state_keys import nest, unnest
 from skygas.engine.stages import free_slot_if_clear
 
 
@@ -215,7 +216,7 @@ class SkyrmionStore:
             "alive": self.alive.copy(),
             "ids": self.ids.copy(),
             "next_id": np.array(self.next_id),
-            **{f"annihilation_{k}": v for k, v in log.items()},
+            **nest("annihilation_", log),
         }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -223,12 +224,6 @@ class SkyrmionStore:
         self.alive, self.ids = state["alive"].copy(), state["ids"].copy()
         self.next_id = int(state["next_id"])
         if "annihilation_skyrmion" in state:
-            self.annihilations = AnnihilationLog.from_arrays(
-                {
-                    k[len("annihilation_") :]: v
-                    for k, v in state.items()
-                    if k.startswith("annihilation_")
-                }
-            )
+            self.annihilations = AnnihilationLog.from_arrays(unnest("annihilation_", state))
         else:
             self.annihilations = AnnihilationLog()

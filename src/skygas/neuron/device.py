@@ -32,6 +32,7 @@ import numpy as np
 
 from skygas.core import units
 from skygas.core.errors import InputError, require
+from skygas.core.state_keys import nest, unnest
 from skygas.engine import Simulation
 from skygas.fields.current import solve_current
 from skygas.neuron.annihilation import Annihilator
@@ -46,6 +47,7 @@ from skygas.neuron.gate import (
 from skygas.neuron.inputs import SiteInjector, injection_schedule
 from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
 from skygas.physics.geometry import chamber_with_conduits
+from skygas.runs.run_driver import steps_to_piece_end
 
 #: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
 PIECES = 100
@@ -340,7 +342,7 @@ class NeuronRun:
         fixed steps, so a run resumed from a checkpoint re-enters the compiled kernel at the
         same steps as one left alone, and continues bit-identically."""
         sim = self.sim
-        n = min(self.piece_steps - sim.step % self.piece_steps, self.total_steps - sim.step)
+        n = steps_to_piece_end(sim.step, self.piece_steps, self.total_steps)
         t0 = _time.perf_counter()
         sim.run(n * sim.time_step, record_interval=self.record_interval)
         self.wall_time += _time.perf_counter() - t0
@@ -369,12 +371,12 @@ class NeuronRun:
             "sensor_rng": self.controller.sensor.rng.bit_generator.state,
             "wall_time": self.wall_time,
         }
-        state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
+        state = nest("sim_", self.sim.state_dict())
         state["operations_json"] = np.array(json.dumps(ops))
         return state
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
+        self.sim.load_state_dict(unnest("sim_", state))
         ops = json.loads(str(state["operations_json"]))
         self.controller.load_state_dict(ops["controller"])
         self.annihilator.load_state_dict(ops["annihilator"])

@@ -24,11 +24,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from skygas.core.errors import require
+from skygas.core.state_keys import nest, unnest
 from skygas.engine import FrameBlock, Simulation
 from skygas.fields.current import solve_current
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
+from skygas.runs.run_driver import steps_to_piece_end
 from skygas.sc.signals import SignalSpec, as_bits, generate_bits
 
 #: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
@@ -175,7 +177,7 @@ class ReshufflerRun:
             return
         start = time.perf_counter()
         piece = self.piece_steps(pieces)
-        self._run_steps(min(piece - self.sim.step % piece, end - self.sim.step))
+        self._run_steps(steps_to_piece_end(self.sim.step, piece, end))
         self.wall_time += time.perf_counter() - start
 
     def advance(self, pieces: int = PIECES, stop_after_step: int | None = None) -> None:
@@ -236,8 +238,7 @@ class ReshufflerRun:
 
     # -- checkpoints ------------------------------------------------------------------------
     def state_dict(self) -> dict:
-        state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
-        state.update({f"inj_{k}": v for k, v in self.injector.state_dict().items()})
+        state = {**nest("sim_", self.sim.state_dict()), **nest("inj_", self.injector.state_dict())}
         if self.snapshots:
             state["snap_time"] = np.array([s[0] for s in self.snapshots])
             state["snap_count"] = np.array([len(s[1]) for s in self.snapshots])
@@ -247,8 +248,8 @@ class ReshufflerRun:
         return state
 
     def load_state_dict(self, state: dict) -> None:
-        self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
-        self.injector.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("inj_")})
+        self.sim.load_state_dict(unnest("sim_", state))
+        self.injector.load_state_dict(unnest("inj_", state))
         self.snapshots = []
         if "snap_time" in state:
             edges = np.concatenate([[0], np.cumsum(state["snap_count"])])

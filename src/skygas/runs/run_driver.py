@@ -89,6 +89,17 @@ class Job(Protocol):
     def finish(self, out_dir: Path) -> Any: ...
 
 
+def steps_to_piece_end(step: int, piece: int, end: int) -> int:
+    """Steps from ``step`` to the next multiple of ``piece`` [steps] or to ``end``, whichever
+    comes first: the length of the next piece of a run.
+
+    Pieces start at multiples of the piece length, whatever run (first or resumed) gets there,
+    so a resumed run re-enters the compiled kernel at the same steps as one never stopped and
+    continues bit-identically (where the kernel is re-entered matters to rounding: the
+    neighbour list is rebuilt there)."""
+    return min(piece - step % piece, end - step)
+
+
 class PiecewiseRunJob:
     """A :class:`Job` for a device run that already steps in pieces: ``run`` has ``sim`` (the
     :class:`~skygas.engine.Simulation`), ``total_steps``, ``advance_piece()`` and

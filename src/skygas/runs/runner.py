@@ -20,8 +20,16 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.resources import require_memory, step_count
+from skygas.core.state_keys import nest, unnest
 from skygas.runs.config import SimulationConfig
-from skygas.runs.run_driver import drive, run_record, write_figure, write_json, write_netcdf
+from skygas.runs.run_driver import (
+    drive,
+    run_record,
+    steps_to_piece_end,
+    write_figure,
+    write_json,
+    write_netcdf,
+)
 
 #: Pieces per run: each returns to Python once (progress, checkpoints, interruption).
 PIECES = 100
@@ -60,18 +68,18 @@ class SimulationJob:
 
     def advance_piece(self) -> None:
         sim = self.sim
-        n = min(self.piece_steps - sim.step % self.piece_steps, self.total_steps - sim.step)
+        n = steps_to_piece_end(sim.step, self.piece_steps, self.total_steps)
         start = time.perf_counter()
         sim.run(n * sim.time_step, record_interval=self.config.record_interval)
         self.wall_time += time.perf_counter() - start
 
     def state_dict(self) -> dict[str, np.ndarray]:
-        state = {f"sim_{k}": v for k, v in self.sim.state_dict().items()}
+        state = nest("sim_", self.sim.state_dict())
         state["wall_time"] = np.array(self.wall_time)
         return state
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.sim.load_state_dict({k[4:]: v for k, v in state.items() if k.startswith("sim_")})
+        self.sim.load_state_dict(unnest("sim_", state))
         self.wall_time = float(state["wall_time"])
 
     def config_json(self) -> str:
