@@ -19,14 +19,14 @@ the other way round.
 from __future__ import annotations
 
 import tomllib
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
 from pydantic_core import ErrorDetails
 
-from skygas.core.errors import InputError
+from skygas.core.errors import InputError, require
 
 #: Diameter [m] of the paper's chamber.
 CHAMBER_DIAMETER = 1024e-9
@@ -168,3 +168,40 @@ def read_toml(path: str | Path, field: str = "config") -> dict:
         return tomllib.loads(path.read_text())
     except tomllib.TOMLDecodeError as err:
         raise InputError(field, str(path), f"valid TOML ({err})") from None
+
+
+def apply_overrides(data: dict, overrides: Mapping[str, Any]) -> dict:
+    """A copy of ``data`` with dotted-key overrides applied (``{"signal.p": 0.3}``, an index
+    into a list of tables: ``{"potentials.0.rms": 1e-9}``, a top-level key: ``{"seed": 3}``);
+    ``None`` values are skipped. The one way every configuration takes overrides (keyword
+    arguments, sweep points, command-line options)."""
+    data = {k: (dict(v) if isinstance(v, dict) else v) for k, v in data.items()}
+    for key, value in overrides.items():
+        if value is None:
+            continue
+        node: dict | list = data
+        parts = key.split(".")
+        for part in parts[:-1]:
+            if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")
+                require(
+                    part.isdigit() and int(part) < len(node),
+                    key,
+                    value,
+                    f"an index below {len(node)} into the list of {parts[0]}",
+                )
+                node = node[int(part)]
+                continue
+            child = node.get(part, {})
+            node[part] = child = (
+                [dict(t) for t in child]
+                if isinstance(child, list)
+                else dict(child)
+                if isinstance(child, dict)
+                else child
+            )
+            node = child
+        if isinstance(node, list):
+            node[int(parts[-1])] = value
+        else:
+            node[parts[-1]] = value
+    return data

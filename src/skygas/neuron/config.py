@@ -28,7 +28,13 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field, ValidationError, model_validator
 
-from skygas.core.config_types import ChamberSize, StrictModel, read_toml, to_input_error
+from skygas.core.config_types import (
+    ChamberSize,
+    StrictModel,
+    apply_overrides,
+    read_toml,
+    to_input_error,
+)
 from skygas.core.errors import InputError
 from skygas.neuron.annihilation import AnnihilationModel
 from skygas.neuron.calibration import CALIBRATED
@@ -155,8 +161,9 @@ def _check_negative_rates(data: dict) -> None:
 
 
 def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
-    """A validated :class:`NeuronConfig` from a mapping plus top-level overrides."""
-    data = {**(data or {}), **{k: v for k, v in overrides.items() if v is not None}}
+    """A validated :class:`NeuronConfig` from a mapping plus overrides (dotted keys,
+    :func:`~skygas.core.config_types.apply_overrides`)."""
+    data = apply_overrides(data or {}, overrides)
     _check_negative_rates(data)
     try:
         return NeuronConfig.model_validate(data)

@@ -20,8 +20,8 @@ from typing import Annotated, Literal
 
 from pydantic import Field, ValidationError
 
-from skygas.core.config_types import StrictModel as _Strict  # noqa: N814 (the name every config uses)
-from skygas.core.config_types import read_toml, to_input_error
+from skygas.core.config_types import StrictModel as _Strict
+from skygas.core.config_types import apply_overrides, read_toml, to_input_error  # noqa: N814 (the name every config uses)
 from skygas.core.errors import InputError
 from skygas.fields.current import (
     DEFAULT_CELL_SIZE,
@@ -125,8 +125,9 @@ def _check_counts(data: dict) -> None:
 
 
 def reservoir_config(data: dict | None = None, **overrides) -> ReservoirConfig:
-    """A validated :class:`ReservoirConfig` from a mapping plus top-level overrides."""
-    data = {**(data or {}), **{k: v for k, v in overrides.items() if v is not None}}
+    """A validated :class:`ReservoirConfig` from a mapping plus overrides (dotted keys,
+    :func:`~skygas.core.config_types.apply_overrides`)."""
+    data = apply_overrides(data or {}, overrides)
     _check_counts(data)
     try:
         config = ReservoirConfig.model_validate(data)

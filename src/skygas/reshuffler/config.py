@@ -30,10 +30,10 @@ from skygas.core.config_types import (
     Length,
     PositiveFloat,
     StrictModel,
+    apply_overrides,
     read_toml,
     to_input_error,
 )
-from skygas.core.errors import require
 from skygas.fields.current import (
     DEFAULT_CELL_SIZE,
     DEFAULT_CONDUCTOR_THICKNESS,
@@ -119,48 +119,14 @@ class ReshufflerConfig(MaterialFields):
         )
 
 
-def _with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
-    """Apply dotted-key overrides (``{"signal.p": 0.3}``) to a nested mapping."""
-    data = {k: (dict(v) if isinstance(v, dict) else v) for k, v in data.items()}
-    for key, value in overrides.items():
-        if value is None:
-            continue
-        node: dict | list = data
-        parts = key.split(".")
-        for part in parts[:-1]:
-            if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")
-                require(
-                    part.isdigit() and int(part) < len(node),
-                    key,
-                    value,
-                    f"an index below {len(node)} into the list of {parts[0]}",
-                )
-                node = node[int(part)]
-                continue
-            child = node.get(part, {})
-            node[part] = child = (
-                [dict(t) for t in child]
-                if isinstance(child, list)
-                else dict(child)
-                if isinstance(child, dict)
-                else child
-            )
-            node = child
-        if isinstance(node, list):
-            node[int(parts[-1])] = value
-        else:
-            node[parts[-1]] = value
-    return data
-
-
 def parse_reshuffler_config(
     data: dict, source: str = "", overrides: dict[str, Any] | None = None
 ) -> ReshufflerConfig:
     """Validate a mapping (with optional dotted-key overrides) into a config."""
-    data = _with_overrides(data, overrides or {})
+    data = apply_overrides(data, overrides or {})
     preset = data.pop("preset", None)
     if preset is not None:
-        data = _with_overrides(preset_data(preset), _flatten(data))
+        data = apply_overrides(preset_data(preset), _flatten(data))
     try:
         return ReshufflerConfig(**data)
     except ValidationError as err:
