@@ -12,14 +12,15 @@ from pathlib import Path
 from skygas.core.errors import InputError
 
 # command-line option → top-level or nested configuration field it overrides
+#: command-line option -> the configuration's field (a dotted key)
 OVERRIDES = {
-    "seed": ("seed",),
-    "hold_time": ("hold_time",),
-    "temperature": ("temperature",),
-    "n_skyrmions": ("n_skyrmions",),
-    "current_density": ("drive", "current_density"),
-    "n_inputs": ("study", "n_inputs"),
-    "workers": ("study", "workers"),
+    "seed": "seed",
+    "hold_time": "hold_time",
+    "temperature": "temperature",
+    "n_skyrmions": "n_skyrmions",
+    "current_density": "drive.current_density",
+    "n_inputs": "study.n_inputs",
+    "workers": "study.workers",
 }
 SUMMARY = "reservoir.json"
 
@@ -133,20 +134,14 @@ def _reservoir(args) -> int:
     from skygas.reservoir.device import ReservoirDevice
     from skygas.reservoir.figures import plot_accuracies, plot_occupation, plot_sweep
     from skygas.reservoir.study import accuracy_sweep, run_study
+    from skygas.runs.run_driver import write_atomic, write_json
 
     data = {}
     if args.config is not None:
         from skygas.core.config_types import read_toml
 
         data = read_toml(args.config)
-    for opt, path in OVERRIDES.items():
-        value = getattr(args, opt)
-        if value is not None:
-            node = data
-            for key in path[:-1]:
-                node = node.setdefault(key, {})
-            node[path[-1]] = value
-    config = reservoir_config(data)
+    config = reservoir_config(data, **{key: getattr(args, opt) for opt, key in OVERRIDES.items()})
     out = Path(args.out)
     if (out / SUMMARY).exists() and not args.sweep:
         raise InputError(
@@ -170,7 +165,7 @@ def _reservoir(args) -> int:
         summary, streams = run_study(config, device)
         plot_occupation(device, streams, out / "occupation.png")
         plot_accuracies(summary, out / "accuracy.png")
-        (out / SUMMARY).write_text(json.dumps(summary, indent=1))
+        write_json(out / SUMMARY, summary, indent=1)
     sweep = None
     if args.sweep:
         sweep = accuracy_sweep(
@@ -184,10 +179,11 @@ def _reservoir(args) -> int:
             if talk
             else None,
         )
-        (out / "sweep.json").write_text(json.dumps(sweep, indent=1))
+        write_json(out / "sweep.json", sweep, indent=1)
         plot_sweep(sweep, out / "sweep.png")
         summary["sweep"] = sweep
-    (out / "report.md").write_text(_report(summary, sweep))
+    report = _report(summary, sweep)
+    write_atomic(out / "report.md", lambda tmp: tmp.write_text(report))
     if not args.no_report:
         from skygas.outputs.report import write_report
 

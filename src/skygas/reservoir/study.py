@@ -11,6 +11,7 @@ current density) and each replica seed.
 from __future__ import annotations
 
 import json
+import os
 import time
 from pathlib import Path
 from typing import cast
@@ -145,9 +146,11 @@ def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None, prog
     done = {}
     if checkpoint is not None and Path(checkpoint).exists():
         for line in Path(checkpoint).read_text().splitlines():
-            if line.strip():
+            try:
                 point = json.loads(line)
-                done[(point["value"], point["replica"])] = point
+            except json.JSONDecodeError:
+                continue  # a line cut short by a kill while it was written: run that point again
+            done[(point["value"], point["replica"])] = point
     for value, r, cfg in plan:
         if (value, r) not in done:
             summary, _ = run_study(cfg, n_inputs=sw.n_inputs, temporal_tasks=False)
@@ -160,8 +163,12 @@ def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None, prog
             }
             done[(value, r)] = point
             if checkpoint is not None:
+                # a whole line per point, flushed to disk before the next point starts; after
+                # a line cut short by a kill the next point starts on a line of its own
                 with open(checkpoint, "a") as f:
-                    f.write(json.dumps(point) + "\n")
+                    f.write("\n" + json.dumps(point) + "\n")
+                    f.flush()
+                    os.fsync(f.fileno())
         if progress is not None:
             progress(value, r)
     rows = []
