@@ -23,6 +23,7 @@ from skygas.core.resources import require_memory, step_count
 from skygas.core.state_keys import nest, unnest
 from skygas.runs.config import SimulationConfig
 from skygas.runs.run_driver import (
+    PiecewiseRunJob,
     drive,
     run_record,
     steps_to_piece_end,
@@ -35,13 +36,10 @@ from skygas.runs.run_driver import (
 PIECES = 100
 
 
-class SimulationJob:
+class SimulationRun:
     """A configured simulation cut into :data:`PIECES` pieces of equal length [steps]; piece
-    ``k`` covers steps [k·L, (k+1)·L), whatever run (first or resumed) gets there, so the
-    kernel is always re-entered at the same steps (its neighbour list is rebuilt there)."""
-
-    work_unit = "ns"
-    result_files: tuple[str, ...] = ("trajectories.nc", "summary.json")
+    ``k`` covers steps [k·L, (k+1)·L), whatever run (first or resumed) gets there
+    (:func:`~skygas.runs.run_driver.steps_to_piece_end`)."""
 
     def __init__(self, config: SimulationConfig):
         self.config = config
@@ -57,14 +55,7 @@ class SimulationJob:
             "record less often, or run for a shorter duration",
         )
         self.piece_steps = max(1, self.total_steps // PIECES)
-        self.work_total = self._ns(self.total_steps)
         self.wall_time = 0.0
-
-    def _ns(self, steps: int) -> float:
-        return steps * self.sim.time_step * 1e9
-
-    def work_done(self) -> float:
-        return self._ns(self.sim.step)
 
     def advance_piece(self) -> None:
         sim = self.sim
@@ -82,11 +73,25 @@ class SimulationJob:
         self.sim.load_state_dict(unnest("sim_", state))
         self.wall_time = float(state["wall_time"])
 
-    def config_json(self) -> str:
-        return self.config.model_dump_json()
 
-    def seed(self) -> int:
-        return self.config.seed
+class SimulationJob(PiecewiseRunJob):
+    """``skygas simulate``: a :class:`SimulationRun` as a job of the run driver (work in ns of
+    simulated time)."""
+
+    result_files: tuple[str, ...] = ("trajectories.nc", "summary.json")
+
+    def __init__(self, config: SimulationConfig):
+        super().__init__(config, SimulationRun(config))
+
+    @property
+    def sim(self):
+        """The run's :class:`~skygas.engine.Simulation`."""
+        return self.run.sim
+
+    @property
+    def wall_time(self) -> float:
+        """Wall time spent stepping [s]."""
+        return self.run.wall_time
 
     def summary(self) -> dict:
         sim = self.sim
