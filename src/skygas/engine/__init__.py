@@ -1,12 +1,10 @@
 """The N-body stochastic Thiele engine.
 
-Equation of motion (docs/physics.md §1; SI), for each skyrmion i:
-
-    (G ε + α𝒟k I)·ẋᵢ = μ (G ε + η𝒟k I)·v_s(xᵢ) + F_th,i + Σⱼ F_ss(xᵢ − xⱼ) + F_wall(xᵢ)
-
-with ⟨F_th,a(t) F_th,b(t')⟩ = 2α𝒟k k_B T δ_ab δ(t − t'). Solving the 2×2 system gives
-ẋ = M·F with M = (α𝒟k I − G ε)/((α𝒟k)² + G²); the noise enters as the isotropic velocity noise
-M·F_th of diffusion constant D = k_B T α𝒟k/((α𝒟k)² + G²).
+The equation of motion, the overdamped stochastic Thiele equation of every skyrmion with the
+current's drive, thermal noise, the pair and wall forces, the landscape's −∇U and the external
+force, is written out in docs/physics.md §1 (with its units and signs); the engine integrates
+ẋ = M·F, M = (α𝒟k I − G ε)/((α𝒟k)² + G²), with the noise as an isotropic velocity noise of
+diffusion constant D = k_B T α𝒟k/((α𝒟k)² + G²).
 
 Integrator: **stochastic Heun** (predictor–corrector trapezoidal rule, the noise increment drawn
 once per step and used in both stages). The noise is additive, so the Itô and Stratonovich
