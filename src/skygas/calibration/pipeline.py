@@ -27,6 +27,7 @@ import numpy as np
 from skygas.calibration import plan
 from skygas.calibration.plan import CalibrationConfig, Relaxation
 from skygas.calibration.solver import Film
+from skygas.core.state_keys import nest, unnest
 from skygas.runs.run_driver import from_json_array, json_array
 
 if TYPE_CHECKING:
@@ -335,8 +336,7 @@ class CalibrationJob:
             "timeline": json_array(self.timeline),
             "run_seconds": np.array(self.run_seconds()),
         }
-        for name, texture in self.textures.items():
-            state[f"texture:{name}"] = texture
+        state.update(nest("texture:", self.textures))
         if self.llg_m is not None:
             state["llg_m"] = self.llg_m
         return state
@@ -347,9 +347,7 @@ class CalibrationJob:
         self.timeline = from_json_array(state["timeline"])
         self._seconds_before = float(state["run_seconds"])
         self._session_start = None
-        self.textures = {
-            k.split(":", 1)[1]: np.asarray(v) for k, v in state.items() if k.startswith("texture:")
-        }
+        self.textures = {k: np.asarray(v) for k, v in unnest("texture:", state).items()}
         self.llg_m = np.asarray(state["llg_m"]) if "llg_m" in state else None
 
     def config_json(self) -> str:

@@ -171,8 +171,9 @@ class Simulation:
             brownian_substeps,
             "an integer >= 1",
         )
+        force = np.asarray(external_force, dtype=float)  # checked as set_uniform_drift checks
         require(
-            len(external_force) == 2 and all(np.isfinite(f) for f in external_force),
+            bool(force.shape == (2,) and np.all(np.isfinite(force))),
             "external_force",
             external_force,
             "two finite numbers [N], (F_x, F_y)",
@@ -206,7 +207,7 @@ class Simulation:
         self.wall_field = WallField.build(outline, spacing, band)
         self.landscape = self._build_landscape(parse_potentials(landscape))
         #: the one-body terms that carry their own rules (:mod:`skygas.engine.term_rules`)
-        constant = ConstantForce((float(external_force[0]), float(external_force[1])))
+        constant = ConstantForce((float(force[0]), float(force[1])))
         self.one_body_terms = (constant,)
         limit = self.max_time_step()
         if time_step is None and step_interval is not None:
@@ -223,7 +224,7 @@ class Simulation:
                 self.forces,
                 step_interval,
                 (self.landscape.max_curvature() if self.edge_stray_field is not None else 0.0)
-                + sum(term.stiffness() for term in self.one_body_terms),
+                + self._one_body_stiffness(),
             )
         if time_step is None:
             time_step = self.suggested_time_step()
@@ -383,10 +384,12 @@ class Simulation:
         """τ_min [s] of this simulation (see :func:`relaxation_time`), the landscape's
         largest curvature and the one-body terms' stiffness counted like the force laws'
         slopes."""
-        stiffness = self.landscape.max_curvature()
-        for term in self.one_body_terms:
-            stiffness += term.stiffness()
+        stiffness = self.landscape.max_curvature() + self._one_body_stiffness()
         return relaxation_time(self.thiele, self.forces, stiffness)
+
+    def _one_body_stiffness(self) -> float:
+        """The one-body terms' stiffness [pN/nm], summed (:mod:`skygas.engine.term_rules`)."""
+        return sum((term.stiffness() for term in self.one_body_terms), 0.0)
 
     def max_time_step(self) -> float:
         """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""
@@ -618,7 +621,7 @@ class Simulation:
         """The mutable state as plain arrays (positions in nm, exactly as stored). With the same
         construction arguments, :meth:`load_state_dict` continues the run bit-identically,
         because the noise depends only on (seed, id, step)."""
-        return {
+        state = {
             **nest("store_", self.store.state_dict()),
             **nest("record_", self.recorder.state_dict()),
             "counters": np.array(
@@ -627,14 +630,12 @@ class Simulation:
             ),
             # which landscape terms are switched on (a gate can be open or closed)
             "landscape_enabled": np.array(self.landscape.enabled, dtype=bool),
-            # each named operation's own state, under its name (the user's operations too)
-            **{
-                k: v
-                for name, op in named_operations(self.operations).items()
-                if hasattr(op, "state_dict")
-                for k, v in nest(f"op.{name}.", op.state_dict()).items()
-            },
         }
+        # each named operation's own state, under its name (the user's operations too)
+        for name, op in named_operations(self.operations).items():
+            if hasattr(op, "state_dict"):
+                state.update(nest(f"op.{name}.", op.state_dict()))
+        return state
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Restore a state saved by :meth:`state_dict`."""
@@ -690,6 +691,10 @@ class Simulation:
         step under it alone (the sanity check before a run, docs/physics.md §5)."""
         d_sk = self.thiele.skyrmion_diameter_internal
         return {t.name: t.per_step(self._mobility, self._dt_ns, d_sk) for t in self.one_body_terms}
+
+    def one_body_settings(self) -> dict[str, object]:
+        """Per term that carries its own rules, its value as a configuration gives it."""
+        return {t.name: t.setting() for t in self.one_body_terms}
 
     @property
     def frame_blocks(self) -> tuple[FrameBlock, ...]:

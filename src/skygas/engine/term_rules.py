@@ -43,8 +43,12 @@ class ConstantForce:
     def record(self) -> ConstantForceTerm:
         return ConstantForceTerm(self.force[0] * units.N_TO_PN, self.force[1] * units.N_TO_PN)
 
+    def setting(self) -> list[float]:
+        """The force as a configuration gives it, (F_x, F_y) [N]."""
+        return [float(self.force[0]), float(self.force[1])]
+
     def parameters(self) -> dict[str, list[float]]:
-        return {"external_force_N": [float(self.force[0]), float(self.force[1])]}
+        return {"external_force_N": self.setting()}
 
     def speed_bound(self, mobility: Mobility) -> float:
         """|M·F| [nm/ns]: M is a scaled rotation, so |v| = |F|·|(a, g)|."""

@@ -110,12 +110,13 @@ def findings_before_run(config: Any, sim: Any = None) -> list[InputError]:
                 )
             )
     if sim is not None:  # the one-body terms that carry their own rules (a constant force)
+        settings = sim.one_body_settings()
         for name, per_step in sim.one_body_steps().items():
             if per_step > MAX_DRIFT_PER_STEP:
                 found.append(
                     InputError(
                         f"forces.{name}",
-                        sim.parameters()[f"{name}_N"],
+                        settings[name],
                         f"a force that moves a free skyrmion at most {MAX_DRIFT_PER_STEP:g} "
                         f"diameters per step (it moves {per_step:.3g} at a time step of "
                         f"{sim.time_step:.3g} s)",
