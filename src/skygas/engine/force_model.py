@@ -200,20 +200,29 @@ class ForceModel:
         return cls(pair, wall, pair_law_name, params, cutoff_fraction, wall_law_name)
 
     def max_stiffness(self, closest: float = 0.0) -> float:
-        """Largest |dF/dr| [pN/nm] of either tabulated law at distances r ≥ ``closest`` [nm].
+        """Largest |dF/dr| [pN/nm] of either tabulated law at distances r ≥ ``closest`` [nm]
+        (:func:`law_stiffness` of each)."""
+        return max(
+            0.0,
+            law_stiffness(self.pair, self.pair_law, closest),
+            law_stiffness(self.wall, self.wall_law, closest),
+        )
 
-        A table law ends with a drop to 0 at its last distance: a bounded jump of the force,
-        not a stiffness (an explicit step across it stays stable), so its slope is measured up
-        to the last node of the engine's table that holds a force, before the one-node ramp
-        down to 0. The paper laws keep their measure (they fall to 10⁻³ F₀ there)."""
-        slopes = [0.0]
-        for table, name in ((self.pair, self.pair_law), (self.wall, self.wall_law)):
-            end = _last_force_node(table) if name == "table" else table.cutoff
-            if end <= closest:  # a law that is zero there has no slope
-                continue
-            r = np.linspace(closest, end, 20_001)
-            slopes.append(float(np.max(np.abs(np.diff(table(r)))) / (r[1] - r[0])))
-        return max(slopes)
+
+def law_stiffness(table: ForceTable, law_name: str, closest: float = 0.0) -> float:
+    """Largest |dF/dr| [pN/nm] of one tabulated law at distances r ≥ ``closest`` [nm].
+
+    A table law (``law_name == "table"``) ends with a drop to 0 at its last distance: a bounded
+    jump of the force, not a stiffness (an explicit step across it stays stable), so its slope
+    is measured up to the last node of the engine's table that holds a force, before the
+    one-node ramp down to 0. The paper laws keep their measure (they fall to 10⁻³ F₀ there).
+    A law that is zero beyond ``closest`` has no slope (0).
+    """
+    end = _last_force_node(table) if law_name == "table" else table.cutoff
+    if end <= closest:
+        return 0.0
+    r = np.linspace(closest, end, 20_001)
+    return float(np.max(np.abs(np.diff(table(r)))) / (r[1] - r[0]))
 
 
 def _last_force_node(table: ForceTable) -> float:
@@ -225,30 +234,26 @@ def _last_force_node(table: ForceTable) -> float:
     return min(float(np.sqrt(coord) if table.squared else coord), table.cutoff)
 
 
-def relaxation_time(
-    thiele: ThieleParameters, forces: ForceModel, landscape_curvature: float = 0.0
-) -> float:
+def relaxation_time(thiele: ThieleParameters, stiffness: float) -> float:
     """τ_min [s]: the fastest force relaxation, 1/(κ_max |M|).
 
-    κ_max is the steepest slope |dF/dr| of either force law at distances of at least
-    MIN_PLACEMENT_SEPARATION skyrmion diameters (from another skyrmion or from a wall), or the
-    largest curvature |∂²U| [pN/nm] of an energy landscape if that is steeper, and
+    κ_max = ``stiffness`` [pN/nm] is the largest of the force terms' stiffnesses
+    (:mod:`skygas.engine.term_rules`): the steepest slope |dF/dr| of either force law at
+    distances of at least MIN_PLACEMENT_SEPARATION skyrmion diameters (from another skyrmion
+    or from a wall), or the largest curvature |∂²U| of an energy landscape, and
     |M| = 1/√(G² + (α𝒟k)²) the mobility: a skyrmion displaced on the steepest part of a law
     relaxes back (spiralling, when G ≠ 0) at the rate κ_max|M|. Closer than that the laws are
     not valid (paper, "Boundary Effects"), so their slope there does not limit the step; a
     step that carries a skyrmion across a wall is undone and counted (``wall_escapes``).
     """
     a, g = thiele.friction_internal, thiele.gyrocoupling_internal
-    closest = MIN_PLACEMENT_SEPARATION * thiele.skyrmion_diameter_internal
-    stiffness = max(forces.max_stiffness(closest), landscape_curvature)
     rate = stiffness / math.hypot(a, g)  # 1/ns
     return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 
-def default_time_step(
-    thiele: ThieleParameters, forces: ForceModel, interval: float, landscape_curvature: float = 0.0
-) -> float:
-    """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s], shortened so that ``interval``
-    [s] (a recording or injection interval) is a whole number of steps."""
-    suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, forces, landscape_curvature)
+def default_time_step(thiele: ThieleParameters, stiffness: float, interval: float) -> float:
+    """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s] (:func:`relaxation_time` of
+    ``stiffness`` [pN/nm]), shortened so that ``interval`` [s] (a recording or injection
+    interval) is a whole number of steps."""
+    suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, stiffness)
     return interval / math.ceil(interval / suggested - 1e-9)

@@ -22,7 +22,7 @@ from skygas._version import __version__
 from skygas.core import units
 from skygas.core.errors import InputError, require
 from skygas.core.memo import Memo, frozen
-from skygas.core.state_keys import nest, unnest
+from skygas.core.state_keys import from_arrays, nest, to_arrays, unnest
 from skygas.engine import terms as T
 from skygas.engine.force_model import (
     MAX_STEP_FRACTION,
@@ -37,7 +37,14 @@ from skygas.engine.recorder import FrameBlock, Recorder
 from skygas.engine.scheduler import NO_PLAN, Operation, first_plan, named_operations
 from skygas.engine.state import StateView
 from skygas.engine.store import SkyrmionStore
-from skygas.engine.term_rules import ConstantForce
+from skygas.engine.term_rules import (
+    ConstantForce,
+    CurrentDrift,
+    Landscape,
+    PairLaw,
+    TermRules,
+    WallLaw,
+)
 from skygas.fields._field_lookup import empty_fields
 from skygas.fields.landscape import EdgeStrayField, LandscapeField, parse_potentials
 from skygas.fields.wall_field import WallField
@@ -206,9 +213,19 @@ class Simulation:
         band = self.forces.wall.cutoff + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
         self.landscape = self._build_landscape(parse_potentials(landscape))
-        #: the one-body terms that carry their own rules (:mod:`skygas.engine.term_rules`)
-        constant = ConstantForce((float(force[0]), float(force[1])))
-        self.one_body_terms = (constant,)
+        # each force term's rules (:mod:`skygas.engine.term_rules`); the drift's are replaced
+        # whenever the drift changes (set_uniform_drift, set_drift_field)
+        closest = MIN_PLACEMENT_SEPARATION * d_sk
+        f = self.forces
+        self._pair_rules = PairLaw(
+            f.pair_law, f.pair, f.pair_law_params, f.cutoff_fraction, closest
+        )
+        self._wall_rules = WallLaw(f.wall_law, f.wall, closest)
+        self._drift_rules = CurrentDrift(T.drift_term(self.thiele))
+        # the landscape's curvature counts in the suggested step when the material's stray
+        # field is in it; runs without it keep the step they always had
+        self._landscape_rules = Landscape(self.landscape, self.edge_stray_field is not None)
+        self._constant_rules = ConstantForce((float(force[0]), float(force[1])))
         limit = self.max_time_step()
         if time_step is None and step_interval is not None:
             require(
@@ -217,15 +234,12 @@ class Simulation:
                 step_interval,
                 "an interval > 0 in seconds",
             )
-            # the landscape's curvature counts when the material's stray field is in it; runs
-            # without it keep the step they always had (the laws' stiffness alone)
-            time_step = default_time_step(
-                self.thiele,
-                self.forces,
-                step_interval,
-                (self.landscape.max_curvature() if self.edge_stray_field is not None else 0.0)
-                + self._one_body_stiffness(),
+            stiffness = max(
+                t.stiffness()
+                for t in self.term_rules
+                if not (isinstance(t, Landscape) and not t.time_step_counts)
             )
+            time_step = default_time_step(self.thiele, stiffness, step_interval)
         if time_step is None:
             time_step = self.suggested_time_step()
         require(
@@ -262,14 +276,13 @@ class Simulation:
             WallField.key(outline, spacing, band), lambda: _packed_wall_channels(self.wall_field)
         )
         self._terms = T.ForceTerms(
-            T.pair_term(self.forces.pair),
-            T.wall_term(self.forces.wall),
-            T.drift_term(self.thiele),
-            T.landscape_term(self.landscape),
+            self._pair_rules.record(),
+            self._wall_rules.record(),
+            self._drift_rules.record(),
+            self._landscape_rules.record(),
             T.field_grid(fields, grid),
-            constant.record(),
+            self._constant_rules.record(),
         )
-        self._grid_drift_max = 0.0  # largest |v_s| on the grid [nm/ns] (set_drift_field)
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
         self._counters = np.zeros(1, T.COUNTERS)
@@ -329,12 +342,9 @@ class Simulation:
         the base half-skin. Cells are no smaller than cutoff + 2·cap and cover the field grid
         (skyrmions outside it are clamped into edge cells). Called whenever the drift changes.
         """
-        drift, mob = self._terms.drift, self._mobility
-        vs = self._grid_drift_max if drift.from_grid else math.hypot(drift.vs_x, drift.vs_y)
-        # |v| of a free skyrmion = |mobility|·|drive|·|v_s| (both matrices are scaled rotations)
-        speed = vs * math.hypot(drift.drive_g, drift.drive_b) * math.hypot(mob.a, mob.g)
-        for term in self.one_body_terms:  # a constant force moves skyrmions as a drift does
-            speed += term.speed_bound(mob)
+        # the fastest a free skyrmion moves: the terms' speed bounds added up (the drift's and
+        # a constant force's; the laws and the landscape move no free skyrmion)
+        speed = sum(t.speed_bound(self._mobility) for t in self.term_rules)
         skin = NEIGHBOR_SKIN * self.thiele.skyrmion_diameter_internal
         base = 0.5 * skin
         cap = NEIGHBOR_MARGIN_MAX * self.thiele.skyrmion_diameter_internal
@@ -375,21 +385,28 @@ class Simulation:
         self._neighbor_cells = cells
 
     @property
+    def term_rules(self) -> tuple[TermRules, ...]:
+        """Every force term's descriptor (:mod:`skygas.engine.term_rules`), in the kernel's
+        order: pair law, wall law, drift, landscape, external force."""
+        return (
+            self._pair_rules,
+            self._wall_rules,
+            self._drift_rules,
+            self._landscape_rules,
+            self._constant_rules,
+        )
+
+    @property
     def force_terms(self) -> T.ForceTerms:
         """The force terms as the kernel sees them (:mod:`skygas.engine.terms`; read-only)."""
         return self._terms
 
     # -- time step -----------------------------------------------------------------------------
     def relaxation_time(self) -> float:
-        """τ_min [s] of this simulation (see :func:`relaxation_time`), the landscape's
-        largest curvature and the one-body terms' stiffness counted like the force laws'
-        slopes."""
-        stiffness = self.landscape.max_curvature() + self._one_body_stiffness()
-        return relaxation_time(self.thiele, self.forces, stiffness)
-
-    def _one_body_stiffness(self) -> float:
-        """The one-body terms' stiffness [pN/nm], summed (:mod:`skygas.engine.term_rules`)."""
-        return sum((term.stiffness() for term in self.one_body_terms), 0.0)
+        """τ_min [s] of this simulation (see :func:`relaxation_time`): the largest stiffness
+        of its force terms (:attr:`term_rules`), the laws' slopes and the landscape's
+        curvature among them."""
+        return relaxation_time(self.thiele, max(t.stiffness() for t in self.term_rules))
 
     def max_time_step(self) -> float:
         """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""
@@ -416,7 +433,8 @@ class Simulation:
             velocity,
             "two finite numbers (vx, vy) in m/s",
         )
-        self._terms = self._terms._replace(drift=T.drift_term(self.thiele, v))
+        self._drift_rules = CurrentDrift(T.drift_term(self.thiele, v), math.hypot(v[0], v[1]))
+        self._terms = self._terms._replace(drift=self._drift_rules.record())
         self._configure_neighbor_cells()
 
     def set_drift_field(self, vx: np.ndarray, vy: np.ndarray) -> None:
@@ -433,8 +451,9 @@ class Simulation:
         fields[..., T.CH_DRIFT_X] = vx
         fields[..., T.CH_DRIFT_Y] = vy
         vx, vy = np.asarray(vx, dtype=float), np.asarray(vy, dtype=float)
-        self._grid_drift_max = math.sqrt(float(np.max(vx * vx + vy * vy)))
-        self._terms = self._terms._replace(drift=T.drift_term(self.thiele, from_grid=True))
+        largest = math.sqrt(float(np.max(vx * vx + vy * vy)))
+        self._drift_rules = CurrentDrift(T.drift_term(self.thiele, from_grid=True), largest)
+        self._terms = self._terms._replace(drift=self._drift_rules.record())
         self._configure_neighbor_cells()
 
     # -- skyrmions -----------------------------------------------------------------------------
@@ -631,10 +650,11 @@ class Simulation:
             # which landscape terms are switched on (a gate can be open or closed)
             "landscape_enabled": np.array(self.landscape.enabled, dtype=bool),
         }
-        # each named operation's own state, under its name (the user's operations too)
+        # each named operation's own state, under its name (the user's operations too); values
+        # that are not arrays travel as JSON text
         for name, op in named_operations(self.operations).items():
             if hasattr(op, "state_dict"):
-                state.update(nest(f"op.{name}.", op.state_dict()))
+                state.update(nest(f"op.{name}.", to_arrays(op.state_dict())))
         return state
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -648,7 +668,7 @@ class Simulation:
             self.landscape.set_enabled(term, bool(on))
         for name, op in named_operations(self.operations).items():
             if hasattr(op, "load_state_dict"):
-                op.load_state_dict(unnest(f"op.{name}.", state))
+                op.load_state_dict(from_arrays(unnest(f"op.{name}.", state)))
 
     def operation_summaries(self) -> dict[str, dict]:
         """``summary()`` of every named operation that has one, by name (what the devices
@@ -659,10 +679,32 @@ class Simulation:
             if hasattr(op, "summary")
         }
 
+    def operation_data(self) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """The data every named operation with a ``data()`` method adds to a run's result file.
+
+        Returns
+        -------
+        dict
+            ``"<name>_<variable>"`` → (dimension names, array), the form
+            :class:`xarray.Dataset` takes for its variables. An operation's ``data()`` returns
+            ``{variable: (dims, array)}``; its dimension names are prefixed with its name too,
+            so that two operations never share a dimension by accident.
+        """
+        data: dict[str, tuple[tuple[str, ...], np.ndarray]] = {}
+        for name, op in named_operations(self.operations).items():
+            if hasattr(op, "data"):
+                for variable, (dims, array) in op.data().items():
+                    data[f"{name}_{variable}"] = (
+                        tuple(f"{name}_{d}" for d in dims),
+                        np.asarray(array),
+                    )
+        return data
+
     # -- results -------------------------------------------------------------------------------
     def parameters(self) -> dict:
-        """Every parameter needed to reproduce the run (JSON-able, SI units)."""
-        drift = self._terms.drift
+        """Every parameter needed to reproduce the run (JSON-able, SI units): the run's own,
+        then each force term's entries (:meth:`TermRules.parameters
+        <skygas.engine.term_rules.TermRules.parameters>`)."""
         return {
             "skygas_version": __version__,
             "seed": self.seed,
@@ -672,29 +714,27 @@ class Simulation:
             "brownian_substeps": self.brownian_substeps,
             "material": self.material.model_dump(mode="json"),
             "thiele": self.thiele.as_record(),
-            "pair_law": self.forces.pair_law,
-            "wall_law": self.forces.wall_law,
             "edge_stray_field": self.edge_stray_field is not None,
-            "pair_law_params": self.forces.pair_law_params,
-            "cutoff_fraction": self.forces.cutoff_fraction,
-            "pair_cutoff_m": self.forces.pair.cutoff / units.M_TO_NM,
-            "wall_cutoff_m": self.forces.wall.cutoff / units.M_TO_NM,
             "grid_spacing_m": self.wall_field.grid.spacing / units.M_TO_NM,
-            "drift": "field" if drift.from_grid else [drift.vs_x, drift.vs_y],
-            "landscape": self.landscape.describe(),
             "geometry": self.outline.describe(),
-            **{k: v for term in self.one_body_terms for k, v in term.parameters().items()},
+            **{k: v for term in self.term_rules for k, v in term.parameters().items()},
         }
 
-    def one_body_steps(self) -> dict[str, float]:
-        """Per term that carries its own rules, the diameters a free skyrmion moves in one
-        step under it alone (the sanity check before a run, docs/physics.md §5)."""
+    def term_steps(self) -> dict[str, float]:
+        """Per force term that a configuration sets (its ``config_field``), the diameters a
+        free skyrmion moves in one step under it alone (the sanity check before a run,
+        docs/physics.md §5)."""
         d_sk = self.thiele.skyrmion_diameter_internal
-        return {t.name: t.per_step(self._mobility, self._dt_ns, d_sk) for t in self.one_body_terms}
+        return {
+            t.config_field: t.per_step(self._mobility, self._dt_ns, d_sk)
+            for t in self.term_rules
+            if t.config_field is not None
+        }
 
-    def one_body_settings(self) -> dict[str, object]:
-        """Per term that carries its own rules, its value as a configuration gives it."""
-        return {t.name: t.setting() for t in self.one_body_terms}
+    def term_settings(self) -> dict[str, object]:
+        """Per force term that a configuration sets (its ``config_field``), its value as the
+        configuration gives it."""
+        return {t.config_field: t.setting() for t in self.term_rules if t.config_field is not None}
 
     @property
     def frame_blocks(self) -> tuple[FrameBlock, ...]:

@@ -1,8 +1,9 @@
-"""The rules a one-body force term carries with it, beside its kernel record.
+"""The rules a force term carries with it, beside its kernel record.
 
 The compiled kernel adds a fixed set of force records (:class:`~skygas.engine.terms.ForceTerms`),
 as numba wants. What the Python side must know about a term lives here, in one descriptor per
-term, so that a new term cannot forget one of them:
+term (:class:`TermRules`): the pair law, the wall law, the current's drift, the energy landscape
+and the uniform external force. A new term cannot forget one of its rules:
 
 - :meth:`record`: the record the kernel reads (internal units), and :meth:`parameters`, its
   entry in :meth:`Simulation.parameters() <skygas.engine.Simulation.parameters>` (SI);
@@ -12,19 +13,248 @@ term, so that a new term cannot forget one of them:
 - :meth:`stiffness`: its largest force gradient [pN/nm], which bounds the time step
   (τ = friction/stiffness, docs/physics.md §5);
 - :meth:`per_step`: how far it moves a free skyrmion in one step, in diameters, for the sanity
-  check that every command runs before a run (``skygas.runs.sanity``).
+  check that every command runs before a run (``skygas.runs.sanity``), which names the term by
+  its ``config_field`` (``None``: the term is checked elsewhere, or moves no free skyrmion).
 
-The current's drift keeps its own path (its speed comes from the current field); its speed
-bound is added to those of the terms here.
+:class:`~skygas.engine.Simulation` holds its descriptors in ``term_rules``; the neighbour
+list's margins add up their speed bounds, and the time step is limited by the largest
+stiffness (:func:`~skygas.engine.force_model.relaxation_time`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 from skygas.core import units
+from skygas.engine import terms as T
+from skygas.engine.force_model import law_stiffness
 from skygas.engine.terms import ConstantForceTerm, Mobility
+
+if TYPE_CHECKING:
+    from skygas.fields.landscape import LandscapeField
+    from skygas.physics.forces import ForceTable
+
+
+class TermRules(Protocol):
+    """What every force term's descriptor provides (see the module docstring)."""
+
+    #: the term's name
+    name: ClassVar[str]
+    #: the configuration field that sets it, which the sanity check names, or ``None``
+    config_field: ClassVar[str | None]
+
+    def record(self) -> Any:
+        """The record the kernel reads (internal units)."""
+        ...
+
+    def setting(self) -> Any:
+        """The term's value as a configuration gives it."""
+        ...
+
+    def parameters(self) -> dict[str, Any]:
+        """Its entries in ``Simulation.parameters()`` (SI, JSON-able)."""
+        ...
+
+    def speed_bound(self, mobility: Mobility) -> float:
+        """The largest speed [nm/ns] it gives a free skyrmion."""
+        ...
+
+    def stiffness(self) -> float:
+        """Its largest force gradient [pN/nm]."""
+        ...
+
+    def per_step(self, mobility: Mobility, dt_ns: float, diameter_nm: float) -> float:
+        """Diameters a free skyrmion moves in one step under this term alone."""
+        ...
+
+
+@dataclass(frozen=True)
+class _MovesNoFreeSkyrmion:
+    """Rules shared by the terms that exert no force on a lone skyrmion away from walls and
+    gates: no speed bound, nothing for the per-step check."""
+
+    def speed_bound(self, mobility: Mobility) -> float:
+        """0 [nm/ns]: the term does not move a free skyrmion."""
+        return 0.0
+
+    def per_step(self, mobility: Mobility, dt_ns: float, diameter_nm: float) -> float:
+        """0 diameters per step (see :meth:`speed_bound`)."""
+        return 0.0
+
+
+@dataclass(frozen=True)
+class PairLaw(_MovesNoFreeSkyrmion):
+    """The pair repulsion F(r) between skyrmions, tabulated (docs/physics.md §2).
+
+    Parameters
+    ----------
+    law
+        The law's resolved name (``"paper"``, ``"lin-reichhardt"``, ``"table"``).
+    table
+        Its table in internal units (squared layout, cut off at ``table.cutoff`` [nm]).
+    params, cutoff_fraction
+        The law's parameters and the cutoff's fraction of F₀, as configured.
+    closest
+        Distance [nm] below which the law is not valid and its slope does not count.
+    """
+
+    law: str
+    table: ForceTable
+    params: dict = field(default_factory=dict)
+    cutoff_fraction: float = 0.0
+    closest: float = 0.0
+
+    name: ClassVar[str] = "pair_law"
+    config_field: ClassVar[str | None] = None
+
+    def record(self) -> T.PairTerm:
+        """The kernel's :class:`~skygas.engine.terms.PairTerm`."""
+        return T.pair_term(self.table)
+
+    def setting(self) -> str:
+        """The law's name."""
+        return self.law
+
+    def parameters(self) -> dict[str, Any]:
+        """The law, its parameters, the cutoff fraction and the cutoff distance [m]."""
+        return {
+            "pair_law": self.law,
+            "pair_law_params": self.params,
+            "cutoff_fraction": self.cutoff_fraction,
+            "pair_cutoff_m": self.table.cutoff / units.M_TO_NM,
+        }
+
+    def stiffness(self) -> float:
+        """The largest |dF/dr| [pN/nm] beyond :attr:`closest`."""
+        return law_stiffness(self.table, self.law, self.closest)
+
+
+@dataclass(frozen=True)
+class WallLaw(_MovesNoFreeSkyrmion):
+    """The repulsion F(d) of the walls at distance d, tabulated (docs/physics.md §2).
+
+    Parameters
+    ----------
+    law
+        The law's resolved name (``"paper"`` or ``"table"``).
+    table
+        Its table in internal units, cut off at ``table.cutoff`` [nm].
+    closest
+        Distance [nm] below which the law is not valid and its slope does not count.
+    """
+
+    law: str
+    table: ForceTable
+    closest: float = 0.0
+
+    name: ClassVar[str] = "wall_law"
+    config_field: ClassVar[str | None] = None
+
+    def record(self) -> T.WallTerm:
+        """The kernel's :class:`~skygas.engine.terms.WallTerm`."""
+        return T.wall_term(self.table)
+
+    def setting(self) -> str:
+        """The law's name."""
+        return self.law
+
+    def parameters(self) -> dict[str, Any]:
+        """The law and its cutoff distance [m]."""
+        return {"wall_law": self.law, "wall_cutoff_m": self.table.cutoff / units.M_TO_NM}
+
+    def stiffness(self) -> float:
+        """The largest |dF/dr| [pN/nm] beyond :attr:`closest`."""
+        return law_stiffness(self.table, self.law, self.closest)
+
+
+@dataclass(frozen=True)
+class CurrentDrift:
+    """The spin current's drive μ(g ε + b I)·v_s, with v_s uniform or on the field grid.
+
+    Parameters
+    ----------
+    term
+        The kernel's :class:`~skygas.engine.terms.DriftTerm`.
+    max_speed
+        The largest |v_s| [nm/ns = m/s]: the uniform one, or the largest on the grid.
+
+    The sanity check of a drift per step reads the configuration's current (the largest a
+    device switches to), so ``config_field`` is ``None`` here.
+    """
+
+    term: T.DriftTerm
+    max_speed: float = 0.0
+
+    name: ClassVar[str] = "drift_velocity"
+    config_field: ClassVar[str | None] = None
+
+    def record(self) -> T.DriftTerm:
+        """The kernel's :class:`~skygas.engine.terms.DriftTerm`."""
+        return self.term
+
+    def setting(self) -> str | list[float]:
+        """``"field"`` for a drift field on the grid, else the uniform (v_x, v_y) [m/s]."""
+        return "field" if self.term.from_grid else [self.term.vs_x, self.term.vs_y]
+
+    def parameters(self) -> dict[str, Any]:
+        """The drift, as :meth:`setting` gives it."""
+        return {"drift": self.setting()}
+
+    def speed_bound(self, mobility: Mobility) -> float:
+        """|M·D·v_s| [nm/ns] at the largest |v_s|: both matrices are scaled rotations."""
+        drive = math.hypot(self.term.drive_g, self.term.drive_b)
+        return self.max_speed * drive * math.hypot(mobility.a, mobility.g)
+
+    def stiffness(self) -> float:
+        """0 [pN/nm]: the drive does not depend on the skyrmion's displacement."""
+        return 0.0
+
+    def per_step(self, mobility: Mobility, dt_ns: float, diameter_nm: float) -> float:
+        """Diameters a free skyrmion drifts in one step at the largest |v_s|."""
+        return self.speed_bound(mobility) * dt_ns / diameter_nm
+
+
+@dataclass(frozen=True)
+class Landscape(_MovesNoFreeSkyrmion):
+    """The energy landscape U(x, y): its force −∇U (docs/physics.md §1).
+
+    Parameters
+    ----------
+    landscape
+        The :class:`~skygas.fields.landscape.LandscapeField` (every potential, summed).
+    time_step_counts
+        Whether its curvature limits the suggested time step. The landscape's curvature
+        always bounds the largest accepted step; the *suggested* step counts it only when
+        the material's edge stray field is in it, so that runs without it keep the step they
+        always had.
+
+    Its forces act where potentials are steep; a free skyrmion far from them feels none, so
+    it has no speed bound (its curvature bounds the step instead).
+    """
+
+    landscape: LandscapeField
+    time_step_counts: bool = True
+
+    name: ClassVar[str] = "potentials"
+    config_field: ClassVar[str | None] = None
+
+    def record(self) -> T.LandscapeTerm:
+        """The kernel's :class:`~skygas.engine.terms.LandscapeTerm`."""
+        return T.landscape_term(self.landscape)
+
+    def setting(self) -> list[dict]:
+        """The potentials, described."""
+        return self.landscape.describe()
+
+    def parameters(self) -> dict[str, Any]:
+        """The potentials, described."""
+        return {"landscape": self.landscape.describe()}
+
+    def stiffness(self) -> float:
+        """The largest curvature |∂²U| [pN/nm] on the grid."""
+        return self.landscape.max_curvature()
 
 
 @dataclass(frozen=True)
@@ -38,9 +268,11 @@ class ConstantForce:
     force: tuple[float, float] = (0.0, 0.0)
 
     #: the configuration's name of the term (``[forces] external_force = [F_x, F_y]``)
-    name = "external_force"
+    name: ClassVar[str] = "external_force"
+    config_field: ClassVar[str | None] = "forces.external_force"
 
     def record(self) -> ConstantForceTerm:
+        """The kernel's :class:`~skygas.engine.terms.ConstantForceTerm` [pN]."""
         return ConstantForceTerm(self.force[0] * units.N_TO_PN, self.force[1] * units.N_TO_PN)
 
     def setting(self) -> list[float]:
@@ -48,6 +280,7 @@ class ConstantForce:
         return [float(self.force[0]), float(self.force[1])]
 
     def parameters(self) -> dict[str, list[float]]:
+        """The force [N]."""
         return {"external_force_N": self.setting()}
 
     def speed_bound(self, mobility: Mobility) -> float:

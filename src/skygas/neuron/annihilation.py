@@ -54,7 +54,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -191,6 +191,9 @@ class Annihilator:
     x [m], y [m]); annihilations go to the simulation's own log, ``sim.annihilations``, under
     the reason :data:`REASON` (read back through :attr:`annihilation_times`).
     """
+
+    #: its name among a run's operations: the simulation checkpoints it under this name
+    name: ClassVar[str] = "annihilator"
 
     model: AnnihilationModel
     seed: int

@@ -39,7 +39,7 @@ from skygas.core.errors import InputError
 from skygas.neuron.annihilation import AnnihilationModel
 from skygas.neuron.calibration import CALIBRATED
 from skygas.neuron.inputs import InputSpec
-from skygas.runs.config import MaterialFields, resolve_paths
+from skygas.runs.config import MaterialFields, OperationsField, resolve_paths
 
 
 class DeviceSpec(ChamberSize):
@@ -113,7 +113,7 @@ class TransferSpec(StrictModel):
     duration: float | None = Field(None, gt=0)  # s; default the run's duration
 
 
-class NeuronConfig(MaterialFields):
+class NeuronConfig(MaterialFields, OperationsField):
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
     seed: int = Field(0, ge=0, lt=2**63)

@@ -23,16 +23,13 @@ skyrmions emitted during each release are also recorded (``exits``, and per rele
 
 from __future__ import annotations
 
-import json
 import math
-import time as _time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from skygas.core import units
 from skygas.core.errors import InputError, require
-from skygas.core.state_keys import nest, unnest
 from skygas.engine import Simulation
 from skygas.fields.current import solve_current
 from skygas.neuron.annihilation import Annihilator
@@ -47,7 +44,7 @@ from skygas.neuron.gate import (
 from skygas.neuron.inputs import SiteInjector, injection_schedule
 from skygas.neuron.saturation import HEX_PACKING, saturation_estimate
 from skygas.physics.geometry import chamber_with_conduits
-from skygas.runs.run_driver import steps_to_piece_end
+from skygas.runs.device_run import DeviceRun
 
 #: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
 PIECES = 100
@@ -70,6 +67,8 @@ class NeuronController:
     closings: list = field(default_factory=list)  # steps
     _next: int = 0
     _refractory_until: int = -1
+    #: its name among the run's operations: the simulation checkpoints it under this name
+    name: str = "controller"
 
     def next_step(self, step: int) -> int:
         return self._next
@@ -91,21 +90,27 @@ class NeuronController:
         self.trace.append((sim.time, sim.count, reading, bool(self.gate.is_open)))
 
     def state_dict(self) -> dict:
-        """Trace, openings, closings and schedule as JSON-able values."""
+        """Trace, openings, closings, schedule, the gate's state and the read element's
+        generator, as JSON-able values."""
         return {
             "trace": [[float(t), int(n), float(r), bool(o)] for t, n, r, o in self.trace],
             "openings": [int(k) for k in self.openings],
             "closings": [int(k) for k in self.closings],
             "next": int(self._next),
             "refractory_until": int(self._refractory_until),
+            "gate_open": bool(self.gate.is_open),
+            "sensor_rng": self.sensor.rng.bit_generator.state,
         }
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore what :meth:`state_dict` saved (the gate is set open or closed again)."""
         self.trace = [tuple(e) for e in state["trace"]]
         self.openings = list(state["openings"])
         self.closings = list(state["closings"])
         self._next = int(state["next"])
         self._refractory_until = int(state["refractory_until"])
+        self.gate.set(state["gate_open"])
+        self.sensor.rng.bit_generator.state = state["sensor_rng"]
 
 
 class NeuronDevice:
@@ -299,7 +304,7 @@ class NeuronDevice:
             c.injection.occupied_rule,
         )
         sim.operations += [injector, annihilator, controller]
-        return NeuronRun(
+        run = NeuronRun(
             self,
             sim,
             gate,
@@ -310,42 +315,61 @@ class NeuronDevice:
             duration,
             record_interval=record_interval,
         )
+        run.attach_operations(c.operations)
+        return run
 
 
-@dataclass
-class NeuronRun:
-    device: NeuronDevice
-    sim: Simulation
-    gate: PotentialGate
-    controller: NeuronController
-    annihilator: Annihilator
-    injector: SiteInjector
-    inputs: list
-    duration: float
-    wall_time: float = 0.0
-    record_interval: float | None = None  # [s] between recorded frames (None: no frames)
+class NeuronRun(DeviceRun):
+    """A neuron in progress (:class:`~skygas.runs.device_run.DeviceRun`): its gate, and the
+    operations that drive it, each named so that the simulation checkpoints it (``injector``,
+    ``annihilator``, ``controller``).
+
+    Parameters
+    ----------
+    device
+        The configured :class:`NeuronDevice`.
+    sim
+        Its built simulation.
+    gate, controller, annihilator, injector
+        The gate and the operations :meth:`NeuronDevice.build` added.
+    inputs
+        The input spike trains.
+    duration
+        Simulated time [s] of the run.
+    record_interval
+        Time [s] between recorded frames (``None``: none; a movie asks for them).
+    """
+
+    pieces = PIECES
+
+    def __init__(
+        self,
+        device: NeuronDevice,
+        sim: Simulation,
+        gate: PotentialGate,
+        controller: NeuronController,
+        annihilator: Annihilator,
+        injector: SiteInjector,
+        inputs: list,
+        duration: float,
+        record_interval: float | None = None,
+    ):
+        super().__init__(device.config, sim)
+        self.device = device
+        self.gate = gate
+        self.controller = controller
+        self.annihilator = annihilator
+        self.injector = injector
+        self.inputs = inputs
+        self.duration = duration
+        self.record_interval = record_interval
 
     @property
     def total_steps(self) -> int:
+        """Steps of the run's duration."""
         from skygas.core.resources import step_count
 
         return step_count(self.duration, self.sim.time_step)
-
-    @property
-    def piece_steps(self) -> int:
-        """Length [steps] of a piece (:data:`PIECES` per run)."""
-        return max(1, self.total_steps // PIECES)
-
-    def advance_piece(self) -> None:
-        """Run to the next multiple of :attr:`piece_steps` (or to the end), recording positions
-        every :attr:`record_interval` [s] if set (a movie asks for them). Pieces start at
-        fixed steps, so a run resumed from a checkpoint re-enters the compiled kernel at the
-        same steps as one left alone, and continues bit-identically."""
-        sim = self.sim
-        n = steps_to_piece_end(sim.step, self.piece_steps, self.total_steps)
-        t0 = _time.perf_counter()
-        sim.run(n * sim.time_step, record_interval=self.record_interval)
-        self.wall_time += _time.perf_counter() - t0
 
     def run(self, record_interval: float | None = None) -> NeuronRun:
         """Run to the end, piece by piece (the pieces the run driver runs, with progress,
@@ -353,37 +377,8 @@ class NeuronRun:
         every ``record_interval`` [s] if given."""
         if record_interval is not None:
             self.record_interval = record_interval
-        while self.sim.step < self.total_steps:
-            self.advance_piece()
+        self.advance()
         return self
-
-    # -- checkpoints -----------------------------------------------------------------------------
-    def state_dict(self) -> dict[str, np.ndarray]:
-        """The whole mutable state: the engine's arrays, and (as one JSON string) the
-        controller, the annihilator, the injector, the gate and the read element's generator.
-        With the same device and build arguments, :meth:`load_state_dict` continues the run
-        bit-identically."""
-        ops = {
-            "controller": self.controller.state_dict(),
-            "annihilator": self.annihilator.state_dict(),
-            "injector": self.injector.state_dict(),
-            "gate_open": bool(self.gate.is_open),
-            "sensor_rng": self.controller.sensor.rng.bit_generator.state,
-            "wall_time": self.wall_time,
-        }
-        state = nest("sim_", self.sim.state_dict())
-        state["operations_json"] = np.array(json.dumps(ops))
-        return state
-
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.sim.load_state_dict(unnest("sim_", state))
-        ops = json.loads(str(state["operations_json"]))
-        self.controller.load_state_dict(ops["controller"])
-        self.annihilator.load_state_dict(ops["annihilator"])
-        self.injector.load_state_dict(ops["injector"])
-        self.gate.set(ops["gate_open"])
-        self.controller.sensor.rng.bit_generator.state = ops["sensor_rng"]
-        self.wall_time = ops["wall_time"]
 
     # -- results -------------------------------------------------------------------------------
     def trace(self) -> dict[str, np.ndarray]:
@@ -411,19 +406,17 @@ class NeuronRun:
         return float(sum(s.weight * s.mean_rate() for s in self.inputs))
 
     def summary(self) -> dict:
-        from skygas._version import __version__
         from skygas.neuron.analysis import isi_statistics, leak_from_log
 
         tr = self.trace()
         spikes = self.spike_times()
         leak, leak_err = leak_from_log(tr["time"], tr["count"], self.annihilator.annihilation_times)
         rule = self.device.config.rule
+        summary = self.base_summary()
+        operations = summary.pop("operations", None)
         return {
-            "skygas_version": __version__,
-            "seed": self.sim.seed,
-            "simulated_time_s": self.sim.time,
-            "wall_time_s": self.wall_time,
-            "time_step_s": self.sim.time_step,
+            **summary,
+            "seed": self.sim.seed,  # the build's seed (a transfer curve's runs have their own)
             "output_spikes": spikes.tolist(),
             "n_output_spikes": int(len(spikes)),
             "firing_rate_Hz": len(spikes) / self.sim.time if self.sim.time > 0 else 0.0,
@@ -446,7 +439,7 @@ class NeuronRun:
             "gate_max_force_N": gate_max_force(self.gate.band),
             "config": self.device.config.model_dump(mode="json"),
             # the user's named operations, if any
-            **({"operations": ops} if (ops := self.sim.operation_summaries()) else {}),
+            **({"operations": operations} if operations else {}),
         }
 
 

@@ -129,6 +129,8 @@ class NeuronJob(PiecewiseRunJob):
             "config_json": np.array(self.config_json()),
             "seed": np.array(config.seed),
             "skygas_version": np.array(__version__),
+            # the named operations' readings, if any (``<name>_<variable>``)
+            **{name: array for name, (_, array) in run.sim.operation_data().items()},
         }
         write_atomic(out / "trace.npz", lambda tmp: np.savez_compressed(tmp, **arrays))
         record = run_record(self)

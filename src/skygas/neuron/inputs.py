@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
-from typing import cast
+from typing import ClassVar, cast
 
 import numpy as np
 
@@ -124,6 +124,9 @@ def injection_schedule(inputs, duration: float, time_step: float, seed: int) -> 
 @dataclass
 class SiteInjector:
     """An :class:`~skygas.engine.Operation`: nucleates at ``site`` [nm] at the given steps."""
+
+    #: its name among a run's operations: the simulation checkpoints it under this name
+    name: ClassVar[str] = "injector"
 
     steps: np.ndarray
     site: np.ndarray

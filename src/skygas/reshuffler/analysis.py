@@ -184,6 +184,7 @@ def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
     pos = np.concatenate([s[2] for s in snaps]) if snaps else np.empty((0, 2))
     ds["snapshot_x"] = ("entry", pos[:, 0], {"units": "m"})
     ds["snapshot_y"] = ("entry", pos[:, 1], {"units": "m"})
+    run.add_operation_data(ds)  # the named operations' readings, if any
     ds.attrs.update(
         {
             "title": "skygas Skyrmion Reshuffler run",

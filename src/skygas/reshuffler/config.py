@@ -42,7 +42,7 @@ from skygas.fields.current import (
 from skygas.physics.hypothesis import HypothesisSpec, noise_temperature, scale_dynamics
 from skygas.physics.materials import ThieleParameters
 from skygas.reshuffler.presets import preset_data
-from skygas.runs.config import MaterialFields, resolve_paths
+from skygas.runs.config import MaterialFields, OperationsField, resolve_paths
 
 
 class DeviceSpec(ChamberSize):
@@ -79,7 +79,7 @@ class OutputSpec(StrictModel):
     max_lag: int = Field(50, ge=1)  # events; the lag scan of ρ covers −max_lag … max_lag
 
 
-class ReshufflerConfig(MaterialFields):
+class ReshufflerConfig(MaterialFields, OperationsField):
     """Everything that defines a reshuffler run."""
 
     seed: int = Field(0, ge=0, lt=2**63)

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -56,6 +57,9 @@ class Injector:
 
     Steps are the engine's; ``sites`` are nucleation points in nm per chamber name.
     """
+
+    #: its name among a run's operations: the simulation checkpoints it under this name
+    name: ClassVar[str] = "injector"
 
     bits: np.ndarray
     interval_steps: int

@@ -17,20 +17,17 @@ injected = detected + present + annihilated (annihilation is not modelled here y
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from skygas.core.errors import require
-from skygas.core.state_keys import nest, unnest
 from skygas.engine import FrameBlock, Simulation
 from skygas.fields.current import solve_current
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
-from skygas.runs.run_driver import steps_to_piece_end
+from skygas.runs.device_run import DeviceRun
 from skygas.sc.signals import SignalSpec, as_bits, generate_bits
 
 #: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
@@ -54,19 +51,34 @@ def _seeds(seed: int) -> dict[str, int]:
     }
 
 
-@dataclass
-class ReshufflerRun:
-    """A reshuffler simulation in progress. Build with :meth:`build`, then :meth:`advance`."""
+class ReshufflerRun(DeviceRun):
+    """A reshuffler simulation in progress. Build with :meth:`build`, then :meth:`advance`.
 
-    config: ReshufflerConfig
-    geometry: ReshufflerGeometry
-    sim: Simulation
-    injector: Injector
-    current: object
-    electrical_outline: object
-    n_events: int
-    snapshots: list = field(default_factory=list)
-    wall_time: float = 0.0
+    A :class:`~skygas.runs.device_run.DeviceRun` whose pieces also keep sparse snapshots of
+    all positions (:meth:`run_steps`); its injector is the named operation ``"injector"``.
+    """
+
+    pieces = PIECES
+    min_piece_steps = MIN_PIECE_STEPS
+
+    def __init__(
+        self,
+        config: ReshufflerConfig,
+        geometry: ReshufflerGeometry,
+        sim: Simulation,
+        injector: Injector,
+        current: object,
+        electrical_outline: object,
+        n_events: int,
+    ):
+        super().__init__(config, sim)
+        self.geometry = geometry
+        self.injector = injector
+        self.current = current
+        self.electrical_outline = electrical_outline
+        self.n_events = n_events
+        #: (time [s], ids, positions [m] (n, 2)) every ``output.snapshot_interval``
+        self.snapshots: list[tuple[float, np.ndarray, np.ndarray]] = []
 
     @classmethod
     def build(cls, config: ReshufflerConfig, bits=None) -> ReshufflerRun:
@@ -150,45 +162,17 @@ class ReshufflerRun:
             max_pending=config.injection.max_pending,
         )
         sim.operations.append(injector)
-        return cls(config, geometry, sim, injector, current, chamber, n_events)
+        run = cls(config, geometry, sim, injector, current, chamber, n_events)
+        run.attach_operations(config.operations)
+        return run
 
     # -- running ------------------------------------------------------------------------------
     @property
     def total_steps(self) -> int:
+        """Steps of the configured duration."""
         from skygas.core.resources import step_count
 
         return step_count(self.config.duration, self.sim.time_step)
-
-    def piece_steps(self, pieces: int = PIECES) -> int:
-        """Length [steps] of the pieces of a run cut into ``pieces`` (at least
-        :data:`MIN_PIECE_STEPS`)."""
-        return max(MIN_PIECE_STEPS, self.total_steps // pieces)
-
-    def advance_piece(self, end: int | None = None, pieces: int = PIECES) -> None:
-        """Run to the next multiple of :meth:`piece_steps` (or to ``end`` [steps], default the
-        configured duration, if that comes first).
-
-        Pieces start at multiples of the piece length, so a run resumed from a checkpoint
-        returns to Python at the same steps as one that was never stopped, and continues
-        bit-identically (where the compiled kernel is re-entered matters to rounding: the
-        neighbour list is rebuilt there)."""
-        end = self.total_steps if end is None else min(end, self.total_steps)
-        if self.sim.step >= end:
-            return
-        start = time.perf_counter()
-        piece = self.piece_steps(pieces)
-        self._run_steps(steps_to_piece_end(self.sim.step, piece, end))
-        self.wall_time += time.perf_counter() - start
-
-    def advance(self, pieces: int = PIECES, stop_after_step: int | None = None) -> None:
-        """Run to the configured duration (or to ``stop_after_step``), in ``pieces`` pieces
-        (:meth:`advance_piece`). :func:`~skygas.reshuffler.files.run_reshuffler` runs the same
-        pieces through the run driver, with progress, checkpoints and interruption."""
-        end = (
-            self.total_steps if stop_after_step is None else min(stop_after_step, self.total_steps)
-        )
-        while self.sim.step < end:
-            self.advance_piece(end, pieces)
 
     def drain(self, max_duration: float = 1e-4) -> bool:
         """Keep running after the configured duration, without new input, until every event
@@ -197,10 +181,10 @@ class ReshufflerRun:
         piece = int(round(20 * self.config.injection.interval / self.sim.time_step))
         end = self.sim.step + int(round(max_duration / self.sim.time_step))
         while (self.sim.count or self.injector.n_pending) and self.sim.step < end:
-            self._run_steps(piece)
+            self.run_steps(piece)
         return not (self.sim.count or self.injector.n_pending)
 
-    def _run_steps(self, n: int) -> None:
+    def run_steps(self, n: int) -> None:
         """Advance by ``n`` steps (fewer if the trajectory window ends first), recording the
         snapshots and, inside the trajectory window, the dense frames of the figure.
 
@@ -237,26 +221,25 @@ class ReshufflerRun:
                 self.snapshots.append((float(block.time[f]), *block.positions(f)))
 
     # -- checkpoints ------------------------------------------------------------------------
-    def state_dict(self) -> dict:
-        state = {**nest("sim_", self.sim.state_dict()), **nest("inj_", self.injector.state_dict())}
-        if self.snapshots:
-            state["snap_time"] = np.array([s[0] for s in self.snapshots])
-            state["snap_count"] = np.array([len(s[1]) for s in self.snapshots])
-            state["snap_ids"] = np.concatenate([s[1] for s in self.snapshots])
-            state["snap_pos"] = np.concatenate([s[2] for s in self.snapshots])
-        state["wall_time"] = np.array(self.wall_time)
-        return state
+    def extra_state(self) -> dict[str, np.ndarray]:
+        """The snapshots, as flat arrays (the injector is saved with the simulation)."""
+        if not self.snapshots:
+            return {}
+        return {
+            "snap_time": np.array([s[0] for s in self.snapshots]),
+            "snap_count": np.array([len(s[1]) for s in self.snapshots]),
+            "snap_ids": np.concatenate([s[1] for s in self.snapshots]),
+            "snap_pos": np.concatenate([s[2] for s in self.snapshots]),
+        }
 
-    def load_state_dict(self, state: dict) -> None:
-        self.sim.load_state_dict(unnest("sim_", state))
-        self.injector.load_state_dict(unnest("inj_", state))
+    def load_extra_state(self, state: dict[str, np.ndarray]) -> None:
+        """Restore the snapshots saved by :meth:`extra_state`."""
         self.snapshots = []
         if "snap_time" in state:
             edges = np.concatenate([[0], np.cumsum(state["snap_count"])])
             for n, t in enumerate(state["snap_time"]):
                 sl = slice(edges[n], edges[n + 1])
                 self.snapshots.append((float(t), state["snap_ids"][sl], state["snap_pos"][sl]))
-        self.wall_time = float(state["wall_time"])
 
     # -- results ------------------------------------------------------------------------------
     def detections(self) -> dict[str, np.ndarray]:

@@ -34,6 +34,7 @@ from skygas.physics.materials import (
     load_material,
     preset_names,
 )
+from skygas.runs.operations import OperationSpec
 
 Point2 = tuple[float, float]
 
@@ -223,7 +224,25 @@ class MaterialFields(StrictModel):
         )
 
 
-class SimulationConfig(MaterialFields):
+class OperationsField(StrictModel):
+    """The ``[[operations]]`` tables of a run (:mod:`skygas.runs.operations`): sensors and the
+    user's own operations, attached to the run's simulation by
+    :meth:`~skygas.runs.device_run.DeviceRun.attach_operations`. Every device whose run is one
+    simulation takes them (``simulate``, ``reshuffle``, ``neuron``)."""
+
+    operations: list[OperationSpec] = []
+
+    @field_validator("operations")
+    @classmethod
+    def _unique_names(cls, operations: list) -> list:
+        names = [op.name for op in operations]
+        for name in names:
+            if names.count(name) > 1:
+                raise ValueError(f"operations with different names ('{name}' is used twice)")
+        return operations
+
+
+class SimulationConfig(MaterialFields, OperationsField):
     """Everything that defines a simulation run (SI units)."""
 
     seed: int = Field(0, ge=0, lt=2**63)
@@ -281,7 +300,8 @@ class SimulationConfig(MaterialFields):
 
 def resolve_paths(data: dict, folder: Path) -> dict:
     """``data`` (a parsed TOML configuration) with its relative file names, a material's
-    ``.toml`` and the ``path`` of ``grid`` potentials, taken relative to ``folder`` (the
+    ``.toml``, the ``path`` of ``grid`` potentials and the files of ``[[operations]]``
+    targets, taken relative to ``folder`` (the
     configuration's folder), as a user who writes them next to the file means them."""
     data = dict(data)
     material = data.get("material")
@@ -301,7 +321,21 @@ def resolve_paths(data: dict, folder: Path) -> dict:
             else p
             for p in potentials
         ]
+    operations = data.get("operations")
+    if isinstance(operations, list):
+        data["operations"] = [_resolve_target(op, folder) for op in operations]
     return data
+
+
+def _resolve_target(table: Any, folder: Path) -> Any:
+    """An ``[[operations]]`` table whose ``target`` file (``"file.py:name"``) is relative,
+    taken relative to ``folder``."""
+    if not isinstance(table, dict) or not isinstance(table.get("target"), str):
+        return table
+    module, sep, name = table["target"].rpartition(":")
+    if sep and module.endswith(".py") and not Path(module).is_absolute():
+        return {**table, "target": f"{folder / module}:{name}"}
+    return table
 
 
 def parse_config(data: dict, source: str = "") -> SimulationConfig:

@@ -13,20 +13,15 @@
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
-import numpy as np
-
-from skygas._version import __version__
 from skygas.core.resources import require_memory, step_count
-from skygas.core.state_keys import nest, unnest
 from skygas.runs.config import SimulationConfig
+from skygas.runs.device_run import DeviceRun
 from skygas.runs.run_driver import (
     PiecewiseRunJob,
     drive,
     run_record,
-    steps_to_piece_end,
     write_figure,
     write_json,
     write_netcdf,
@@ -36,15 +31,16 @@ from skygas.runs.run_driver import (
 PIECES = 100
 
 
-class SimulationRun:
-    """A configured simulation cut into :data:`PIECES` pieces of equal length [steps]; piece
-    ``k`` covers steps [k·L, (k+1)·L), whatever run (first or resumed) gets there
-    (:func:`~skygas.runs.run_driver.steps_to_piece_end`)."""
+class SimulationRun(DeviceRun):
+    """A configured simulation cut into :data:`PIECES` pieces of equal length [steps]
+    (:class:`~skygas.runs.device_run.DeviceRun`), with the configuration's ``[[operations]]``
+    attached."""
+
+    pieces = PIECES
 
     def __init__(self, config: SimulationConfig):
-        self.config = config
-        self.sim = config.build()  # validates everything before any stepping
-        self.total_steps = step_count(config.duration, self.sim.time_step)
+        super().__init__(config, config.build())  # validates everything before any stepping
+        self.record_interval = config.record_interval
         # recorded frames: per skyrmion, x and y (float64) and its id (int64)
         frames = self.total_steps * self.sim.time_step / config.record_interval
         require_memory(
@@ -54,24 +50,12 @@ class SimulationRun:
             "the recorded frames",
             "record less often, or run for a shorter duration",
         )
-        self.piece_steps = max(1, self.total_steps // PIECES)
-        self.wall_time = 0.0
+        self.attach_operations(config.operations)
 
-    def advance_piece(self) -> None:
-        sim = self.sim
-        n = steps_to_piece_end(sim.step, self.piece_steps, self.total_steps)
-        start = time.perf_counter()
-        sim.run(n * sim.time_step, record_interval=self.config.record_interval)
-        self.wall_time += time.perf_counter() - start
-
-    def state_dict(self) -> dict[str, np.ndarray]:
-        state = nest("sim_", self.sim.state_dict())
-        state["wall_time"] = np.array(self.wall_time)
-        return state
-
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.sim.load_state_dict(unnest("sim_", state))
-        self.wall_time = float(state["wall_time"])
+    @property
+    def total_steps(self) -> int:
+        """Steps of the configured duration."""
+        return step_count(self.config.duration, self.sim.time_step)
 
 
 class SimulationJob(PiecewiseRunJob):
@@ -94,28 +78,29 @@ class SimulationJob(PiecewiseRunJob):
         return self.run.wall_time
 
     def summary(self) -> dict:
+        """Counts, times, the seed, the version, the configuration and the operations'
+        summaries."""
         sim = self.sim
-        return {
-            "skygas_version": __version__,
-            "seed": self.config.seed,
-            "skyrmions_initial": sim.ids_issued,  # `simulate` creates skyrmions only at the start
-            "skyrmions_present": sim.count,
-            "exits": len(sim.exits),
-            "wall_escapes": sim.wall_escapes,
-            "simulated_time_s": sim.time,
-            "time_step_s": sim.time_step,
-            "steps": sim.step,
-            "wall_time_s": self.wall_time,
-            "pair_evaluations": sim.pair_evaluations,
-            "config": json.loads(self.config_json()),
-            **({"operations": ops} if (ops := sim.operation_summaries()) else {}),
-        }
+        summary = self.run.base_summary()
+        operations = summary.pop("operations", None)
+        summary.update(
+            {
+                "skyrmions_initial": sim.ids_issued,  # skyrmions are created only at the start
+                "skyrmions_present": sim.count,
+                "exits": len(sim.exits),
+                "wall_escapes": sim.wall_escapes,
+                "pair_evaluations": sim.pair_evaluations,
+                "config": json.loads(self.config_json()),
+                **({"operations": operations} if operations else {}),
+            }
+        )
+        return summary
 
     def finish(self, out: Path) -> dict:
         """Write the dataset, the figure and the summary (each atomically)."""
         from skygas.runs.plotting import plot_trajectories
 
-        ds = self.sim.trajectories()
+        ds = self.run.add_operation_data(self.sim.trajectories())
         ds.attrs["config_json"] = self.config_json()
         write_netcdf(ds, out / "trajectories.nc")
         write_figure(

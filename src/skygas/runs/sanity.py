@@ -109,13 +109,13 @@ def findings_before_run(config: Any, sim: Any = None) -> list[InputError]:
                     "shorten the time step or lower the current",
                 )
             )
-    if sim is not None:  # the one-body terms that carry their own rules (a constant force)
-        settings = sim.one_body_settings()
-        for name, per_step in sim.one_body_steps().items():
+    if sim is not None:  # the force terms a configuration sets (a constant force)
+        settings = sim.term_settings()
+        for name, per_step in sim.term_steps().items():
             if per_step > MAX_DRIFT_PER_STEP:
                 found.append(
                     InputError(
-                        f"forces.{name}",
+                        name,
                         settings[name],
                         f"a force that moves a free skyrmion at most {MAX_DRIFT_PER_STEP:g} "
                         f"diameters per step (it moves {per_step:.3g} at a time step of "
