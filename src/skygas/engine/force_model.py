@@ -76,9 +76,11 @@ def _resolve(
 def resolve_law_names(
     material: Material, pair_law_name: str | None = None, wall_law_name: str | None = None
 ) -> tuple[str, str]:
-    """The pair and wall laws a run uses: a name given, or ``None`` for the material's own
-    (``"table"`` when it has ``pair_table`` / ``wall_table``, else ``"paper"``). ``"table"``
-    for a material without that table is refused."""
+    """The pair and wall laws a run uses.
+
+    A name given, or ``None`` for the material's own (``"table"`` when it has ``pair_table`` /
+    ``wall_table``, else ``"paper"``). ``"table"`` for a material without that table is refused.
+    """
     return (
         _resolve(
             pair_law_name, material.pair_table, PAIR_LAWS, "forces.pair_law", "pair_table", material
@@ -96,8 +98,10 @@ def _table_key(table: ForceTableSpec) -> str:
 
 
 def _checked(table: ForceTableSpec | None) -> ForceTableSpec:
-    """A material's table where its law is ``"table"`` (:func:`resolve_law_names` refuses
-    ``"table"`` for a material without it)."""
+    """A material's table where its law is ``"table"``.
+
+    :func:`resolve_law_names` refuses ``"table"`` for a material without it.
+    """
     assert table is not None
     return table
 
@@ -112,7 +116,8 @@ class ForceModel:
     """The tabulated pair and wall laws (internal units) and how they were made.
 
     ``pair_law`` and ``wall_law`` are the resolved names (:func:`resolve_law_names`), the ones
-    results record."""
+    results record.
+    """
 
     pair: ForceTable
     wall: ForceTable
@@ -131,8 +136,10 @@ class ForceModel:
         cutoff_fraction: float = DEFAULT_CUTOFF_FRACTION,
         wall_law_name: str | None = None,
     ) -> ForceModel:
-        """Tabulate the laws of ``material`` with F₀ and d_sk of ``thiele``; ``None`` names
-        take the material's own law (:func:`resolve_law_names`)."""
+        """Tabulate the laws of ``material`` with F₀ and d_sk of ``thiele``.
+
+        ``None`` names take the material's own law (:func:`resolve_law_names`).
+        """
         pair_law_name, wall_law_name = resolve_law_names(material, pair_law_name, wall_law_name)
         params = dict(pair_law_params or {})
         f0 = thiele.force_scale_internal
@@ -200,8 +207,7 @@ class ForceModel:
         return cls(pair, wall, pair_law_name, params, cutoff_fraction, wall_law_name)
 
     def max_stiffness(self, closest: float = 0.0) -> float:
-        """Largest |dF/dr| [pN/nm] of either tabulated law at distances r ≥ ``closest`` [nm]
-        (:func:`law_stiffness` of each)."""
+        """Largest |dF/dr| [pN/nm] of either law at r ≥ ``closest`` [nm] (:func:`law_stiffness`)."""
         return max(
             0.0,
             law_stiffness(self.pair, self.pair_law, closest),
@@ -252,8 +258,10 @@ def relaxation_time(thiele: ThieleParameters, stiffness: float) -> float:
 
 
 def default_time_step(thiele: ThieleParameters, stiffness: float, interval: float) -> float:
-    """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s] (:func:`relaxation_time` of
-    ``stiffness`` [pN/nm]), shortened so that ``interval`` [s] (a recording or injection
-    interval) is a whole number of steps."""
+    """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s], fitted to ``interval``.
+
+    τ_min is :func:`relaxation_time` of ``stiffness`` [pN/nm]; the step is shortened so that
+    ``interval`` [s] (a recording or injection interval) is a whole number of steps.
+    """
     suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, stiffness)
     return interval / math.ceil(interval / suggested - 1e-9)

@@ -33,20 +33,34 @@ class Operation(Protocol):
     engine stops there and calls ``act(sim)`` (a value ≤ ``step`` means "now", before any
     further stepping). An operation can change its schedule from one call to the next (an
     injector retrying an occupied site, a gate opening). It reads and changes skyrmions
-    through ``sim.state`` (:class:`~skygas.engine.state.StateView`)."""
+    through ``sim.state`` (:class:`~skygas.engine.state.StateView`).
+    """
 
-    def next_step(self, step: int) -> int: ...
+    def next_step(self, step: int) -> int:
+        """The step at which the operation next wants to act (≤ ``step``: now)."""
+        ...
 
-    def act(self, sim: Simulation) -> None: ...
+    def act(self, sim: Simulation) -> None:
+        """Act on ``sim``, through ``sim.state``."""
+        ...
 
 
 class NamedOperation(Operation, Protocol):
-    """An :class:`Operation` with a ``name`` (letters, digits, ``-`` and ``_``; unique among a
-    simulation's operations) whose state :meth:`Simulation.state_dict
-    <skygas.engine.Simulation.state_dict>` saves and restores under that name, and whose
-    ``summary()`` (JSON-able numbers) the devices put in their summaries under
-    ``"operations"``. Any of ``state_dict``/``load_state_dict`` and ``summary`` may be left
-    out: an operation without them is neither saved nor summarised."""
+    """An :class:`Operation` with a ``name``, checkpointed, summarised and saved by name.
+
+    The name holds letters, digits, ``-`` and ``_``, and is unique among a simulation's
+    operations. Three optional methods make it a full part of a run:
+
+    - ``state_dict()`` / ``load_state_dict(state)``: :meth:`Simulation.state_dict
+      <skygas.engine.Simulation.state_dict>` saves and restores its state under its name
+      (arrays, or JSON-able values);
+    - ``summary()``: JSON-able numbers, which the devices put in their summaries under
+      ``"operations"``;
+    - ``data()``: ``{variable: (dims, array)}``, written into the run's result file
+      (:meth:`Simulation.operation_data <skygas.engine.Simulation.operation_data>`).
+
+    An operation without them is neither saved, summarised nor written.
+    """
 
     name: str
 
@@ -79,11 +93,16 @@ class PlannedInsertions(Protocol):
     usual). The kernel makes them in order and stops before the first one it cannot make (site
     occupied, or no free slot); ``planned_insertions_made(sim, ids)`` then reports the ids of
     those made, and the operation's ``next_step`` takes over from there. This saves a return to
-    Python for every insertion (the reshuffler nucleates every 20 steps)."""
+    Python for every insertion (the reshuffler nucleates every 20 steps).
+    """
 
-    def plan_insertions(self, step: int, limit: int): ...
+    def plan_insertions(self, step: int, limit: int):
+        """The insertions at steps in (``step``, ``limit``), or ``None``."""
+        ...
 
-    def planned_insertions_made(self, sim: Simulation, ids: np.ndarray) -> None: ...
+    def planned_insertions_made(self, sim: Simulation, ids: np.ndarray) -> None:
+        """Take note of the ids of the planned insertions the kernel made."""
+        ...
 
 
 class Periodic:
@@ -95,9 +114,11 @@ class Periodic:
         self.action = action
 
     def next_step(self, step: int) -> int:
+        """The next multiple of ``period_steps`` after ``step``."""
         return (step // self.period_steps + 1) * self.period_steps
 
     def act(self, sim: Simulation) -> None:
+        """Call the action."""
         self.action(sim)
 
 
@@ -106,9 +127,11 @@ NO_PLAN = InsertionPlan(np.empty(0, np.int64), np.empty(0), np.empty(0), np.empt
 
 
 def first_plan(operations, due: list[int], step: int, horizon: int):
-    """The first operation able to plan its insertions up to the next stop, and its plan
-    (:class:`~skygas.engine.terms.PlannedInsertions`); ``due`` is updated so that the
-    planner's own schedule does not stop the kernel. (None, None) if there is none."""
+    """The first operation able to plan its insertions up to the next stop.
+
+    And its plan (:class:`~skygas.engine.terms.PlannedInsertions`); ``due`` is updated so that
+    the planner's own schedule does not stop the kernel. (None, None) if there is none.
+    """
     for k, op in enumerate(operations):
         if due[k] <= step or not hasattr(op, "plan_insertions"):
             continue

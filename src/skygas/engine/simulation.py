@@ -86,8 +86,10 @@ _WALL_CHANNELS = Memo("wall_channels", maxsize=4)
 
 
 def _packed_wall_channels(wall_field: WallField) -> np.ndarray:
-    """The packed float32 grid (:func:`~skygas.fields._field_lookup.empty_fields`) with the wall
-    channels filled in and no drift (read-only)."""
+    """The packed float32 grid with the wall channels filled in and no drift (read-only).
+
+    See :func:`~skygas.fields._field_lookup.empty_fields`.
+    """
     packed = empty_fields(wall_field.grid.ny, wall_field.grid.nx)
     packed[..., T.CH_WALL_DIST] = wall_field.wall_distance
     packed[..., T.CH_NORMAL_X] = wall_field.normal_x
@@ -290,13 +292,16 @@ class Simulation:
         self.set_uniform_drift(drift_velocity)
 
     def _build_landscape(self, terms: list) -> LandscapeField:
-        """The landscape of the user's ``terms``, plus the edge stray field of a calibrated
-        material (docs/physics.md §2) when its tabulated wall law is used.
+        """The landscape of the user's ``terms``, plus a calibrated material's edge stray field.
+
+        The stray field (docs/physics.md §2) is added when the material's tabulated wall law is
+        used.
 
         Only then: the paper's wall law is a fit of the whole interaction with a straight
         edge, stray field included, so adding the stray field to it would count it twice.
         The tabulated wall law of a calibrated model is the short-range rest, measured with
-        the stray field taken out."""
+        the stray field taken out.
+        """
         stray = self.material.stray_field
         self.edge_stray_field = None
         if stray is not None and self.forces.wall_law == "table":
@@ -369,8 +374,10 @@ class Simulation:
     @property
     def neighbor_cells(self) -> T.NeighborCells:
         """The neighbour list's margins and cells (:class:`~skygas.engine.terms.NeighborCells`).
-        Assigning one (e.g. with zero margins, for a test against an exact list) replaces them
-        until the drift changes."""
+
+        Assigning one (e.g. with zero margins, for a test against an exact list) replaces
+        them until the drift changes.
+        """
         assert self._neighbor_cells is not None  # set in __init__
         return self._neighbor_cells
 
@@ -386,8 +393,10 @@ class Simulation:
 
     @property
     def term_rules(self) -> tuple[TermRules, ...]:
-        """Every force term's descriptor (:mod:`skygas.engine.term_rules`), in the kernel's
-        order: pair law, wall law, drift, landscape, external force."""
+        """Every force term's descriptor (:mod:`skygas.engine.term_rules`), in the kernel's order.
+
+        Pair law, wall law, drift, landscape, external force.
+        """
         return (
             self._pair_rules,
             self._wall_rules,
@@ -403,9 +412,11 @@ class Simulation:
 
     # -- time step -----------------------------------------------------------------------------
     def relaxation_time(self) -> float:
-        """τ_min [s] of this simulation (see :func:`relaxation_time`): the largest stiffness
-        of its force terms (:attr:`term_rules`), the laws' slopes and the landscape's
-        curvature among them."""
+        """τ_min [s] of this simulation (see :func:`relaxation_time`).
+
+        The largest stiffness of its force terms (:attr:`term_rules`), the laws' slopes and
+        the landscape's curvature among them.
+        """
         return relaxation_time(self.thiele, max(t.stiffness() for t in self.term_rules))
 
     def max_time_step(self) -> float:
@@ -413,14 +424,18 @@ class Simulation:
         return MAX_STEP_FRACTION * self.relaxation_time()
 
     def suggested_time_step(self) -> float:
-        """A safe default [s]: SUGGESTED_STEP_FRACTION · τ_min. Check it with
-        :func:`skygas.runs.timestep.check_time_step`."""
+        """A safe default [s]: SUGGESTED_STEP_FRACTION · τ_min.
+
+        Check it with :func:`skygas.runs.timestep.check_time_step`.
+        """
         return SUGGESTED_STEP_FRACTION * self.relaxation_time()
 
     # -- landscape -----------------------------------------------------------------------------
     def set_landscape_enabled(self, term, on: bool) -> None:
-        """Switch a landscape term (index, or the ``name`` of a band) off or on; the change
-        acts from the next step (no recompilation)."""
+        """Switch a landscape term (index, or the ``name`` of a band) off or on.
+
+        The change acts from the next step (no recompilation).
+        """
         self.landscape.set_enabled(term, on)
 
     # -- drift ---------------------------------------------------------------------------------
@@ -518,8 +533,10 @@ class Simulation:
         return self.store.insert(p)
 
     def remove_skyrmions(self, ids, reason: str = "removed") -> None:
-        """Remove the skyrmions with the given ids (unknown ids raise); see
-        :meth:`StateView.annihilate`."""
+        """Remove the skyrmions with the given ids (unknown ids raise).
+
+        See :meth:`StateView.annihilate`.
+        """
         self.state.annihilate(ids, reason)
 
     # -- running -------------------------------------------------------------------------------
@@ -637,9 +654,11 @@ class Simulation:
 
     # -- checkpoints ---------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
-        """The mutable state as plain arrays (positions in nm, exactly as stored). With the same
-        construction arguments, :meth:`load_state_dict` continues the run bit-identically,
-        because the noise depends only on (seed, id, step)."""
+        """The mutable state as plain arrays (positions in nm, exactly as stored).
+
+        With the same construction arguments, :meth:`load_state_dict` continues the run
+        bit-identically, because the noise depends only on (seed, id, step).
+        """
         state = {
             **nest("store_", self.store.state_dict()),
             **nest("record_", self.recorder.state_dict()),
@@ -671,8 +690,10 @@ class Simulation:
                 op.load_state_dict(from_arrays(unnest(f"op.{name}.", state)))
 
     def operation_summaries(self) -> dict[str, dict]:
-        """``summary()`` of every named operation that has one, by name (what the devices
-        report under ``"operations"``)."""
+        """``summary()`` of every named operation that has one, by name.
+
+        The devices report them in their summaries under ``"operations"``.
+        """
         return {
             name: op.summary()
             for name, op in named_operations(self.operations).items()
@@ -702,9 +723,11 @@ class Simulation:
 
     # -- results -------------------------------------------------------------------------------
     def parameters(self) -> dict:
-        """Every parameter needed to reproduce the run (JSON-able, SI units): the run's own,
-        then each force term's entries (:meth:`TermRules.parameters
-        <skygas.engine.term_rules.TermRules.parameters>`)."""
+        """Every parameter needed to reproduce the run (JSON-able, SI units).
+
+        The run's own, then each force term's entries (:meth:`TermRules.parameters
+        <skygas.engine.term_rules.TermRules.parameters>`).
+        """
         return {
             "skygas_version": __version__,
             "seed": self.seed,
@@ -721,9 +744,11 @@ class Simulation:
         }
 
     def term_steps(self) -> dict[str, float]:
-        """Per force term that a configuration sets (its ``config_field``), the diameters a
-        free skyrmion moves in one step under it alone (the sanity check before a run,
-        docs/physics.md §5)."""
+        """Per force term that a configuration sets (its ``config_field``).
+
+        The diameters a free skyrmion moves in one step under it alone (the sanity check
+        before a run, docs/physics.md §5).
+        """
         d_sk = self.thiele.skyrmion_diameter_internal
         return {
             t.config_field: t.per_step(self._mobility, self._dt_ns, d_sk)
@@ -732,8 +757,10 @@ class Simulation:
         }
 
     def term_settings(self) -> dict[str, object]:
-        """Per force term that a configuration sets (its ``config_field``), its value as the
-        configuration gives it."""
+        """Per force term that a configuration sets, its value as the configuration gives it.
+
+        Keyed by the term's ``config_field``.
+        """
         return {t.config_field: t.setting() for t in self.term_rules if t.config_field is not None}
 
     @property
@@ -742,17 +769,21 @@ class Simulation:
         return tuple(self.recorder.blocks)
 
     def take_frames(self, first_block: int = 0) -> list[FrameBlock]:
-        """Remove and return the frame blocks from index ``first_block`` on (a long run that
-        keeps its own sparse record of positions takes them after each piece, so that the
-        simulation does not hold them all)."""
+        """Remove and return the frame blocks from index ``first_block`` on.
+
+        A long run that keeps its own sparse record of positions takes them after each piece,
+        so that the simulation does not hold them all.
+        """
         return self.recorder.take_frames(first_block)
 
     def trajectories(self) -> xr.Dataset:
-        """Recorded positions as a Dataset: ``x``, ``y`` [m] with dims (time, skyrmion), NaN
-        where a skyrmion does not exist, ``time`` [s]; the ``skyrmion`` coordinate holds the
-        ids of the skyrmions present in at least one frame. Exits as variables on dim
-        ``exit``; attributes hold every parameter (``parameters_json``), the seed and the
-        version."""
+        """Recorded positions as a Dataset.
+
+        ``x``, ``y`` [m] with dims (time, skyrmion), NaN where a skyrmion does not exist,
+        ``time`` [s]; the ``skyrmion`` coordinate holds the ids of the skyrmions present in
+        at least one frame. Exits as variables on dim ``exit``; attributes hold every
+        parameter (``parameters_json``), the seed and the version.
+        """
         return self.recorder.trajectories(
             {
                 "seed": self.seed,

@@ -72,8 +72,10 @@ class TermRules(Protocol):
 
 @dataclass(frozen=True)
 class _MovesNoFreeSkyrmion:
-    """Rules shared by the terms that exert no force on a lone skyrmion away from walls and
-    gates: no speed bound, nothing for the per-step check."""
+    """Rules shared by the terms that exert no force on a lone skyrmion away from walls and gates.
+
+    No speed bound, nothing for the per-step check.
+    """
 
     def speed_bound(self, mobility: Mobility) -> float:
         """0 [nm/ns]: the term does not move a free skyrmion."""
@@ -259,11 +261,13 @@ class Landscape(_MovesNoFreeSkyrmion):
 
 @dataclass(frozen=True)
 class ConstantForce:
-    """A uniform external force F = (F_x, F_y) [N] on every skyrmion: the force of a magnetic
-    field gradient on the skyrmion's moment, or of gravity-like tilts of the energy (a film
-    whose thickness or anisotropy varies linearly). It enters the Thiele equation beside the
-    other forces, so a free skyrmion moves at v = M·F (M the mobility, docs/physics.md §1):
-    at the angle of the skyrmion Hall effect to F."""
+    """A uniform external force F = (F_x, F_y) [N] on every skyrmion.
+
+    The force of a magnetic field gradient on the skyrmion's moment, or of gravity-like tilts of
+    the energy (a film whose thickness or anisotropy varies linearly). It enters the Thiele
+    equation beside the other forces, so a free skyrmion moves at v = M·F (M the mobility,
+    docs/physics.md §1): at the angle of the skyrmion Hall effect to F.
+    """
 
     force: tuple[float, float] = (0.0, 0.0)
 

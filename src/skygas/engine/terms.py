@@ -1,5 +1,6 @@
-"""The force terms of the Thiele equation and the other records the compiled kernel reads
-(internal units: nm, ns, pN).
+"""The force terms of the Thiele equation and the other records the compiled kernel reads.
+
+All in internal units: nm, ns, pN.
 
 Each record is a typed, immutable :class:`~typing.NamedTuple` that the kernel receives as one
 argument and reads by field name, so a parameter can be followed by name from the configuration
@@ -47,16 +48,20 @@ CH_DRIFT_Y = 5  # (channels 6 and 7 are free)
 
 
 class Mobility(NamedTuple):
-    """The inverse of the Thiele friction matrix (G ε + a I), a = α𝒟k, g = G [pN·ns/nm]:
-    v = M·F = (a F − g εF)/(a² + g²), εF = (F_y, −F_x)."""
+    """The inverse of the Thiele friction matrix (G ε + a I), a = α𝒟k, g = G [pN·ns/nm].
+
+    V = M·F = (a F − g εF)/(a² + g²), εF = (F_y, −F_x).
+    """
 
     a: float  # a/(a² + g²) [nm/(pN·ns)]
     g: float  # g/(a² + g²) [nm/(pN·ns)]
 
 
 class NoiseTerm(NamedTuple):
-    """Thermal noise: an isotropic velocity noise of diffusion constant
-    D = k_BT a/(a² + g²), drawn from Philox keyed on (seed, skyrmion id, step)."""
+    """Thermal noise: an isotropic velocity noise of diffusion constant D = k_BT a/(a² + g²).
+
+    Drawn from Philox keyed on (seed, skyrmion id, step).
+    """
 
     seed: int  # key of the counter-based generator
     amplitude: float  # √(2 D dt) per axis [nm]
@@ -73,8 +78,10 @@ class PairTerm(NamedTuple):
 
 
 class WallTerm(NamedTuple):
-    """Skyrmion–wall repulsion along the inward normal: ``table[k]`` is |F| [pN] at wall
-    distance k·spacing."""
+    """Skyrmion–wall repulsion along the inward normal.
+
+    ``table[k]`` is |F| [pN] at wall distance k·spacing.
+    """
 
     table: np.ndarray
     spacing: float  # [nm]
@@ -82,8 +89,10 @@ class WallTerm(NamedTuple):
 
 
 class DriftTerm(NamedTuple):
-    """The current's drive force μ(g ε + b I)·v_s, b = η𝒟k, with v_s [nm/ns] uniform
-    (``vs_x``, ``vs_y``) or read from the grid (``from_grid``)."""
+    """The current's drive force μ(g ε + b I)·v_s, b = η𝒟k.
+
+    With v_s [nm/ns] uniform (``vs_x``, ``vs_y``) or read from the grid (``from_grid``).
+    """
 
     drive_g: float  # μ g [pN·ns/nm]
     drive_b: float  # μ b [pN·ns/nm]
@@ -93,9 +102,12 @@ class DriftTerm(NamedTuple):
 
 
 class LandscapeTerm(NamedTuple):
-    """An external potential: the polynomial coefficients of its interpolant in every cell of
-    a grid of origin (x0, y0) and spacing h [nm], ``coefficients[j, i, 4b + a]`` of tᵃuᵇ
-    [pN·nm] (:mod:`skygas.fields.landscape.hermite`)."""
+    """An external potential.
+
+    The polynomial coefficients of its interpolant in every cell of a grid of origin (x0, y0)
+    and spacing h [nm], ``coefficients[j, i, 4b + a]`` of tᵃuᵇ [pN·nm]
+    (:mod:`skygas.fields.landscape.hermite`).
+    """
 
     coefficients: np.ndarray
     x0: float
@@ -105,16 +117,21 @@ class LandscapeTerm(NamedTuple):
 
 
 class ConstantForceTerm(NamedTuple):
-    """A uniform external force F [pN] on every skyrmion, the same everywhere and at every
-    step (a field gradient, a tilted film): one of the one-body forces."""
+    """A uniform external force F [pN] on every skyrmion.
+
+    The same everywhere and at every step (a field gradient, a tilted film): one of the one-body
+    forces.
+    """
 
     fx: float
     fy: float
 
 
 class FieldGrid(NamedTuple):
-    """The packed per-node fields ``fields[j, i, channel]`` (float32) on a grid of origin
-    (x0, y0) and spacing [nm]."""
+    """The packed per-node fields ``fields[j, i.
+
+    Channel]`` (float32) on a grid of origin (x0, y0) and spacing [nm].
+    """
 
     fields: np.ndarray
     x0: float
@@ -142,8 +159,7 @@ class Stepper(NamedTuple):
 
 
 class NeighborCells(NamedTuple):
-    """The Verlet list's margins and the cell list that builds it (see
-    :mod:`skygas.engine.neighbors`)."""
+    """The Verlet list's margins and the cell list that builds it (:mod:`.neighbors`)."""
 
     skin: float  # [nm]; the smallest margin s_i is half of it
     margin_steps: float  # steps of motion at its latest velocity a margin should cover
@@ -156,8 +172,10 @@ class NeighborCells(NamedTuple):
 
 
 class PlannedInsertions(NamedTuple):
-    """Insertions the kernel makes at the start of given steps while the site is clear (an
-    injector's nucleations, see :class:`skygas.engine.scheduler.PlannedInsertions`)."""
+    """Insertions the kernel makes at the start of given steps while the site is clear.
+
+    An injector's nucleations: see :class:`skygas.engine.scheduler.PlannedInsertions`.
+    """
 
     steps: np.ndarray  # global step of each insertion (increasing)
     x: np.ndarray  # [nm]

@@ -1,6 +1,7 @@
-"""The Skyrmion Neuron (paper, "Skyrmion Neuron"; docs/physics.md §3): one chamber of the
-reshuffler whose output conduit is closed by a voltage gate, a read element inside the chamber,
-and a threshold rule that opens the gate (the neuron fires) and closes it again.
+"""The Skyrmion Neuron (paper, "Skyrmion Neuron"; docs/physics.md §3).
+
+One chamber of the reshuffler whose output conduit is closed by a voltage gate, a read element
+inside the chamber, and a threshold rule that opens the gate (the neuron fires) and closes it again.
 
 Layout: :func:`~skygas.physics.geometry.chamber_with_conduits`; the input conduit's end is a wall
 (nucleation site at its middle), the output conduit's end is the read-out line where emitted
@@ -52,8 +53,10 @@ PIECES = 100
 
 @dataclass
 class NeuronController:
-    """The read-and-threshold rule as an :class:`~skygas.engine.Operation`; it also records
-    the count trace (time, chamber count, sensor reading, gate open)."""
+    """The read-and-threshold rule as an :class:`~skygas.engine.Operation`.
+
+    It also records the count trace (time, chamber count, sensor reading, gate open).
+    """
 
     gate: PotentialGate
     sensor: ReadElement
@@ -71,9 +74,11 @@ class NeuronController:
     name: str = "controller"
 
     def next_step(self, step: int) -> int:
+        """The step of the next reading."""
         return self._next
 
     def act(self, sim) -> None:
+        """Read the sensor, open or close the gate by the threshold rule, record the trace."""
         self._next = sim.step + self.interval_steps
         reading = self.sensor.read(sim)
         if self.gate.is_open:
@@ -90,8 +95,10 @@ class NeuronController:
         self.trace.append((sim.time, sim.count, reading, bool(self.gate.is_open)))
 
     def state_dict(self) -> dict:
-        """Trace, openings, closings, schedule, the gate's state and the read element's
-        generator, as JSON-able values."""
+        """Trace, openings, closings, schedule, the gate's state and the read element's generator.
+
+        As JSON-able values.
+        """
         return {
             "trace": [[float(t), int(n), float(r), bool(o)] for t, n, r, o in self.trace],
             "openings": [int(k) for k in self.openings],
@@ -156,8 +163,10 @@ class NeuronDevice:
 
     # -- validation ------------------------------------------------------------------------------
     def _gate_band(self, d_sk: float):
-        """The closed gate's band, centred on the output conduit, checked against the conduit,
-        the field grid and the time step before anything is built."""
+        """The closed gate's band, centred on the output conduit, checked against the conduit.
+
+        The field grid and the time step before anything is built.
+        """
         c, dev, g = self.config, self.config.device, self.config.gate
         require(
             g.band_width <= dev.conduit_length,
@@ -194,6 +203,7 @@ class NeuronDevice:
         return band
 
     def sensor_geometry_nm(self, r_nm: float) -> tuple[np.ndarray, float]:
+        """The read element's centre [nm] and radius [nm] (default: ``r_nm``)."""
         s = self.config.sensor
         center = np.asarray(s.center, float) * units.M_TO_NM
         radius = (s.radius * units.M_TO_NM) if s.radius is not None else r_nm
@@ -240,6 +250,20 @@ class NeuronDevice:
 
     # -- building ------------------------------------------------------------------------------
     def build(self, inputs=None, duration=None, seed=None, record_interval=None) -> NeuronRun:
+        """A ready :class:`NeuronRun`: simulation, gate, read element and operations.
+
+        Parameters
+        ----------
+        inputs
+            The input spike trains (default: the configuration's).
+        duration
+            Simulated time [s] (default: the configuration's).
+        seed
+            The run's seed (default: the configuration's; a transfer curve's runs have
+            their own).
+        record_interval
+            Time [s] between recorded frames (``None``: none).
+        """
         c = self.config
         seed = c.seed if seed is None else seed
         duration = c.duration if duration is None else duration
@@ -320,9 +344,10 @@ class NeuronDevice:
 
 
 class NeuronRun(DeviceRun):
-    """A neuron in progress (:class:`~skygas.runs.device_run.DeviceRun`): its gate, and the
-    operations that drive it, each named so that the simulation checkpoints it (``injector``,
-    ``annihilator``, ``controller``).
+    """A neuron in progress (:class:`~skygas.runs.device_run.DeviceRun`).
+
+    Its gate, and the operations that drive it, each named so that the simulation checkpoints it
+    (``injector``, ``annihilator``, ``controller``).
 
     Parameters
     ----------
@@ -372,9 +397,11 @@ class NeuronRun(DeviceRun):
         return step_count(self.duration, self.sim.time_step)
 
     def run(self, record_interval: float | None = None) -> NeuronRun:
-        """Run to the end, piece by piece (the pieces the run driver runs, with progress,
-        checkpoints and interruption, in :mod:`skygas.neuron.files`), recording positions
-        every ``record_interval`` [s] if given."""
+        """Run to the end, piece by piece, recording positions every ``record_interval`` [s].
+
+        These are the pieces the run driver runs, with progress, checkpoints and interruption
+        (:mod:`skygas.neuron.files`).
+        """
         if record_interval is not None:
             self.record_interval = record_interval
         self.advance()
@@ -382,6 +409,7 @@ class NeuronRun(DeviceRun):
 
     # -- results -------------------------------------------------------------------------------
     def trace(self) -> dict[str, np.ndarray]:
+        """The controller's readings: time [s], count, reading and whether the gate was open."""
         tr = self.controller.trace
         return {
             "time": np.array([t[0] for t in tr]),
@@ -399,6 +427,7 @@ class NeuronRun(DeviceRun):
         return self.sim.exits.arrays()["time"].copy()
 
     def injection_times(self) -> np.ndarray:
+        """Times [s] of the injections made."""
         return np.array([s for s, _ in self.injector.injected], dtype=float) * self.sim.time_step
 
     def input_rate(self) -> float:
@@ -406,6 +435,7 @@ class NeuronRun(DeviceRun):
         return float(sum(s.weight * s.mean_rate() for s in self.inputs))
 
     def summary(self) -> dict:
+        """Spikes, rates, counts, the leak time, the ISI statistics and the configuration."""
         from skygas.neuron.analysis import isi_statistics, leak_from_log
 
         tr = self.trace()

@@ -41,8 +41,11 @@ RHEOBASE_MULTIPLES = (0.25, 0.5, 1, 1.5, 2, 3)
 
 
 class NeuronJob(PiecewiseRunJob):
-    """One neuron run as a job of the run driver, work in ns of simulated time: the main run
-    piece by piece, then (``transfer=True``) one piece per point of the transfer curve."""
+    """One neuron run as a job of the run driver, work in ns of simulated time.
+
+    The main run piece by piece, then (``transfer=True``) one piece per point of the transfer
+    curve.
+    """
 
     result_files: tuple[str, ...] = ("trace.npz", "summary.json", "frames.nc")
 
@@ -62,6 +65,7 @@ class NeuronJob(PiecewiseRunJob):
         return n_points * self.transfer_duration * self.time_scale
 
     def work_done(self) -> float:
+        """Simulated time of the main run, then of the transfer curve's runs [ns]."""
         return super().work_done() + self._transfer_work(len(self.points))
 
     def lif_fit(self) -> dict:
@@ -73,8 +77,11 @@ class NeuronJob(PiecewiseRunJob):
         return self._lif
 
     def transfer_rates(self) -> list[float]:
-        """Input rates [Hz] of the transfer curve: the configured ones, or multiples of the
-        LIF's rheobase θ/τ (τ of the integrating, closed-gate phase)."""
+        """Input rates [Hz] of the transfer curve.
+
+        The configured ones, or multiples of the LIF's rheobase θ/τ (τ of the integrating,
+        closed-gate phase).
+        """
         if self.config.transfer.rates:
             return list(self.config.transfer.rates)
         tau = self.lif_fit()["tau_s"]
@@ -82,6 +89,7 @@ class NeuronJob(PiecewiseRunJob):
         return list(np.array(RHEOBASE_MULTIPLES) * self.config.rule.threshold / tau)
 
     def advance_piece(self) -> None:
+        """A piece of the main run, then one point of the transfer curve."""
         if self.run.sim.step < self.run.total_steps:
             self.run.advance_piece()
             return
@@ -94,15 +102,19 @@ class NeuronJob(PiecewiseRunJob):
         )
 
     def state_dict(self) -> dict[str, np.ndarray]:
+        """The main run's state and the transfer curve's finished points."""
         return {**super().state_dict(), "transfer_points_json": json_array(self.points)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`state_dict` saved."""
         super().load_state_dict(state)
         self.points = from_json_array(state["transfer_points_json"])
 
     def transfer_curve(self) -> dict:
-        """The finished transfer curve, as :func:`~skygas.neuron.analysis.transfer_curve`
-        returns it."""
+        """The finished transfer curve.
+
+        As :func:`~skygas.neuron.analysis.transfer_curve` returns it.
+        """
         firing, injected, annihilated = (list(c) for c in zip(*self.points, strict=True))
         return {
             "input_rate_Hz": [float(r) for r in self.transfer_rates()],
@@ -113,6 +125,7 @@ class NeuronJob(PiecewiseRunJob):
         }
 
     def finish(self, out: Path) -> dict:
+        """Write ``trace.npz``, the figures, ``frames.nc`` if recorded and ``summary.json``."""
         from skygas.neuron import analysis as A
         from skygas.neuron import lif as L
         from skygas.neuron.figures import plot_device, plot_trace, plot_transfer
@@ -168,15 +181,20 @@ def run_neuron_to_files(
     record_interval: float | None = None,
     **drive_options,
 ) -> dict:
-    """Run the neuron of ``config`` and write its files; returns the summary. With
-    ``record_interval`` [s] it records positions and writes them as ``frames.nc`` (a movie's
-    input). ``drive_options``: those of :func:`~skygas.runs.run_driver.drive`."""
+    """Run the neuron of ``config`` and write its files; returns the summary.
+
+    With ``record_interval`` [s] it records positions and writes them as ``frames.nc`` (a
+    movie's input). ``drive_options``: those of :func:`~skygas.runs.run_driver.drive`.
+    """
     return drive(NeuronJob(config, transfer, record_interval), out_dir, **drive_options)
 
 
 class SaturationJob:
-    """The saturation protocol (:class:`~skygas.neuron.saturation.SaturationProtocol`) as a
-    job of the run driver: one trial (one relaxation) per piece, work counted in trials."""
+    """The saturation protocol as a job of the run driver, one trial per piece.
+
+    Each piece is one relaxation of :class:`~skygas.neuron.saturation.SaturationProtocol`;
+    the work is counted in trials.
+    """
 
     work_unit = "runs"
     result_files: tuple[str, ...] = ("saturation.json",)
@@ -202,24 +220,31 @@ class SaturationJob:
         self.survivors: list[int] = []
 
     def work_done(self) -> float:
+        """Trials done."""
         return float(len(self.survivors))
 
     def advance_piece(self) -> None:
+        """Run the next trial."""
         self.survivors.append(self.protocol.run_trial(len(self.survivors)))
 
     def state_dict(self) -> dict[str, np.ndarray]:
+        """The survivors of the trials done."""
         return {"survivors": np.array(self.survivors, dtype=np.int64)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore the survivors of the trials done."""
         self.survivors = [int(n) for n in state["survivors"]]
 
     def config_json(self) -> str:
+        """The protocol's arguments, as JSON."""
         return json.dumps(self.arguments, sort_keys=True)
 
     def seed(self) -> int:
+        """The protocol's seed."""
         return self.arguments["seed"]
 
     def finish(self, out: Path) -> SaturationResult:
+        """Write ``saturation.json`` and its figure."""
         from skygas.neuron.figures import plot_saturation
 
         result = self.protocol.result(self.survivors)

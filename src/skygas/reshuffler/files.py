@@ -25,8 +25,10 @@ from skygas.runs.run_driver import (
 
 
 class ReshufflerJob(PiecewiseRunJob):
-    """A :class:`~skygas.reshuffler.run.ReshufflerRun` as a job of the run driver (work in
-    µs of simulated time)."""
+    """A :class:`~skygas.reshuffler.run.ReshufflerRun` as a job of the run driver.
+
+    Its work is counted in µs of simulated time.
+    """
 
     work_unit = "µs"
     time_scale = 1e6
@@ -38,6 +40,10 @@ class ReshufflerJob(PiecewiseRunJob):
         self.figures = figures
 
     def finish(self, out: Path | None) -> ReshufflerResult:
+        """Analyse the run and write its dataset, summary and figures into ``out``.
+
+        With ``out=None`` the run is only analysed.
+        """
         result = summarize(self.run)
         if out is None:
             return result
@@ -75,7 +81,9 @@ def run_reshuffler(
     strict: bool = False,
 ) -> ReshufflerResult:
     """Run ``config``; with ``out_dir``, write the dataset, summary, figures (and checkpoints).
-    Without ``out_dir`` the run is only analysed (nothing is written, nothing to resume)."""
+
+    Without ``out_dir`` the run is only analysed (nothing is written, nothing to resume).
+    """
     job = ReshufflerJob(config, figures)
     if out_dir is None:
         job.run.advance()

@@ -85,7 +85,8 @@ class ReshufflerRun(DeviceRun):
         """Validate everything, solve the current and set up the engine (no stepping).
 
         ``bits`` (0/1 values) replaces the configured input signal; the run then lasts at least
-        as long as it takes to inject them."""
+        as long as it takes to inject them.
+        """
         thiele = config.thiele_parameters()
         d = config.device
         geometry = ReshufflerGeometry(
@@ -175,9 +176,12 @@ class ReshufflerRun(DeviceRun):
         return step_count(self.config.duration, self.sim.time_step)
 
     def drain(self, max_duration: float = 1e-4) -> bool:
-        """Keep running after the configured duration, without new input, until every event
-        has been nucleated and read out (or ``max_duration`` [s] has passed). Returns whether
-        the device emptied. Used when the whole output stream is needed (decorrelator use)."""
+        """Keep running after the configured duration, without new input.
+
+        Until every event has been nucleated and read out (or ``max_duration`` [s] has
+        passed). Returns whether the device emptied. Used when the whole output stream is
+        needed (decorrelator use).
+        """
         piece = int(round(20 * self.config.injection.interval / self.sim.time_step))
         end = self.sim.step + int(round(max_duration / self.sim.time_step))
         while (self.sim.count or self.injector.n_pending) and self.sim.step < end:
@@ -185,12 +189,15 @@ class ReshufflerRun(DeviceRun):
         return not (self.sim.count or self.injector.n_pending)
 
     def run_steps(self, n: int) -> None:
-        """Advance by ``n`` steps (fewer if the trajectory window ends first), recording the
-        snapshots and, inside the trajectory window, the dense frames of the figure.
+        """Advance by ``n`` steps (fewer if the trajectory window ends first).
+
+        Recording the snapshots and, inside the trajectory window, the dense frames of the
+        figure.
 
         The kernel records frames itself (:class:`~skygas.engine.FrameBlock`), so it does not
         return to Python for every snapshot; the frames that are not needed for the figure are
-        taken out of the simulation after each call and kept only as sparse snapshots."""
+        taken out of the simulation after each call and kept only as sparse snapshots.
+        """
         dt = self.sim.time_step
         window = int(round(self.config.output.trajectory_window / dt))
         snapshot_every = self.snapshot_steps
@@ -212,9 +219,12 @@ class ReshufflerRun(DeviceRun):
         return max(1, int(round(self.config.output.snapshot_interval / self.sim.time_step)))
 
     def _add_snapshots(self, blocks) -> None:
-        """Append the frames of ``blocks`` that fall on snapshot steps to :attr:`snapshots`, as
-        (time [s], ids present in increasing order, positions [m] (n, 2)). A snapshot at step k
-        holds the state reached at the end of step k − 1, before a nucleation due at step k."""
+        """Append the frames of ``blocks`` that fall on snapshot steps to :attr:`snapshots`.
+
+        As (time [s], ids present in increasing order, positions [m] (n, 2)). A snapshot at
+        step k holds the state reached at the end of step k − 1, before a nucleation due at
+        step k.
+        """
         every = self.snapshot_steps
         for block in blocks:
             for f in np.flatnonzero(block.step % every == 0):

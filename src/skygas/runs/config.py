@@ -48,12 +48,16 @@ class PortSpec(StrictModel):
 
 
 class DiskSpec(StrictModel):
+    """A disk of ``radius`` [m] around ``center`` [m]."""
+
     kind: Literal["disk"]
     radius: Length
     center: Point2 = (0.0, 0.0)
 
 
 class RectangleSpec(StrictModel):
+    """A rectangle ``width`` × ``height`` [m] around ``center`` [m]."""
+
     kind: Literal["rectangle"]
     width: Length
     height: Length
@@ -61,6 +65,8 @@ class RectangleSpec(StrictModel):
 
 
 class PolygonSpec(StrictModel):
+    """A polygon through ``vertices`` [m] (at least three)."""
+
     kind: Literal["polygon"]
     vertices: list[Point2] = Field(min_length=3)
 
@@ -75,6 +81,7 @@ class ChamberGeometry(ChamberSize):
     closed: bool = Field(False, description="close both conduit ends (no ports)")
 
     def build(self) -> geo.Outline:
+        """The chamber's outline, with its ports unless ``closed``."""
         outline = geo.chamber_with_conduits(
             self.chamber_diameter, self.conduit_width, self.conduit_length
         )
@@ -89,6 +96,7 @@ class ShapesGeometry(StrictModel):
     ports: list[PortSpec] = []
 
     def build(self) -> geo.Outline:
+        """The union of the shapes, with the ports."""
         parts = []
         for s in self.shapes:
             if s.kind == "disk":
@@ -117,9 +125,12 @@ class ThieleOverrides(StrictModel):
 
 
 class ForcesSpec(StrictModel):
-    """The force laws (docs/physics.md §2). ``pair_law`` / ``wall_law`` left out take the
-    material's own: ``"table"`` when it has a ``pair_table`` / ``wall_table`` (a calibrated
-    model), else ``"paper"``; results record the law used."""
+    """The force laws (docs/physics.md §2).
+
+    ``pair_law`` / ``wall_law`` left out take the material's own: ``"table"`` when it has a
+    ``pair_table`` / ``wall_table`` (a calibrated model), else ``"paper"``; results record the
+    law used.
+    """
 
     pair_law: Literal["paper", "lin-reichhardt", "table"] | None = None
     wall_law: Literal["paper", "table"] | None = None
@@ -141,12 +152,17 @@ class ForcesSpec(StrictModel):
 
 
 class DriftSpec(StrictModel):
+    """A uniform spin-drift velocity v_s [m/s]."""
+
     velocity: Point2 = (0.0, 0.0)  # uniform v_s [m/s]
 
 
 class SkyrmionsSpec(StrictModel):
-    """Initial skyrmions: explicit ``positions`` [m] and/or ``random_count`` placed at random
-    at least ``min_separation`` diameters apart and from walls."""
+    """Initial skyrmions.
+
+    Explicit ``positions`` [m] and/or ``random_count`` placed at random at least
+    ``min_separation`` diameters apart and from walls.
+    """
 
     positions: list[Point2] = []
     random_count: int = Field(0, ge=0)
@@ -167,8 +183,10 @@ def _material(material: str | dict[str, Any]) -> Material:
 
 
 def _material_or_none(material) -> Material | None:
-    """The material, or ``None`` if it does not load: its error is reported where the
-    material is used, as for any configuration."""
+    """The material, or ``None`` if it does not load.
+
+    Its error is reported where the material is used, as for any configuration.
+    """
     try:
         return None if material is None else _material(material)
     except InputError:
@@ -176,11 +194,13 @@ def _material_or_none(material) -> Material | None:
 
 
 class MaterialFields(StrictModel):
-    """Fields every run configuration shares: the material, its film, Thiele overrides, the
-    force laws and the landscape.
+    """Fields every run configuration shares.
+
+    The material, its film, Thiele overrides, the force laws and the landscape.
 
     ``film_thickness`` left out takes the material's own when it has one (a calibrated model,
-    measured for one film); a different explicit value is then refused."""
+    measured for one film); a different explicit value is then refused.
+    """
 
     material: str | dict[str, Any] = "S2"
     film_thickness: Length = DEFAULT_FILM_THICKNESS
@@ -225,10 +245,12 @@ class MaterialFields(StrictModel):
 
 
 class OperationsField(StrictModel):
-    """The ``[[operations]]`` tables of a run (:mod:`skygas.runs.operations`): sensors and the
-    user's own operations, attached to the run's simulation by
+    """The ``[[operations]]`` tables of a run (:mod:`skygas.runs.operations`).
+
+    Sensors and the user's own operations, attached to the run's simulation by
     :meth:`~skygas.runs.device_run.DeviceRun.attach_operations`. Every device whose run is one
-    simulation takes them (``simulate``, ``reshuffle``, ``neuron``)."""
+    simulation takes them (``simulate``, ``reshuffle``, ``neuron``).
+    """
 
     operations: list[OperationSpec] = []
 
@@ -299,10 +321,12 @@ class SimulationConfig(MaterialFields, OperationsField):
 
 
 def resolve_paths(data: dict, folder: Path) -> dict:
-    """``data`` (a parsed TOML configuration) with its relative file names, a material's
-    ``.toml``, the ``path`` of ``grid`` potentials and the files of ``[[operations]]``
-    targets, taken relative to ``folder`` (the
-    configuration's folder), as a user who writes them next to the file means them."""
+    """``data`` (a parsed TOML configuration) with its relative file names, a material's ``.toml``.
+
+    The ``path`` of ``grid`` potentials and the files of ``[[operations]]`` targets, taken
+    relative to ``folder`` (the configuration's folder), as a user who writes them next to the
+    file means them.
+    """
     data = dict(data)
     material = data.get("material")
     if (
@@ -328,8 +352,10 @@ def resolve_paths(data: dict, folder: Path) -> dict:
 
 
 def _resolve_target(table: Any, folder: Path) -> Any:
-    """An ``[[operations]]`` table whose ``target`` file (``"file.py:name"``) is relative,
-    taken relative to ``folder``."""
+    """An ``[[operations]]`` table whose ``target`` file (``"file.py:name"``) is relative.
+
+    Taken relative to ``folder``.
+    """
     if not isinstance(table, dict) or not isinstance(table.get("target"), str):
         return table
     module, sep, name = table["target"].rpartition(":")

@@ -84,8 +84,11 @@ class DeviceRun:
         raise NotImplementedError
 
     def run_steps(self, n: int) -> None:
-        """Advance the simulation by ``n`` steps (one piece), recording frames every
-        :attr:`record_interval`; a device that does more per piece overrides it."""
+        """Advance the simulation by ``n`` steps (one piece).
+
+        Recording frames every :attr:`record_interval`; a device that does more per piece
+        overrides it.
+        """
         self.sim.run(n * self.sim.time_step, record_interval=self.record_interval)
 
     def extra_state(self) -> dict[str, np.ndarray]:
@@ -98,13 +101,17 @@ class DeviceRun:
     # -- pieces -------------------------------------------------------------------------------
     @property
     def piece_steps(self) -> int:
-        """Length [steps] of a piece: the run cut into :attr:`pieces`, at least
-        :attr:`min_piece_steps`."""
+        """Length [steps] of a piece.
+
+        The run cut into :attr:`pieces`, at least :attr:`min_piece_steps`.
+        """
         return max(self.min_piece_steps, self.total_steps // self.pieces)
 
     def advance_piece(self, end: int | None = None) -> None:
-        """Run to the next multiple of :attr:`piece_steps`, or to ``end`` [steps] (default
-        :attr:`total_steps`) if that comes first."""
+        """Run to the next multiple of :attr:`piece_steps`.
+
+        Or to ``end`` [steps] (default :attr:`total_steps`) if that comes first.
+        """
         end = self.total_steps if end is None else min(end, self.total_steps)
         if self.sim.step >= end:
             return
@@ -133,8 +140,11 @@ class DeviceRun:
 
     # -- checkpoints --------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
-        """The whole mutable state: the simulation's (its named operations' included), the
-        run's own (:meth:`extra_state`) and the wall time spent so far."""
+        """The whole mutable state.
+
+        The simulation's (its named operations' included), the run's own
+        (:meth:`extra_state`) and the wall time spent so far.
+        """
         state = nest("sim_", self.sim.state_dict())
         state.update(self.extra_state())
         state["wall_time"] = np.array(self.wall_time)
@@ -148,8 +158,11 @@ class DeviceRun:
 
     # -- operations ---------------------------------------------------------------------------
     def attach_operations(self, specs: Sequence[Any]) -> None:
-        """Add the operations of a configuration's ``[[operations]]`` tables to the simulation
-        (:func:`skygas.runs.operations.build_operations`)."""
+        """Add the operations of a configuration's ``[[operations]]`` tables to the simulation.
+
+        They are built by :func:`skygas.runs.operations.build_operations`; a name that another
+        operation of the run already has is refused.
+        """
         from skygas.engine.scheduler import named_operations
         from skygas.runs.operations import build_operations
 
@@ -158,8 +171,11 @@ class DeviceRun:
 
     # -- results ------------------------------------------------------------------------------
     def base_summary(self) -> dict:
-        """What every device's summary starts with: the version, the seed, the simulated and
-        wall times, the step, and the named operations' summaries (when there are any)."""
+        """What every device's summary starts with.
+
+        The version, the seed, the simulated and wall times, the step, and the named
+        operations' summaries (when there are any).
+        """
         sim = self.sim
         summary = {
             "skygas_version": __version__,
@@ -174,8 +190,10 @@ class DeviceRun:
         return summary
 
     def add_operation_data(self, ds: xr.Dataset) -> xr.Dataset:
-        """``ds`` with every named operation's ``data()`` added as variables
-        (:meth:`Simulation.operation_data <skygas.engine.Simulation.operation_data>`)."""
+        """``ds`` with every named operation's ``data()`` added as variables.
+
+        See :meth:`Simulation.operation_data <skygas.engine.Simulation.operation_data>`.
+        """
         for name, (dims, array) in self.sim.operation_data().items():
             ds[name] = (dims, array)
         return ds

@@ -63,49 +63,74 @@ class Job(Protocol):
     results into the output directory and returns what the caller reports; ``result_files``
     names the files whose presence means a finished run (never overwritten). The driver only
     reads ``work_total``, ``work_unit`` and ``result_files`` (a job may compute
-    ``work_total`` as it goes, in a property)."""
+    ``work_total`` as it goes, in a property).
+    """
 
     @property
-    def work_total(self) -> float: ...
+    def work_total(self) -> float:
+        """The whole run's work, in :attr:`work_unit`."""
+        ...
 
     @property
-    def work_unit(self) -> str: ...
+    def work_unit(self) -> str:
+        """The unit of the progress bar (``"ns"``, ``"µs"``, ``"runs"``)."""
+        ...
 
     @property
-    def result_files(self) -> tuple[str, ...]: ...
+    def result_files(self) -> tuple[str, ...]:
+        """Names of the files whose presence in the folder means a finished run."""
+        ...
 
-    def work_done(self) -> float: ...
+    def work_done(self) -> float:
+        """The work done so far, in :attr:`work_unit`."""
+        ...
 
-    def advance_piece(self) -> None: ...
+    def advance_piece(self) -> None:
+        """Do one piece of the run and return with the state consistent."""
+        ...
 
-    def state_dict(self) -> dict[str, np.ndarray]: ...
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The whole mutable state, as NumPy arrays only."""
+        ...
 
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None: ...
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`state_dict` saved."""
+        ...
 
-    def config_json(self) -> str: ...
+    def config_json(self) -> str:
+        """The validated configuration, as JSON."""
+        ...
 
-    def seed(self) -> int: ...
+    def seed(self) -> int:
+        """The run's seed."""
+        ...
 
-    def finish(self, out_dir: Path) -> Any: ...
+    def finish(self, out_dir: Path) -> Any:
+        """Write the results into ``out_dir`` and return what the caller reports."""
+        ...
 
 
 def steps_to_piece_end(step: int, piece: int, end: int) -> int:
-    """Steps from ``step`` to the next multiple of ``piece`` [steps] or to ``end``, whichever
-    comes first: the length of the next piece of a run.
+    """Steps from ``step`` to the next multiple of ``piece`` [steps] or to ``end``.
+
+    Whichever comes first: the length of the next piece of a run.
 
     Pieces start at multiples of the piece length, whatever run (first or resumed) gets there,
     so a resumed run re-enters the compiled kernel at the same steps as one never stopped and
     continues bit-identically (where the kernel is re-entered matters to rounding: the
-    neighbour list is rebuilt there)."""
+    neighbour list is rebuilt there).
+    """
     return min(piece - step % piece, end - step)
 
 
 class PiecewiseRunJob:
-    """A :class:`Job` for a device run that already steps in pieces: ``run`` has ``sim`` (the
-    :class:`~skygas.engine.Simulation`), ``total_steps``, ``advance_piece()`` and
-    ``state_dict()`` / ``load_state_dict()``; ``config`` is its validated pydantic
-    configuration (with a ``seed``). Work is simulated time in ``work_unit`` (``time_scale``
-    units per second). Subclasses add :meth:`finish`."""
+    """A :class:`Job` for a device run that already steps in pieces.
+
+    ``run`` has ``sim`` (the :class:`~skygas.engine.Simulation`), ``total_steps``,
+    ``advance_piece()`` and ``state_dict()`` / ``load_state_dict()``; ``config`` is its
+    validated pydantic configuration (with a ``seed``). Work is simulated time in ``work_unit``
+    (``time_scale`` units per second). Subclasses add :meth:`finish`.
+    """
 
     work_unit = "ns"
     time_scale = 1e9
@@ -119,21 +144,27 @@ class PiecewiseRunJob:
         return steps * self.run.sim.time_step * self.time_scale
 
     def work_done(self) -> float:
+        """Simulated time so far, in :attr:`work_unit`."""
         return self._time(self.run.sim.step)
 
     def advance_piece(self) -> None:
+        """One piece of the run (``run.advance_piece()``)."""
         self.run.advance_piece()
 
     def state_dict(self) -> dict[str, np.ndarray]:
+        """The run's state (``run.state_dict()``)."""
         return self.run.state_dict()
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore the run's state."""
         self.run.load_state_dict(state)
 
     def config_json(self) -> str:
+        """The validated configuration, as JSON."""
         return self.config.model_dump_json()
 
     def seed(self) -> int:
+        """The configuration's seed."""
         return self.config.seed
 
 
@@ -144,9 +175,11 @@ def fingerprint(config_json: str) -> str:
 
 # -- atomic files -----------------------------------------------------------------------------
 def write_atomic(path: str | Path, write: Callable[[Path], Any]) -> Path:
-    """Call ``write(tmp)`` on a temporary path beside ``path``, then rename it to ``path``: a
-    finished file is never partial, whatever stops the process. The temporary name keeps the
-    suffix (writers such as :func:`numpy.savez` and matplotlib choose the format by it)."""
+    """Call ``write(tmp)`` on a temporary path beside ``path``, then rename it to ``path``.
+
+    A finished file is never partial, whatever stops the process. The temporary name keeps the
+    suffix (writers such as :func:`numpy.savez` and matplotlib choose the format by it).
+    """
     path = Path(path)
     tmp = partial_path(path)
     try:
@@ -167,8 +200,10 @@ def run_record(job: Job) -> dict[str, str]:
 
 
 def write_figure(path: str | Path, plot: Callable[[Path], Any], record: dict[str, str]) -> Path:
-    """Write the PNG that ``plot(tmp)`` draws, atomically, with ``record`` (see
-    :func:`run_record`) in its text chunks (``PIL.Image.open(path).text``)."""
+    """Write the PNG that ``plot(tmp)`` draws, atomically.
+
+    With ``record`` (see :func:`run_record`) in its text chunks (``PIL.Image.open(path).text``).
+    """
 
     def write(tmp: Path) -> None:
         from PIL import Image, PngImagePlugin
@@ -185,8 +220,10 @@ def write_figure(path: str | Path, plot: Callable[[Path], Any], record: dict[str
 
 
 def partial_path(path: Path) -> Path:
-    """The temporary file :func:`write_atomic` writes before renaming it to ``path`` (a
-    process killed while writing leaves it behind)."""
+    """The temporary file :func:`write_atomic` writes before renaming it to ``path``.
+
+    A process killed while writing leaves it behind.
+    """
     return path.with_name(f".{path.stem}.partial{path.suffix}")
 
 
@@ -207,6 +244,7 @@ def json_array(value: Any) -> np.ndarray:
 
 
 def from_json_array(array: np.ndarray) -> Any:
+    """The value :func:`json_array` stored."""
     return json.loads(str(array))
 
 
@@ -229,8 +267,10 @@ def save_checkpoint(job: Job, path: Path) -> None:
 
 
 def load_checkpoint(job: Job, path: Path) -> None:
-    """Restore a checkpoint written by :func:`save_checkpoint` for the same configuration;
-    refuse one written by another configuration (:class:`InputError`)."""
+    """Restore a checkpoint written by :func:`save_checkpoint` for the same configuration.
+
+    Refuse one written by another configuration (:class:`InputError`).
+    """
     with np.load(path, allow_pickle=False) as data:
         if str(data["fingerprint"]) != fingerprint(job.config_json()):
             raise InputError(
@@ -251,9 +291,11 @@ def load_checkpoint(job: Job, path: Path) -> None:
 
 # -- signals ----------------------------------------------------------------------------------
 class _DeferredSignals:
-    """Turns SIGINT and SIGTERM into a flag (``received``) while active; a second signal raises
-    :class:`KeyboardInterrupt` at once. Outside the main thread signals cannot be handled, and
-    nothing is changed."""
+    """Turns SIGINT and SIGTERM into a flag (``received``) while active.
+
+    A second signal raises :class:`KeyboardInterrupt` at once. Outside the main thread signals
+    cannot be handled, and nothing is changed.
+    """
 
     SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -306,9 +348,11 @@ def _progress_bar(job: Job, enabled: bool):
 
 # -- the driver ---------------------------------------------------------------------------------
 def _prepare_folder(job: Job, out: Path, resume: bool, overwrite: bool) -> Path | None:
-    """Check what ``out`` holds before anything is written (see the module docstring);
-    return the checkpoint to resume from, if any. With ``overwrite``, the job's own result
-    files and checkpoint are removed (after every check has passed)."""
+    """Check what ``out`` holds before anything is written (see the module docstring).
+
+    Return the checkpoint to resume from, if any. With ``overwrite``, the job's own result files
+    and checkpoint are removed (after every check has passed).
+    """
     from skygas.runs import manifest
 
     command = manifest.current_command(type(job).__name__)
@@ -359,7 +403,8 @@ def drive(
     ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece).
     ``strict``: the sanity checks (:mod:`skygas.runs.sanity`) refuse the run (before it starts; wall
     escapes once its results are written) instead of warning.
-    Raises :class:`RunInterrupted` after saving the checkpoint when SIGINT/SIGTERM arrives."""
+    Raises :class:`RunInterrupted` after saving the checkpoint when SIGINT/SIGTERM arrives.
+    """
     from skygas.runs import manifest, sanity
 
     if not (checkpoint_seconds >= 0):

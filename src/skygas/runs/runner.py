@@ -32,9 +32,11 @@ PIECES = 100
 
 
 class SimulationRun(DeviceRun):
-    """A configured simulation cut into :data:`PIECES` pieces of equal length [steps]
-    (:class:`~skygas.runs.device_run.DeviceRun`), with the configuration's ``[[operations]]``
-    attached."""
+    """A configured simulation, cut into :data:`PIECES` pieces of equal length [steps].
+
+    A :class:`~skygas.runs.device_run.DeviceRun` with the configuration's ``[[operations]]``
+    attached.
+    """
 
     pieces = PIECES
 
@@ -59,8 +61,10 @@ class SimulationRun(DeviceRun):
 
 
 class SimulationJob(PiecewiseRunJob):
-    """``skygas simulate``: a :class:`SimulationRun` as a job of the run driver (work in ns of
-    simulated time)."""
+    """``skygas simulate``.
+
+    A :class:`SimulationRun` as a job of the run driver (work in ns of simulated time).
+    """
 
     result_files: tuple[str, ...] = ("trajectories.nc", "summary.json")
 
@@ -78,8 +82,7 @@ class SimulationJob(PiecewiseRunJob):
         return self.run.wall_time
 
     def summary(self) -> dict:
-        """Counts, times, the seed, the version, the configuration and the operations'
-        summaries."""
+        """Counts, times, the seed, the version, the configuration and the operations' summaries."""
         sim = self.sim
         summary = self.run.base_summary()
         operations = summary.pop("operations", None)

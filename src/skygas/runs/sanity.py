@@ -1,4 +1,4 @@
-"""Sanity checks: is a run inside the range where the model means something?
+"""Sanity checks: is a run inside the range where the model means something.
 
 The limits are those of docs/physics.md §5 ("Where the model is meaningful"). A run outside
 them is still computed, with one warning line per finding on stderr
@@ -53,8 +53,11 @@ def _simulation(job: Any):
 
 
 def findings_before_run(config: Any, sim: Any = None) -> list[InputError]:
-    """What a configuration (and its built simulation, for the time step and the skyrmion's
-    size) has outside the model's range, as errors naming each field."""
+    """What a configuration has outside the model's range, as errors naming each field.
+
+    ``sim``, the configuration's built simulation, gives the time step and the skyrmion's
+    size.
+    """
     found: list[InputError] = []
     temperature = getattr(config, "temperature", None)
     if temperature is not None and temperature > MAX_TEMPERATURE:
