@@ -25,10 +25,11 @@ import importlib
 import re
 import sys
 import time
+from contextlib import nullcontext
 from pathlib import Path
 
 from skygas._version import __version__
-from skygas.core.errors import InputError, RunInterrupted
+from skygas.core.errors import InputError, RunFinished, RunInterrupted, WriteFailed
 
 # Modules that add sub-commands; each defines ``register(subparsers)``.
 _COMMAND_MODULES = [
@@ -216,6 +217,8 @@ def describe_error(err: BaseException, args: argparse.Namespace | None = None) -
     """The one line printed for ``err`` (without the ``skygas: `` prefix) and the exit status."""
     if isinstance(err, InputError):
         return f"error: {err}", EXIT_INPUT
+    if isinstance(err, WriteFailed):
+        return f"error: {err}", err.exit_status
     if isinstance(err, OSError) and err.errno is not None:
         name = str(err.filename) if err.filename is not None else ""
         out = str(getattr(args, "out", None) or "")
@@ -243,7 +246,7 @@ def describe_error(err: BaseException, args: argparse.Namespace | None = None) -
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    from skygas.runs import manifest
+    from skygas.runs import folder_lock, manifest
 
     manifest.set_command(command_name(args), sys.argv[1:] if argv is None else list(argv))
     out = _output_folder(args)
@@ -253,22 +256,32 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if out is not None:
             created = _check_output_folder(out)
-        if with_manifest:
-            assert out is not None  # with_manifest needs an output folder
-            manifest.claim(
-                out,
-                command_name(args),
-                overwrite=getattr(args, "overwrite", False),
-                resume=getattr(args, "resume", False),
-            )
-        status = int(args.func(args) or 0)
-        if with_manifest and status == 0:
-            assert out is not None  # with_manifest needs an output folder
-            manifest.finish_command(out, args, started)
+        # one run per folder: held from the first look at the folder to the last file written
+        lock = (
+            folder_lock.hold(out, command_name(args), beside=args.command in _OWN_OUT_RULES)
+            if out is not None
+            else nullcontext()
+        )
+        with lock:
+            if with_manifest:
+                assert out is not None  # with_manifest needs an output folder
+                manifest.claim(
+                    out,
+                    command_name(args),
+                    overwrite=getattr(args, "overwrite", False),
+                    resume=getattr(args, "resume", False),
+                )
+            status = int(args.func(args) or 0)
+            if with_manifest and status == 0:
+                assert out is not None  # with_manifest needs an output folder
+                manifest.finish_command(out, args, started)
         return status
     except RunInterrupted as err:
         print(f"skygas: {err}", file=sys.stderr)
         return err.exit_status
+    except RunFinished as err:  # --resume of a finished run: nothing to do, and that is fine
+        print(f"skygas: {err}", file=sys.stderr)
+        return 0
     except KeyboardInterrupt:
         print("skygas: interrupted", file=sys.stderr)
         return 130

@@ -3,6 +3,7 @@ results are atomic, handlers come back; and ``skygas saturation`` resumes exactl
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import signal
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 from skygas.cli import main
-from skygas.core.errors import InputError, RunInterrupted
+from skygas.core.errors import InputError, RunFinished, RunInterrupted, WriteFailed
 from skygas.runs.run_driver import CHECKPOINT, drive, write_atomic
 
 
@@ -77,9 +78,11 @@ def test_sigint_waits_for_the_end_of_the_piece_then_resume_finishes(tmp_path):
     assert not (tmp_path / CHECKPOINT).exists()
     # the results and the manifest, no temporary file left
     assert sorted(p.name for p in tmp_path.iterdir()) == ["manifest.json", "result.json"]
-    for resume in (False, True):  # finished results are never overwritten
-        with pytest.raises(InputError, match="without finished results"):
-            drive(CountingJob(), tmp_path, resume=resume, progress=False)
+    # finished results are never overwritten; resuming them has nothing to do
+    with pytest.raises(InputError, match="without finished results"):
+        drive(CountingJob(), tmp_path, progress=False)
+    with pytest.raises(RunFinished, match="nothing to resume"):
+        drive(CountingJob(), tmp_path, resume=True, progress=False)
 
 
 def test_sigterm_is_deferred_the_same_way(tmp_path):
@@ -116,12 +119,12 @@ def test_checkpoints_belong_to_one_configuration(tmp_path):
         drive(CountingJob(), tmp_path, progress=False)
 
 
-def test_a_failed_write_leaves_no_file(tmp_path):
+def test_a_failed_write_leaves_no_file_and_names_the_path_and_the_cause(tmp_path):
     def fail(tmp):
         tmp.write_text("half")
-        raise OSError("disk full")
+        raise OSError(errno.ENOSPC, "No space left on device")
 
-    with pytest.raises(OSError):
+    with pytest.raises(WriteFailed, match=r"could not write .*x\.json \(No space left on device\)"):
         write_atomic(tmp_path / "x.json", fail)
     assert list(tmp_path.iterdir()) == []
 
@@ -158,3 +161,73 @@ def test_saturation_resumes_exactly(tmp_path, monkeypatch, capsys):
     ref = json.loads((tmp_path / "ref" / "saturation.json").read_text())
     assert ref["seed"] == 0 and "skygas_version" in ref
     assert json.loads((out / "saturation.json").read_text()) == ref
+
+
+QUICK_TOML = """\
+seed = 4
+duration = 5e-8
+[geometry]
+kind = "chamber"
+closed = true
+chamber_diameter = 400e-9
+[skyrmions]
+random_count = 3
+"""
+
+
+def test_a_full_disk_while_results_are_written_keeps_the_run_resumable(
+    tmp_path, monkeypatch, capsys
+):
+    """No space left while the netCDF file is written: one line naming the file, the cause and
+    what is kept (exit 74); with room again, --resume writes the results without rerunning."""
+    import xarray as xr
+
+    config = tmp_path / "run.toml"
+    config.write_text(QUICK_TOML)
+    out = tmp_path / "out"
+    argv = ["simulate", str(config), "--out", str(out), "--quiet", "--no-report"]
+
+    def full(self, path, *args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(xr.Dataset, "to_netcdf", full)
+        assert main(argv) == 74
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert "could not write" in err[0] and "trajectories.nc" in err[0]
+    assert "No space left on device" in err[0] and "--resume" in err[0]
+    assert (out / CHECKPOINT).is_file() and not (out / "trajectories.nc").exists()
+    assert main([*argv, "--resume"]) == 0
+    assert (out / "trajectories.nc").is_file() and not (out / CHECKPOINT).exists()
+
+
+def test_overwrite_refuses_a_folder_of_files_without_a_manifest(tmp_path, capsys):
+    """Nothing says which files of a folder without a manifest a command wrote: --overwrite
+    deletes none of them and refuses in one line."""
+    config = tmp_path / "run.toml"
+    config.write_text(QUICK_TOML)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.json").write_text("{}")  # somebody else's
+    (out / "notes.txt").write_text("mine")
+    assert main(["simulate", str(config), "--out", str(out), "--overwrite", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no manifest.json" in err[0], err
+    assert (out / "summary.json").read_text() == "{}" and (out / "notes.txt").exists()
+
+
+def test_resume_of_a_finished_run_has_nothing_to_do(tmp_path, capsys):
+    """A Ctrl-C just after the last result was written, then --resume: exit 0, one line, the
+    results untouched."""
+    config = tmp_path / "run.toml"
+    config.write_text(QUICK_TOML)
+    out = tmp_path / "out"
+    argv = ["simulate", str(config), "--out", str(out), "--quiet", "--no-report"]
+    assert main(argv) == 0
+    before = (out / "summary.json").read_bytes()
+    capsys.readouterr()
+    assert main([*argv, "--resume"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "nothing to resume" in err[0], err
+    assert (out / "summary.json").read_bytes() == before

@@ -26,8 +26,8 @@ def _neuron(args) -> int:
         transfer=not args.no_transfer,
         record_interval=movie_record_interval(args.animate),
         **run_options(args, progress=not args.json),
+        then=lambda out: finish_outputs(out, animate=args.animate, report=not args.no_report),
     )
-    finish_outputs(out, animate=args.animate, report=not args.no_report)
     lif = summary["lif_fit"]
     if args.json:
         print_json(summary)

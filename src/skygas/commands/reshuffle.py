@@ -63,8 +63,12 @@ def _reshuffle(args) -> int:
     overrides.update(recording_overrides(args.animate))
     with named_by_flags(args, OVERRIDES):  # the sanity checks name the option too
         config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
-        result = run_reshuffler(config, args.out, **run_options(args, progress=not args.json))
-    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
+        result = run_reshuffler(
+            config,
+            args.out,
+            **run_options(args, progress=not args.json),
+            then=lambda out: finish_outputs(out, animate=args.animate, report=not args.no_report),
+        )
     if args.json:
         print_json(result.summary)
     else:

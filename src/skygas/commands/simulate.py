@@ -19,10 +19,7 @@ def _simulate(args) -> int:
     from skygas.runs.runner import run_simulation
 
     config = load_config(args.config)
-    summary = run_simulation(config, args.out, **run_options(args))
-    from skygas.outputs.finish import finish_outputs
-
-    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
+    summary = run_simulation(config, args.out, **run_options(args), then=_outputs(args))
     _report(summary, args.out)
     return 0
 
@@ -57,12 +54,19 @@ def default_demo_config():
 def _demo(args) -> int:
     from skygas.runs.runner import run_simulation
 
-    summary = run_simulation(default_demo_config(), args.out, **run_options(args))
-    from skygas.outputs.finish import finish_outputs
-
-    finish_outputs(args.out, animate=args.animate, report=not args.no_report)
+    summary = run_simulation(
+        default_demo_config(), args.out, **run_options(args), then=_outputs(args)
+    )
     _report(summary, args.out)
     return 0
+
+
+def _outputs(args):
+    """The movie and report a run writes once its results are there (part of its final
+    write: a kill during them is completed by --resume)."""
+    from skygas.outputs.finish import finish_outputs
+
+    return lambda out: finish_outputs(out, animate=args.animate, report=not args.no_report)
 
 
 def _report(summary: dict, out) -> None:

@@ -69,3 +69,40 @@ class RunInterrupted(KeyboardInterrupt):
         """The shell's convention for a process ended by a signal: 128 + its number (130 for
         Ctrl-C)."""
         return 128 + self.signum
+
+
+class WriteFailed(Exception):
+    """A file could not be written: the disk is full, a folder is not writable, a path is gone.
+
+    The command line prints one line, ``skygas: error: could not write <path> (<cause>);
+    <what is kept and what to do>``, and exits with :attr:`exit_status` (74, ``EX_IOERR`` of
+    sysexits.h). ``path`` is the file, ``cause`` the operating system's words.
+    """
+
+    exit_status = 74
+
+    def __init__(self, path: str | Path, cause: str, hint: str | None = None):
+        self.path = Path(path)
+        self.cause = cause
+        self.hint = hint
+        text = f"could not write {self.path} ({cause})"
+        super().__init__(text if hint is None else f"{text}; {hint}")
+
+    def with_hint(self, hint: str) -> WriteFailed:
+        """The same failure, with what is kept and what to do."""
+        return WriteFailed(self.path, self.cause, hint)
+
+
+class RunFinished(Exception):
+    """``--resume`` on a folder whose run is finished: there is nothing left to do.
+
+    Raised before any work; the command line prints its message and exits with status 0 (a
+    Ctrl-C that came just after the last result was written, then ``--resume``, ends well).
+    """
+
+    def __init__(self, out: str | Path, command: str):
+        self.out = Path(out)
+        super().__init__(
+            f"the `skygas {command}` run in {self.out} is finished: nothing to resume "
+            "(add --overwrite to run it again)"
+        )

@@ -9,7 +9,9 @@ its attributes), ``summary.json``, ``device.png``, ``running_correlation.png`` a
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from skygas.reshuffler.analysis import ReshufflerResult, summarize
 from skygas.reshuffler.config import ReshufflerConfig
@@ -79,6 +81,7 @@ def run_reshuffler(
     figures: bool = True,
     overwrite: bool = False,
     strict: bool = False,
+    then: Callable[[Path], Any] | None = None,
 ) -> ReshufflerResult:
     """Run ``config``; with ``out_dir``, write the dataset, summary, figures (and checkpoints).
 
@@ -96,4 +99,5 @@ def run_reshuffler(
         checkpoint_seconds=checkpoint_seconds,
         overwrite=overwrite,
         strict=strict,
+        then=then,
     )

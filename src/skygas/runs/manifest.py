@@ -9,8 +9,11 @@ written. The manifest is how a folder's results are kept apart:
   this command's);
 - a folder with **finished results** is refused unless ``--overwrite`` is given (the command's
   own result files are then replaced; nothing else in the folder is deleted);
+- ``--overwrite`` on a folder **without a manifest** that holds files is refused: nothing says
+  which of them the command wrote;
 - ``--resume`` continues an unfinished run of the same configuration (the checkpoint's own
-  fingerprint, :mod:`skygas.runs.run_driver`, says whether it belongs to it).
+  fingerprint, :mod:`skygas.runs.run_driver`, says whether it belongs to it); on a finished
+  run it has nothing to do (:class:`~skygas.core.errors.RunFinished`).
 
 A sweep store is not a run folder: it records its sweep's fingerprint and the version in its
 own attributes (:mod:`skygas.sweep.store`), and resumes by design.
@@ -25,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from skygas._version import __version__
-from skygas.core.errors import InputError
+from skygas.core.errors import InputError, RunFinished
 
 MANIFEST = "manifest.json"
 
@@ -65,6 +68,15 @@ def claim(
     """
     found = read(out)
     if found is None:
+        if overwrite and (held := _files_in(out)):
+            # nothing says which of them this command wrote: none is deleted
+            raise InputError(
+                "--out",
+                str(out),
+                f"a folder whose files --overwrite may replace (it holds {held[0]} and "
+                f"{len(held) - 1} more file(s) but no {MANIFEST} saying what wrote them)",
+                "choose another --out, or empty it first",
+            )
         return None
     other = found.get("command")
     if other != command:
@@ -74,7 +86,10 @@ def claim(
             f"a folder for `skygas {command}` results (it holds the results of `skygas {other}`)",
             "choose another --out",
         )
-    if found.get("finished_at") is not None and not overwrite:
+    finished = found.get("finished_at") is not None
+    if finished and resume and not overwrite:
+        raise RunFinished(out, command)
+    if finished and not overwrite:
         raise InputError(
             "--out",
             str(out),
@@ -90,6 +105,14 @@ def claim(
             "choose another --out, or add --overwrite to start again",
         )
     return found
+
+
+def _files_in(out: str | Path) -> list[str]:
+    """The names of the visible entries of folder ``out`` (none if it does not exist)."""
+    try:
+        return sorted(p.name for p in Path(out).iterdir() if not p.name.startswith("."))
+    except OSError:
+        return []
 
 
 def write(

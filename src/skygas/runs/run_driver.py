@@ -46,7 +46,8 @@ from typing import Any, Protocol
 import numpy as np
 
 from skygas._version import __version__
-from skygas.core.errors import InputError, RunInterrupted
+from skygas.core.errors import InputError, RunInterrupted, WriteFailed
+from skygas.runs import folder_lock
 
 CHECKPOINT = "checkpoint.npz"
 
@@ -185,6 +186,12 @@ def write_atomic(path: str | Path, write: Callable[[Path], Any]) -> Path:
     try:
         write(tmp)
         os.replace(tmp, path)
+    except OSError as err:  # disk full, no permission, folder gone: one line, the path named
+        raise WriteFailed(path, err.strerror or str(err)) from None
+    except RuntimeError as err:  # netCDF's HDF errors (a full disk among them)
+        if "HDF" not in str(err) and "NetCDF" not in str(err):
+            raise
+        raise WriteFailed(path, str(err)) from None
     finally:
         tmp.unlink(missing_ok=True)
     return path
@@ -392,6 +399,7 @@ def drive(
     checkpoint_seconds: float = 30.0,
     overwrite: bool = False,
     strict: bool = False,
+    then: Callable[[Path], Any] | None = None,
 ) -> Any:
     """Run ``job`` to its end and return ``job.finish(out_dir)`` (see the module docstring).
 
@@ -403,6 +411,8 @@ def drive(
     ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece).
     ``strict``: the sanity checks (:mod:`skygas.runs.sanity`) refuse the run (before it starts; wall
     escapes once its results are written) instead of warning.
+    ``then``: what else to write once the results are there (a report, a movie): it belongs
+    to the final write, so a kill during it is completed by ``--resume`` too.
     Raises :class:`RunInterrupted` after saving the checkpoint when SIGINT/SIGTERM arrives.
     """
     from skygas.runs import manifest, sanity
@@ -415,35 +425,76 @@ def drive(
         raise InputError(
             "--out", str(out), "a folder (this is an existing file)", "choose another --out"
         )
-    resume_from = _prepare_folder(job, out, resume, overwrite) if out.is_dir() else None
-    out.mkdir(parents=True, exist_ok=True)
-    ckpt = out / CHECKPOINT
     command = manifest.current_command(type(job).__name__)
+    with folder_lock.hold(out, command):  # one run per folder, for the run's whole life
+        result = _run_in_folder(
+            job, out, command, resume, overwrite, progress, checkpoint_seconds, then
+        )
+    sanity.after_run(job, strict)
+    return result
+
+
+def _run_in_folder(
+    job: Job,
+    out: Path,
+    command: str,
+    resume: bool,
+    overwrite: bool,
+    progress: bool,
+    checkpoint_seconds: float,
+    then: Callable[[Path], Any] | None,
+) -> Any:
+    """The part of :func:`drive` that runs while the folder's lock is held."""
+    from skygas.runs import manifest
+
+    resume_from = _prepare_folder(job, out, resume, overwrite)
+    ckpt = out / CHECKPOINT
     config_hash = fingerprint(job.config_json())
     started = time.time()
     manifest.write(out, command, config_hash, started_at=started)
     if resume_from is not None:
         load_checkpoint(job, resume_from)
     last_save = time.perf_counter()
-    with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
-        while job.work_done() < job.work_total:
-            job.advance_piece()
-            update()
-            if signals.received is not None:
+    try:
+        with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
+            while job.work_done() < job.work_total:
+                job.advance_piece()
+                update()
+                if signals.received is not None:
+                    save_checkpoint(job, ckpt)
+                    raise RunInterrupted(signals.received, ckpt)
+                if (
+                    job.work_done() < job.work_total
+                    and time.perf_counter() - last_save >= checkpoint_seconds
+                ):
+                    save_checkpoint(job, ckpt)
+                    last_save = time.perf_counter()
+            if signals.received is not None:  # arrived while loading, or nothing left to do
                 save_checkpoint(job, ckpt)
                 raise RunInterrupted(signals.received, ckpt)
-            if (
-                job.work_done() < job.work_total
-                and time.perf_counter() - last_save >= checkpoint_seconds
-            ):
-                save_checkpoint(job, ckpt)
-                last_save = time.perf_counter()
-        if signals.received is not None:  # arrived while loading, or with nothing left to do
+            # The final state, kept until every result is written: a kill at any moment of
+            # the writing leaves a run that --resume completes without recomputing.
             save_checkpoint(job, ckpt)
-            raise RunInterrupted(signals.received, ckpt)
-    result = job.finish(out)
-    manifest.write(out, command, config_hash, started_at=started, finished_at=time.time())
+        try:
+            result = job.finish(out)
+            if then is not None:
+                then(out)
+        except KeyboardInterrupt:  # Ctrl-C while the results are written
+            raise RunInterrupted(signal.SIGINT, ckpt) from None
+        # written last: a folder whose manifest says finished holds every result
+        manifest.write(out, command, config_hash, started_at=started, finished_at=time.time())
+    except WriteFailed as err:
+        raise err.with_hint(_kept_after_failure(ckpt)) from None
     ckpt.unlink(missing_ok=True)
     partial_path(ckpt).unlink(missing_ok=True)  # left by a process killed while saving
-    sanity.after_run(job, strict)
     return result
+
+
+def _kept_after_failure(ckpt: Path) -> str:
+    """What a run that could not write a file keeps, and what to do (free space, resume)."""
+    if ckpt.exists():
+        return (
+            f"the run is kept in {ckpt}: make room (or fix the folder's permissions), then "
+            "run the same command with --resume"
+        )
+    return "no state of the run could be saved: make room, then run it again"

@@ -13,7 +13,9 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from skygas.core.resources import require_memory, step_count
 from skygas.runs.config import SimulationConfig
@@ -125,8 +127,12 @@ def run_simulation(
     checkpoint_seconds: float = 30.0,
     overwrite: bool = False,
     strict: bool = False,
+    then: Callable[[Path], Any] | None = None,
 ) -> dict:
-    """Build, run and save the simulation described by ``config``; returns the summary."""
+    """Build, run and save the simulation described by ``config``; returns the summary.
+
+    The options are those of :func:`~skygas.runs.run_driver.drive`.
+    """
     return drive(
         SimulationJob(config),
         out_dir,
@@ -135,4 +141,5 @@ def run_simulation(
         checkpoint_seconds=checkpoint_seconds,
         overwrite=overwrite,
         strict=strict,
+        then=then,
     )
