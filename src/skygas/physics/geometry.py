@@ -39,6 +39,18 @@ class Outline:
     (the reshuffler's UP and DOWN chambers). Build it with :func:`disk`, :func:`rectangle`,
     :func:`polygon`, :func:`union` and :meth:`with_port`, or :func:`chamber_with_conduits` for
     the paper's chamber.
+
+    Parameters
+    ----------
+    region : shapely.Polygon or shapely.MultiPolygon
+        The area a skyrmion may occupy [nm]; valid and not empty.
+    ports : dict of str to shapely.LineString
+        Named stretches of the boundary [nm] that are open rather than walls.
+
+    Raises
+    ------
+    InputError
+        If ``region`` is empty, not a (Multi)Polygon, or not valid (self-intersecting).
     """
 
     region: Polygon | MultiPolygon
