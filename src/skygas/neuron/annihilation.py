@@ -244,11 +244,11 @@ class Annihilator:
         return len(self.nucleations)
 
     def next_step(self, step: int) -> int:
-        """The next check's step; never, when the rule is disabled."""
+        """The next check's step (the largest int64, never, when the rule is disabled)."""
         return self._next if self.model.enabled else np.iinfo(np.int64).max
 
     def act(self, sim) -> None:
-        """Apply the rule over the next check interval: annihilation, then nucleation if enabled."""
+        """Apply the rule over the next check interval: annihilation, then nucleation (if ν > 0)."""
         self.simulation = sim
         self._next = sim.step + self.interval_steps
         dt = self.interval_steps * sim.time_step
