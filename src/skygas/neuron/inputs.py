@@ -140,7 +140,7 @@ class SiteInjector:
     _k: int = 0
 
     def next_step(self, step: int) -> int:
-        """The next scheduled event's step, or the next retry while events wait."""
+        """The next scheduled event's step, or the next retry's if sooner while events wait."""
         tick = int(self.steps[self._k]) if self._k < len(self.steps) else np.iinfo(np.int64).max
         if self.pending:
             return min(tick, (step // self.retry_steps + 1) * self.retry_steps)
