@@ -90,8 +90,10 @@ _NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):
-    """Shows each option's default (unless its help already does, or it has none) and keeps
-    the examples' line breaks."""
+    """Shows each option's default and keeps the examples' line breaks.
+
+    The default is left out when the option's help already gives it, or it has none.
+    """
 
     def _get_help_string(self, action: argparse.Action) -> str:
         text = action.help or ""
@@ -109,9 +111,11 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter):
 
 
 class Parser(argparse.ArgumentParser):
-    """The parser of ``skygas`` and of every sub-command (sub-parsers take their parent's
-    class): negative numbers with an exponent (``-1e11``, ``-2.5E-9``, ``-inf``) are values,
-    never options, and ``--help`` shows the defaults."""
+    """The parser of ``skygas`` and of every sub-command (sub-parsers take their parent's class).
+
+    Negative numbers with an exponent (``-1e11``, ``-2.5E-9``, ``-inf``) are values, never options,
+    and ``--help`` shows the defaults.
+    """
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", HelpFormatter)
@@ -124,9 +128,10 @@ def _subparser_actions(parser: argparse.ArgumentParser):
 
 
 def _complete_subparsers(parser: argparse.ArgumentParser, prefix: str = "") -> None:
-    """Give every sub-command its example, and every one that writes an ``--out`` folder an
-    ``--overwrite`` option (the run commands have theirs from
-    :func:`~skygas.commands.run_options.add_run_options`)."""
+    """Give every sub-command its example, and ``--overwrite`` to those writing an ``--out`` folder.
+
+    The run commands have theirs from :func:`~skygas.commands.run_options.add_run_options`.
+    """
     for action in _subparser_actions(parser):
         for name, sub in action.choices.items():
             key = f"{prefix}{name}"
@@ -147,6 +152,7 @@ def _complete_subparsers(parser: argparse.ArgumentParser, prefix: str = "") -> N
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``skygas`` parser with every sub-command registered and completed."""
     parser = Parser(
         prog="skygas",
         description="Stochastic Thiele simulation of skyrmion gases and skyrmionic devices.",
@@ -181,8 +187,10 @@ def _output_folder(args: argparse.Namespace) -> Path | None:
 
 
 def _check_output_folder(out: Path) -> Path | None:
-    """Refuse an ``--out`` that is an existing file; return the first folder of ``out`` that
-    does not exist yet (what this command will create), or None."""
+    """Refuse an ``--out`` that is an existing file; return the first folder it will create.
+
+    The first folder of ``out`` that does not exist yet (what this command will create), or None.
+    """
     if out.exists() and not out.is_dir():
         raise InputError(
             "--out", str(out), "a folder (this is an existing file)", "choose another --out"
@@ -200,8 +208,10 @@ def _check_output_folder(out: Path) -> Path | None:
 
 
 def _remove_if_empty(created: Path | None, out: Path) -> None:
-    """Remove the folders of ``out`` up to ``created`` that this command made and left empty
-    (never a file, never a folder that holds one)."""
+    """Remove the folders of ``out`` up to ``created`` that this command made and left empty.
+
+    Never a file, never a folder that holds one.
+    """
     if created is None:
         return
     for folder in [out, *out.parents]:
@@ -244,6 +254,12 @@ def describe_error(err: BaseException, args: argparse.Namespace | None = None) -
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the exit status.
+
+    The output folder is checked and claimed first (its manifest written when the command succeeds);
+    an error is printed as one line (:func:`describe_error`), with the traceback only under
+    ``--debug``, and a folder the command created and left empty is removed.
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     from skygas.runs import folder_lock, manifest

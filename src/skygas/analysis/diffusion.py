@@ -22,9 +22,12 @@ from skygas.analysis.jackknife import jackknife_error
 
 @dataclass(frozen=True)
 class MSDResult:
-    """``lag_time`` [s], ``msd`` [m²] and ``msd_error`` [m²] per lag; ``n_pairs`` displacements
-    per lag; ``diffusion_constant`` D [m²/s] ± ``diffusion_error`` fitted over the lags
-    ``fit_lags`` (frames)."""
+    """The mean-squared displacement of a run and the diffusion constant fitted to it.
+
+    ``lag_time`` [s], ``msd`` [m²] and ``msd_error`` [m²] per lag; ``n_pairs`` displacements per
+    lag; ``diffusion_constant`` D [m²/s] ± ``diffusion_error`` fitted over the lags ``fit_lags``
+    (frames).
+    """
 
     lags: np.ndarray
     lag_time: np.ndarray
@@ -37,6 +40,7 @@ class MSDResult:
     drift_subtracted: bool
 
     def as_dict(self) -> dict:
+        """The result as a JSON-able dict, SI units in the keys (what ``skygas analyze`` prints)."""
         return {
             "lag_time_s": self.lag_time.tolist(),
             "msd_m2": self.msd.tolist(),
@@ -62,9 +66,34 @@ def default_lags(n_frames: int, count: int = 16) -> np.ndarray:
 def mean_squared_displacement(
     frames: Frames, lags=None, *, fit_lags=None, subtract_drift: bool = False
 ) -> MSDResult:
-    """MSD at ``lags`` (frames; default :func:`default_lags`) and D fitted over ``fit_lags``
-    (default: the shortest lags, up to five, where the motion is still free in a crowded or
-    confined gas). Frames must be evenly spaced in time."""
+    """MSD over overlapping time origins, and D fitted to it, with jackknife errors.
+
+    Frames must be evenly spaced in time.
+
+    Parameters
+    ----------
+    frames : Frames
+        The recorded positions.
+    lags : array of int, optional
+        The lags [frames] (default :func:`default_lags`); those not shorter than the record are
+        dropped.
+    fit_lags : array of int, optional
+        The lags D is fitted over (default: the shortest lags, up to five, where the motion is still
+        free in a crowded or confined gas).
+    subtract_drift : bool
+        Remove the mean displacement at each lag first: ⟨|Δr − ⟨Δr⟩|²⟩, the spread of a drifting
+        gas.
+
+    Returns
+    -------
+    MSDResult
+        MSD [m²] per lag and D [m²/s], each with its standard error.
+
+    Raises
+    ------
+    ValueError
+        If the frames are not evenly spaced, or no lag is shorter than the record.
+    """
     dt = frames.frame_interval()
     lags = default_lags(frames.n_frames) if lags is None else np.asarray(lags, np.int64)
     lags = lags[(lags >= 1) & (lags < frames.n_frames)]

@@ -17,8 +17,11 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Frames:
-    """``time`` (F,) [s]; ``count`` (F,) skyrmions per frame; per entry (E = Σ count, frame
-    after frame): ``ids``, ``x``, ``y`` [m]."""
+    """Recorded positions as one flat table of entries (frame, id, x, y), frame after frame.
+
+    ``time`` (F,) [s]; ``count`` (F,) skyrmions per frame; per entry (E = Σ count, frame after
+    frame): ``ids``, ``x``, ``y`` [m].
+    """
 
     time: np.ndarray
     count: np.ndarray
@@ -37,8 +40,11 @@ class Frames:
     # -- construction -------------------------------------------------------------------------
     @classmethod
     def from_dense(cls, time, ids, x, y) -> Frames:
-        """From arrays x, y (time, skyrmion) [m], NaN where a skyrmion is absent; ``ids`` the
-        skyrmion of each column."""
+        """From dense arrays, as ``skygas simulate`` records them.
+
+        Arrays x, y (time, skyrmion) [m], NaN where a skyrmion is absent; ``ids`` the skyrmion of
+        each column.
+        """
         x, y = np.asarray(x, float), np.asarray(y, float)
         present = np.isfinite(x) & np.isfinite(y)
         frame, column = np.nonzero(present)  # row-major: frame after frame
@@ -58,6 +64,7 @@ class Frames:
     # -- views ------------------------------------------------------------------------------
     @property
     def n_frames(self) -> int:
+        """The number of frames F."""
         return len(self.time)
 
     @property
@@ -67,6 +74,7 @@ class Frames:
 
     @cached_property
     def frame_of_entry(self) -> np.ndarray:
+        """The frame of each entry (E,)."""
         return np.repeat(np.arange(self.n_frames), self.count)
 
     def frame(self, f: int) -> tuple[np.ndarray, np.ndarray]:
@@ -97,8 +105,11 @@ class Frames:
         return self.select(np.flatnonzero(keep))
 
     def frame_interval(self) -> float:
-        """The time between consecutive frames [s]; raises if the spacing is not uniform (lag
-        observables count lags in frames)."""
+        """The time between consecutive frames [s].
+
+        Raises ValueError if the spacing is not uniform (lag observables count lags in frames) or
+        there are fewer than two frames.
+        """
         if self.n_frames < 2:
             raise ValueError("at least two frames are needed")
         dt = np.diff(self.time)
@@ -109,15 +120,19 @@ class Frames:
 
     @cached_property
     def _by_skyrmion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Entry keys id·F + frame, the order that sorts them, and the sorted keys (sorted
-        once, then shared by every lag)."""
+        """Entry keys id·F + frame, the order that sorts them, and the sorted keys.
+
+        Sorted once, then shared by every lag.
+        """
         key = self.ids.astype(np.int64) * self.n_frames + self.frame_of_entry
         order = np.argsort(key, kind="stable")
         return key, order, key[order]
 
     def pairs_at_lag(self, lag: int) -> tuple[np.ndarray, np.ndarray]:
-        """Entries (a, b) of the same skyrmion in frames f and f + ``lag`` (every f: the
-        overlapping time origins of windowed averages)."""
+        """Entries (a, b) of the same skyrmion in frames f and f + ``lag``.
+
+        Every f is used: the overlapping time origins of windowed averages.
+        """
         n = self.n_frames
         _, order, sorted_key = self._by_skyrmion
         # the wanted keys, id·F + frame + lag, are sorted too: a sorted search is fast

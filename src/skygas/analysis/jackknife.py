@@ -22,10 +22,13 @@ def per_skyrmion_sums(ids: np.ndarray, values: np.ndarray, n_groups: int) -> np.
 
 
 def jackknife_error(sums: np.ndarray, statistic: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
-    """Standard error of ``statistic(total)``, where ``total`` = ``sums.sum(axis=0)`` and
-    ``sums`` (P, ...) holds each skyrmion's share; ``statistic`` maps an array of totals
-    (..., like one row of ``sums``) to the estimate, vectorized over leading axes.
-    Skyrmions that contribute nothing are left out of P. NaN with fewer than two."""
+    """Delete-one-skyrmion jackknife standard error of ``statistic(total)``.
+
+    Here ``total`` = ``sums.sum(axis=0)`` and ``sums`` (P, ...) holds each skyrmion's share;
+    ``statistic`` maps an array of totals (..., like one row of ``sums``) to the estimate,
+    vectorized over leading axes. Skyrmions that contribute nothing are left out of P. NaN with
+    fewer than two.
+    """
     flat = sums.reshape(len(sums), -1)
     active = np.any(flat != 0, axis=1)
     sums = sums[active]

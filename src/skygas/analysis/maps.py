@@ -18,8 +18,11 @@ from skygas.analysis.frames import Frames
 
 @dataclass(frozen=True)
 class FieldMap:
-    """Cell ``x_edges``, ``y_edges`` [m] and ``values`` (ny, nx); velocity maps fill ``u``,
-    ``v`` too; ``samples`` per cell."""
+    """A map over square cells of the device.
+
+    Cell ``x_edges``, ``y_edges`` [m] and ``values`` (ny, nx); velocity maps fill ``u``, ``v`` too;
+    ``samples`` per cell.
+    """
 
     x_edges: np.ndarray
     y_edges: np.ndarray
@@ -40,8 +43,22 @@ def _edges(frames: Frames, bins: int, extent) -> tuple[np.ndarray, np.ndarray]:
 
 
 def density_map(frames: Frames, bins: int = 40, extent=None) -> FieldMap:
-    """Time-averaged number density [1/m²] on square cells; ``bins`` cells along the longer
-    side of ``extent`` = (x0, x1, y0, y1) [m] (default: the positions' bounding box)."""
+    """Time-averaged number density [1/m²] on square cells.
+
+    Parameters
+    ----------
+    frames : Frames
+        The recorded positions.
+    bins : int
+        Cells along the longer side of ``extent``.
+    extent : tuple of float, optional
+        (x0, x1, y0, y1) [m] (default: the positions' bounding box).
+
+    Returns
+    -------
+    FieldMap
+        ``values``: the density [1/m²]; ``samples``: entries per cell.
+    """
     xe, ye = _edges(frames, bins, extent)
     counts = np.histogram2d(frames.y, frames.x, [ye, xe])[0]
     area = (xe[1] - xe[0]) * (ye[1] - ye[0])
@@ -49,8 +66,25 @@ def density_map(frames: Frames, bins: int = 40, extent=None) -> FieldMap:
 
 
 def velocity_map(frames: Frames, bins: int = 20, extent=None) -> FieldMap:
-    """Mean velocity [m/s] on square cells from displacements between consecutive frames;
-    ``values`` holds the speed of the mean velocity, ``u``, ``v`` its components."""
+    """Mean velocity [m/s] on square cells from displacements between consecutive frames.
+
+    A displacement counts in the cell of its midpoint; cells without one are NaN.
+
+    Parameters
+    ----------
+    frames : Frames
+        The recorded positions, evenly spaced in time.
+    bins : int
+        Cells along the longer side of ``extent``.
+    extent : tuple of float, optional
+        (x0, x1, y0, y1) [m] (default: the positions' bounding box).
+
+    Returns
+    -------
+    FieldMap
+        ``values`` holds the speed of the mean velocity [m/s], ``u``, ``v`` its components,
+        ``samples`` the displacements per cell.
+    """
     dt = frames.frame_interval()
     xe, ye = _edges(frames, bins, extent)
     a, b = frames.pairs_at_lag(1)
@@ -63,8 +97,23 @@ def velocity_map(frames: Frames, bins: int = 20, extent=None) -> FieldMap:
 
 
 def occupancy(frames: Frames, label_of=None, names=None) -> dict:
-    """Skyrmions present per frame (``total``) and, with ``label_of`` (a function of x, y [m]
-    giving an integer label per entry) and ``names``, per label; plus the time averages."""
+    """Skyrmions present per frame, in total and per labelled part of the device.
+
+    Parameters
+    ----------
+    frames : Frames
+        The recorded positions.
+    label_of : callable, optional
+        A function of x, y [m] giving an integer label per entry.
+    names : sequence of str, optional
+        The name of each label (label k is ``names[k]``); needed with ``label_of``.
+
+    Returns
+    -------
+    dict
+        ``time_s``, ``total`` per frame, ``mean_total`` and ``max_total``; with ``label_of``, the
+        count per frame and ``mean_<name>`` of each name.
+    """
     out = {
         "time_s": frames.time.tolist(),
         "total": frames.count.tolist(),

@@ -40,7 +40,23 @@ def _free_diffusion_constant(record) -> float | None:
 
 
 def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
-    """The observables of a :class:`~skygas.outputs.records.RunRecord` (SI units)."""
+    """The observables of a :class:`~skygas.outputs.records.RunRecord` (SI units).
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run, read back from its result file.
+    maps : bool
+        Add the density map and, with evenly spaced frames, the velocity map.
+    pair_bins : int
+        Bins of the pair correlation function.
+
+    Returns
+    -------
+    dict
+        JSON-able: the run's identity, then what applies to it: the MSD and D (beside the free
+        D₀), the mean velocity and Hall angle, g(r), the occupancy and the maps.
+    """
     frames = record.frames
     out: dict = {
         "kind": record.kind,

@@ -28,10 +28,13 @@ ERROR_BLOCKS = 20
 
 @dataclass(frozen=True)
 class PairCorrelation:
-    """Bin ``edges`` [m], ``r`` centres [m], ``g`` and its standard ``error``; ``pairs`` counted
-    and ``expected`` for an ideal gas per bin. The error is a jackknife over
-    :data:`ERROR_BLOCKS` contiguous blocks of frames (pairs that share a skyrmion are
-    correlated, and so are nearby frames, so Poisson errors would be too small)."""
+    """The pair correlation function g(r), normalised for the confinement.
+
+    Bin ``edges`` [m], ``r`` centres [m], ``g`` and its standard ``error``; ``pairs`` counted and
+    ``expected`` for an ideal gas per bin. The error is a jackknife over :data:`ERROR_BLOCKS`
+    contiguous blocks of frames (pairs that share a skyrmion are correlated, and so are nearby
+    frames, so Poisson errors would be too small).
+    """
 
     edges: np.ndarray
     r: np.ndarray
@@ -41,6 +44,7 @@ class PairCorrelation:
     expected: np.ndarray
 
     def as_dict(self) -> dict:
+        """The result as a JSON-able dict, SI units in the keys (what ``skygas analyze`` prints)."""
         return {
             "r_m": self.r.tolist(),
             "g": self.g.tolist(),
@@ -51,8 +55,11 @@ class PairCorrelation:
 
 
 def isotropic_covariogram(region, r_nm, n_angles: int = 12) -> np.ndarray:
-    """γ̄(r) [nm²]: area of ``region`` ∩ (``region`` + r·e_θ) averaged over θ ∈ [0, π) (the
-    covariogram is even in θ); ``region`` a shapely geometry in nm."""
+    """The isotropic covariogram γ̄(r) [nm²] of ``region`` (a shapely geometry in nm).
+
+    γ̄(r) is the area of ``region`` ∩ (``region`` + r·e_θ) averaged over θ ∈ [0, π) (the covariogram
+    is even in θ).
+    """
     angles = (np.arange(n_angles) + 0.5) * np.pi / n_angles
     out = np.empty(len(r_nm))
     for i, r in enumerate(np.asarray(r_nm, float)):
@@ -66,8 +73,11 @@ def isotropic_covariogram(region, r_nm, n_angles: int = 12) -> np.ndarray:
 
 
 def ideal_pair_probability(region, edges_nm, sub: int = 2, n_angles: int = 12) -> np.ndarray:
-    """Probability that two independent uniform points of ``region`` lie a distance in each
-    bin apart: ∫ 2π r γ̄(r) dr / A² (midpoint rule on ``sub`` points per bin)."""
+    """Probability per distance bin that two uniform points of ``region`` lie that far apart.
+
+    Two independent uniform points: ∫ 2π r γ̄(r) dr / A² over each bin (midpoint rule on
+    ``sub`` points per bin).
+    """
     edges_nm = np.asarray(edges_nm, float)
     width = np.diff(edges_nm)
     t = (np.arange(sub) + 0.5) / sub
@@ -80,9 +90,27 @@ def ideal_pair_probability(region, edges_nm, sub: int = 2, n_angles: int = 12) -
 def pair_correlation(
     frames: Frames, region, r_max: float, bins: int = 40, max_frames: int = 400
 ) -> PairCorrelation:
-    """g(r) for 0 ≤ r ≤ ``r_max`` [m] from up to ``max_frames`` evenly chosen frames.
-    ``region`` is the area the skyrmions' centres explore: an
-    :class:`~skygas.physics.geometry.Outline` (its region) or a shapely geometry in nm."""
+    """The pair correlation function g(r) for 0 ≤ r ≤ ``r_max``.
+
+    Parameters
+    ----------
+    frames : Frames
+        The recorded positions.
+    region : Outline or shapely geometry
+        The area the skyrmions' centres explore: an :class:`~skygas.physics.geometry.Outline` (its
+        region) or a shapely geometry in nm.
+    r_max : float
+        The largest distance [m].
+    bins : int
+        Bins of equal width over [0, ``r_max``].
+    max_frames : int
+        At most this many frames are used, evenly chosen.
+
+    Returns
+    -------
+    PairCorrelation
+        g per bin, with its jackknife error, normalised by the ideal gas in ``region``.
+    """
     from scipy.spatial.distance import pdist
 
     region = getattr(region, "region", region)

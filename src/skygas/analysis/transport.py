@@ -29,6 +29,7 @@ class MeanVelocity:
 
     @property
     def speed(self) -> float:
+        """|v| [m/s], the speed of the mean velocity."""
         return float(np.hypot(*self.velocity))
 
     def hall_angle(self, drive=(1.0, 0.0)) -> float:
@@ -42,6 +43,7 @@ class MeanVelocity:
         return float(np.hypot(v[1] * self.error[0], v[0] * self.error[1]) / max(v @ v, 1e-300))
 
     def as_dict(self, drive=None) -> dict:
+        """The result as a JSON-able dict, SI units in the keys; with ``drive``, θ_H too."""
         out = {
             "velocity_m_s": self.velocity.tolist(),
             "velocity_error_m_s": self.error.tolist(),
@@ -68,8 +70,10 @@ def hall_angle(velocity, drive=(1.0, 0.0)) -> float:
 
 
 def mean_velocity(frames: Frames, lag: int = 1) -> MeanVelocity:
-    """Mean velocity [m/s] over every displacement of ``lag`` frames (overlapping origins),
-    with delete-one-skyrmion jackknife errors."""
+    """Mean velocity [m/s] over every displacement of ``lag`` frames (overlapping origins).
+
+    The errors are delete-one-skyrmion jackknife errors.
+    """
     dt = frames.frame_interval() * lag
     a, b = frames.pairs_at_lag(lag)
     _, group = np.unique(frames.ids[a], return_inverse=True)

@@ -38,13 +38,45 @@ def calibrate(
     checkpoint_seconds: float = 60.0,
     **settings: Any,
 ) -> dict[str, Any]:
-    """Calibrate ``material`` (a preset name, a TOML file, a mapping or a
-    :class:`~skygas.calibration.material.MicromagneticMaterial`) into the folder ``out``;
-    ``settings`` are fields of :class:`~skygas.calibration.plan.CalibrationConfig`
-    (``reference_diameter``, ``validate_dynamics``, ``mesh_check``, ``validation={...}``,
-    ...). ``workers``: solver processes (default: 2 on a CPU, 0 on a GPU). Returns the
-    contents of ``out/calibration.json``. Interrupted (Ctrl-C), it resumes with
-    ``resume=True``."""
+    """Calibrate ``material`` into the folder ``out``: its particle model, numbers and report.
+
+    Interrupted (Ctrl-C), it resumes with ``resume=True``.
+
+    Parameters
+    ----------
+    material : str, Path, dict or MicromagneticMaterial
+        A preset name, a TOML file, a mapping or a
+        :class:`~skygas.calibration.material.MicromagneticMaterial`.
+    out : str or Path
+        The output folder.
+    workers : int, optional
+        Solver processes, ≥ 0 (default: 2 on a CPU, 0 on a GPU; 0 solves in this process).
+    resume : bool
+        Continue an interrupted calibration from its checkpoint in ``out``.
+    overwrite : bool
+        Replace the finished results in ``out`` (or the interrupted run, without ``resume``)
+        instead of refusing them.
+    progress : bool
+        Show a progress bar.
+    strict : bool
+        The sanity checks (:mod:`skygas.runs.sanity`) refuse the run instead of warning.
+    checkpoint_seconds : float
+        Wall time [s] between periodic checkpoints (0: after every piece).
+    **settings
+        Fields of :class:`~skygas.calibration.plan.CalibrationConfig` (``reference_diameter``,
+        ``validate_dynamics``, ``mesh_check``, ``validation={...}``, ...).
+
+    Returns
+    -------
+    dict
+        The contents of ``out/calibration.json``.
+
+    Raises
+    ------
+    InputError
+        If the material, a setting or ``workers`` is invalid, or the micromagnetic solver is not
+        installed.
+    """
     from pydantic import ValidationError
 
     from skygas.calibration.material import load_micromagnetic_material

@@ -91,8 +91,11 @@ class Calibration:
         }
 
     def particle_material(self, stray_field: bool = True):
-        """The calibrated :class:`~skygas.physics.materials.Material` (without its stray-field
-        profile when ``stray_field`` is False: a compensated film has no edge stray field)."""
+        """The calibrated :class:`~skygas.physics.materials.Material`.
+
+        Without its stray-field profile when ``stray_field`` is False: a compensated film has no
+        edge stray field.
+        """
         from skygas.physics.materials import material_from_mapping
 
         table = self.material_table()
@@ -112,9 +115,11 @@ def _distance(result: dict) -> float:
 
 
 def energy_curves(results: dict[str, dict], prefix: str = "laws"):
-    """(pair curve, short-range wall curve) of a calibration film (see
-    :mod:`skygas.calibration.laws`); a skyrmion that escaped through the edge or merged with
-    its neighbour drops its point, with the reason."""
+    """(pair curve, short-range wall curve) of a calibration film.
+
+    See :mod:`skygas.calibration.laws`. A skyrmion that escaped through the edge or merged with its
+    neighbour drops its point, with the reason.
+    """
     singles = {
         int(k.rsplit("/", 1)[1]): v for k, v in results.items() if k.startswith(f"{prefix}/single/")
     }
@@ -150,8 +155,11 @@ def energy_curves(results: dict[str, dict], prefix: str = "laws"):
 
 
 def stray_profile(isolated: IsolatedSkyrmion) -> tuple[np.ndarray, np.ndarray]:
-    """(ρ [m], w = 1 − m_z): the isolated profile, up to where w has decayed below
-    PROFILE_TAIL beyond the wall (0 from there: the stray field's profile must end low)."""
+    """(ρ [m], w = 1 − m_z): the isolated profile, up to where w has decayed.
+
+    Up to where w has decayed below PROFILE_TAIL beyond the wall (0 from there: the stray field's
+    profile must end low).
+    """
     r = np.asarray(isolated.profile_radius)
     w = 1.0 - np.asarray(isolated.profile_mz)
     outside = np.nonzero((r > isolated.radius) & (w < PROFILE_TAIL))[0]
@@ -228,10 +236,12 @@ def _check_mesh(job, pair: laws.ForceLaw, pair_energy: laws.EnergyCurve, diamete
 
 
 def _check_stray(job, wall_energy: laws.EnergyCurve, profile, diameter: float) -> dict:
-    """The singles at the real straight edge against the model: the short-range energy
-    (interpolated from the compensated film's curve) plus the first-order energy in the edge's
-    stray field (:func:`~skygas.calibration.laws.halfplane_stray_energy`), both relative to
-    the film's centre."""
+    """The singles at the real straight edge against the model.
+
+    The model: the short-range energy (interpolated from the compensated film's curve) plus the
+    first-order energy in the edge's stray field
+    (:func:`~skygas.calibration.laws.halfplane_stray_energy`), both relative to the film's centre.
+    """
     r = job.results
     singles = {int(k.rsplit("/", 1)[1]): v for k, v in r.items() if k.startswith("stray/single/")}
     if not singles or not all(_valid(s, 1) for s in singles.values()):

@@ -39,8 +39,10 @@ TABLE_NODES = 96
 
 @dataclass(frozen=True)
 class EnergyCurve:
-    """Energies [J] against distances [m] (sorted, distinct), and which were left out and
-    why (``dropped``: list of (distance, reason))."""
+    """Energies [J] against distances [m] (sorted, distinct), and which were left out and why.
+
+    ``dropped``: list of (distance, reason).
+    """
 
     distance: np.ndarray
     energy: np.ndarray
@@ -49,8 +51,11 @@ class EnergyCurve:
 
 @dataclass(frozen=True)
 class ForceLaw:
-    """A tabulated repulsion: ``distance`` [m], ``force`` [N]; ``measured`` the range [m]
-    the energies covered (beyond: exponential continuation with decay length ``decay`` [m])."""
+    """A tabulated repulsion: ``distance`` [m], ``force`` [N].
+
+    ``measured`` is the range [m] the energies covered (beyond: exponential continuation with decay
+    length ``decay`` [m]).
+    """
 
     distance: np.ndarray
     force: np.ndarray
@@ -115,8 +120,10 @@ def projected_profile(profile_radius, profile_deficit, u: np.ndarray) -> np.ndar
 def halfplane_stray_energy(
     x, saturation_magnetization: float, thickness: float, profile_radius, profile_deficit
 ) -> np.ndarray:
-    """U(x) [J] of a skyrmion at distance x [m] from the straight edge of a half-plane film,
-    first order in its deficit (module docstring); 0 far from the edge."""
+    """U(x) [J] of a skyrmion at distance x [m] from the straight edge of a half-plane film.
+
+    First order in its deficit (module docstring); 0 far from the edge.
+    """
     h = 0.5 * thickness
     reach = float(profile_radius[-1])
     out = []
@@ -136,8 +143,10 @@ def straight_edge_force(
     profile_radius,
     profile_deficit,
 ) -> np.ndarray:
-    """|F| [N] of a straight edge of a real film at distances ``x`` [m]: the short-range law
-    plus −dU/dx of the edge's stray field (module docstring)."""
+    """|F| [N] of a straight edge of a real film at distances ``x`` [m].
+
+    The short-range law plus −dU/dx of the edge's stray field (module docstring).
+    """
     x = np.asarray(x, float)
     step = 0.25e-9
     u_plus = halfplane_stray_energy(
@@ -156,9 +165,11 @@ def straight_edge_force(
 def paper_form_fits(
     pair: ForceLaw, edge_x: np.ndarray, edge_force: np.ndarray, diameter: float, force_scale: float
 ) -> dict:
-    """The paper's forms fitted to the tabulated laws over their measured ranges
-    (:func:`skygas.micromag.fit_pair_law`, :func:`~skygas.micromag.fit_wall_law`): the
-    coefficients, the range [d_sk] and the rms residual of ln|F|, or why there is no fit."""
+    """The paper's forms fitted to the tabulated laws over their measured ranges.
+
+    With :func:`skygas.micromag.fit_pair_law` and :func:`~skygas.micromag.fit_wall_law`: the
+    coefficients, the range [d_sk] and the rms residual of ln|F|, or why there is no fit.
+    """
     from skygas.core.errors import InputError
     from skygas.micromag.forces import fit_pair_law, fit_wall_law
 

@@ -44,21 +44,33 @@ class MicromagneticMaterial(StrictModel):
 
     Attributes
     ----------
-    name: a name for the material (recorded in the model file).
-    saturation_magnetization: M_s [A/m].
-    exchange_stiffness: A_ex [J/m].
-    dmi: interfacial DMI constant D [J/m²] (Néel skyrmions).
-    bulk_dmi: bulk DMI constant [J/m²] (Bloch skyrmions; default 0).
-    anisotropy: uniaxial out-of-plane anisotropy K_u [J/m³] (magnetocrystalline; the solver
-        adds the stray field itself).
-    applied_field: out-of-plane field B_z [T]; the film is magnetised along +z and the
-        skyrmion's core points along −z.
-    film_thickness: t_F [m]; the film is one cell thick.
-    damping: Gilbert damping α.
-    gyromagnetic_ratio: γ [rad/(s·T)].
-    cell_size: in-plane cell size [m] of the calibration's mesh.
-    temperature: the temperature [K] of the runs the model is meant for (recorded; the
-        calibration itself is at T = 0). None: not stated.
+    name : str
+        A name for the material (recorded in the model file).
+    saturation_magnetization : float
+        M_s [A/m].
+    exchange_stiffness : float
+        A_ex [J/m].
+    dmi : float
+        Interfacial DMI constant D [J/m²] (Néel skyrmions).
+    bulk_dmi : float
+        Bulk DMI constant [J/m²] (Bloch skyrmions; default 0).
+    anisotropy : float
+        Uniaxial out-of-plane anisotropy K_u [J/m³] (magnetocrystalline; the solver adds the
+        stray field itself).
+    applied_field : float
+        Out-of-plane field B_z [T]; the film is magnetised along +z and the skyrmion's core
+        points along −z.
+    film_thickness : float
+        t_F [m]; the film is one cell thick.
+    damping : float
+        Gilbert damping α.
+    gyromagnetic_ratio : float
+        γ [rad/(s·T)].
+    cell_size : float
+        In-plane cell size [m] of the calibration's mesh.
+    temperature : float or None
+        The temperature [K] of the runs the model is meant for (recorded; the calibration
+        itself is at T = 0). None: not stated.
     """
 
     name: str = "custom"
@@ -114,8 +126,10 @@ class MicromagneticMaterial(StrictModel):
 
     @property
     def bare_wall_width(self) -> float:
-        """Δ = √(A/K_u) [m], the wall width without the stray field (what the presets'
-        thin-wall estimate of 𝒟 uses)."""
+        """Δ = √(A/K_u) [m], the wall width without the stray field.
+
+        What the presets' thin-wall estimate of 𝒟 uses.
+        """
         return (
             math.sqrt(self.exchange_stiffness / self.anisotropy)
             if self.anisotropy > 0
@@ -124,8 +138,10 @@ class MicromagneticMaterial(StrictModel):
 
     @property
     def critical_dmi(self) -> float:
-        """D_c = 4√(A K_eff)/π [J/m²]: above it a film without field prefers spirals (0 for
-        a film that is in-plane without field)."""
+        """D_c = 4√(A K_eff)/π [J/m²]: above it a film without field prefers spirals.
+
+        0 for a film that is in-plane without field.
+        """
         return (
             4 * math.sqrt(self.exchange_stiffness * max(self.effective_anisotropy, 0.0)) / math.pi
         )
@@ -184,8 +200,11 @@ class MicromagneticMaterial(StrictModel):
 
 
 def _split_error(err: ValidationError, source: str) -> InputError:
-    """A validator's own message is ``field|value|allowed`` (several fields at once, so it
-    cannot be attached to one by pydantic); anything else is pydantic's, in skygas's words."""
+    """A validation error as an :class:`InputError`.
+
+    A validator's own message is ``field|value|allowed`` (several fields at once, so it cannot be
+    attached to one by pydantic); anything else is pydantic's, in skygas's words.
+    """
     first = err.errors()[0]
     message = first["msg"].removeprefix("Value error, ")
     if first["type"] == "value_error" and message.count("|") == 2:
@@ -210,8 +229,11 @@ def _preset_parameters(name: str) -> dict[str, Any]:
 
 
 def micromagnetic_material(data: dict[str, Any], source: str = "") -> MicromagneticMaterial:
-    """Validate a mapping into a :class:`MicromagneticMaterial`. A key ``base = "S2"`` starts
-    from that preset's micromagnetic parameters and overrides only the keys given."""
+    """Validate a mapping into a :class:`MicromagneticMaterial`.
+
+    A key ``base = "S2"`` starts from that preset's micromagnetic parameters and overrides only the
+    keys given.
+    """
     data = dict(data)
     base = data.pop("base", None)
     if base is not None:
@@ -229,9 +251,25 @@ def micromagnetic_material(data: dict[str, Any], source: str = "") -> Micromagne
 def load_micromagnetic_material(
     source: str | Path | dict | MicromagneticMaterial, **overrides: Any
 ) -> MicromagneticMaterial:
-    """The film to calibrate: a preset name (``"S1"`` … ``"S7"``), a TOML file (its
-    ``[micromagnetics]`` table, or its top level), a mapping or a material; ``overrides``
-    (``cell_size=1e-9``) replace single fields and are validated like the rest."""
+    """The film to calibrate, from a preset name, a TOML file, a mapping or a material.
+
+    Parameters
+    ----------
+    source : str, Path, dict or MicromagneticMaterial
+        A preset name (``"S1"`` … ``"S7"``), a TOML file (its ``[micromagnetics]`` table, or its top
+        level), a mapping or a material.
+    **overrides
+        Single fields to replace (``cell_size=1e-9``), validated like the rest.
+
+    Returns
+    -------
+    MicromagneticMaterial
+
+    Raises
+    ------
+    InputError
+        If the source cannot be read or a field is invalid.
+    """
     from skygas.physics.materials import preset_names
 
     if isinstance(source, MicromagneticMaterial):

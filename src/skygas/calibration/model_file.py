@@ -42,9 +42,11 @@ def _value(value: Any) -> str:
 
 
 def dumps(data: dict[str, Any], comments: dict[str, str] | None = None, prefix: str = "") -> str:
-    """``data`` (nested dicts of numbers, strings, bools and lists) as TOML; ``comments``
-    maps a table's dotted name to a comment line written above it. ``None`` values are left
-    out."""
+    """``data`` (nested dicts of numbers, strings, bools and lists) as TOML.
+
+    ``comments`` maps a table's dotted name to a comment line written above it. ``None`` values are
+    left out.
+    """
     comments = comments or {}
     lines = []
     tables = []
@@ -74,8 +76,11 @@ def write_model(
     header: list[str],
     comments: dict[str, str],
 ) -> Path:
-    """Write ``model.toml`` atomically: the ``[material]`` table (validated first as a
-    :class:`skygas.physics.materials.Material`, so the file always loads), then ``sections``."""
+    """Write ``model.toml`` atomically: the ``[material]`` table, then ``sections``.
+
+    The table is validated first as a :class:`skygas.physics.materials.Material`, so the file always
+    loads.
+    """
     from skygas.physics.materials import material_from_mapping
     from skygas.runs.run_driver import write_atomic
 

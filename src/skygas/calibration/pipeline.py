@@ -41,8 +41,10 @@ RESULT_FILES: tuple[str, ...] = ("model.toml", "calibration.json", "report.html"
 
 
 class CalibrationJob:
-    """A calibration (``config``) computed by ``workers`` processes (0: in this process, one
-    solve per piece, as on a GPU) of ``threads`` torch threads each."""
+    """A calibration (``config``) by ``workers`` processes of ``threads`` torch threads each.
+
+    ``workers`` = 0: in this process, one solve per piece, as on a GPU.
+    """
 
     #: work is the planned relaxations' and LLG pieces' estimated cost (about one unit per
     #: isolated-skyrmion relaxation), a number that means nothing to a user: the bar shows
@@ -79,9 +81,11 @@ class CalibrationJob:
 
     # -- what is known ------------------------------------------------------------------------
     def _stage1(self) -> tuple[list[Relaxation], Relaxation | None]:
-        """Stage 1's solves so far, and its final single (None until known): the film grows
-        until it is large enough for the radius measured in it, each larger film starting
-        from the profile relaxed in the one before."""
+        """Stage 1's solves so far, and its final single (None until known).
+
+        The film grows until it is large enough for the radius measured in it, each larger film
+        starting from the profile relaxed in the one before.
+        """
         solves: list[Relaxation] = []
         radius, template = None, None
         while True:
@@ -111,14 +115,18 @@ class CalibrationJob:
         return single.film
 
     def isolated_size(self) -> tuple[float, float, plan.Template] | None:
-        """(radius, wall width [m], starting template) of the isolated skyrmion, once stage 1
-        is final and holds one skyrmion."""
+        """(radius, wall width [m], starting template) of the isolated skyrmion.
+
+        Once stage 1 is final and holds one skyrmion; None before.
+        """
         single = self._stage1()[1]
         return None if single is None else self._measure(single)
 
     def _measure(self, task: Relaxation):
-        """(radius, wall width, template) of a stage-1 single (None without one skyrmion);
-        kept, since the plan asks for it at every piece."""
+        """(radius, wall width, template) of a stage-1 single (None without one skyrmion).
+
+        Kept, since the plan asks for it at every piece.
+        """
         if task.name not in self._measured:
             result = self.results[task.name]
             self._measured[task.name] = None
@@ -165,6 +173,7 @@ class CalibrationJob:
         return size[0]
 
     def validation_film(self) -> Film:
+        """The validation disk's film, for the isolated skyrmion's diameter."""
         return plan.validation_film(self.config, 2 * self._isolated_radius())
 
     # -- the LLG chain ------------------------------------------------------------------------
@@ -194,7 +203,7 @@ class CalibrationJob:
         return max(total - done, 0)
 
     def _llg_travel_done(self) -> bool:
-        """Has every skyrmion travelled ``min_travel`` diameters along its path?"""
+        """True once every skyrmion has travelled ``min_travel`` diameters (or one was lost)."""
         from skygas.calibration.validation import path_lengths
 
         frames = self.llg["frames"]
@@ -226,6 +235,7 @@ class CalibrationJob:
     # -- the run-driver protocol --------------------------------------------------------------
     @property
     def work_total(self) -> float:
+        """The estimated cost of every solve planned so far, and of what cannot be planned yet."""
         costs = sum(s.cost for s in self.planned())
         if self.isolated_size() is None:
             costs += 60.0  # the laws, checks and validation, before they can be planned
@@ -237,14 +247,17 @@ class CalibrationJob:
         return len(self.llg["frames"]) // SNAPSHOTS_PER_PIECE * self._llg_piece_cost()
 
     def work_done(self) -> float:
+        """The estimated cost of the solves done so far."""
         done = sum(s.cost for s in self.planned() if s.name in self.results)
         if self.config.validate_dynamics and "validation/start" in self.results:
             done += self._llg_done_cost()
         return done
 
     def _ready(self) -> list[tuple[str, str, tuple]]:
-        """Tasks that can start now: the LLG chain and its start first, then the costliest
-        relaxations (the longest first: the least idle time at the end)."""
+        """Tasks that can start now: the LLG chain and its start, then the costliest relaxations.
+
+        The longest first: the least idle time at the end.
+        """
         tasks = []
         if (
             self.config.validate_dynamics
@@ -264,13 +277,20 @@ class CalibrationJob:
         return tasks
 
     def run_seconds(self) -> float:
-        """Wall time spent running, over all sessions: an interrupted and resumed run does not
-        count the time it was stopped (the solves lost with the interruption count twice)."""
+        """Wall time spent running, over all sessions [s].
+
+        An interrupted and resumed run does not count the time it was stopped (the solves lost with
+        the interruption count twice).
+        """
         if self._session_start is None:
             return self._seconds_before
         return self._seconds_before + time.perf_counter() - self._session_start
 
     def advance_piece(self) -> None:
+        """Start what can start and record what finished, returning within about a second.
+
+        With no workers, one task is solved in this process instead.
+        """
         from skygas.calibration import worker
 
         if self._session_start is None:
@@ -330,6 +350,7 @@ class CalibrationJob:
         self._in_flight.clear()
 
     def state_dict(self) -> dict[str, np.ndarray]:
+        """The results, LLG chain, timeline, run time and kept textures, as arrays."""
         state = {
             "results": json_array(self.results),
             "llg": json_array(self.llg),
@@ -342,6 +363,7 @@ class CalibrationJob:
         return state
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`state_dict` saved (the run clock restarts from its total)."""
         self.results = from_json_array(state["results"])
         self.llg = from_json_array(state["llg"])
         self.timeline = from_json_array(state["timeline"])
@@ -351,12 +373,18 @@ class CalibrationJob:
         self.llg_m = np.asarray(state["llg_m"]) if "llg_m" in state else None
 
     def config_json(self) -> str:
+        """The validated configuration as JSON."""
         return self.config.model_dump_json()
 
     def seed(self) -> int:
+        """The seed of the configuration (a calibration draws nothing at random)."""
         return self.config.seed()
 
     def finish(self, out_dir: Path):
+        """Stop the workers, then analyse the results and write the files into ``out_dir``.
+
+        Returns the data of ``calibration.json``.
+        """
         self.close()
         from skygas.calibration.results import write_results
 

@@ -95,7 +95,8 @@ class ValidationSpec(StrictModel):
 
     ``skyrmions`` in a disk of ``disk_radius`` skyrmion diameters; snapshots every
     ``snapshot_interval`` [s]; the run stops once every skyrmion has travelled ``min_travel``
-    diameters along its path, or at ``max_duration`` [s]."""
+    diameters along its path, or at ``max_duration`` [s].
+    """
 
     skyrmions: int = Field(3, ge=1, le=7)
     disk_radius: float = Field(2.5, ge=1.0, le=10.0)
@@ -114,7 +115,8 @@ class CalibrationConfig(StrictModel):
     ``validate``: run the micromagnetic many-skyrmion dynamics; ``compile``: magnum.np's
     compiled field terms (the same physics; the last bits differ, so a run resumes only with
     the setting it started with); ``reference_diameter``: the device whose interior the model
-    is for [m] (see the module docstring)."""
+    is for [m] (see the module docstring).
+    """
 
     material: MicromagneticMaterial
     reference_diameter: Length = REFERENCE_DIAMETER
@@ -143,14 +145,17 @@ class CalibrationConfig(StrictModel):
         return self
 
     def seed(self) -> int:
+        """0: a calibration is deterministic, nothing in it is random."""
         return 0  # deterministic: nothing random in a calibration
 
 
 # -- the solves ---------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Template:
-    """A starting profile: the isolated skyrmion's m_z(r) (``radius`` [m], ``mz``) and
-    helicity [rad] (0 or π: Néel, ±π/2: Bloch)."""
+    """A starting profile: the isolated skyrmion's m_z(r) and helicity.
+
+    m_z at ``radius`` [m] is ``mz``; the helicity [rad] is 0 or π: Néel, ±π/2: Bloch.
+    """
 
     radius: tuple[float, ...]
     mz: tuple[float, ...]
@@ -159,11 +164,13 @@ class Template:
 
 @dataclass(frozen=True)
 class Relaxation:
-    """One constrained relaxation: skyrmions with their guiding centres held at the centres of
-    the cells ``cores`` (none: the uniform film). They start from ``template`` scaled
-    radially by ``scale`` or, without one, from the ansatz with radius ``radius`` and wall
-    width ``width`` [m]; ``keep``: return the relaxed texture; ``cost``: expected wall time
-    relative to a 20 000-cell solve."""
+    """One constrained relaxation: skyrmions with their guiding centres held at cell centres.
+
+    The centres of the cells ``cores`` (none: the uniform film). They start from ``template`` scaled
+    radially by ``scale`` or, without one, from the ansatz with radius ``radius`` and wall width
+    ``width`` [m]; ``keep``: return the relaxed texture; ``cost``: expected wall time relative to a
+    20 000-cell solve.
+    """
 
     name: str
     film: Film
@@ -204,8 +211,10 @@ def reference_film(
     offset: float = 0.0,
     real_left_edge: bool = False,
 ) -> Film:
-    """A film in the reference environment (compensated, H_ref; ``offset`` [A/m] added;
-    ``real_left_edge``: that edge keeps its stray field)."""
+    """A film in the reference environment (compensated, H_ref).
+
+    ``offset`` [A/m] is added; with ``real_left_edge`` that edge keeps its stray field.
+    """
     return Film(
         nx,
         ny,
@@ -235,8 +244,10 @@ def isolated_film(
 
 
 def initial_radius(material: MicromagneticMaterial) -> float:
-    """A first guess of the radius [m]: 2A/|D| (the radius of a skyrmion whose energy is
-    dominated by exchange and DMI)."""
+    """A first guess of the radius [m]: 2A/|D|.
+
+    The radius of a skyrmion whose energy is dominated by exchange and DMI.
+    """
     return 2.0 * material.dmi_length
 
 
@@ -293,8 +304,10 @@ def calibration_film(
 def pair_cells(
     film: Film, diameter: float, pair_range: tuple[float, float], count: int = 11
 ) -> list[int]:
-    """Cells i of the pairs (i, nx − 1 − i): ``count`` distances from the closest to the
-    farthest of ``pair_range`` [d_sk], denser at short range where the law changes fastest."""
+    """Cells i of the pairs (i, nx − 1 − i), for ``count`` distances across ``pair_range`` [d_sk].
+
+    From the closest to the farthest, denser at short range where the law changes fastest.
+    """
     lo, hi = pair_range
     targets = np.exp(np.linspace(math.log(lo), math.log(hi), count)) * diameter
     cells = sorted(
@@ -365,9 +378,11 @@ def sensitivity_stage(config: CalibrationConfig, film: Film, template: Template)
 def stray_check_stage(
     config: CalibrationConfig, radius: float, width: float, template: Template
 ) -> Stage:
-    """Singles near the left edge of the calibration film whose compensation leaves that
-    edge's stray field (a real straight edge), its uniform state and its centre single: to
-    check the model's first-order stray-field energy."""
+    """Singles near the real left edge of the calibration film, to check the stray-field energy.
+
+    The film's compensation leaves that straight edge's stray field; with its uniform state and its
+    centre single, they check the model's first-order stray-field energy.
+    """
     diameter = 2 * radius
     film = calibration_film(config, diameter, config.pair_range, real_left_edge=True)
     row = (film.ny - 1) // 2
@@ -381,8 +396,11 @@ def stray_check_stage(
 
 
 def mesh_stage(config: CalibrationConfig, radius: float, width: float, template: Template) -> Stage:
-    """The mesh check: a pair at ≈ 1.5 d_sk (pair, its single, uniform) at the calibration's
-    cell and at half of it (the single is also the isolated skyrmion of the comparison)."""
+    """The mesh check: a pair at ≈ 1.5 d_sk at the calibration's cell and at half of it.
+
+    The pair, its single and the uniform film at each cell (the single is also the isolated skyrmion
+    of the comparison).
+    """
     stage = Stage("mesh")
     diameter = 2 * radius
     for label, cell in (
@@ -410,16 +428,20 @@ def enlarged_stage(config: CalibrationConfig, radius: float, template: Template)
 
 
 def validation_film(config: CalibrationConfig, diameter: float) -> Film:
-    """The validation disk: ``disk_radius`` diameters, in a square mesh of odd side, in the
-    reference environment."""
+    """The validation disk: ``disk_radius`` diameters, in a square mesh of odd side.
+
+    In the reference environment.
+    """
     n = odd(2 * config.validation.disk_radius * diameter / config.material.cell_size)
     return reference_film(config, n, n, disk=True)
 
 
 def validation_positions(film: Film, diameter: float, count: int) -> list[tuple[float, float]]:
-    """Fixed, asymmetric starting positions [m]: skyrmions 1.3–1.8 diameters apart and at
-    least 0.9 diameters from the rim, drawn once from a fixed seed (the same for every run
-    of the same size)."""
+    """Fixed, asymmetric starting positions [m] of the validation's skyrmions.
+
+    Skyrmions 1.3–1.8 diameters apart and at least 0.9 diameters from the rim, drawn once from a
+    fixed seed (the same for every run of the same size).
+    """
     cx, cy = 0.5 * film.size[0], 0.5 * film.size[1]
     reach = film.radius - 0.9 * diameter
     if count == 3:  # the default: an irregular triangle, off the disk's centre
@@ -448,8 +470,7 @@ def validation_positions(film: Film, diameter: float, count: int) -> list[tuple[
 def validation_start(
     config: CalibrationConfig, radius: float, width: float, template: Template
 ) -> Relaxation:
-    """The validation's starting state: its skyrmions relaxed with their guiding centres
-    held."""
+    """The validation's starting state: its skyrmions relaxed with their guiding centres held."""
     film = validation_film(config, 2 * radius)
     points = validation_positions(film, 2 * radius, config.validation.skyrmions)
     cores = tuple(film.cell_of(x, y) for x, y in points)

@@ -33,8 +33,10 @@ from skygas.micromag.synthetic import ansatz_dissipation
 
 
 def as_field(m: np.ndarray, film: Film, thickness: float):
-    """The texture ``m`` (nx, ny, 3) as the field DataArray of :mod:`skygas.micromag`
-    (dims z, y, x, component; origin at the mesh's lower-left corner)."""
+    """The texture ``m`` (nx, ny, 3) as the field DataArray of :mod:`skygas.micromag`.
+
+    Dims z, y, x, component; origin at the mesh's lower-left corner.
+    """
     from skygas.micromag.ovf import field_from_array
 
     return field_from_array(np.transpose(m, (1, 0, 2)), (film.cell_size, film.cell_size, thickness))
@@ -48,8 +50,10 @@ def detect(m: np.ndarray, film: Film, thickness: float):
 
 
 def dissipation_tensor(m: np.ndarray, cell: float, region: np.ndarray | None = None) -> np.ndarray:
-    """𝒟_ij = ∫ ∂ᵢm·∂ⱼm dA over the cells of ``region`` (nx, ny; all cells if None), a 2×2
-    dimensionless matrix; see the module docstring for the discretisation."""
+    """𝒟_ij = ∫ ∂ᵢm·∂ⱼm dA over the cells of ``region``, a 2×2 dimensionless matrix.
+
+    ``region`` (nx, ny): all cells if None. See the module docstring for the discretisation.
+    """
     m = np.asarray(m, dtype=float)
     region = np.ones(m.shape[:2], bool) if region is None else np.asarray(region, bool)
     tensor = np.zeros((2, 2))
@@ -76,8 +80,10 @@ def radial_profile(
     n_radii: int = 200,
     n_angles: int = 64,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(r [m], ⟨m_z⟩(r)): m_z averaged over ``n_angles`` rays from ``centre`` [m], sampled by
-    cubic interpolation between cell centres."""
+    """(r [m], ⟨m_z⟩(r)): m_z averaged over ``n_angles`` rays from ``centre`` [m].
+
+    Sampled by cubic interpolation between cell centres.
+    """
     radii = np.linspace(0.0, r_max, n_radii)
     angles = np.linspace(0.0, 2 * math.pi, n_angles, endpoint=False)
     px = centre[0] + radii[:, None] * np.cos(angles)[None, :]
@@ -88,8 +94,10 @@ def radial_profile(
 
 
 def helicity(m: np.ndarray, film: Film, centre: tuple[float, float]) -> float:
-    """The angle [rad] from the radial direction to the in-plane magnetisation, averaged over
-    the wall (0 or π: Néel; ±π/2: Bloch)."""
+    """The angle [rad] from the radial direction to the in-plane magnetisation.
+
+    Averaged over the wall (0 or π: Néel; ±π/2: Bloch).
+    """
     x, y = film.centres()
     dx, dy = x - centre[0], y - centre[1]
     r = np.maximum(np.hypot(dx, dy), 1e-30)
@@ -133,7 +141,8 @@ class IsolatedSkyrmion:
     measured R and the fitted Δ;
     ``moment_deficit``: A_m = ∫(1 − m_z) dA [m²]; ``k`` [kg/s]; ``gyrocoupling`` G [kg/s];
     ``profile_radius`` [m] and ``profile_mz``: the azimuthally averaged profile;
-    ``circularity``: shortest / longest contour ray."""
+    ``circularity``: shortest / longest contour ray.
+    """
 
     charge: float
     x: float
@@ -154,9 +163,11 @@ class IsolatedSkyrmion:
 
     @property
     def diameter(self) -> float:
+        """d_sk = 2R [m]."""
         return 2.0 * self.radius
 
     def as_record(self) -> dict:
+        """The measurement as a dict, without the profile arrays."""
         record = asdict(self)
         record.pop("profile_radius")
         record.pop("profile_mz")
@@ -170,9 +181,11 @@ def measure_isolated(
     energy: float,
     what: str = "isolated skyrmion",
 ) -> IsolatedSkyrmion:
-    """Measure the one skyrmion of the relaxed texture ``m``; ``energy`` is its energy above
-    the uniform film [J]. Refuses (one line) a texture without exactly one skyrmion of
-    |Q| ≈ 1: the material does not hold an isolated skyrmion on this mesh."""
+    """Measure the one skyrmion of the relaxed texture ``m``.
+
+    ``energy`` is its energy above the uniform film [J]. Refuses (one line) a texture without
+    exactly one skyrmion of |Q| ≈ 1: the material does not hold an isolated skyrmion on this mesh.
+    """
     found = detect(m, film, material.film_thickness)
     if len(found) != 1 or abs(abs(found[0].charge) - 1.0) > 0.05:
         charges = ", ".join(f"{s.charge:+.2f}" for s in found) or "none"

@@ -149,6 +149,7 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
 
 
 def validation_sentence(cal: Calibration) -> str:
+    """The report's sentences on the validation: what ran, how close the model came, and why."""
     if not cal.config.validate_dynamics:
         return "The dynamics were not validated (--no-validate)."
     v = cal.validation
@@ -210,6 +211,10 @@ def _speed_ratio(v) -> float | None:
 
 
 def write_report(cal: Calibration, data: dict[str, Any], out: Path) -> Path:
+    """Write ``report.html`` into ``out``, atomically.
+
+    Summary, use of the model, isolated skyrmion, fits, figures, provenance and data.
+    """
     m = cal.config.material
     page = Page(f"skygas calibration — {m.name}")
     page.paragraph(

@@ -133,6 +133,11 @@ def _law_record(law, energy, cal: Calibration) -> dict[str, Any]:
 
 # -- the model file ------------------------------------------------------------------------------
 def write_model_file(cal: Calibration, job, path: Path) -> Path:
+    """Write the particle model ``model.toml`` to ``path``.
+
+    The material with its tabulated laws, then the micromagnetics, Thiele coefficients, laws,
+    fits and provenance of the calibration.
+    """
     iso = cal.isolated
     m = cal.config.material
     fits = cal.fits
@@ -190,8 +195,10 @@ def write_model_file(cal: Calibration, job, path: Path) -> Path:
 
 # -- figures -------------------------------------------------------------------------------------
 def _paper_laws(cal: Calibration):
-    """The paper's pair and wall laws for the same material, in its own units (the preset's
-    table diameter and F₀), or None when the material is not a preset."""
+    """The paper's pair and wall laws for the same material, in its own units.
+
+    The preset's table diameter and F₀; None when the material is not a preset.
+    """
     from skygas.physics.materials import derive_thiele, preset, preset_names
 
     name = cal.config.material.name
@@ -203,6 +210,7 @@ def _paper_laws(cal: Calibration):
 
 
 def plot_profile(cal: Calibration, path: Path) -> Path:
+    """Plot the isolated skyrmion's m_z(r) against the 360° wall ansatz, to ``path`` (PNG)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -240,9 +248,11 @@ def plot_profile(cal: Calibration, path: Path) -> Path:
 
 
 def plot_law(cal: Calibration, which: str, path: Path) -> Path:
-    """|F| [pN] against distance [nm]: the calibrated table (over the measured range, and its
-    continuation), −dE/dd at the measured energies, the paper-form fit and the paper's law for
-    the same material (if it is a preset)."""
+    """|F| [pN] against distance [nm] of law ``which`` ("pair" or "wall"), to ``path`` (PNG).
+
+    The calibrated table (over the measured range, and its continuation), −dE/dd at the measured
+    energies, the paper-form fit and the paper's law for the same material (if it is a preset).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -328,6 +338,7 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
 
 
 def plot_validation(cal: Calibration, path: Path) -> Path:
+    """Plot the validation to ``path`` (PNG): both models' trajectories and the RMS error."""
     import matplotlib
 
     matplotlib.use("Agg")

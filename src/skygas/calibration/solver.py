@@ -41,9 +41,11 @@ _settings: dict[str, Any] = {"threads": 1, "compile": True, "configured": False}
 
 
 def configure(threads: int = 1, compile: bool = True) -> None:
-    """Set torch's thread count and whether magnum.np's field terms are compiled
-    (``torch.compile``: about 25 % faster per evaluation, about 20 s to compile once per
-    process with a cold cache). Call before the first solve of the process."""
+    """Set torch's thread count and whether magnum.np's field terms are compiled.
+
+    ``torch.compile``: about 25 % faster per evaluation, about 20 s to compile once per process with
+    a cold cache. Call before the first solve of the process.
+    """
     if _settings["configured"]:
         return  # torch is imported: its threads and compilation are set for this process
     if not compile:
@@ -52,8 +54,10 @@ def configure(threads: int = 1, compile: bool = True) -> None:
 
 
 def require_installed() -> None:
-    """Refuse, with one line, to start a calibration without torch and magnum.np (checked
-    without importing them)."""
+    """Refuse, with one line, to start a calibration without torch and magnum.np.
+
+    Checked without importing them.
+    """
     from importlib.util import find_spec
 
     for package, install in (
@@ -70,7 +74,7 @@ def require_installed() -> None:
 
 
 def gpu_available() -> bool:
-    """Does torch see a CUDA GPU? (imports torch, not magnum.np)"""
+    """True if torch sees a CUDA GPU (imports torch, not magnum.np)."""
     try:
         import torch
     except ImportError:
@@ -79,15 +83,19 @@ def gpu_available() -> bool:
 
 
 def default_workers() -> int:
-    """Solver processes: two on a CPU (one torch thread each: two threads per process with
-    another busy process beside it made a relaxation 25 times slower), or as many as there
-    are cores if fewer; none on a GPU (one process drives it)."""
+    """Solver processes: two on a CPU (or as many as there are cores if fewer), none on a GPU.
+
+    On a CPU each has one torch thread (two threads per process with another busy process beside it
+    made a relaxation 25 times slower); on a GPU one process drives it.
+    """
     return 0 if gpu_available() else max(1, min(2, os.cpu_count() or 1))
 
 
 def backend():
-    """magnum.np, imported on first use with its logging silenced; a clear error if the
-    ``micromagnetics`` extra is not installed."""
+    """magnum.np, imported on first use with its logging silenced.
+
+    A clear error if the ``micromagnetics`` extra is not installed.
+    """
     if not _settings["configured"]:
         try:
             import torch
@@ -220,9 +228,11 @@ class Film:
 
 @dataclass(frozen=True)
 class Relaxed:
-    """A relaxed texture: ``m`` (nx, ny, 3), the energy [J] by term and in total, the
-    iterations, whether the torque fell below the tolerance, the largest torque left
-    max|m × (m × H)| [A/m] and the wall time [s]."""
+    """A relaxed texture and how the relaxation went.
+
+    ``m`` (nx, ny, 3), the energy [J] by term and in total, the iterations, whether the torque fell
+    below the tolerance, the largest torque left max|m × (m × H)| [A/m] and the wall time [s].
+    """
 
     m: np.ndarray
     energies: dict[str, float]
@@ -235,8 +245,10 @@ class Relaxed:
 
 @dataclass(frozen=True)
 class Evolved:
-    """The end of an LLG piece: ``m``, the time [s], the solver's next step [s], accepted
-    steps in the piece, wall time [s]."""
+    """The end of an LLG piece.
+
+    ``m``, the time [s], the solver's next step [s], accepted steps in the piece, wall time [s].
+    """
 
     m: np.ndarray
     time: float
@@ -315,8 +327,10 @@ class FilmSolver:
 
     # -- the three calls ----------------------------------------------------------------------
     def energy(self, m: np.ndarray) -> dict[str, float]:
-        """Energy [J] of texture ``m`` by term (``exchange``, ``dmi``, ``anisotropy``,
-        ``zeeman``, ``demag``)."""
+        """Energy [J] of texture ``m`` by term.
+
+        ``exchange``, ``dmi``, ``anisotropy``, ``zeeman``, ``demag``.
+        """
         self._set(m)
         return {name: float(term.E(self.state)) for name, term in self.terms.items()}
 
@@ -329,8 +343,10 @@ class FilmSolver:
         torque_tolerance: float = DEFAULT_TORQUE_TOLERANCE,
         max_iterations: int = 200_000,
     ) -> Relaxed:
-        """Minimise the energy from ``m0`` with the guiding centres of its skyrmions held at
-        ``centres`` [(x, y), m], until max|m × (m × H')| < ``torque_tolerance`` [A/m].
+        """Minimise the energy from ``m0`` with its skyrmions' guiding centres held at ``centres``.
+
+        ``centres`` [(x, y), m]; the minimisation runs until max|m × (m × H')| <
+        ``torque_tolerance`` [A/m].
 
         **The constraint.** Skyrmion a's guiding centre is X_a = Σ r q w_a / Σ q w_a, q the
         topological charge density m·(∂ₓm × ∂ᵧm) (central differences) and w_a the cells
@@ -470,8 +486,9 @@ class FilmSolver:
         first_step: float = 1e-14,
         tolerance: float = 1e-5,
     ) -> Evolved:
-        """Integrate the LLG equation from ``m0`` at time ``t0`` [s] for ``duration`` [s] at
-        T = 0, without current, with the material's α and γ:
+        """Integrate the LLG equation from ``m0`` at time ``t0`` [s] for ``duration`` [s].
+
+        At T = 0, without current, with the material's α and γ:
 
             ∂m/∂t = −γ' m × H_eff − αγ' m × (m × H_eff),   γ' = γμ₀/(1 + α²)
 
@@ -515,10 +532,12 @@ class FilmSolver:
 def skyrmion_texture(
     film: Film, centres, radius: float, wall_width: float, helicity: float = 0.0
 ) -> np.ndarray:
-    """Skyrmions (core −z, background +z) at ``centres`` [(x, y), m] with the 360° wall
-    profile θ(r) = 2 atan[sinh(R/Δ)/sinh(r/Δ)], superposed as m = normalise(ẑ + Σ(mᵢ − ẑ));
-    ``helicity`` 0 gives Néel walls (interfacial DMI), π/2 Bloch walls (bulk DMI). Shape
-    (nx, ny, 3), zero outside a disk film."""
+    """Skyrmions (core −z, background +z) at ``centres`` [(x, y), m] with the 360° wall profile.
+
+    θ(r) = 2 atan[sinh(R/Δ)/sinh(r/Δ)], superposed as m = normalise(ẑ + Σ(mᵢ − ẑ)); ``helicity`` 0
+    gives Néel walls (interfacial DMI), π/2 Bloch walls (bulk DMI). Shape (nx, ny, 3), zero outside
+    a disk film.
+    """
     x, y = film.centres()
     m = np.zeros((film.nx, film.ny, 3))
     m[..., 2] = 1.0
@@ -539,9 +558,12 @@ def skyrmion_texture(
 def template_texture(
     film: Film, centres, radius, mz, helicity: float, scale: float = 1.0
 ) -> np.ndarray:
-    """Skyrmions at ``centres`` [(x, y), m] with the measured profile m_z(r) (``radius`` [m],
-    ``mz``; +1 beyond the last radius) stretched radially by ``scale``, and ``helicity``
-    [rad], superposed as in :func:`skyrmion_texture`."""
+    """Skyrmions at ``centres`` [(x, y), m] with the measured profile m_z(r).
+
+    The profile (``radius`` [m], ``mz``; +1 beyond the last radius) is stretched radially by
+    ``scale``, with ``helicity`` [rad], and the skyrmions are superposed as in
+    :func:`skyrmion_texture`.
+    """
     x, y = film.centres()
     m = np.zeros((film.nx, film.ny, 3))
     m[..., 2] = 1.0

@@ -24,9 +24,11 @@ from scipy.optimize import linear_sum_assignment
 
 
 def match_frames(start: list[dict], frames: list[dict], diameter: float):
-    """Positions (frames + 1, skyrmions, 2) [m] of the skyrmions of ``start``, followed
-    through ``frames`` (each a dict with ``skyrmions``) by minimum total displacement; None if
-    a skyrmion is lost (annihilated or merged) or jumps by more than half a diameter."""
+    """Positions (frames + 1, skyrmions, 2) [m] of the skyrmions of ``start``, through ``frames``.
+
+    Each frame is a dict with ``skyrmions``; they are followed by minimum total displacement. None
+    if a skyrmion is lost (annihilated or merged) or jumps by more than half a diameter.
+    """
     current = np.array([[s["x"], s["y"]] for s in start])
     out = [current.copy()]
     for frame in frames:
@@ -53,10 +55,12 @@ def path_lengths(start: list[dict], frames: list[dict], diameter: float):
 
 @dataclass(frozen=True)
 class Comparison:
-    """Both runs at the snapshot times: ``times`` [s], ``micromagnetic`` and ``particle``
-    positions (frames, skyrmions, 2) [m], ``error`` RMS centre error per frame [d_sk],
-    ``path_length`` per skyrmion in the micromagnetic run [d_sk], ``radius`` the mean
-    micromagnetic radius per frame [m]."""
+    """Both runs at the snapshot times.
+
+    ``times`` [s], ``micromagnetic`` and ``particle`` positions (frames, skyrmions, 2) [m],
+    ``error`` RMS centre error per frame [d_sk], ``path_length`` per skyrmion in the micromagnetic
+    run [d_sk], ``radius`` the mean micromagnetic radius per frame [m].
+    """
 
     times: np.ndarray
     micromagnetic: np.ndarray
@@ -69,6 +73,7 @@ class Comparison:
     centre: tuple[float, float]
 
     def summary(self) -> dict:
+        """The comparison in numbers, JSON-able: errors, duration, paths and radii."""
         return {
             "rms_error_max_d_sk": float(self.error.max()),
             "rms_error_final_d_sk": float(self.error[-1]),
@@ -82,8 +87,10 @@ class Comparison:
 
 
 def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness: float):
-    """Positions (frames, n, 2) [m] of the particle model from ``start`` (n, 2) [m] at
-    ``times`` [s] (the first is 0), in a disk of the film's equal-area radius."""
+    """Positions (frames, n, 2) [m] of the particle model from ``start`` (n, 2) [m].
+
+    At ``times`` [s] (the first is 0), in a disk of the film's equal-area radius.
+    """
     from skygas.engine import Simulation
     from skygas.physics import geometry
 
@@ -122,8 +129,10 @@ def compare(
     thickness: float,
     settle: float = 0.0,
 ) -> Comparison | None:
-    """The particle model against the micromagnetic frames (module docstring), from the first
-    frame at or after ``settle`` [s]; None if the micromagnetic run lost a skyrmion."""
+    """The particle model against the micromagnetic frames (module docstring).
+
+    From the first frame at or after ``settle`` [s]; None if the micromagnetic run lost a skyrmion.
+    """
     tracks = match_frames(start, frames, diameter)
     if tracks is None:
         return None

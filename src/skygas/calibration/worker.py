@@ -55,8 +55,10 @@ def _skyrmions(m: np.ndarray, film: Film, thickness: float) -> list[dict[str, fl
 
 
 def initial_texture(fs: solver.FilmSolver, centres, radius: float, width: float) -> np.ndarray:
-    """The ansatz at ``centres`` [m] with the helicity (Néel: 0 or π; Bloch: ±π/2) of lower
-    energy: the DMI's sign decides it, and a wrong one would collapse."""
+    """The ansatz at ``centres`` [m] with the helicity of lower energy.
+
+    Néel: 0 or π; Bloch: ±π/2. The DMI's sign decides it, and a wrong one would collapse.
+    """
     candidates = (math.pi / 2, -math.pi / 2) if fs.material.bulk_dmi > 0 else (0.0, math.pi)
     textures = [solver.skyrmion_texture(fs.film, centres, radius, width, h) for h in candidates]
     if not centres:
@@ -66,8 +68,11 @@ def initial_texture(fs: solver.FilmSolver, centres, radius: float, width: float)
 
 
 def relax(material_json: str, task: Relaxation, torque_tolerance: float) -> dict[str, Any]:
-    """Run one :class:`~skygas.calibration.plan.Relaxation`; returns its energies [J], the
-    solver's statistics, the skyrmions found in the result and (``task.keep``) the texture."""
+    """Run one :class:`~skygas.calibration.plan.Relaxation`.
+
+    Returns its energies [J], the solver's statistics, the skyrmions found in the result and
+    (``task.keep``) the texture.
+    """
     fs = _film_solver(material_json, task.film)
     x, y = task.film.centres()
     centres = [(float(x[c]), float(y[c])) for c in task.cores]
@@ -110,8 +115,11 @@ def evolve(
     snapshot_interval: float,
     tolerance: float,
 ) -> dict[str, Any]:
-    """Integrate LLG for ``duration`` [s] from (m, time, next_step), detecting the skyrmions
-    at every multiple of ``snapshot_interval`` [s]; returns the end state and the frames."""
+    """Integrate LLG for ``duration`` [s] from (m, time, next_step), detecting skyrmions on the way.
+
+    The skyrmions are detected at every multiple of ``snapshot_interval`` [s]; returns the end state
+    and the frames.
+    """
     fs = _film_solver(material_json, film)
     frames, seconds, steps = [], 0.0, 0
     n = int(round(duration / snapshot_interval))

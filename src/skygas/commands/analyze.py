@@ -1,5 +1,7 @@
-"""``skygas analyze RUN [--json]``: the standard observables of a run (MSD and D, g(r),
-velocity and Hall angle, occupancy, density and velocity maps; :mod:`skygas.analysis`)."""
+"""``skygas analyze RUN [--json]``: the standard observables of a run (:mod:`skygas.analysis`).
+
+MSD and D, g(r), velocity and Hall angle, occupancy, density and velocity maps.
+"""
 
 from __future__ import annotations
 
@@ -58,6 +60,7 @@ def _analyze(args) -> int:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas analyze`` to ``subparsers``."""
     p = subparsers.add_parser("analyze", help="standard observables of a run (MSD, g(r), ...)")
     p.add_argument("run", help="run directory or result file")
     p.add_argument("--json", action="store_true", help="print one JSON object")

@@ -1,5 +1,7 @@
-"""``skygas animate RUN --out movie.mp4|movie.gif [--stride N] [--window START:END]``: a movie
-of a finished run (see :mod:`skygas.outputs.movie`)."""
+"""``skygas animate RUN --out movie.mp4|movie.gif``: a movie of a finished run.
+
+Options ``[--stride N] [--window START:END]``; see :mod:`skygas.outputs.movie`.
+"""
 
 from __future__ import annotations
 
@@ -62,6 +64,7 @@ def _animate(args) -> int:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas animate`` to ``subparsers``."""
     p = subparsers.add_parser("animate", help="movie (MP4 or GIF) of a finished run")
     p.add_argument(
         "run", help="run directory or result file (trajectories.nc, reshuffler.nc, frames.nc)"

@@ -1,5 +1,6 @@
-"""``skygas calibrate MATERIAL --out DIR``: from a film's micromagnetic parameters to a particle
-model (model.toml), checked against micromagnetic dynamics.
+"""``skygas calibrate MATERIAL --out DIR``: from micromagnetic parameters to a particle model.
+
+From a film's parameters to its particle model (model.toml), checked against micromagnetic dynamics.
 
 The handler imports the calibration when it runs (building the command line imports no
 numerics); the solver (torch, magnum.np) is imported by the worker processes only.
@@ -24,6 +25,7 @@ _FLAGS = {
 
 
 def register(subparsers) -> None:
+    """Add ``skygas calibrate`` to ``subparsers``."""
     p = subparsers.add_parser(
         "calibrate",
         help="micromagnetics (magnum.np) → a calibrated particle model",
@@ -148,6 +150,7 @@ def brief(data: dict, out) -> dict:
 
 
 def lines(data: dict) -> list[str]:
+    """Readable lines of a calibration's ``calibration.json`` data: skyrmion, laws, validation."""
     iso = data["isolated"]
     out = [
         f"isolated skyrmion: R = {iso['radius'] * 1e9:.2f} nm, Δ = "

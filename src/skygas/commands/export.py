@@ -1,5 +1,7 @@
-"""``skygas export RUN --format gsd|extxyz --out FILE``: trajectories for OVITO, VMD, HOOMD's
-tools or ASE (see :mod:`skygas.outputs.export`)."""
+"""``skygas export RUN --format gsd|extxyz --out FILE``: trajectories for particle viewers.
+
+For OVITO, VMD, HOOMD's tools or ASE (see :mod:`skygas.outputs.export`).
+"""
 
 from __future__ import annotations
 
@@ -27,6 +29,7 @@ def _export(args) -> int:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas export`` to ``subparsers``."""
     p = subparsers.add_parser("export", help="trajectories as GSD or extended XYZ")
     p.add_argument("run", help="run directory or result file")
     p.add_argument(

@@ -1,6 +1,8 @@
-"""The one style of every command's ``--json`` output: one JSON object on stdout, standard JSON
-(NaN and ±inf, which JSON has no words for, are written ``null``; NumPy numbers as numbers),
-indented by two spaces. Nothing else goes to stdout, so ``skygas ... --json | jq`` works."""
+"""The one style of every command's ``--json`` output: one JSON object on stdout.
+
+Standard JSON (NaN and ±inf, which JSON has no words for, are written ``null``; NumPy numbers as
+numbers), indented by two spaces. Nothing else goes to stdout, so ``skygas ... --json | jq`` works.
+"""
 
 from __future__ import annotations
 

@@ -13,6 +13,7 @@ from skygas.commands.json_output import print_json
 
 
 def register(subparsers) -> None:
+    """Add ``skygas micromag`` and its sub-commands to ``subparsers``."""
     group = subparsers.add_parser(
         "micromag",
         help="micromagnetic snapshots → skyrmions, G, 𝒟, force laws",

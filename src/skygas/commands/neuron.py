@@ -1,6 +1,9 @@
-"""``skygas neuron [CONFIG.toml] --out DIR [--json]``: run the Skyrmion Neuron, its transfer
-curve and LIF fit; ``skygas saturation --diameters ... --out DIR [--json]``: the maximum
-density of skyrmions in circular chambers."""
+"""``skygas neuron`` and ``skygas saturation``: the Skyrmion Neuron and the maximum density.
+
+``skygas neuron [CONFIG.toml] --out DIR [--json]``: run the Skyrmion Neuron, its transfer curve and
+LIF fit; ``skygas saturation --diameters ... --out DIR [--json]``: the maximum density of skyrmions
+in circular chambers.
+"""
 
 from __future__ import annotations
 
@@ -104,6 +107,7 @@ def _saturation(args) -> int:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas neuron`` and ``skygas saturation`` to ``subparsers``."""
     p = subparsers.add_parser("neuron", help="run the Skyrmion Neuron")
     p.add_argument("config", nargs="?", default=None, help="TOML configuration")
     p.add_argument("--out", required=True, help="output directory")

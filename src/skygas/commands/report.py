@@ -1,5 +1,7 @@
-"""``skygas report RUN_DIR_OR_STORE [--out report.html]``: one self-contained HTML report of a
-run or a sweep store (see :mod:`skygas.outputs.report`)."""
+"""``skygas report RUN_DIR_OR_STORE [--out report.html]``: one self-contained HTML report.
+
+Of a run or a sweep store (see :mod:`skygas.outputs.report`).
+"""
 
 from __future__ import annotations
 
@@ -27,6 +29,7 @@ def _report(args) -> int:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas report`` to ``subparsers``."""
     p = subparsers.add_parser("report", help="self-contained HTML report of a run or a sweep")
     p.add_argument("source", help="run directory, result file or sweep store")
     p.add_argument(

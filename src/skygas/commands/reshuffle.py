@@ -1,5 +1,7 @@
-"""``skygas reshuffle [CONFIG.toml] --out DIR [--json] [overrides]``: run the Skyrmion
-Reshuffler and print a readable summary (or one JSON object)."""
+"""``skygas reshuffle [CONFIG.toml] --out DIR [--json] [overrides]``: run the Skyrmion Reshuffler.
+
+It prints a readable summary (or one JSON object).
+"""
 
 from __future__ import annotations
 
@@ -77,6 +79,7 @@ def _reshuffle(args) -> int:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas reshuffle`` and its configuration overrides to ``subparsers``."""
     p = subparsers.add_parser("reshuffle", help="run the Skyrmion Reshuffler")
     p.add_argument(
         "config", nargs="?", default=None, help="TOML configuration (default: the chosen preset)"

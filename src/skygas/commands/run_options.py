@@ -1,6 +1,8 @@
-"""The options every long-running command shares (``--resume``, ``--overwrite``, ``--strict``,
-``--quiet``, ``--checkpoint-seconds``), handed to :func:`skygas.runs.run_driver.drive` and to the
-sanity checks (:mod:`skygas.runs.sanity`)."""
+"""The options every long-running command shares.
+
+``--resume``, ``--overwrite``, ``--strict``, ``--quiet``, ``--checkpoint-seconds``, handed to
+:func:`skygas.runs.run_driver.drive` and to the sanity checks (:mod:`skygas.runs.sanity`).
+"""
 
 from __future__ import annotations
 
@@ -42,8 +44,10 @@ def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True
 
 
 def run_options(args, progress: bool = True) -> dict:
-    """The keyword arguments of :func:`skygas.runs.run_driver.drive` given on the command line;
-    ``progress=False`` when the command prints machine-readable output instead."""
+    """The keyword arguments of :func:`skygas.runs.run_driver.drive` given on the command line.
+
+    ``progress=False`` when the command prints machine-readable output instead.
+    """
     seconds = args.checkpoint_seconds
     require(seconds >= 0, "--checkpoint-seconds", seconds, "a wall time >= 0 in seconds")
     return {
@@ -57,9 +61,11 @@ def run_options(args, progress: bool = True) -> dict:
 
 @contextmanager
 def named_by_flags(args, flags: dict[str, str]):
-    """Name a configuration error after the command-line option that set the field:
-    ``flags`` maps an option's attribute (``"current_density"``) to the configuration field it
-    sets (``"current_density"``, ``"device.chamber_diameter"``); only options given count."""
+    """Name a configuration error after the command-line option that set the field.
+
+    ``flags`` maps an option's attribute (``"current_density"``) to the configuration field it sets
+    (``"current_density"``, ``"device.chamber_diameter"``); only options given count.
+    """
     given = {
         field: "--" + option.replace("_", "-")
         for option, field in flags.items()

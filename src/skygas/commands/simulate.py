@@ -76,6 +76,7 @@ def _report(summary: dict, out) -> None:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas simulate``, ``skygas check-timestep`` and ``skygas demo`` to ``subparsers``."""
     p = subparsers.add_parser("simulate", help="run a simulation described by a TOML file")
     p.add_argument("config", help="TOML configuration (see examples/)")
     p.add_argument("--out", required=True, help="output directory")

@@ -1,6 +1,9 @@
-"""``skygas sweep SWEEP.toml --out STORE [--scheduler ADDRESS] [--workers N]`` runs a parameter
-sweep (resuming whatever the store lacks); ``skygas plot STORE --out DIR`` draws the paper's
-reshuffler figures from it and prints the fitted exponents."""
+"""``skygas sweep`` runs a parameter sweep; ``skygas plot`` draws its figures and fits.
+
+``skygas sweep SWEEP.toml --out STORE [--scheduler ADDRESS] [--workers N]`` runs a parameter sweep
+(resuming whatever the store lacks); ``skygas plot STORE --out DIR`` draws the paper's reshuffler
+figures from it and prints the fitted exponents.
+"""
 
 from __future__ import annotations
 
@@ -67,6 +70,7 @@ def _plot(args) -> int:
 
 
 def register(subparsers) -> None:
+    """Add ``skygas sweep`` and ``skygas plot`` to ``subparsers``."""
     p = subparsers.add_parser("sweep", help="run a reshuffler parameter sweep (Dask, resumable)")
     p.add_argument("sweep", help="sweep file (TOML; see docs/sweeps.md)")
     p.add_argument("--out", required=True, help="zarr store (created, or resumed if it exists)")

@@ -1,5 +1,6 @@
-"""Types shared by every configuration (simulation, reshuffler, neuron), and the paper's
-chamber dimensions, defined once.
+"""Types shared by every configuration, and the paper's chamber dimensions, defined once.
+
+Every configuration: simulation, reshuffler, neuron.
 
 - :class:`StrictModel`: the pydantic base of every configuration section: unknown fields
   (spelling mistakes) and non-finite numbers (``inf``, ``nan``) are refused;
@@ -123,27 +124,33 @@ _UNION_TAGS: set[str] = set()
 
 
 def register_union_tags(tags: Iterable[str]) -> None:
-    """Name a tagged union's tags (its members' names) as such to :func:`to_input_error`, which
-    leaves them out of the field names it reports."""
+    """Name a tagged union's tags (its members' names) as such to :func:`to_input_error`.
+
+    That function leaves them out of the field names it reports.
+    """
     _UNION_TAGS.update(tags)
 
 
 def _is_tag(loc: tuple, i: int) -> bool:
-    """True if element ``i`` of a pydantic error location is a union's tag (the name of the
-    member tried, as in ``potentials.0.gaussian.sigma``), not a field."""
+    """True if element ``i`` of a pydantic error location is a union's tag, not a field.
+
+    The tag is the name of the member tried, as in ``potentials.0.gaussian.sigma``.
+    """
     return i >= 1 and isinstance(loc[i - 1], int) and loc[i] in _UNION_TAGS
 
 
 def to_input_error(err: ValidationError, source: str = "", prefix: str = "") -> InputError:
-    """The first error of a pydantic validation as one :class:`InputError` line naming the
-    field (``source``, e.g. the file name, then ``prefix`` and the dotted location), the value
-    and what is allowed, in skygas's words rather than pydantic's. The field's dotted path
-    without ``source`` is kept as the error's ``loc`` (a command names the option instead when
-    it came from one).
+    """The first error of a pydantic validation as one :class:`InputError` line naming the field.
+
+    The line names the field (``source``, e.g. the file name, then ``prefix`` and the dotted
+    location), the value and what is allowed, in skygas's words rather than pydantic's. The field's
+    dotted path without ``source`` is kept as the error's ``loc`` (a command names the option
+    instead when it came from one).
 
     A tagged union's tag (``potentials.0.gaussian.sigma``) is left out of the name
     (``potentials.0.sigma``), and an unknown or missing tag is reported as the ``kind`` field
-    with the allowed kinds."""
+    with the allowed kinds.
+    """
     first = err.errors()[0]
     parts = [p for i, p in enumerate(first["loc"]) if not _is_tag(first["loc"], i)]
     value = first.get("input") if first["type"] != "missing" else "(missing)"
@@ -159,8 +166,10 @@ def to_input_error(err: ValidationError, source: str = "", prefix: str = "") -> 
 
 
 def read_toml(path: str | Path, field: str = "config") -> dict:
-    """Parse a TOML file, or raise :class:`InputError` naming ``field`` if it is missing or
-    malformed."""
+    """Parse a TOML file.
+
+    Raises :class:`InputError` naming ``field`` if it is missing or malformed.
+    """
     path = Path(path)
     if not path.is_file():
         raise InputError(field, str(path), "an existing TOML file")
@@ -171,10 +180,12 @@ def read_toml(path: str | Path, field: str = "config") -> dict:
 
 
 def apply_overrides(data: dict, overrides: Mapping[str, Any]) -> dict:
-    """A copy of ``data`` with dotted-key overrides applied (``{"signal.p": 0.3}``, an index
-    into a list of tables: ``{"potentials.0.rms": 1e-9}``, a top-level key: ``{"seed": 3}``);
-    ``None`` values are skipped. The one way every configuration takes overrides (keyword
-    arguments, sweep points, command-line options)."""
+    """A copy of ``data`` with dotted-key overrides applied; ``None`` values are skipped.
+
+    A dotted key: ``{"signal.p": 0.3}``, an index into a list of tables:
+    ``{"potentials.0.rms": 1e-9}``, a top-level key: ``{"seed": 3}``. The one way every
+    configuration takes overrides (keyword arguments, sweep points, command-line options).
+    """
     data = {k: (dict(v) if isinstance(v, dict) else v) for k, v in data.items()}
     for key, value in overrides.items():
         if value is None:

@@ -56,8 +56,10 @@ _warned = False
 
 
 def location() -> Path | None:
-    """The cache directory, or None when the disk cache is turned off (read from the
-    environment on every call, so a test or a worker can point it elsewhere)."""
+    """The cache directory, or None when the disk cache is turned off.
+
+    Read from the environment on every call, so a test or a worker can point it elsewhere.
+    """
     if os.environ.get("SKYGAS_DISK_CACHE", "1").strip().lower() in ("0", "false", "no", "off"):
         return None
     explicit = os.environ.get("SKYGAS_CACHE_DIR")
@@ -68,8 +70,11 @@ def location() -> Path | None:
 
 
 def code_fingerprint() -> str:
-    """A SHA-256 of the package's source (every ``.py`` and ``.toml`` file under it, by relative
-    path) and of the versions in :data:`_LIBRARIES`. Computed once per process (~10 ms)."""
+    """A SHA-256 of the package's source and of the versions in :data:`_LIBRARIES`.
+
+    The source: every ``.py`` and ``.toml`` file under the package, by relative path. Computed once
+    per process (~10 ms).
+    """
     global _fingerprint
     if _fingerprint is None:
         digest = hashlib.sha256()
@@ -114,8 +119,10 @@ def _cache_at(where: Path):
 
 
 def load_or_build(memo: str, key: Hashable, build: Callable[[], T]) -> tuple[T, bool]:
-    """The value of ``build()`` for ``(memo, key)``: loaded from the disk cache if an entry
-    is there, else built and stored. Returns the value and whether it was loaded."""
+    """The value of ``build()`` for ``(memo, key)``, loaded from the disk cache if it is there.
+
+    Else built and stored. Returns the value and whether it was loaded.
+    """
     where = location()
     if where is None:
         return build(), False

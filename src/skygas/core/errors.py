@@ -17,16 +17,18 @@ from typing import Any
 class InputError(ValueError):
     """Invalid user input.
 
+    The message reads ``<field> = <value>: expected <allowed>``, then ``; <hint>`` if there is one.
+
     Parameters
     ----------
-    field:
+    field : str
         Dotted name of the offending field (``"temperature"``, ``"skyrmions[3].x"``).
-    value:
+    value : Any
         The value that was given.
-    allowed:
+    allowed : str
         A short phrase saying what would be accepted (``"a number >= 0 (kelvin)"``).
-    hint:
-        Optional: what to do about it (``"choose another --out"``).
+    hint : str, optional
+        What to do about it (``"choose another --out"``).
     """
 
     #: the dotted field path of a configuration error, without its source; set only by
@@ -49,10 +51,11 @@ def require(condition: bool, field: str, value: Any, allowed: str, hint: str | N
 
 
 class RunInterrupted(KeyboardInterrupt):
-    """A run stopped by SIGINT/SIGTERM after saving its checkpoint where its state was
-    consistent (:func:`skygas.runs.run_driver.drive`). ``signum``: the signal received;
-    ``checkpoint``: the saved file. The command line prints the message and exits with
-    :attr:`exit_status`."""
+    """A run stopped by SIGINT/SIGTERM after saving its checkpoint where its state was consistent.
+
+    See :func:`skygas.runs.run_driver.drive`. ``signum``: the signal received; ``checkpoint``: the
+    saved file. The command line prints the message and exits with :attr:`exit_status`.
+    """
 
     def __init__(self, signum: int, checkpoint: Path | None):
         self.signum = signum
@@ -66,8 +69,7 @@ class RunInterrupted(KeyboardInterrupt):
 
     @property
     def exit_status(self) -> int:
-        """The shell's convention for a process ended by a signal: 128 + its number (130 for
-        Ctrl-C)."""
+        """The shell's status for a process ended by a signal: 128 + its number (130: Ctrl-C)."""
         return 128 + self.signum
 
 

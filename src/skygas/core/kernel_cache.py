@@ -31,8 +31,10 @@ def _package() -> Path:
 
 
 def drop_stale_kernels() -> None:
-    """Delete the package's cached kernels if they were compiled from other source (once per
-    process). A kernel cache elsewhere (``NUMBA_CACHE_DIR``) is not looked at."""
+    """Delete the package's cached kernels if they were compiled from other source.
+
+    Done once per process. A kernel cache elsewhere (``NUMBA_CACHE_DIR``) is not looked at.
+    """
     global _checked
     if _checked:
         return

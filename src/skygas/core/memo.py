@@ -75,7 +75,8 @@ class Memo:
 
         With ``persist``, a miss looks in the disk cache (:mod:`skygas.core.disk_cache`) before
         building, and stores what it builds there. ``build`` runs outside the lock: two threads
-        missing at once both build, and the values are equal, so either may be kept."""
+        missing at once both build, and the values are equal, so either may be kept.
+        """
         if not _enabled:
             return build()
         with self._lock:
@@ -104,6 +105,7 @@ class Memo:
         return value
 
     def clear(self) -> None:
+        """Drop every entry and reset the counts (not the disk cache)."""
         with self._lock:
             self._items.clear()
             self._sizes.clear()
@@ -111,8 +113,10 @@ class Memo:
 
 
 def _arrays_in(value, depth: int = 3):
-    """The numpy arrays in ``value`` (dataclass fields, tuples, lists, dict values), down to
-    ``depth`` levels."""
+    """The numpy arrays in ``value``, down to ``depth`` levels.
+
+    Looked for in dataclass fields, tuples, lists and dict values.
+    """
     if isinstance(value, np.ndarray):
         yield value
         return
@@ -135,8 +139,10 @@ _MEMOS: dict[str, Memo] = {}
 
 
 def outline_key(outline) -> tuple:
-    """A hashable key of an :class:`~skygas.physics.geometry.Outline`: the exact bytes (WKB) of its
-    region and of each port, in order, with the port names."""
+    """A hashable key of an :class:`~skygas.physics.geometry.Outline`.
+
+    The exact bytes (WKB) of its region and of each port, in order, with the port names.
+    """
     return (
         shapely.to_wkb(outline.region),
         tuple((name, shapely.to_wkb(line)) for name, line in outline.ports.items()),
@@ -150,8 +156,10 @@ def frozen(*arrays: np.ndarray) -> None:
 
 
 def memo_stats() -> dict[str, dict[str, int]]:
-    """Hits, misses and stored entries of every memo in this process; of the misses,
-    ``disk_hits`` were loaded from the disk cache and ``built`` were computed."""
+    """Hits, misses and stored entries of every memo in this process.
+
+    Of the misses, ``disk_hits`` were loaded from the disk cache and ``built`` were computed.
+    """
     return {
         name: {
             "hits": m.hits,

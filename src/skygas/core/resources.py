@@ -62,8 +62,11 @@ def format_bytes(n: float) -> str:
 def require_memory(
     field: str, value, n_bytes: float, what: str, hint: str = "use a smaller value"
 ) -> None:
-    """Refuse ``field = value`` when ``what`` would need ``n_bytes`` [bytes] (an estimate of
-    the largest arrays) beyond :func:`memory_limit`."""
+    """Refuse ``field = value`` when ``what`` would need more than :func:`memory_limit`.
+
+    ``n_bytes`` [bytes] is an estimate of the largest arrays. Raises :class:`InputError` with
+    ``hint``.
+    """
     limit = memory_limit()
     if not (n_bytes <= limit):  # also catches inf and nan
         raise InputError(
@@ -77,8 +80,10 @@ def require_memory(
 
 
 def step_count(duration: float, time_step: float, field: str = "duration") -> int:
-    """``round(duration / time_step)``, refused (:class:`InputError` naming ``field``) when it
-    is not finite or above :data:`MAX_STEPS`."""
+    """``round(duration / time_step)``, the number of time steps of a run.
+
+    Refused (:class:`InputError` naming ``field``) when it is not finite or above :data:`MAX_STEPS`.
+    """
     steps = duration / time_step
     if not (math.isfinite(steps) and steps <= MAX_STEPS):
         raise InputError(

@@ -1,5 +1,8 @@
-"""Checkpoint keys of nested parts: one flat mapping of arrays (what ``numpy.savez`` writes)
-holds each part's own ``state_dict`` under a prefix (``sim_``, ``store_``, ``op.<name>.``)."""
+"""Checkpoint keys of nested parts, each under its own prefix in one flat mapping.
+
+One flat mapping of arrays (what ``numpy.savez`` writes) holds each part's own ``state_dict`` under
+a prefix (``sim_``, ``store_``, ``op.<name>.``).
+"""
 
 from __future__ import annotations
 
@@ -18,8 +21,10 @@ def nest(prefix: str, state: Mapping[str, V]) -> dict[str, V]:
 
 
 def unnest(prefix: str, state: Mapping[str, V]) -> dict[str, V]:
-    """The entries of ``state`` under ``prefix``, with the prefix taken off: a part's own
-    state, as :func:`nest` stored it."""
+    """The entries of ``state`` under ``prefix``, with the prefix taken off.
+
+    A part's own state, as :func:`nest` stored it.
+    """
     return {key[len(prefix) :]: value for key, value in state.items() if key.startswith(prefix)}
 
 

@@ -51,8 +51,10 @@ def philox4x32_10(c0, c1, c2, c3, k0, k1):
 
 @numba.njit(inline="always")
 def _candidates(seed, ident, step, stream, attempt):
-    """Two candidate points (u, v) uniform in [−1, 1)² for attempt ``attempt`` of the polar
-    method, as four floats."""
+    """Two candidate points (u, v) uniform in [−1, 1)², as four floats.
+
+    For attempt ``attempt`` of the polar method.
+    """
     s = np.uint64(seed)
     i = np.uint64(ident)
     t = np.uint64(step)

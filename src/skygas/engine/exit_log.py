@@ -20,8 +20,10 @@ class ExitLog:
         self._merged: dict[str, np.ndarray] | None = None
 
     def append(self, ids, times, ports, x, y) -> None:
-        """Add a batch: ids, times [s], port indices into :attr:`port_names`, x and y [m]
-        (arrays of equal length; copied)."""
+        """Add a batch: ids, times [s], port indices into :attr:`port_names`, x and y [m].
+
+        Arrays of equal length; they are copied.
+        """
         if len(ids):
             self._blocks.append(
                 (
@@ -35,8 +37,10 @@ class ExitLog:
             self._merged = None
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """``skyrmion``, ``time`` [s], ``port`` (index into :attr:`port_names`), ``x``, ``y``
-        [m] as arrays (read-only views of one merged copy)."""
+        """``skyrmion``, ``time`` [s], ``port`` (index into :attr:`port_names`), ``x``, ``y`` [m].
+
+        As arrays: read-only views of one merged copy.
+        """
         if self._merged is None:
             names = ("skyrmion", "time", "port", "x", "y")
             dtypes = (np.int64, float, np.int64, float, float)

@@ -74,8 +74,9 @@ def advance(
     plan,
     counters_array,
 ):
-    """Advance the store (``x, y`` [nm], ``alive``, ``ids``) by ``n_steps`` steps from global
-    step ``step0``. Returns the number of exits written to ``exits``.
+    """Advance the store (``x, y`` [nm], ``alive``, ``ids``) by ``n_steps`` steps from ``step0``.
+
+    ``step0`` is the global step number. Returns the number of exits written to ``exits``.
 
     Additive noise ξ = √(2D dt)·z is drawn once per skyrmion and step (keyed on its id and the
     global step number) and used in both Heun stages:

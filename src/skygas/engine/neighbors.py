@@ -25,10 +25,12 @@ from skygas.engine._jit import JIT
 
 @numba.njit(inline="always")
 def margins(vx, vy, alive, cells, dt, margin):
-    """Margin s_i [nm] of each skyrmion for a build, from its latest velocity [nm/ns]:
+    """Margin s_i [nm] of each skyrmion for a build, from its latest velocity [nm/ns].
+
         s_i = min(skin/2 + K·dt·|v_i|, s_max),   K = cells.margin_steps.
     A slow skyrmion keeps the base half-skin; one drifting fast along a conduit gets room for
-    about K steps of its motion, so the list is not rebuilt at every step."""
+    about K steps of its motion, so the list is not rebuilt at every step.
+    """
     base = 0.5 * cells.skin
     ahead = cells.margin_steps * dt
     top = cells.margin_max
@@ -42,8 +44,10 @@ def build_neighbor_list(
     x, y, alive, margin, cells, cutoff, cell_head, cell_next, owner, start, pair_j
 ):
     """Half neighbour list of all alive pairs closer than ``cutoff`` + s_i + s_j (``margin``).
-    Returns the number of owners, or −1 if ``pair_j`` is too small (the caller grows it and
-    calls again)."""
+
+    Returns the number of owners, or −1 if ``pair_j`` is too small (the caller grows it and calls
+    again).
+    """
     ncx = cells.ncx
     ncy = cells.ncy
     cell_head[:] = -1
@@ -94,8 +98,10 @@ def build_neighbor_list(
 
 @numba.njit(inline="always")
 def list_remove(k, owner, start, pair_j, n_owners):
-    """Remove skyrmion ``k`` from the list, as owner and as partner, compacting the arrays in
-    place (a few hundred entries: cheaper than a rebuild). Returns the number of owners left."""
+    """Remove skyrmion ``k`` from the list, as owner and as partner, compacting the arrays in place.
+
+    A few hundred entries: cheaper than a rebuild. Returns the number of owners left.
+    """
     kept_owners = 0
     kept_pairs = 0
     for e in range(n_owners):
@@ -118,11 +124,13 @@ def list_remove(k, owner, start, pair_j, n_owners):
 def list_append(
     k, x, y, alive, ref_x, ref_y, margin, cells, cutoff, owner, start, pair_j, n_owners
 ):
-    """Add skyrmion ``k``, just inserted at rest, to a valid list: it gets the base margin and
-    its position as reference, and becomes an owner whose partners are all other skyrmions j
-    with |x_k − ref_j| < cutoff + s_k + s_j, which is the build's criterion, so the list's
-    guarantee extends to it. Returns the new number of owners, or −1 if ``pair_j`` is full
-    (the caller then rebuilds)."""
+    """Add skyrmion ``k``, just inserted at rest, to a valid list.
+
+    It gets the base margin and its position as reference, and becomes an owner whose partners are
+    all other skyrmions j with |x_k − ref_j| < cutoff + s_k + s_j, which is the build's criterion,
+    so the list's guarantee extends to it. Returns the new number of owners, or −1 if ``pair_j`` is
+    full (the caller then rebuilds).
+    """
     margin[k] = 0.5 * cells.skin
     ref_x[k] = x[k]
     ref_y[k] = y[k]

@@ -25,7 +25,8 @@ class FrameBlock(NamedTuple):
     """The frames one kernel call recorded: ``f`` frames of the ``slots`` storage slots it saw.
 
     ``x``, ``y`` [nm] are NaN and ``ids`` is −1 where a slot was empty. The id in a slot can
-    change from frame to frame (a skyrmion leaves, a new one is inserted in its slot)."""
+    change from frame to frame (a skyrmion leaves, a new one is inserted in its slot).
+    """
 
     step: np.ndarray  # (f,) global step numbers
     time: np.ndarray  # (f,) [s]
@@ -34,8 +35,10 @@ class FrameBlock(NamedTuple):
     ids: np.ndarray  # (f, slots)
 
     def positions(self, f: int) -> tuple[np.ndarray, np.ndarray]:
-        """Frame ``f`` as :meth:`Simulation.positions` gives the live state: (ids, positions
-        [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
+        """Frame ``f`` as :meth:`Simulation.positions` gives the live state.
+
+        (ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id.
+        """
         present = self.ids[f] >= 0
         return by_id(self.ids[f][present], self.x[f][present], self.y[f][present])
 
@@ -52,8 +55,11 @@ class Recorder:
 
     # -- buffers for one kernel call ---------------------------------------------------------
     def frame_buffer(self, n_frames: int, slots: int, capacity: int) -> Frames:
-        """Room for ``n_frames`` frames of ``slots`` slots; when there are none, a dummy sized
-        for the store's ``capacity`` (reused while it stays the same)."""
+        """Room for ``n_frames`` frames of ``slots`` slots.
+
+        When there are none, a dummy sized for the store's ``capacity`` (reused while it stays the
+        same).
+        """
         if n_frames:
             return Frames(
                 np.empty((n_frames, slots)),
@@ -69,8 +75,11 @@ class Recorder:
         return self._no_frames
 
     def exit_buffer(self, most: int) -> Exits:
-        """Room for at least ``most`` exits (reused while large enough: the reshuffler makes
-        ~10⁴ kernel calls, and allocating for each would cost more than short calls)."""
+        """Room for at least ``most`` exits, reused while large enough.
+
+        The reshuffler makes ~10⁴ kernel calls, and allocating for each would cost more than short
+        calls.
+        """
         buf = self._exit_buffer
         if buf is None or len(buf.ids) < most:
             size = max(most, 2 * (len(buf.ids) if buf is not None else 0), 1)
@@ -85,6 +94,7 @@ class Recorder:
 
     # -- what a call recorded ----------------------------------------------------------------
     def add_exits(self, buf: Exits, n: int, time_step: float) -> None:
+        """Log the first ``n`` exits of a kernel call's ``buf`` (steps to seconds, nm to m)."""
         if n:
             self.exits.append(
                 buf.ids[:n],
@@ -118,8 +128,10 @@ class Recorder:
 
     # -- results -----------------------------------------------------------------------------
     def trajectories(self, attrs: dict, parameters: dict):
-        """Recorded positions as a Dataset (see :meth:`Simulation.trajectories`), with
-        ``attrs`` and the JSON of ``parameters`` as its attributes."""
+        """Recorded positions as a Dataset (see :meth:`Simulation.trajectories`).
+
+        With ``attrs`` and the JSON of ``parameters`` as its attributes.
+        """
         blocks = self.blocks
         times = np.concatenate([b.time for b in blocks]) if blocks else np.empty(0)
         # one column per skyrmion seen in a frame (a run that nucleates 10⁵ skyrmions but
@@ -187,6 +199,7 @@ class Recorder:
         }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore the frames and exits of :meth:`state_dict`."""
         self.blocks = []
         row = cell = 0
         for width, length in zip(state["frame_widths"], state["frame_lengths"], strict=True):

@@ -1,5 +1,6 @@
-"""The stages of one time step, as the compiled kernel (:mod:`skygas.engine.kernel`) runs them
-(internal units nm, ns, pN; private).
+"""The stages of one time step, as the compiled kernel (:mod:`skygas.engine.kernel`) runs them.
+
+Internal units nm, ns, pN; private.
 
 One step: :func:`insert_planned` → :func:`draw_noise` → force passes (:func:`force_pass`:
 :func:`pair_forces`, then :func:`add_one_body_forces`, which also turns forces into
@@ -51,8 +52,10 @@ def _lerp(values, coordinate):
 # -- insertions ----------------------------------------------------------------------------------
 @numba.njit(inline="always")
 def free_slot_if_clear(x, y, alive, sx, sy, clearance2):
-    """The lowest free slot if no alive skyrmion lies closer than √clearance2 to (sx, sy);
-    −1 if one does (the site is occupied), −2 if the site is clear but no slot is free."""
+    """The lowest free slot if no alive skyrmion lies closer than √clearance2 to (sx, sy).
+
+    −1 if one does (the site is occupied), −2 if the site is clear but no slot is free.
+    """
     free = -2
     for i in range(x.shape[0]):
         if alive[i]:
@@ -67,8 +70,11 @@ def free_slot_if_clear(x, y, alive, sx, sy, clearance2):
 
 @numba.njit(inline="always")
 def insert_planned(x, y, alive, ids, plan, cursor, counters):
-    """Make planned insertion ``cursor`` if its site is clear: the slot it went into, or a
-    negative number if it cannot be made now (see :func:`free_slot_if_clear`)."""
+    """Make planned insertion ``cursor`` if its site is clear.
+
+    Returns the slot it went into, or a negative number if it cannot be made now (see
+    :func:`free_slot_if_clear`).
+    """
     slot = free_slot_if_clear(x, y, alive, plan.x[cursor], plan.y[cursor], plan.clearance2)
     if slot >= 0:
         x[slot] = plan.x[cursor]
@@ -83,9 +89,11 @@ def insert_planned(x, y, alive, ids, plan, cursor, counters):
 # -- noise ---------------------------------------------------------------------------------------
 @numba.njit(inline="always")
 def draw_noise(noise, ids, alive, step, cand, nx_, ny_):
-    """The step's noise increments ξ = √(2D dt)·z [nm] into ``nx_, ny_``, z standard normal
-    keyed on (seed, id, step): with sub-steps, z is the normalised sum of ``substeps``
-    normals keyed on (seed, id, step·substeps + b)."""
+    """The step's noise increments ξ = √(2D dt)·z [nm] into ``nx_, ny_``.
+
+    z is standard normal keyed on (seed, id, step): with sub-steps, z is the normalised sum of
+    ``substeps`` normals keyed on (seed, id, step·substeps + b).
+    """
     n = ids.shape[0]
     amplitude = noise.amplitude
     if noise.substeps == 1:
@@ -111,17 +119,19 @@ def draw_noise(noise, ids, alive, step, cand, nx_, ny_):
 # -- forces --------------------------------------------------------------------------------------
 @numba.njit(inline="always")
 def interior_floor(xi, yi, margin_i, terms, wall_cutoff):
-    """A lower bound on a skyrmion's distance to the device boundary [nm] that holds while it
-    stays within its margin s_i of (xi, yi), if it is also certain to stay beyond the
-    wall-force cutoff there; −1 otherwise (and always when a term reads the grid everywhere:
-    the drift from the grid).
+    """A lower bound on a skyrmion's distance to the device boundary [nm] while within its margin.
+
+    The bound holds while it stays within its margin s_i of (xi, yi), if it is also certain to stay
+    beyond the wall-force cutoff there; −1 otherwise (and always when a term reads the grid
+    everywhere: the drift from the grid).
 
     The interpolated fields change by at most √2 per nm (bilinear interpolation of values that
     differ by at most one spacing h between neighbouring nodes), with one spacing more for
     safety where exact values meet the distance transform. A skyrmion with
         d_wall − √2 s_i − h ≥ wall cutoff   and   d_boundary − √2 s_i − h > 0
     feels no wall force and cannot leave while the neighbour list stays valid, and with a
-    uniform drift nothing else in the grid concerns it: the force passes skip its lookup."""
+    uniform drift nothing else in the grid concerns it: the force passes skip its lookup.
+    """
     if terms.drift.from_grid:
         return -1.0
     grid = terms.grid
@@ -143,8 +153,10 @@ def interior_floors(x, y, alive, terms, margin, floor):
 
 @numba.njit(inline="always")
 def pair_forces(x, y, pair, owner, start, pair_j, n_owners, fx, fy, counters):
-    """Pair forces (pN) of the neighbour list into ``fx, fy`` (overwritten). The table holds
-    |F|/r in r², so F = (|F|/r)(dx, dy) needs no square root or division."""
+    """Pair forces (pN) of the neighbour list into ``fx, fy`` (overwritten).
+
+    The table holds |F|/r in r², so F = (|F|/r)(dx, dy) needs no square root or division.
+    """
     for i in range(x.shape[0]):
         fx[i] = 0.0
         fy[i] = 0.0
@@ -180,8 +192,10 @@ def pair_forces(x, y, pair, owner, start, pair_j, n_owners, fx, fy, counters):
 
 @numba.njit(inline="always")
 def wall_force(wall, field):
-    """The wall term's force [pN] at a grid lookup ``field``: |F|(d) along the inward normal
-    within the cutoff, zero beyond it."""
+    """The wall term's force [pN] at a grid lookup ``field``.
+
+    |F|(d) along the inward normal within the cutoff, zero beyond it.
+    """
     d = field[CH_WALL_DIST]
     if d < wall.cutoff:
         fw = _lerp(wall.table, max(d, 0.0) / wall.spacing)
@@ -207,11 +221,13 @@ def landscape_force(landscape, xi, yi):
 
 @numba.njit(inline="always")
 def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
-    """Add the one-body terms (wall, drive, constant force) to the forces in ``vx, vy`` and
-    turn the totals into velocities in place, v = M·F. The signed boundary distance at each position
-    goes into ``domain`` (it shares the cache lines of the wall lookup, and lets the step's
-    acceptance skip a lookup); a skyrmion with ``floor[i] > 0`` (:func:`interior_floor`)
-    skips the lookup and gets that lower bound."""
+    """Add the one-body terms (wall, drive, constant force) and turn the totals into velocities.
+
+    The forces in ``vx, vy`` become velocities in place, v = M·F. The signed boundary distance at
+    each position goes into ``domain`` (it shares the cache lines of the wall lookup, and lets the
+    step's acceptance skip a lookup); a skyrmion with ``floor[i] > 0`` (:func:`interior_floor`)
+    skips the lookup and gets that lower bound.
+    """
     grid = terms.grid
     inv_gh = 1.0 / grid.spacing
     drift = terms.drift
@@ -254,8 +270,11 @@ def add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor):
 
 @numba.njit(inline="always")
 def add_landscape_forces(x, y, alive, landscape, fx, fy):
-    """Add the landscape term's force −∇U to ``fx, fy``. A loop of its own: the one-body loop
-    stays as short as without a landscape (the compiler keeps it vectorised)."""
+    """Add the landscape term's force −∇U to ``fx, fy``.
+
+    A loop of its own: the one-body loop stays as short as without a landscape (the compiler keeps
+    it vectorised).
+    """
     for i in range(x.shape[0]):
         if alive[i]:
             lx, ly = landscape_force(landscape, x[i], y[i])
@@ -267,8 +286,10 @@ def add_landscape_forces(x, y, alive, landscape, fx, fy):
 def force_pass(
     x, y, alive, terms, mobility, owner, start, pair_j, n_owners, vx, vy, counters, domain, floor
 ):
-    """Deterministic velocity [nm/ns] of every alive skyrmion from the sum of all force
-    terms (see :func:`add_one_body_forces` for ``domain`` and ``floor``)."""
+    """Deterministic velocity [nm/ns] of every alive skyrmion from the sum of all force terms.
+
+    See :func:`add_one_body_forces` for ``domain`` and ``floor``.
+    """
     pair_forces(x, y, terms.pair, owner, start, pair_j, n_owners, vx, vy, counters)
     if terms.landscape.active:
         add_landscape_forces(x, y, alive, terms.landscape, vx, vy)

@@ -73,25 +73,34 @@ class StateView:
         return self._sim.store.is_site_clear(x, y, clearance * units.M_TO_NM)
 
     def is_site_clear_nm(self, x_nm: float, y_nm: float, clearance_nm: float) -> bool:
-        """:meth:`is_site_clear` in nanometres, for devices that keep their geometry in the
-        engine's internal unit (no round trip through metres)."""
+        """:meth:`is_site_clear` in nanometres.
+
+        For devices that keep their geometry in the engine's internal unit (no round trip through
+        metres).
+        """
         return self._sim.store.is_site_clear(x_nm, y_nm, clearance_nm)
 
     # -- changing ---------------------------------------------------------------------------
     def insert(self, positions, *, validate: bool = False) -> np.ndarray:
         """Insert skyrmions at ``positions`` [m] (shape (n, 2)); returns their new ids.
+
         ``validate`` refuses points outside the device or on top of another skyrmion (see
-        :meth:`Simulation.add_skyrmions`); an injector that checks its site itself skips it."""
+        :meth:`Simulation.add_skyrmions`); an injector that checks its site itself skips it.
+        """
         return self._sim.add_skyrmions(positions, validate=validate)
 
     def insert_nm(self, positions_nm) -> np.ndarray:
-        """:meth:`insert` in nanometres (k, 2), unvalidated, for devices that keep their
-        geometry in the engine's internal unit (the kernel's planned insertions take the same
-        values, so both paths put a skyrmion on exactly the same point)."""
+        """:meth:`insert` in nanometres (k, 2), unvalidated.
+
+        For devices that keep their geometry in the engine's internal unit (the kernel's planned
+        insertions take the same values, so both paths put a skyrmion on exactly the same point).
+        """
         return self._sim.store.insert(np.asarray(positions_nm, dtype=float).reshape(-1, 2))
 
     def annihilate(self, ids, reason: str) -> None:
-        """Remove the present skyrmions ``ids`` (an unknown id raises), recording the time,
-        their positions and ``reason`` in ``sim.annihilations``."""
+        """Remove the present skyrmions ``ids`` (an unknown id raises), recording why.
+
+        The time, their positions and ``reason`` are recorded in ``sim.annihilations``.
+        """
         store = self._sim.store
         store.annihilate_slots(store.slots_of(ids), self._sim.time, reason)

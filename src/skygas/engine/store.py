@@ -23,8 +23,10 @@ from skygas.engine.stages import free_slot_if_clear
 
 @numba.njit(cache=True)
 def _site_occupied(x, y, alive, sx, sy, clearance2):
-    """True if an alive skyrmion lies closer than √clearance2 [nm] to (sx, sy): the test the
-    kernel applies to the insertions planned into it."""
+    """True if an alive skyrmion lies closer than √clearance2 [nm] to (sx, sy).
+
+    The test the kernel applies to the insertions planned into it.
+    """
     return free_slot_if_clear(x, y, alive, sx, sy, clearance2) == -1
 
 
@@ -35,13 +37,19 @@ def by_id(ids: np.ndarray, x_nm: np.ndarray, y_nm: np.ndarray):
 
 
 class AnnihilationLog:
-    """Skyrmions removed by an operation (not through a port): id, time [s], position [m],
-    reason, in the order they happened."""
+    """Skyrmions removed by an operation (not through a port), in the order they happened.
+
+    Each row: id, time [s], position [m], reason.
+    """
 
     def __init__(self) -> None:
         self.rows: list[tuple[int, float, float, float, str]] = []
 
     def append(self, ids, time: float, x_nm, y_nm, reason: str) -> None:
+        """Log the skyrmions ``ids`` removed at ``time`` [s] from (``x_nm``, ``y_nm``) [nm].
+
+        ``reason`` says why.
+        """
         for ident, xi, yi in zip(ids, x_nm, y_nm, strict=True):
             self.rows.append(
                 (
@@ -81,6 +89,7 @@ class AnnihilationLog:
 
     @classmethod
     def from_arrays(cls, arrays: dict[str, np.ndarray]) -> AnnihilationLog:
+        """The log back from :meth:`arrays`."""
         log = cls()
         log.rows = [
             (int(i), float(t), float(x), float(y), str(r))
@@ -110,10 +119,12 @@ class SkyrmionStore:
     # -- queries -----------------------------------------------------------------------------
     @property
     def capacity(self) -> int:
+        """The number of slots."""
         return len(self.x)
 
     @property
     def count(self) -> int:
+        """The number of skyrmions present."""
         return int(self.alive.sum())
 
     def used_slots(self) -> int:
@@ -160,8 +171,10 @@ class SkyrmionStore:
             setattr(self, name, arr)
 
     def insert(self, p_nm: np.ndarray) -> np.ndarray:
-        """Put skyrmions at positions ``p_nm`` (k, 2) [nm] into the lowest free slots; returns
-        their new ids."""
+        """Put skyrmions at positions ``p_nm`` (k, 2) [nm] into the lowest free slots.
+
+        Returns their new ids.
+        """
         if len(p_nm) == 1:  # the common case of an injector: one skyrmion, first free slot
             slot = int(np.argmin(self.alive))
             if not self.alive[slot]:
@@ -190,11 +203,13 @@ class SkyrmionStore:
         self.alive[slots] = False
 
     def sort_into_cells(self, x0: float, y0: float, size: float) -> None:
-        """Store skyrmions in row-major order of the square cells of side ``size`` [nm] from
-        (x0, y0) they sit in, packed at the front of the arrays. Neighbours then sit close in
-        memory and consecutive skyrmions read nearby rows of the field grid, which keeps large
-        systems in cache. Only the order in which pair forces are summed changes, which moves
-        results by floating-point rounding; runs stay bit-reproducible."""
+        """Store skyrmions in row-major order of the square cells they sit in, packed at the front.
+
+        The cells have side ``size`` [nm] from (x0, y0). Neighbours then sit close in memory and
+        consecutive skyrmions read nearby rows of the field grid, which keeps large systems in
+        cache. Only the order in which pair forces are summed changes, which moves results by
+        floating-point rounding; runs stay bit-reproducible.
+        """
         slots = np.flatnonzero(self.alive)
         cx = ((self.x[slots] - x0) // size).astype(np.int64)
         cy = ((self.y[slots] - y0) // size).astype(np.int64)
@@ -209,6 +224,7 @@ class SkyrmionStore:
 
     # -- checkpoints -------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
+        """Positions, alive mask, ids, the next id and the annihilation log, as raw arrays."""
         log = self.annihilations.arrays()
         return {
             "x": self.x.copy(),
@@ -220,6 +236,10 @@ class SkyrmionStore:
         }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore the store from :meth:`state_dict`.
+
+        A checkpoint without an annihilation log gets an empty one.
+        """
         self.x, self.y = state["x"].copy(), state["y"].copy()
         self.alive, self.ids = state["alive"].copy(), state["ids"].copy()
         self.next_id = int(state["next_id"])

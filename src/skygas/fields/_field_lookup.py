@@ -40,9 +40,11 @@ _PREFETCH_NAME = (
 
 @intrinsic
 def _bilinear8(typingctx, fields, base, row, w00, w10, w01, w11):
-    """The eight channels at weights (w00, w10, w01, w11) of the nodes at flat element offsets
-    base, base + 8, base + row, base + row + 8 of the C-contiguous float32 ``fields``, as a
-    tuple of eight float64."""
+    """The eight channels interpolated with weights (w00, w10, w01, w11) of four nodes.
+
+    The nodes are at flat element offsets base, base + 8, base + row, base + row + 8 of the
+    C-contiguous float32 ``fields``; the result is a tuple of eight float64.
+    """
     if not (
         isinstance(fields, types.Array) and fields.dtype == types.float32 and fields.layout == "C"
     ):
@@ -89,8 +91,10 @@ def _bilinear8(typingctx, fields, base, row, w00, w10, w01, w11):
 
 @intrinsic
 def _prefetch(typingctx, array, offset):
-    """Hint that element ``offset`` of the C-contiguous ``array`` will soon be read (LLVM's
-    ``llvm.prefetch``, into all cache levels). Never faults, even for a bad address."""
+    """Hint that element ``offset`` of the C-contiguous ``array`` will soon be read.
+
+    LLVM's ``llvm.prefetch``, into all cache levels. Never faults, even for a bad address.
+    """
     if not (isinstance(array, types.Array) and array.layout == "C"):
         return None
 
@@ -114,8 +118,10 @@ def _prefetch(typingctx, array, offset):
 
 @numba.njit(inline="always")
 def _node_offset(fields, fx, fy):
-    """Flat element offset of the lower-left node of the cell holding fractional grid indices
-    (fx, fy) (clamped to the grid), and the fractional parts (tx, ty)."""
+    """Flat element offset of the lower-left node of the cell holding (fx, fy), and (tx, ty).
+
+    (fx, fy) are fractional grid indices (clamped to the grid); (tx, ty) their fractional parts.
+    """
     ny, nx = fields.shape[0], fields.shape[1]
     fx = min(max(fx, 0.0), nx - 1.000001)
     fy = min(max(fy, 0.0), ny - 1.000001)
@@ -126,8 +132,10 @@ def _node_offset(fields, fx, fy):
 
 @numba.njit(inline="always")
 def prefetch_at(fields, fx, fy):
-    """Start loading the cache lines that :func:`field_at` (fx, fy) will read: two nodes in
-    each of two rows (the second node's last channel may sit on the next line)."""
+    """Start loading the cache lines that :func:`field_at` (fx, fy) will read.
+
+    Two nodes in each of two rows (the second node's last channel may sit on the next line).
+    """
     base, _, _ = _node_offset(fields, fx, fy)
     row = fields.shape[1] * N_CHANNELS
     _prefetch(fields, base)
@@ -138,8 +146,10 @@ def prefetch_at(fields, fx, fy):
 
 @numba.njit(inline="always")
 def field_at(fields, fx, fy):
-    """All channels at fractional grid indices (fx, fy), clamped to the grid (a tuple of eight
-    float64)."""
+    """All channels at fractional grid indices (fx, fy), clamped to the grid.
+
+    A tuple of eight float64.
+    """
     base, tx, ty = _node_offset(fields, fx, fy)
     return _bilinear8(
         fields,
@@ -153,8 +163,10 @@ def field_at(fields, fx, fy):
 
 
 def empty_fields(ny: int, nx: int) -> np.ndarray:
-    """A zeroed (ny, nx, N_CHANNELS) float32 grid whose nodes start on 32-byte boundaries, so
-    that no node's vector load straddles two cache lines."""
+    """A zeroed (ny, nx, N_CHANNELS) float32 grid whose nodes start on 32-byte boundaries.
+
+    So no node's vector load straddles two cache lines.
+    """
     count = ny * nx * N_CHANNELS
     raw = np.zeros(count + 16, dtype=np.float32)
     skip = (-raw.ctypes.data % 64) // 4

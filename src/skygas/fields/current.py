@@ -235,7 +235,8 @@ def _port_faces(
 def _solve_potential(cells: _Cells, inside: np.ndarray, ports: _PortFaces, cell_size: float):
     """φ [V] for the electrodes' potentials, in cells that reach an electrode (nan elsewhere).
 
-    The device must connect at least one source face to one sink face."""
+    The device must connect at least one source face to one sink face.
+    """
     index = np.full(inside.shape, -1)
     n = int(inside.sum())
     index[inside] = np.arange(n)
@@ -298,7 +299,8 @@ class _UnitFlow:
     the thickness or the resistivity (the problem is linear), so it is computed once per process
     for each combination (:data:`_MEMO`) and scaled on every call with the arithmetic an
     unmemoised solve would use: results are bit-identical either way. Fields are already
-    extended to the outside cells (nearest live cell), which commutes with the scaling."""
+    extended to the outside cells (nearest live cell), which commutes with the scaling.
+    """
 
     cells: _Cells
     inside: np.ndarray
@@ -368,11 +370,14 @@ def _unit_flow(
 
 
 def _flow_fields(cells: _Cells, inside: np.ndarray, ports: _PortFaces, phi: np.ndarray):
-    """(jx, jy, φ extended to every cell, outward flux of each port face, live cells) from the
-    solved φ: flux densities in units of σ·V/h, face fluxes in units of σ t V (V the unit of φ).
+    """The flow from the solved φ: (jx, jy, φ extended to every cell, port face fluxes, live cells).
+
+    Flux densities are in units of σ·V/h, the outward flux of each port face in units of σ t V (V
+    the unit of φ).
 
     Cells outside the outline (and cells cut off from the electrodes) take the nearest live
-    value, so that bilinear interpolation stays accurate up to the wall."""
+    value, so that bilinear interpolation stays accurate up to the wall.
+    """
     # Flux densities across every face.
     face = []
     for di, dj in _DIRECTIONS:
@@ -419,8 +424,10 @@ class _CellFlow:
         return self._cells.bilinear(self._jx, gx, gy), self._cells.bilinear(self._jy, gx, gy)
 
     def drift_velocity(self, grid: Grid, spin_drift_coefficient: float):
-        """v_s = ξ·j [m/s] on ``grid`` for ξ = ``spin_drift_coefficient`` [m³/C]
-        (docs/physics.md §1)."""
+        """v_s = ξ·j [m/s] on ``grid``, ξ = ``spin_drift_coefficient`` [m³/C].
+
+        See docs/physics.md §1.
+        """
         xi = float(spin_drift_coefficient)
         require(
             math.isfinite(xi),
@@ -446,12 +453,19 @@ class CurrentSolution(_CellFlow):
 
     Attributes
     ----------
-    current_density: J [A/m²], the mean of j·n̂ across the source port(s) (> 0: from source to
-        sink).
-    total_current: I = J·w·t [A]; ``resistance`` R [Ω]; ``voltage`` V = I·R [V];
-    power: Joule power I²R [W].
-    solve_seconds: how long the unit-voltage solve took when it was computed (it is shared by
-        every later solve of the same outline, ports and cell size in this process).
+    current_density : float
+        J [A/m²], the mean of j·n̂ across the source port(s) (> 0: from source to sink).
+    total_current : float
+        I = J·w·t [A].
+    resistance : float
+        R [Ω].
+    voltage : float
+        V = I·R [V].
+    power : float
+        Joule power I²R [W].
+    solve_seconds : float
+        How long the unit-voltage solve took when it was computed (it is shared by every later
+        solve of the same outline, ports and cell size in this process).
     """
 
     current_density: float
@@ -475,13 +489,17 @@ class CurrentSolution(_CellFlow):
     # -- fields --------------------------------------------------------------------------------
     @property
     def cell_grid(self) -> _Cells:
-        """The cells the fields live on (hashable; equal for every solve of one outline, set of
-        ports and cell size)."""
+        """The cells the fields live on.
+
+        Hashable; equal for every solve of one outline, set of ports and cell size.
+        """
         return self._cells
 
     def at_current_density(self, current_density: float) -> CurrentSolution:
-        """The same device, electrodes and layer driven at another J [A/m²] (the flow is
-        linear in J; the unit-voltage solve is shared, :data:`_MEMO`)."""
+        """The same device, electrodes and layer driven at another J [A/m²].
+
+        The flow is linear in J; the unit-voltage solve is shared (:data:`_MEMO`).
+        """
         return solve_current(self._outline, current_density, **self._settings)
 
     def potential_at(self, x, y) -> np.ndarray:
@@ -531,8 +549,11 @@ class CurrentSolution(_CellFlow):
         return total * self.conductor_thickness / M_TO_NM  # (A/m²)·nm·m → A
 
     def _integrate_normal(self, coords: np.ndarray, normal: np.ndarray) -> float:
-        """∫ j·n̂ dl [A/m² · nm] along a polyline: Gauss–Legendre (2 points) between the cell-
-        centre lines the path crosses, where the bilinear interpolant is a quadratic."""
+        """∫ j·n̂ dl [A/m² · nm] along a polyline.
+
+        Gauss–Legendre (2 points) between the cell-centre lines the path crosses, where the bilinear
+        interpolant is a quadratic.
+        """
         c = self._cells
         total = 0.0
         gauss = 0.5 + np.array([-0.5, 0.5]) / math.sqrt(3.0)
@@ -555,8 +576,10 @@ class CurrentSolution(_CellFlow):
         return total
 
     def mean_current_density(self, port: str) -> float:
-        """Mean of j·n̂ [A/m²] across ``port`` (n̂ from source to sink: into the device at a
-        source, out of it at a sink), from the discrete port currents."""
+        """Mean of j·n̂ [A/m²] across ``port``, from the discrete port currents.
+
+        n̂ points from source to sink: into the device at a source, out of it at a sink.
+        """
         require(
             port in self._port_flux, "port", port, f"a source or sink port: {list(self._port_flux)}"
         )
@@ -564,8 +587,10 @@ class CurrentSolution(_CellFlow):
         return current / (width * self.conductor_thickness)
 
     def energy_per_bit(self, injection_interval: float) -> float:
-        """Energy per reshuffled bit [J] = P·Δt for one bit per injection every
-        ``injection_interval`` [s] (paper: 0.2 injections/ns → 5 ns)."""
+        """Energy per reshuffled bit [J] = P·Δt, for one bit per injection.
+
+        One injection every ``injection_interval`` [s] (paper: 0.2 injections/ns → 5 ns).
+        """
         dt = _positive_number("injection_interval", injection_interval, "seconds")
         return self.power * dt
 
@@ -611,23 +636,40 @@ def solve_current(
     conductor_thickness: float = DEFAULT_CONDUCTOR_THICKNESS,
     resistivity: float = DEFAULT_RESISTIVITY,
 ) -> CurrentSolution:
-    """Solve ∇·(σ∇φ) = 0 on ``outline`` and scale it so the mean current density across the
-    source port(s) is ``current_density``.
+    """Solve ∇·(σ∇φ) = 0 on ``outline``, scaled to a mean current density across the source port(s).
 
     Parameters
     ----------
-    outline: the device; its ports named in ``source`` and ``sink`` are the electrodes, all
-        other boundary (other ports included) is insulating.
-    current_density: J [A/m²], the mean of j·n̂ across the source port(s) (the paper's J "in the
-        conduits"); positive: current flows from source to sink. Any finite number.
-    source, sink: port name(s); several ports on one side share one potential.
-    cell_size: finite-volume cell side [m] (rounded so the first source port, if
-        axis-aligned, spans a whole number of cells). Default 2.5 nm.
-    conductor_thickness: thickness t [m] of the layer that carries the current. Default 5 nm —
-        an ASSUMED Pt underlayer; the paper does not state it.
-    resistivity: ρ [Ω·m] of that layer. Default 2e-7 Ω·m — an ASSUMED typical thin-film Pt
-        value; the paper does not state it.
+    outline : Outline
+        The device; its ports named in ``source`` and ``sink`` are the electrodes, all other
+        boundary (other ports included) is insulating.
+    current_density : float
+        J [A/m²], the mean of j·n̂ across the source port(s) (the paper's J "in the conduits");
+        positive: current flows from source to sink. Any finite number.
+    source, sink : str or sequence of str
+        Port name(s); several ports on one side share one potential.
+    cell_size : float
+        Finite-volume cell side [m] (rounded so the first source port, if axis-aligned, spans a
+        whole number of cells). Default 2.5 nm.
+    conductor_thickness : float
+        Thickness t [m] of the layer that carries the current. Default 5 nm — an ASSUMED Pt
+        underlayer; the paper does not state it.
+    resistivity : float
+        ρ [Ω·m] of that layer. Default 2e-7 Ω·m — an ASSUMED typical thin-film Pt value; the paper
+        does not state it.
 
+    Returns
+    -------
+    CurrentSolution
+        The flow, scaled to ``current_density``, with I, R, V and P.
+
+    Raises
+    ------
+    InputError
+        If a value is out of range, or a port is unknown or named as both source and sink.
+
+    Notes
+    -----
     The current field depends only on the shape; thickness and resistivity enter only R, V and P.
     """
     require(isinstance(outline, Outline), "outline", type(outline).__name__, "a skygas.Outline")
@@ -732,11 +774,15 @@ class ContactFlow(_CellFlow):
 
     Attributes
     ----------
-    potentials: contact → potential [V].
-    contact_currents: contact → current [A] flowing *into* the device through it (they sum to
-        zero up to round-off).
-    power: Joule power P = Σ_k V_k I_k = ∫ ρ j² dV [W].
-    conductor_thickness [m], resistivity [Ω·m], cell_size [m]: as in :func:`solve_current`.
+    potentials : Mapping[str, float]
+        Contact → potential [V].
+    contact_currents : Mapping[str, float]
+        Contact → current [A] flowing *into* the device through it (they sum to zero up to
+        round-off).
+    power : float
+        Joule power P = Σ_k V_k I_k = ∫ ρ j² dV [W].
+    conductor_thickness, resistivity, cell_size : float
+        [m], [Ω·m], [m]: as in :func:`solve_current`.
     """
 
     potentials: Mapping[str, float]
@@ -747,6 +793,7 @@ class ContactFlow(_CellFlow):
 
     @property
     def power(self) -> float:
+        """Joule power P = Σ_k V_k I_k = ∫ ρ j² dV [W]."""
         return float(sum(self.potentials[k] * self.contact_currents[k] for k in self.potentials))
 
     def mean_current_density(self) -> float:
@@ -782,8 +829,10 @@ def _superpose(flows: Sequence[ContactFlow], weights: Sequence[float]) -> Contac
 
 
 def _contact_cells(outline: Outline, contacts: Sequence[str], h_nm: float):
-    """Cells aligned with the first contact (shared by every solve on these contacts, so that
-    flows can be added cell by cell) and the inside mask."""
+    """Cells aligned with the first contact, and the inside mask.
+
+    The cells are shared by every solve on these contacts, so that flows can be added cell by cell.
+    """
     cells = _aligned_cells(outline, outline.ports[contacts[0]], h_nm)
     cx, cy = cells.centres()
     return cells, outline.contains_nm(cx, cy)

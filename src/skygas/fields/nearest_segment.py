@@ -54,8 +54,10 @@ def _brute_kernel(px, py, segs, out_d, out_x, out_y, out_i):
 
 @numba.njit(cache=True)
 def _bucket(segs, x0, y0, cell, ncx, ncy):
-    """Cells → segments (CSR: ``start`` offsets into ``members``): a segment is listed in every
-    cell its bounding box overlaps."""
+    """Cells → segments (CSR: ``start`` offsets into ``members``).
+
+    A segment is listed in every cell its bounding box overlaps.
+    """
     n = segs.shape[0]
     lo_i = np.empty(n, np.int64)
     hi_i = np.empty(n, np.int64)
@@ -155,7 +157,8 @@ def nearest_segment(px, py, segs):
     """Exact nearest point on segments ``segs`` (n, 4: x1, y1, x2, y2) to each point (px, py).
 
     Returns (distance, nearest x, nearest y, segment index), bit-identical to
-    :func:`nearest_segment_brute` (ties: the lowest index)."""
+    :func:`nearest_segment_brute` (ties: the lowest index).
+    """
     segs = np.ascontiguousarray(segs, dtype=np.float64)
     if segs.shape[0] < _BRUTE_FORCE_BELOW:
         return nearest_segment_brute(px, py, segs)

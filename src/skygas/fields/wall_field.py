@@ -59,7 +59,8 @@ class BilinearWeights:
 
     Computing the weights once and applying them to several fields (or to the same field
     rescaled, as a sweep over current density does) gives exactly the bits of
-    :func:`bilinear_at_indices`, which is this class applied once."""
+    :func:`bilinear_at_indices`, which is this class applied once.
+    """
 
     flat: np.ndarray  # index of the lower-left node in the raveled field
     nx: int
@@ -93,8 +94,10 @@ class BilinearWeights:
 
 
 def bilinear_at_indices(field: np.ndarray, fx, fy) -> np.ndarray:
-    """Bilinear interpolation of ``field`` (ny, nx) at fractional indices (fx, fy), clamped to
-    the grid (the same arithmetic as the kernels)."""
+    """Bilinear interpolation of ``field`` (ny, nx) at fractional indices (fx, fy).
+
+    Clamped to the grid; the same arithmetic as the kernels.
+    """
     return BilinearWeights.at_indices(field.shape, fx, fy).apply(field)
 
 
@@ -109,6 +112,7 @@ class Grid:
     ny: int
 
     def nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The coordinates x, y [nm] of every node, arrays of shape (ny, nx)."""
         x = self.x0 + self.spacing * np.arange(self.nx)
         y = self.y0 + self.spacing * np.arange(self.ny)
         return np.meshgrid(x, y)  # arrays of shape (ny, nx)
@@ -149,7 +153,8 @@ class WallField:
         """Sample ``outline`` with grid ``spacing`` [nm]; exact within ``band`` [nm].
 
         The field depends only on these three, so it is built once per process for each
-        (outline, spacing, band) and shared, read-only, by later calls (:mod:`skygas.core.memo`)."""
+        (outline, spacing, band) and shared, read-only, by later calls (:mod:`skygas.core.memo`).
+        """
         return _MEMO.get(
             cls.key(outline, spacing, band),
             lambda: cls._build(outline, float(spacing), float(band)),
@@ -157,8 +162,7 @@ class WallField:
 
     @staticmethod
     def key(outline: Outline, spacing: float, band: float) -> tuple:
-        """The memo key of the field :meth:`build` makes (and of what is derived from it
-        alone)."""
+        """The memo key of the field :meth:`build` makes (and of what is derived from it alone)."""
         return (outline_key(outline), float(spacing), float(band))
 
     @classmethod
@@ -246,8 +250,10 @@ class WallField:
     def interpolation_error(
         self, outline: Outline, n_samples: int = 20_000, seed: int = 0
     ) -> dict[str, float]:
-        """Error of the interpolated wall distance [nm] and normal [rad] against shapely,
-        at random inside points within ``band`` of a wall (quantiles and maximum)."""
+        """Error of the interpolated wall distance [nm] and normal [rad] against shapely.
+
+        At random inside points within ``band`` of a wall (quantiles and maximum).
+        """
         rng = np.random.default_rng(seed)
         x0, y0, x1, y1 = outline.bounds_nm
         pts = rng.uniform((x0, y0), (x1, y1), size=(20 * n_samples, 2))

@@ -71,8 +71,11 @@ class Skyrmion:
 
 @dataclass(frozen=True)
 class Snapshot:
-    """The skyrmions of one field, their neighbourhood labels (ny, nx), the total charge, the
-    time [s] and the width of the film-edge band [m] (0 without edge tilt)."""
+    """The skyrmions of one field, with their neighbourhood labels.
+
+    The skyrmions, their neighbourhood labels (ny, nx), the total charge, the time [s] and the width
+    of the film-edge band [m] (0 without edge tilt).
+    """
 
     skyrmions: tuple[Skyrmion, ...]
     labels: np.ndarray
@@ -129,8 +132,11 @@ def edge_band(
 
 
 def _contour_rays(spline, background, cx_cells, cy_cells, max_r, n_rays):
-    """Radius [cells] of the s·m_z = 0 contour along each ray around (cx, cy) (cell-index
-    units), and the slope ∂(s·m_z)/∂r [1/cell] there (NaN where a ray finds no crossing)."""
+    """Radius [cells] of the s·m_z = 0 contour along each ray around (cx, cy), and the slope there.
+
+    (cx, cy) in cell-index units; the slope is ∂(s·m_z)/∂r [1/cell] (NaN where a ray finds no
+    crossing).
+    """
     steps = np.linspace(0.0, max_r, int(max_r * 20) + 2)
     angles = np.linspace(0.0, 2 * np.pi, n_rays, endpoint=False)
     rows = cy_cells + np.outer(np.sin(angles), steps)
@@ -152,9 +158,11 @@ def _contour_rays(spline, background, cx_cells, cy_cells, max_r, n_rays):
 
 
 def _centres(density, labels, charges, cores) -> list[tuple[float, float]]:
-    """Charge-weighted centre [cell-index units] of every labelled region, plaquettes shared
-    between corner regions as for the charge; a topologically trivial bubble (|Q| < ½) falls
-    back on its reversed core's centroid."""
+    """Charge-weighted centre [cell-index units] of every labelled region.
+
+    Plaquettes are shared between corner regions as for the charge; a topologically trivial bubble
+    (|Q| < ½) falls back on its reversed core's centroid.
+    """
     py, px = np.mgrid[0 : density.shape[0], 0 : density.shape[1]] + 0.5  # plaquette centres
     sum_x = topology.plaquette_sums(density * px, labels)
     sum_y = topology.plaquette_sums(density * py, labels)

@@ -1,6 +1,8 @@
-"""Writing a fitted material as a skygas preset (TOML) that
-:func:`skygas.physics.materials.load_material` loads, and the plot of fitted laws against their
-data."""
+"""Writing a fitted material as a skygas preset (TOML), and the plot of fitted laws.
+
+The preset is what :func:`skygas.physics.materials.load_material` loads; the plot shows the fitted
+laws against their data.
+"""
 
 from __future__ import annotations
 
@@ -31,8 +33,10 @@ def _toml_value(value) -> str:
 
 
 def material_preset(base: Material, **updates) -> Material:
-    """``base`` with ``updates`` (e.g. pair_law, wall_law, skyrmion_radius, dissipation),
-    validated as a :class:`~skygas.physics.materials.Material`."""
+    """``base`` with ``updates``, validated as a :class:`~skygas.physics.materials.Material`.
+
+    ``updates`` are fields such as pair_law, wall_law, skyrmion_radius, dissipation.
+    """
     data = {**base.model_dump(), **{k: v for k, v in updates.items() if v is not None}}
     return material_from_mapping(data, field="fitted material")
 
@@ -56,9 +60,11 @@ def write_material_toml(path: str | Path, material: Material, notes: Sequence[st
 
 
 def plot_fits(path: str | Path, samples: dict, fits: dict, tables: dict | None = None) -> Path:
-    """One panel per law: |F| [pN] against d [diameters]: the samples, the law tabulated over
-    the measured range (median and interquartile range per bin) and the fitted curve, if a law
-    was fitted."""
+    """One panel per law: |F| [pN] against d [diameters].
+
+    The samples, the law tabulated over the measured range (median and interquartile range per bin)
+    and the fitted curve, if a law was fitted.
+    """
     import matplotlib
 
     matplotlib.use("Agg")

@@ -100,8 +100,11 @@ class DiskBoundary:
 
 
 def disk_from_mask(magnetic: np.ndarray, x: np.ndarray, y: np.ndarray) -> DiskBoundary:
-    """The disk of a film mask (ny, nx) on cell centres ``x``, ``y`` [m]: its centroid and the
-    radius of equal area, √(A/π), which is exact up to the staircase of the cells."""
+    """The disk of a film mask (ny, nx) on cell centres ``x``, ``y`` [m].
+
+    Its centroid and the radius of equal area, √(A/π), which is exact up to the staircase of the
+    cells.
+    """
     magnetic = np.asarray(magnetic, bool)
     if magnetic.all():
         raise InputError(
@@ -198,6 +201,7 @@ class LawFit:
         return self.force_scale * shape(d, self.coefficients)
 
     def as_record(self) -> dict:
+        """The fit as a JSON-able dict (``fit.json``), with the range the engine uses it over."""
         return {
             "law": self.law,
             "coefficients": list(self.coefficients),
@@ -214,10 +218,12 @@ class LawFit:
 
 
 class UnfixedLawError(InputError):
-    """The samples fit no law the engine accepts, for want of data outside their range (not
-    because of the data inside it): ``fit`` is the unconstrained :class:`LawFit`, ``why`` what
-    fails (``"the fit grows without bound far away …"``), ``unfixed`` what the samples do not
-    fix (``"how the force decays beyond 2.25 d_sk"``), ``remedy`` what to record instead."""
+    """The samples fit no law the engine accepts, for want of data outside their range.
+
+    Not because of the data inside it: ``fit`` is the unconstrained :class:`LawFit`, ``why`` what
+    fails (``"the fit grows without bound far away …"``), ``unfixed`` what the samples do not fix
+    (``"how the force decays beyond 2.25 d_sk"``), ``remedy`` what to record instead.
+    """
 
     def __init__(self, fit: LawFit, why: str, unfixed: str, remedy: str):
         self.fit, self.why, self.unfixed, self.remedy = fit, why, unfixed, remedy
@@ -233,8 +239,9 @@ class UnfixedLawError(InputError):
 
 @dataclass(frozen=True)
 class LawTable:
-    """A force law tabulated over the measured distances only: the samples sorted by distance
-    and cut into bins of (nearly) equal counts.
+    """A force law tabulated over the measured distances only.
+
+    The samples sorted by distance and cut into bins of (nearly) equal counts.
 
     Per bin: ``d_low``, ``d_high`` (the extreme sample distances) and ``distance`` (the median)
     in d_sk; ``force`` the median force [N] (signed: the repulsive component, so that noise
@@ -303,6 +310,7 @@ class LawTable:
         return float(self.d_low.min()), float(self.d_high.max())
 
     def as_record(self) -> dict:
+        """The table as a JSON-able dict, its rows as :meth:`rows` gives them."""
         return {
             "law": self.law,
             "skyrmion_diameter_m": self.diameter,
@@ -316,12 +324,37 @@ class LawTable:
 def tabulate_law(
     law: str, d, force, diameter: float, force_scale: float, bins: int | None = None
 ) -> LawTable:
-    """The samples (d [d_sk], force [N]) as a :class:`LawTable` of ``bins`` bins of equal
-    counts (default: ⌈√n⌉ bins for n samples, at most 20: as many bins as samples per bin).
+    """The samples (d [d_sk], force [N]) as a :class:`LawTable` of bins of equal counts.
 
     A monotonic law maps the median distance of a bin to its median force, so a table of
     exact samples lies on the law whatever the bins' widths (exactly for odd counts; for even
     ones, the median is the mean of two neighbouring samples).
+
+    Parameters
+    ----------
+    law : str
+        "pair" or "wall".
+    d : array_like
+        Distances [d_sk]; non-finite samples are left out.
+    force : array_like
+        Forces [N], one per distance (the repulsive component).
+    diameter : float
+        d_sk [m], > 0.
+    force_scale : float
+        F₀ [N], > 0.
+    bins : int, optional
+        The number of bins (default: ⌈√n⌉ for n samples, at most 20: as many bins as samples per
+        bin).
+
+    Returns
+    -------
+    LawTable
+
+    Raises
+    ------
+    InputError
+        If ``diameter`` or ``force_scale`` is not > 0, no sample is finite, or ``bins`` is not an
+        integer ≥ 1.
     """
     if not (diameter > 0 and force_scale > 0):
         raise InputError("diameter, force_scale", (diameter, force_scale), "values > 0 (m, N)")
@@ -560,8 +593,11 @@ def law_problem(law: str, coefficients) -> str | None:
 
 
 def _refuse_if_rising_in_data(fit: LawFit) -> None:
-    """Refuse a law whose force rises with distance inside the data's own range: there the
-    samples themselves do not show a decaying repulsion, and no constraint can repair that."""
+    """Refuse a law whose force rises with distance inside the data's own range.
+
+    There the samples themselves do not show a decaying repulsion, and no constraint can repair
+    that.
+    """
     lo, hi = fit.distance_range
     rising = _rising(fit.law, fit.coefficients, max(lo, DECREASING_FROM), hi)
     if rising is not None:

@@ -186,16 +186,21 @@ def _time_from_header(header: dict) -> float:
 
 @dataclass(frozen=True)
 class OVFMesh:
-    """The rectangular mesh of an OVF file: ``nodes`` (nx, ny, nz), ``cell`` (dx, dy, dz) [m]
-    and ``origin``, the mesh corner (xmin, ymin, zmin) [m]."""
+    """The rectangular mesh of an OVF file.
+
+    ``nodes`` (nx, ny, nz), ``cell`` (dx, dy, dz) [m] and ``origin``, the mesh corner (xmin, ymin,
+    zmin) [m].
+    """
 
     nodes: tuple[int, int, int]
     cell: tuple[float, float, float]
     origin: tuple[float, float, float]
 
     def same_grid(self, other: OVFMesh) -> bool:
-        """Whether ``other`` is this mesh: equal node counts, cell sizes within 10⁻⁶ and
-        corners within 10⁻³ of a cell (what rounding in a text header leaves)."""
+        """Whether ``other`` is this mesh, up to what rounding in a text header leaves.
+
+        Equal node counts, cell sizes within 10⁻⁶ and corners within 10⁻³ of a cell.
+        """
         return (
             self.nodes == other.nodes
             and all(
@@ -208,8 +213,11 @@ class OVFMesh:
         )
 
     def describe(self, origin: bool = False) -> str:
-        """The mesh in words: ``200 × 125 cells of 2 nm`` (``2 × 2.5 nm`` for cells that are
-        not square), the layers if there are several, and the corner if ``origin``."""
+        """The mesh in words: ``200 × 125 cells of 2 nm``.
+
+        ``2 × 2.5 nm`` for cells that are not square; the layers if there are several, and the
+        corner if ``origin``.
+        """
         nx, ny, nz = self.nodes
         dx, dy, dz = self.cell
         cell = (
@@ -235,8 +243,10 @@ def _length(value: float) -> str:
 
 
 def _mesh_of(path: Path, header: dict) -> tuple[list[int], list[float], list[float], float]:
-    """Node counts, steps and first cell centres (in the file's unit) and metres per unit, after
-    checking the mesh against its own bounding box."""
+    """Node counts, steps and first cell centres (in the file's unit) and metres per unit.
+
+    After checking the mesh against its own bounding box.
+    """
     if "segment count" in header and _number(path, header, "segment count", int) != 1:
         raise _bad(path, "segment count", header["segment count"], "1 (one field per file)")
     if header.get("meshtype", "rectangular").lower() != "rectangular":
@@ -276,8 +286,10 @@ _BEGIN_DATA = re.compile(rb"#[ \t]*begin:[ \t]*data[^\n]*\n", re.I)
 
 
 def read_mesh(path: str | Path) -> OVFMesh:
-    """The mesh of an OVF file from its header only (the data are not read): cheap enough to
-    check a whole folder of snapshots before reading any of them."""
+    """The mesh of an OVF file from its header only (the data are not read).
+
+    Cheap enough to check a whole folder of snapshots before reading any of them.
+    """
     path = Path(path)
     if not path.is_file():
         raise InputError("path", str(path), "an existing OVF file")

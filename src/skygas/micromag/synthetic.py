@@ -44,7 +44,6 @@ def wall_profile_theta(r, radius: float, wall_width: float):
 
 def ansatz_dissipation(radius: float, wall_width: float) -> float:
     """𝒟 = π ∫ (θ'² + sin²θ / r²) r dr of the ansatz, by adaptive quadrature (dimensionless)."""
-
     s = math.sinh(radius / wall_width)
 
     def integrand(r: float) -> float:
@@ -134,8 +133,11 @@ def edge_tilt(field: xr.DataArray, angle: float, decay_length: float) -> xr.Data
 
 @dataclass(frozen=True)
 class ThieleSystem:
-    """Coefficients of (G ε + α𝒟k I)·ẋ = F in SI: ``gyrocoupling`` G and ``friction`` α𝒟k
-    [kg/s], ``force_scale`` F₀ [N], ``skyrmion_diameter`` d_sk [m] (the laws' length unit)."""
+    """Coefficients of (G ε + α𝒟k I)·ẋ = F in SI.
+
+    ``gyrocoupling`` G and ``friction`` α𝒟k [kg/s], ``force_scale`` F₀ [N], ``skyrmion_diameter``
+    d_sk [m] (the laws' length unit).
+    """
 
     gyrocoupling: float
     friction: float

@@ -119,8 +119,10 @@ def topological_charge(field: xr.DataArray, labels: np.ndarray | None = None):
 
 
 def plaquette_sums(values: np.ndarray, labels: np.ndarray) -> np.ndarray:
-    """Σ of per-plaquette ``values`` (ny−1, nx−1) by cell ``labels`` (ny, nx), entry k−1 for
-    region k: each plaquette gives a quarter of its value to the region of each corner.
+    """Σ of per-plaquette ``values`` (ny−1, nx−1) by cell ``labels`` (ny, nx).
+
+    Entry k−1 for region k: each plaquette gives a quarter of its value to the region of each
+    corner.
 
     Sharing, rather than giving a plaquette to one corner, keeps the split between two regions
     symmetric: a plaquette on the border between two touching skyrmions counts half to each.

@@ -21,8 +21,11 @@ from skygas.micromag.detection import Skyrmion, Snapshot
 
 @dataclass
 class Trajectory:
-    """One skyrmion over time: ``frames`` (snapshot indices), ``times`` [s], ``positions``
-    (n, 2) [m], and per frame ``radius`` [m], ``charge`` and ``dissipation``."""
+    """One skyrmion over time.
+
+    ``frames`` (snapshot indices), ``times`` [s], ``positions`` (n, 2) [m], and per frame ``radius``
+    [m], ``charge`` and ``dissipation``.
+    """
 
     id: int
     frames: list[int] = field(default_factory=list)
@@ -30,24 +33,29 @@ class Trajectory:
     points: list[Skyrmion] = field(default_factory=list)
 
     def add(self, frame: int, time: float, skyrmion: Skyrmion) -> None:
+        """Append ``skyrmion`` as seen in snapshot ``frame`` at ``time`` [s]."""
         self.frames.append(frame)
         self.times.append(time)
         self.points.append(skyrmion)
 
     @property
     def positions(self) -> np.ndarray:
+        """Centres (n, 2) [m], one per frame."""
         return np.array([[p.x, p.y] for p in self.points]).reshape(-1, 2)
 
     @property
     def radius(self) -> np.ndarray:
+        """Radius [m] per frame."""
         return np.array([p.radius for p in self.points])
 
     @property
     def charge(self) -> np.ndarray:
+        """Topological charge Q per frame."""
         return np.array([p.charge for p in self.points])
 
     @property
     def dissipation(self) -> np.ndarray:
+        """Dissipation 𝒟 per frame (dimensionless)."""
         return np.array([p.dissipation for p in self.points])
 
     def __len__(self) -> int:

@@ -76,6 +76,7 @@ class FitResult:
         )
 
     def as_record(self) -> dict:
+        """The result as a JSON-able dict (``fit.json``)."""
         return {
             "skygas_version": __version__,
             "pair_law": None if self.pair is None else self.pair.as_record(),
@@ -99,10 +100,13 @@ class FitResult:
         }
 
     def write(self, out_dir: str | Path) -> dict[str, Path]:
-        """Write ``fit.json``, ``tracks.csv``, ``forces.csv``, ``<law>_table.csv``, ``fit.png``
-        and (when every requested law was fitted) ``material.toml``, each atomically. A
-        ``material.toml`` left in ``out_dir`` by an earlier fit is removed when this fit has
-        none, so that the folder never holds a preset the data no longer support."""
+        """Write the fit's files into ``out_dir``, each atomically.
+
+        ``fit.json``, ``tracks.csv``, ``forces.csv``, ``<law>_table.csv``, ``fit.png`` and (when
+        every requested law was fitted) ``material.toml``. A ``material.toml`` left in ``out_dir``
+        by an earlier fit is removed when this fit has none, so that the folder never holds a preset
+        the data no longer support.
+        """
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         paths = {
@@ -360,8 +364,10 @@ def fit_trajectories(
 
 
 def _fit_or_unfixed(fit_law, unfixed: dict, strict: bool, d, f, scale, **options):
-    """``fit_law(d, f, scale)``, or None with the law's :class:`~forces.UnfixedLawError` put in
-    ``unfixed`` (raised instead with ``strict``)."""
+    """``fit_law(d, f, scale)``, or None with the law's error put in ``unfixed``.
+
+    The error is a :class:`~forces.UnfixedLawError`; with ``strict`` it is raised instead.
+    """
     try:
         return fit_law(d, f, scale, **options)
     except forces.UnfixedLawError as err:
@@ -372,8 +378,7 @@ def _fit_or_unfixed(fit_law, unfixed: dict, strict: bool, d, f, scale, **options
 
 
 def _unfixed_warning(err: forces.UnfixedLawError) -> str:
-    """The one line that says what the data do not fix, why, what was written instead and
-    what to do."""
+    """One line: what the data do not fix, why, what was written instead and what to do."""
     lo, hi = err.fit.distance_range
     return (
         f"{err.fit.law} law: the samples (d = {lo:.2f}–{hi:.2f} d_sk) do not fix "
@@ -384,8 +389,11 @@ def _unfixed_warning(err: forces.UnfixedLawError) -> str:
 
 
 def _coverage_notes(fit: forces.LawFit) -> list[str]:
-    """What a user must know about a fitted law: a constrained refit, and the distances at which
-    the engine will use it beyond those the data covered (an extrapolation)."""
+    """What a user must know about a fitted law.
+
+    A constrained refit, and the distances at which the engine will use it beyond those the data
+    covered (an extrapolation).
+    """
     notes = [fit.note] if fit.note else []
     closest, cutoff = forces.engine_range(fit.law, fit.coefficients)
     lo, hi = fit.distance_range
@@ -412,8 +420,10 @@ def snapshot_paths(directory: str | Path, pattern: str = "*.ovf") -> list[Path]:
 
 
 def check_one_grid(directory: str | Path, paths: list[Path]) -> None:
-    """Refuse a folder whose snapshots are not all on the first file's mesh (node counts, cell
-    sizes, corner), naming the first file that differs and how; only the headers are read.
+    """Refuse a folder whose snapshots are not all on the first file's mesh.
+
+    The mesh: node counts, cell sizes, corner. The error names the first file that differs and how;
+    only the headers are read.
 
     Two runs in one folder (a restart on a finer mesh, another sample) would otherwise be
     tracked as one: skyrmions would jump between frames and the forces would be nonsense.

@@ -1,5 +1,8 @@
-"""The Skyrmion Neuron (paper, "Skyrmion Neuron"): a gated chamber that integrates injected
-skyrmions, leaks them by annihilation, and fires by opening its gate. See docs/neuron.md."""
+"""The Skyrmion Neuron (paper, "Skyrmion Neuron"): a gated chamber of skyrmions.
+
+The chamber integrates injected skyrmions, leaks them by annihilation, and fires by opening its
+gate. See docs/neuron.md.
+"""
 
 # The public names are imported on first use (SPEC 1 lazy loading; the names and their modules
 # are listed once, in __init__.pyi, which type checkers read too), so that the command line and

@@ -21,8 +21,10 @@ import numpy as np
 
 @numba.njit(inline="always")
 def _bilinear(field, x0, y0, spacing, x, y):
-    """Bilinear interpolation of ``field`` (ny, nx) at (x, y) nm, clamped to the grid (the
-    arithmetic of :func:`skygas.fields.wall_field.bilinear_at_indices`)."""
+    """Bilinear interpolation of ``field`` (ny, nx) at (x, y) nm, clamped to the grid.
+
+    The arithmetic of :func:`skygas.fields.wall_field.bilinear_at_indices`.
+    """
     ny, nx = field.shape
     fx = min(max((x - x0) / spacing, 0.0), nx - 1 - 1e-9)
     fy = min(max((y - y0) / spacing, 0.0), ny - 1 - 1e-9)
@@ -40,8 +42,10 @@ def _bilinear(field, x0, y0, spacing, x, y):
 
 @numba.njit(cache=True)
 def _pairs_within(px, py, reach):
-    """All pairs (a < b) of points closer than ``reach`` [nm], with their distances, sorted
-    by (a, b) so that the result does not depend on the cell layout."""
+    """All pairs (a < b) of points closer than ``reach`` [nm], with their distances.
+
+    Sorted by (a, b) so that the result does not depend on the cell layout.
+    """
     n = px.shape[0]
     empty_i = np.empty(0, np.int64)
     if n < 2:
@@ -104,8 +108,11 @@ def _pairs_within(px, py, reach):
 def _frozen_state(
     x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowding, collapse, sensitivity
 ):
-    """What the rule needs at the check time: the occupied slots, their wall distances [nm]
-    and the pairs (indices into the slots, distance [nm]) within reach of either length."""
+    """What the rule needs at the check time: occupied slots, wall distances and pairs in reach.
+
+    The occupied slots, their wall distances [nm] and the pairs (indices into the slots, distance
+    [nm]) within reach of either length.
+    """
     slots = np.flatnonzero(alive)
     n = slots.shape[0]
     px = x[slots]
@@ -120,9 +127,11 @@ def _frozen_state(
 
 @numba.njit(cache=True)
 def _rates(wall, pa, pb, pr, dead, crowding, base_rate, sensitivity):
-    """Γ_i = Γ0 exp(c χ_i) [1/s] of every slot with the ``dead`` ones left out of χ, plus
-    the χ values and the adjacency (CSR: start, partner, weight) of the living pairs within
-    r_c, so that a removal can relieve its neighbours."""
+    """Γ_i = Γ0 exp(c χ_i) [1/s] of every slot, with the ``dead`` ones left out of χ.
+
+    Plus the χ values and the adjacency (CSR: start, partner, weight) of the living pairs within
+    r_c, so that a removal can relieve its neighbours.
+    """
     n = wall.shape[0]
     rate = np.full(n, base_rate)
     chi = np.zeros(n)
@@ -177,7 +186,8 @@ def total_rate(
     No randomness: the caller draws the first wait ~ Exp(R) itself and calls
     :func:`annihilation_check` only when there are candidates or the wait falls inside the
     interval. Nearly every check ends there, and passing a Generator into compiled code costs
-    more than the rest of the check. Arguments as in :func:`annihilation_check`."""
+    more than the rest of the check. Arguments as in :func:`annihilation_check`.
+    """
     slots, wall, pa, pb, pr = _frozen_state(
         x, y, alive, wall_distance, grid_x0, grid_y0, grid_spacing, crowding, collapse, sensitivity
     )
@@ -297,8 +307,10 @@ def annihilation_check(
 
 @numba.njit(inline="always")
 def _slots_in_disk(x, y, alive, center_x, center_y, radius, out):
-    """Store in ``out`` the slots of living centres (x, y) [nm] strictly inside the disk
-    (centre, radius) [nm]; return how many."""
+    """Store in ``out`` the slots of living centres (x, y) [nm] strictly inside the disk.
+
+    The disk is (centre, radius) [nm]; returns how many.
+    """
     r2 = radius * radius
     count = 0
     for k in range(x.shape[0]):
@@ -319,9 +331,11 @@ def count_in_disk(x, y, alive, center_x, center_y, radius):
 
 @numba.njit(cache=True)
 def covered_fraction(x, y, alive, center_x, center_y, radius, skyrmion_radius, samples):
-    """Fraction of the sample points (shape (m, 2), nm) inside at least one skyrmion disk of
-    radius ``skyrmion_radius`` [nm] centred on a living (x, y) [nm]; only skyrmions whose disk
-    can reach the sensor disk (centre, radius) are considered."""
+    """Fraction of the sample points (shape (m, 2), nm) inside at least one skyrmion disk.
+
+    The disks have radius ``skyrmion_radius`` [nm] and are centred on a living (x, y) [nm]; only
+    skyrmions whose disk can reach the sensor disk (centre, radius) are considered.
+    """
     near = np.empty(x.shape[0], np.int64)
     m = _slots_in_disk(x, y, alive, center_x, center_y, radius + skyrmion_radius, near)
     if m == 0:

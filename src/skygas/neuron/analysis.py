@@ -55,8 +55,10 @@ def isi_statistics(spike_times) -> dict:
 
 
 def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> dict:
-    """The leak experiment: gate closed, no input, ``initial_count`` skyrmions at random in the
-    chamber; returns the trace and the fitted leak time with its error."""
+    """The leak experiment: gate closed, no input, ``initial_count`` skyrmions at random.
+
+    Placed at random in the chamber; returns the trace and the fitted leak time with its error.
+    """
     from skygas.physics.geometry import random_positions
 
     require(
@@ -120,6 +122,7 @@ def transfer_curve(device, rates, duration: float, seed: int = 0, progress=None)
 
 
 def r_squared(measured, predicted) -> float | None:
+    """Coefficient of determination R² of ``predicted`` against ``measured`` (None if constant)."""
     measured, predicted = np.asarray(measured, float), np.asarray(predicted, float)
     ss = float(np.sum((measured - measured.mean()) ** 2))
     return None if ss == 0 else 1.0 - float(np.sum((measured - predicted) ** 2)) / ss

@@ -1,5 +1,6 @@
-r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron";
-docs/physics.md §3-4).
+r"""Annihilation and accidental nucleation of skyrmions (paper, "Skyrmion Neuron").
+
+See docs/physics.md §3-4.
 
 The paper gives no annihilation rule; it says that skyrmions compressed by neighbours to length
 scales near their diameter collapse (thermal fluctuations, dipolar strain, defects), and that a
@@ -147,6 +148,7 @@ class AnnihilationModel:
         return r_c * units.M_TO_NM, d_min * units.M_TO_NM
 
     def record(self) -> dict:
+        """The parameters as a dict for result files, SI units in the keys."""
         return {
             "base_rate_per_s": self.base_rate,
             "compression_sensitivity": self.compression_sensitivity,
@@ -169,7 +171,8 @@ def compression(
     """χ_i of every skyrmion (see the module docstring); positions and distances in nm.
 
     A readable reference for inspection and tests; runs use the compiled
-    :func:`skygas.neuron._compiled.annihilation_check`, which computes the same χ."""
+    :func:`skygas.neuron._compiled.annihilation_check`, which computes the same χ.
+    """
     n = len(x_nm)
     chi = np.clip(1.0 - 2.0 * wall_nm / crowding_nm, 0.0, None)
     if n > 1:
@@ -212,6 +215,11 @@ class Annihilator:
 
     @classmethod
     def for_simulation(cls, model: AnnihilationModel, sim, region=None) -> Annihilator:
+        """The operation of ``model`` for ``sim``, first acting at its current step.
+
+        ``check_interval`` is rounded to whole time steps (at least one); ``region`` is passed to
+        the constructor.
+        """
         steps = max(1, int(round(model.check_interval / sim.time_step)))
         op = cls(model, sim.seed, steps, region)
         op._next = sim.step
@@ -227,16 +235,20 @@ class Annihilator:
 
     @property
     def n_annihilated(self) -> int:
+        """Skyrmions this rule removed so far (from the simulation's annihilation log)."""
         return self.simulation.annihilations.count(REASON) if self.simulation is not None else 0
 
     @property
     def n_nucleated(self) -> int:
+        """Skyrmions nucleated so far."""
         return len(self.nucleations)
 
     def next_step(self, step: int) -> int:
+        """The next check's step (the largest int64, never, when the rule is disabled)."""
         return self._next if self.model.enabled else np.iinfo(np.int64).max
 
     def act(self, sim) -> None:
+        """Apply the rule over the next check interval: annihilation, then nucleation (if ν > 0)."""
         self.simulation = sim
         self._next = sim.step + self.interval_steps
         dt = self.interval_steps * sim.time_step
@@ -245,9 +257,11 @@ class Annihilator:
             self._nucleate(sim, dt)
 
     def state_dict(self) -> dict:
-        """The mutable state (nucleation log, counters, schedule, both generators' states) as
-        JSON-able values; :meth:`load_state_dict` continues bit-identically. (The
-        annihilations are in the simulation's checkpoint, with its log.)"""
+        """The mutable state as JSON-able values: nucleation log, counters, schedule, generators.
+
+        :meth:`load_state_dict` continues bit-identically. (The annihilations are in the
+        simulation's checkpoint, with its log.)
+        """
         return {
             "nucleations": [list(map(float, e)) for e in self.nucleations],
             "nucleation_misses": int(self.nucleation_misses),
@@ -257,6 +271,7 @@ class Annihilator:
         }
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore the state :meth:`state_dict` saved."""
         self.nucleations = [tuple(e) for e in state["nucleations"]]
         self.nucleation_misses = int(state["nucleation_misses"])
         self._next = int(state["next"])
@@ -264,8 +279,10 @@ class Annihilator:
         self.nuc_rng.bit_generator.state = state["nuc_rng"]
 
     def _fixed_arguments(self, sim) -> _FixedArguments:
-        """The kernels' arguments that stay fixed during a run (looked up once per model and
-        simulation)."""
+        """The kernels' arguments that stay fixed during a run.
+
+        Looked up once per model and simulation.
+        """
         if self._fixed is None or self._fixed[0] is not self.model or self._fixed[1] is not sim:
             wall, grid = sim.wall_field.wall_distance, sim.wall_field.grid
             r_c, d_min = self.model.lengths_nm(sim.thiele.skyrmion_diameter)
@@ -323,9 +340,11 @@ class Annihilator:
                 self.nucleation_misses += 1
 
     def _uniform_point(self, outline) -> np.ndarray:
-        """A point [nm] uniformly distributed over the outline (rejection from its bounding box:
-        the attempt rate ν·A already counts the outline's area, so a point outside it must be
-        drawn again, not dropped)."""
+        """A point [nm] uniformly distributed over the outline.
+
+        Rejection from its bounding box: the attempt rate ν·A already counts the outline's area, so
+        a point outside it must be drawn again, not dropped.
+        """
         x0, y0, x1, y1 = outline.bounds_nm
         while True:
             p = self.nuc_rng.uniform((x0, y0), (x1, y1))

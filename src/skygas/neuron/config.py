@@ -47,9 +47,11 @@ class DeviceSpec(ChamberSize):
 
 
 class GateSpec(StrictModel):
-    """The closed gate, a potential band across the output conduit (skygas.neuron.gate):
-    the top of the barrier [k_BT], its width between the half-height points [m] and the width
-    of its tanh edges [m]."""
+    """The closed gate, a potential band across the output conduit (skygas.neuron.gate).
+
+    The top of the barrier [k_BT], its width between the half-height points [m] and the width of its
+    tanh edges [m].
+    """
 
     barrier_height: float = Field(20.0, ge=0)  # k_B T
     band_width: float = Field(30e-9, gt=0)  # m, inside the conduit
@@ -58,6 +60,13 @@ class GateSpec(StrictModel):
 
 
 class SensorSpec(StrictModel):
+    """The read element: a disk inside the chamber, read every ``read_interval`` [s].
+
+    ``center`` [m], ``radius`` [m] (default: the chamber's radius); ``signal`` ``"count"`` (centres
+    inside) or ``"area"`` (the fraction of the disk covered by skyrmions); ``read_noise``: standard
+    deviation of Gaussian read noise, in the signal's units.
+    """
+
     center: tuple[float, float] = (0.0, 0.0)  # m
     radius: float | None = Field(None, gt=0)  # m; default the chamber's radius
     signal: Literal["count", "area"] = "count"
@@ -66,6 +75,13 @@ class SensorSpec(StrictModel):
 
 
 class RuleSpec(StrictModel):
+    """The firing rule.
+
+    A closed gate opens when the reading is ≥ ``threshold`` and no refractory time is running; an
+    open gate closes when the reading is ≤ ``reset_level`` or after ``release_time`` [s], whichever
+    comes first; after it closes, ``refractory_time`` [s] must pass before it opens again.
+    """
+
     # The release usually ends at the reset level (the release current empties the chamber in
     # ~150 ns); the release time only bounds an opening that cannot get there.
     threshold: float = Field(12.0, gt=0)
@@ -75,6 +91,12 @@ class RuleSpec(StrictModel):
 
 
 class AnnihilationSpec(StrictModel):
+    """The annihilation and nucleation rule, in SI units.
+
+    As :class:`~skygas.neuron.annihilation.AnnihilationModel`. Defaults: the calibrated model
+    (:data:`~skygas.neuron.calibration.CALIBRATED`), without nucleation.
+    """
+
     base_rate: float = Field(CALIBRATED.base_rate, ge=0)
     compression_sensitivity: float = Field(CALIBRATED.compression_sensitivity, ge=0)
     crowding_distance: float | None = Field(CALIBRATED.crowding_distance, gt=0)
@@ -85,6 +107,13 @@ class AnnihilationSpec(StrictModel):
 
 
 class InputConfig(StrictModel):
+    """One input spike train (:class:`~skygas.neuron.inputs.InputSpec`; rates in Hz, times in s).
+
+    ``kind`` ``"poisson"`` (``rate``), ``"regular"`` (``rate``), ``"telegraph"``/``"bernoulli"``
+    (clock ``interval``, P(1) = ``p``, telegraph ``correlation_time``) or ``"bits"`` (``bits`` at
+    ``interval``); every event injects with probability ``weight``.
+    """
+
     kind: Literal["poisson", "telegraph", "bernoulli", "regular", "bits"] = "poisson"
     rate: float = Field(0.0, ge=0)
     p: float = Field(0.5, ge=0, le=1)
@@ -103,17 +132,38 @@ class InputConfig(StrictModel):
 
 
 class InjectionSpec(StrictModel):
+    """The injectors' handling of an occupied site.
+
+    An event finding another centre closer than ``site_clearance`` skyrmion diameters waits and is
+    retried every ``retry_interval`` [s] (``occupied_rule = "delay"``), or is dropped (``"skip"``).
+    """
+
     occupied_rule: Literal["delay", "skip"] = "delay"
     site_clearance: float = Field(1.0, gt=0)  # skyrmion diameters
     retry_interval: float = Field(0.5e-9, gt=0)
 
 
 class TransferSpec(StrictModel):
+    """The transfer curve's runs: input ``rates`` [Hz] and their ``duration`` [s].
+
+    Empty ``rates``: a default sweep; ``duration`` by default the run's.
+    """
+
     rates: list[Annotated[float, Field(ge=0)]] = []  # Hz; empty: a default sweep
     duration: float | None = Field(None, gt=0)  # s; default the run's duration
 
 
 class NeuronConfig(MaterialFields, OperationsField):
+    """A neuron run (SI units); defaults in the module docstring.
+
+    Besides the material fields every run shares (material, film, Thiele overrides, force laws,
+    potentials) and its ``[[operations]]``: ``seed``, ``temperature`` [K], ``duration`` [s],
+    ``time_step`` [s] (``None``: the simulation's suggested step), ``current_density`` [A/m²]
+    while the gate is closed, ``release_current_density`` [A/m²] while it is open (``None``: the
+    same), ``spin_drift_coefficient`` ξ [m³/C], and the sections ``device``, ``gate``,
+    ``sensor``, ``rule``, ``annihilation``, ``inputs``, ``injection`` and ``transfer``.
+    """
+
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
     seed: int = Field(0, ge=0, lt=2**63)
@@ -139,9 +189,11 @@ class NeuronConfig(MaterialFields, OperationsField):
         return self.release_current_density
 
     def annihilation_model(self) -> AnnihilationModel:
+        """The annihilation section as an :class:`~skygas.neuron.annihilation.AnnihilationModel`."""
         return AnnihilationModel(**self.annihilation.model_dump())
 
     def input_specs(self) -> list[InputSpec]:
+        """The :class:`~skygas.neuron.inputs.InputSpec` of each ``inputs`` entry."""
         return [InputSpec(**{**i.model_dump(), "bits": tuple(i.bits)}) for i in self.inputs]
 
 
@@ -161,8 +213,10 @@ def _check_negative_rates(data: dict) -> None:
 
 
 def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
-    """A validated :class:`NeuronConfig` from a mapping plus overrides (dotted keys,
-    :func:`~skygas.core.config_types.apply_overrides`)."""
+    """A validated :class:`NeuronConfig` from a mapping plus overrides.
+
+    Overrides take dotted keys (:func:`~skygas.core.config_types.apply_overrides`).
+    """
     data = apply_overrides(data or {}, overrides)
     _check_negative_rates(data)
     try:
@@ -172,5 +226,10 @@ def neuron_config(data: dict | None = None, **overrides) -> NeuronConfig:
 
 
 def load_neuron_config(path: str | Path | None = None, **overrides) -> NeuronConfig:
+    """A validated :class:`NeuronConfig` from a TOML file (or the defaults), plus overrides.
+
+    Relative paths in the file are taken relative to its folder; overrides take dotted keys, as
+    :func:`neuron_config`. Raises :class:`InputError` naming the field.
+    """
     data = resolve_paths(read_toml(path), Path(path).parent) if path is not None else {}
     return neuron_config(data, **overrides)

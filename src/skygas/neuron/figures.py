@@ -1,5 +1,7 @@
-"""Figures of the neuron: the device over its energy landscape, count trace, transfer curve,
-maximum density (matplotlib, Agg)."""
+"""Figures of the neuron: device and landscape, count trace, transfer curve, maximum density.
+
+Drawn with matplotlib (Agg).
+"""
 
 from __future__ import annotations
 
@@ -10,9 +12,12 @@ from matplotlib.figure import Figure
 
 
 def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
-    """The device over its energy landscape (the gate's band drawn closed, with the user's
-    potentials), the nucleation site, and the recorded trajectories (start ○, end ●) or, for a
-    run that recorded none, the skyrmions present at its end."""
+    """The device over its energy landscape, with the trajectories or the final skyrmions.
+
+    The landscape has the gate's band drawn closed, with the user's potentials; over it, the
+    nucleation site and the recorded trajectories (start ○, end ●) or, for a run that recorded
+    none, the skyrmions present at its end.
+    """
     from skygas.runs.plotting import draw_landscape, draw_outline, draw_tracks
 
     sim = run.sim
@@ -72,6 +77,7 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
 
 
 def plot_trace(run, path: Path) -> Path:
+    """The count trace to ``path``, with the reading, threshold, gate openings and spikes."""
     tr = run.trace()
     fig = Figure(figsize=(7, 3.5), dpi=110)
     ax = fig.add_subplot()
@@ -101,6 +107,7 @@ def plot_trace(run, path: Path) -> Path:
 
 
 def plot_transfer(curve: dict, path: Path, lif: dict | None = None) -> Path:
+    """The transfer curve to ``path``: firing against input rate, and the LIF's if given."""
     fig = Figure(figsize=(4.5, 3.5), dpi=110)
     ax = fig.add_subplot()
     r = np.asarray(curve["input_rate_Hz"]) / 1e6
@@ -116,6 +123,7 @@ def plot_transfer(curve: dict, path: Path, lif: dict | None = None) -> Path:
 
 
 def plot_saturation(result, path: Path) -> Path:
+    """The maximum-density figure to ``path``: saturation count against diameter."""
     fig = Figure(figsize=(4.5, 3.5), dpi=110)
     ax = fig.add_subplot()
     d = result.diameters * 1e9

@@ -1,5 +1,7 @@
-r"""The neuron's voltage gate (a switchable potential barrier across the output conduit) and
-its read element (a sensor region inside the chamber).
+r"""The neuron's voltage gate and its read element.
+
+The gate is a switchable potential barrier across the output conduit, the read element a sensor
+region inside the chamber.
 
 **Gate as a potential.** A closed gate is a :class:`~skygas.fields.landscape.Band` across the output
 conduit: an energy barrier U(x, y) = H g(s) f(n) whose profile along the conduit,
@@ -66,9 +68,12 @@ def gate_band(
     barrier_height: float,
     temperature: float,
 ) -> Band:
-    """The closed gate's :class:`~skygas.fields.landscape.Band` (all lengths in m): centred at
-    (``center_x``, 0) on a conduit along x of width ``conduit_width``, ``band_width`` w between
-    its half-height points, tanh edges of ``edge_width`` e, its top ``barrier_height`` [k_BT]."""
+    """The closed gate's :class:`~skygas.fields.landscape.Band` (all lengths in m).
+
+    Centred at (``center_x``, 0) on a conduit along x of width ``conduit_width``, ``band_width`` w
+    between its half-height points, tanh edges of ``edge_width`` e, its top ``barrier_height``
+    [k_BT].
+    """
     w, e = band_width, edge_width
     height = barrier_height * thermal_energy(temperature) / math.tanh(w / (2 * e))
     return Band(
@@ -91,8 +96,10 @@ def gate_max_force(band: Band) -> float:
 
 
 def gate_relaxation_time(band: Band, thiele) -> float:
-    """τ [s] of a skyrmion on the band's steepest curvature κ = 2H/(3√3 e²): 1/(κ |M|), as the
-    engine's τ_min (:func:`~skygas.engine.relaxation_time`)."""
+    """τ [s] of a skyrmion on the band's steepest curvature κ = 2H/(3√3 e²): 1/(κ |M|).
+
+    As the engine's τ_min (:func:`~skygas.engine.relaxation_time`).
+    """
     assert band.height is not None  # in J, as gate_band makes it
     kappa = (
         TANH_EDGE_CURVATURE
@@ -105,9 +112,10 @@ def gate_relaxation_time(band: Band, thiele) -> float:
 
 
 class PotentialGate:
-    """Switches the gate's landscape term and the current: closed, the band ``term`` (its index
-    in the simulation's landscape) is on and the holding drift field flows; open, the band is
-    off and the release field flows.
+    """Switches the gate's landscape term and the current together.
+
+    Closed, the band ``term`` (its index in the simulation's landscape) is on and the holding drift
+    field flows; open, the band is off and the release field flows.
 
     hold_vx, hold_vy: holding drift field [m/s] on the simulation grid; open_vx, open_vy: drift
     field [m/s] while open (default: the holding field); band: the gate's
@@ -127,6 +135,7 @@ class PotentialGate:
         self.is_open: bool | None = None
 
     def set(self, is_open: bool) -> None:
+        """Open (``True``) or close the gate: its band and the drift field switch together."""
         if is_open == self.is_open:
             return
         self.sim.set_drift_field(*(self.open_field if is_open else self.base))
@@ -135,8 +144,11 @@ class PotentialGate:
 
 
 class ReadElement:
-    """A disk-shaped sensor: centre (x, y) [nm], radius [nm], ``signal`` ``"count"`` or
-    ``"area"``, Gaussian ``read_noise`` (signal units), its own seeded generator."""
+    """A disk-shaped sensor with its own seeded generator.
+
+    Centre (x, y) [nm], radius [nm], ``signal`` ``"count"`` or ``"area"``, Gaussian ``read_noise``
+    (signal units).
+    """
 
     def __init__(
         self,
@@ -175,6 +187,7 @@ class ReadElement:
         )
 
     def read(self, sim) -> float:
+        """The sensor's reading of ``sim`` now, with read noise if any."""
         store = sim.state.arrays_nm()
         value = self.exact(store.x, store.y, store.alive)
         if self.read_noise > 0:

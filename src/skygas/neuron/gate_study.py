@@ -35,8 +35,10 @@ CROWD_SPACING = 1.5
 
 
 def crowd_at_gate(device, n: int, spacing_d: float = CROWD_SPACING) -> np.ndarray:
-    """``n`` lattice points [nm] (spacing ``spacing_d`` d_sk) inside the chamber and the output
-    conduit before the gate's rising edge, nearest the conduit's mouth first."""
+    """``n`` lattice points [nm] inside the chamber and the output conduit, before the gate.
+
+    Spacing ``spacing_d`` d_sk, before the gate's rising edge, nearest the conduit's mouth first.
+    """
     d = device.thiele.skyrmion_diameter * units.M_TO_NM
     a = spacing_d * d
     r = device.config.device.chamber_diameter / 2 * units.M_TO_NM
@@ -59,8 +61,11 @@ def crowd_at_gate(device, n: int, spacing_d: float = CROWD_SPACING) -> np.ndarra
 
 
 def drift_band_field(device, grid, hold_vx, hold_vy, barrier_height: float, temperature: float):
-    """The drift barrier (vx, vy) [m/s] on the simulation's ``grid``: the holding field with,
-    in the gate's band (half-height width, across the conduit), v = −(h D/w) x̂ instead."""
+    """The drift barrier (vx, vy) [m/s] on the simulation's ``grid``.
+
+    The holding field with, in the gate's band (half-height width, across the conduit), v = −(h D/w)
+    x̂ instead.
+    """
     gx, gy = grid.nodes()
     band = device.band
     x0, x1 = band.start[0] * units.M_TO_NM, band.end[0] * units.M_TO_NM
@@ -80,9 +85,11 @@ def hold_crowd(
     annihilation: bool = False,
     record_interval: float | None = None,
 ) -> dict:
-    """Closed gate, holding current, ``n`` skyrmions crowded at the output conduit's mouth; see
-    the module's docstring. Returns counts and the leak (emitted) times [s]; trajectories are
-    recorded every ``record_interval`` [s] if given."""
+    """Closed gate, holding current, ``n`` skyrmions crowded at the output conduit's mouth.
+
+    See the module's docstring. Returns counts and the leak (emitted) times [s]; trajectories are
+    recorded every ``record_interval`` [s] if given.
+    """
     from skygas.neuron.device import NeuronDevice
 
     require(gate in ("potential", "drift"), "gate", gate, "'potential' or 'drift'")
@@ -126,12 +133,14 @@ def hold_crowd(
 def release_crowd(
     config, n: int, hold: float = 100e-9, limit: float = 400e-9, seed: int = 0, step: float = 1e-9
 ) -> dict:
-    """The release on its own: ``n`` skyrmions at random in the chamber (2 d_sk apart, 1.5 d_sk
-    from the walls), ``hold`` [s] with the gate closed at the holding current (the crowd
-    gathers at the gate), then the gate opens at the release current, with no input, until the
-    count reaches the reset level or ``limit`` [s] has passed. Returns the count against the
-    time since the opening (sampled every ``step``), the time to the reset level [s] (None if
-    not reached), and the skyrmions emitted and annihilated during the release."""
+    """The release on its own, from ``n`` skyrmions at random in the chamber.
+
+    The skyrmions start 2 d_sk apart, 1.5 d_sk from the walls; ``hold`` [s] with the gate closed at
+    the holding current (the crowd gathers at the gate), then the gate opens at the release current,
+    with no input, until the count reaches the reset level or ``limit`` [s] has passed. Returns the
+    count against the time since the opening (sampled every ``step``), the time to the reset level
+    [s] (None if not reached), and the skyrmions emitted and annihilated during the release.
+    """
     from skygas.neuron.device import NeuronDevice
     from skygas.physics.geometry import random_positions
 
@@ -167,9 +176,11 @@ def release_crowd(
 
 
 def release_statistics(run) -> list[dict]:
-    """One record per gate opening of a finished neuron run: ``duration_s``, ``ended``
-    ("reset", "cap" or "run end"), ``emitted`` and ``annihilated`` while open, and the count
-    at the opening and at the closing."""
+    """One record per gate opening of a finished neuron run.
+
+    ``duration_s``, ``ended`` ("reset", "cap" or "run end"), ``emitted`` and ``annihilated`` while
+    open, and the count at the opening and at the closing.
+    """
     dt = run.sim.time_step
     openings = np.array(run.controller.openings) * dt
     closings = np.array(run.controller.closings) * dt

@@ -140,12 +140,14 @@ class SiteInjector:
     _k: int = 0
 
     def next_step(self, step: int) -> int:
+        """The next scheduled event's step, or the next retry's if sooner while events wait."""
         tick = int(self.steps[self._k]) if self._k < len(self.steps) else np.iinfo(np.int64).max
         if self.pending:
             return min(tick, (step // self.retry_steps + 1) * self.retry_steps)
         return tick
 
     def act(self, sim) -> None:
+        """Inject the events now due on a clear site, else delay or skip them; retry the waiting."""
         while self._k < len(self.steps) and self.steps[self._k] <= sim.step:
             if self.pending or not self._clear(sim):
                 if self.rule == "skip":
@@ -169,11 +171,14 @@ class SiteInjector:
 
     @property
     def n_injected(self) -> int:
+        """Skyrmions injected so far."""
         return len(self.injected)
 
     def state_dict(self) -> dict:
-        """Its position in the schedule (the schedule itself is rebuilt from the seed) and its
-        logs, as JSON-able values."""
+        """Its position in the schedule and its logs, as JSON-able values.
+
+        The schedule itself is rebuilt from the seed.
+        """
         return {
             "injected": [[int(s), int(i)] for s, i in self.injected],
             "skipped": int(self.skipped),
@@ -183,6 +188,7 @@ class SiteInjector:
         }
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore the state :meth:`state_dict` saved."""
         self.injected = [tuple(e) for e in state["injected"]]
         self.skipped, self.delayed = state["skipped"], state["delayed"]
         self.pending = deque(state["pending"])

@@ -35,9 +35,11 @@ import numpy as np
 
 
 def closed_gate_leak(trace: dict, death_times) -> tuple[float, float]:
-    """(τ̂, its standard error) [s] of the leak while the gate is closed: the estimator of
-    :func:`skygas.neuron.analysis.leak_from_log` with the exposure ∫N dt and the deaths
-    restricted to the trace intervals that start with the gate closed."""
+    """(τ̂, its standard error) [s] of the leak while the gate is closed.
+
+    The estimator of :func:`skygas.neuron.analysis.leak_from_log` with the exposure ∫N dt and the
+    deaths restricted to the trace intervals that start with the gate closed.
+    """
     t, n, closed = (
         np.asarray(trace["time"], float),
         np.asarray(trace["count"], float),
@@ -63,7 +65,8 @@ def restarted_lif(trace: dict, injection_times, tau: float, threshold: float) ->
     closed-gate samples, divided by the standard deviation of N there) and, for every period
     that ended with a gate opening, the error [s] of the LIF's first crossing of ``threshold``
     against that opening (``next_spike_errors``, positive: the LIF fires late; a period in which
-    V never crosses counts as if it crossed at the end of the run)."""
+    V never crosses counts as if it crossed at the end of the run).
+    """
     t, n, closed = (
         np.asarray(trace["time"], float),
         np.asarray(trace["count"], float),
@@ -98,11 +101,13 @@ def restarted_lif(trace: dict, injection_times, tau: float, threshold: float) ->
 def subthreshold_floor(
     trace: dict, injection_times, tau: float, replicas: int = 200, seed: int = 0
 ) -> float | None:
-    """The subthreshold NRMSE that an ideal *stochastic* LIF would score: its count starts
-    from the device's count in every closed-gate period, gains the same injections and loses
-    each skyrmion independently at rate 1/τ (binomial survival per sample). The median over
-    ``replicas`` realisations (seeded) is the floor set by shot noise alone; a device above it
-    has a leak that is not a constant per-skyrmion rate."""
+    """The subthreshold NRMSE that an ideal *stochastic* LIF would score.
+
+    Its count starts from the device's count in every closed-gate period, gains the same injections
+    and loses each skyrmion independently at rate 1/τ (binomial survival per sample). The median
+    over ``replicas`` realisations (seeded) is the floor set by shot noise alone; a device above it
+    has a leak that is not a constant per-skyrmion rate.
+    """
     t, n, closed = (
         np.asarray(trace["time"], float),
         np.asarray(trace["count"], float),
@@ -140,9 +145,11 @@ def simulate_lif(
     release: float = 0.0,
     refractory: float = 0.0,
 ):
-    """V(t) on a grid of step dt and the LIF spike times for unit jumps at ``injection_times``
-    [s]: after a spike V is held at ``reset`` for ``release`` [s], and no spike comes before
-    ``release + refractory`` [s] have passed."""
+    """V(t) on a grid of step dt and the LIF spike times for unit jumps at ``injection_times`` [s].
+
+    After a spike V is held at ``reset`` for ``release`` [s], and no spike comes before
+    ``release + refractory`` [s] have passed.
+    """
     n = int(duration / dt) + 1
     jumps = np.bincount(
         np.clip((np.asarray(injection_times) / dt).astype(int), 0, n - 1), minlength=n
@@ -221,8 +228,10 @@ def fit_lif(run, window: float | None = None) -> dict:
 def lif_rate(
     rate, tau: float, threshold: float, reset: float, release: float = 0.0, refractory: float = 0.0
 ):
-    """Deterministic LIF firing rate [Hz] at mean input ``rate`` [Hz] (array): one spike per
-    release plus the climb from ``reset`` to ``threshold`` (at least ``refractory``)."""
+    """Deterministic LIF firing rate [Hz] at mean input ``rate`` [Hz] (array).
+
+    One spike per release plus the climb from ``reset`` to ``threshold`` (at least ``refractory``).
+    """
     rate = np.asarray(rate, float)
     drive = rate * tau
     out = np.zeros_like(drive)

@@ -1,5 +1,6 @@
-"""The largest number of skyrmions a circular chamber holds (paper, "Skyrmion Neuron",
-maximum-density figure).
+"""The largest number of skyrmions a circular chamber holds.
+
+The paper's "Skyrmion Neuron", maximum-density figure.
 
 Protocol (the paper's, with the Thiele model and :mod:`skygas.neuron.annihilation` standing in
 for micromagnetics): for each chamber diameter and each trial number N (growing), nucleate N
@@ -39,8 +40,10 @@ def close_packing_estimate(chamber_diameter: float, skyrmion_diameter: float) ->
 def saturation_estimate(
     chamber_diameter: float, skyrmion_diameter: float, model: AnnihilationModel = CALIBRATED
 ) -> float:
-    """Quick estimate [skyrmions] of the saturation count without simulating, from a fit to
-    the protocol's results (:data:`skygas.neuron.calibration.SATURATION_DENSITY_FIT`)."""
+    """Quick estimate [skyrmions] of the saturation count without simulating.
+
+    From a fit to the protocol's results (:data:`skygas.neuron.calibration.SATURATION_DENSITY_FIT`).
+    """
     from skygas.neuron.calibration import SATURATION_DENSITY_FIT as fit
 
     r_c, _ = model.lengths_nm(skyrmion_diameter)
@@ -51,6 +54,13 @@ def saturation_estimate(
 
 @dataclass
 class SaturationResult:
+    """The saturation curve: per chamber diameter [m], the trials and the saturation count.
+
+    Per diameter: the numbers N tried, the mean and standard deviation of the survivors per N, the
+    saturation count (``max_count``) with its standard error, and the close-packing estimate;
+    ``parameters`` the protocol's settings.
+    """
+
     diameters: np.ndarray  # [m]
     trial_counts: list  # per diameter: array of N tried
     survivors_mean: list  # per diameter: mean survivors per N
@@ -61,6 +71,7 @@ class SaturationResult:
     parameters: dict
 
     def summary(self) -> dict:
+        """The result as a JSON-able dict (``diameters_m``, ``max_count``, …)."""
         return {
             "diameters_m": self.diameters.tolist(),
             "max_count": self.max_count.tolist(),
@@ -98,9 +109,11 @@ def relax_survivors(
 
 
 class SaturationProtocol:
-    """The saturation protocol as a list of independent trials (one relaxation each), so that a
-    long protocol can run trial by trial (:class:`skygas.neuron.files.SaturationJob`
-    checkpoints after each); arguments as :func:`saturation_curve`."""
+    """The saturation protocol as a list of independent trials (one relaxation each).
+
+    So that a long protocol can run trial by trial (:class:`skygas.neuron.files.SaturationJob`
+    checkpoints after each); arguments as :func:`saturation_curve`.
+    """
 
     def __init__(
         self,
@@ -225,7 +238,8 @@ def saturation_curve(
 
     ``trial_counts``: a function diameter → the N to try, or ``None`` for 16 values from
     0.05 to 5 times the model's :func:`saturation_estimate` (at least 1 … 12).
-    ``progress(k, n_trials)`` is called after each trial."""
+    ``progress(k, n_trials)`` is called after each trial.
+    """
     protocol = SaturationProtocol(
         diameters,
         trial_counts=trial_counts,

@@ -1,5 +1,7 @@
-"""Trajectories for particle viewers: GSD (HOOMD-blue's format, read by OVITO, HOOMD's tools
-and freud) and extended XYZ (OVITO, ASE, VMD with its plugin).
+"""Trajectories for particle viewers: GSD and extended XYZ.
+
+GSD is HOOMD-blue's format, read by OVITO, HOOMD's tools and freud; extended XYZ is read by OVITO,
+ASE, and VMD with its plugin.
 
 Both hold one frame per recorded frame of the run, in the run's order, with every skyrmion
 present at that time (frames with no skyrmion included, so the frame count is the record's).

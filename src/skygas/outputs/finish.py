@@ -1,5 +1,6 @@
-"""What every run command does once its results are written: the movie (when asked) and the
-report, into the run's output directory.
+"""What every run command does once its results are written: the movie and the report.
+
+The movie when asked, into the run's output directory, like the report.
 
 :func:`finish_outputs` is that one call. :func:`recording_overrides` gives the configuration
 overrides that make a run record frames often enough for a smooth movie
@@ -21,8 +22,10 @@ RUN_MOVIE_FRAMES = 1200
 
 
 def recording_overrides(animate: bool) -> dict:
-    """Reshuffler configuration overrides for ``--animate``: snapshots every
-    :data:`MOVIE_FRAME_INTERVAL` instead of the default 100 ns."""
+    """Reshuffler configuration overrides for ``--animate``.
+
+    Snapshots every :data:`MOVIE_FRAME_INTERVAL` instead of the default 100 ns.
+    """
     return {"output.snapshot_interval": MOVIE_FRAME_INTERVAL} if animate else {}
 
 
@@ -32,8 +35,10 @@ def movie_record_interval(animate: bool) -> float | None:
 
 
 def write_frames(simulation, config, path: Path, kind: str) -> Path:
-    """The positions a :class:`~skygas.engine.Simulation` recorded, as ``frames.nc`` (the
-    trajectories dataset with the run's configuration and kind)."""
+    """The positions a :class:`~skygas.engine.Simulation` recorded, as ``frames.nc``.
+
+    The trajectories dataset, with the run's configuration and kind.
+    """
     ds = simulation.trajectories()
     ds.attrs["config_json"] = config.model_dump_json()
     ds.attrs["skygas_run_kind"] = kind
@@ -44,10 +49,12 @@ def write_frames(simulation, config, path: Path, kind: str) -> Path:
 
 
 def finish_outputs(out_dir: str | Path, *, animate: bool = False, report: bool = True) -> dict:
-    """Write ``movie.mp4`` (with ``animate``) and ``report.html`` (with ``report``) into
-    ``out_dir``, from the result file already there (a neuron run recorded for a movie writes
-    its positions as ``frames.nc`` when it finishes). Returns what was written and how long
-    each took [s]."""
+    """Write ``movie.mp4`` (with ``animate``) and ``report.html`` (with ``report``).
+
+    Into ``out_dir``, from the result file already there (a neuron run recorded for a movie writes
+    its positions as ``frames.nc`` when it finishes). Returns what was written and how long each
+    took [s].
+    """
     out = Path(out_dir)
     done: dict = {}
     if not (animate or report):

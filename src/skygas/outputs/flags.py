@@ -1,12 +1,17 @@
-"""The output options every run command shares (no numerics imported: building the command
-line stays fast)."""
+"""The output options every run command shares.
+
+No numerics imported: building the command line stays fast.
+"""
 
 from __future__ import annotations
 
 
 def add_output_flags(parser) -> None:
-    """``--animate`` (write OUT/movie.mp4, recording frames often enough for it) and
-    ``--no-report`` (skip OUT/report.html)."""
+    """Add ``--animate`` and ``--no-report`` to ``parser``.
+
+    ``--animate`` writes OUT/movie.mp4, recording frames often enough for it; ``--no-report`` skips
+    OUT/report.html.
+    """
     parser.add_argument(
         "--animate",
         action="store_true",

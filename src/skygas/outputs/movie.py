@@ -1,5 +1,6 @@
-"""Movies of the gas: MP4 (H.264 through the ffmpeg that the imageio-ffmpeg wheel ships) or GIF
-(Pillow).
+"""Movies of the gas: MP4 (H.264 through the ffmpeg that the imageio-ffmpeg wheel ships) or GIF.
+
+GIF through Pillow.
 
 Each frame shows the device outline over its energy landscape (U/k_BT) when the run has one,
 else over its current density (log colour scale; plain grey without a current), the skyrmions
@@ -40,8 +41,11 @@ MOVIE_FRAME_INTERVAL = 4e-9
 
 @dataclass(frozen=True)
 class MovieInfo:
-    """What :func:`render_movie` wrote: ``path``, ``frames``, ``stride``, the covered time
-    ``start``–``end`` [s], ``fps``, ``bytes`` and the frame ``size`` (width, height) [px]."""
+    """What :func:`render_movie` wrote.
+
+    ``path``, ``frames``, ``stride``, the covered time ``start``–``end`` [s], ``fps``, ``bytes`` and
+    the frame ``size`` (width, height) [px].
+    """
 
     path: Path
     frames: int
@@ -53,6 +57,7 @@ class MovieInfo:
     size: tuple[int, int]
 
     def as_dict(self) -> dict:
+        """The record as a JSON-able dict, units in the keys."""
         return {
             "path": str(self.path),
             "frames": self.frames,
@@ -84,8 +89,10 @@ def choose_frames(
     end: float | None = None,
     max_frames: int = 1200,
 ) -> tuple[np.ndarray, int]:
-    """Indices of the frames in [start, end] [s], every ``stride``-th (default: the smallest
-    stride that keeps at most ``max_frames``), and the stride."""
+    """Indices of the frames in [start, end] [s], every ``stride``-th, and the stride.
+
+    The default stride is the smallest that keeps at most ``max_frames``.
+    """
     keep = np.ones(len(times), bool)
     if start is not None:
         keep &= times >= start
@@ -263,8 +270,38 @@ def render_movie(
     fps: int = FPS,
     width_px: int = 720,
 ) -> MovieInfo:
-    """Write the movie of ``record`` (a :class:`~skygas.outputs.records.RunRecord`) to
-    ``path`` (.mp4 or .gif), through a temporary file so a finished movie is never partial."""
+    """Write the movie of ``record`` to ``path`` (.mp4 or .gif).
+
+    Through a temporary file, so a finished movie is never partial.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run (:class:`~skygas.outputs.records.RunRecord`).
+    path : str or Path
+        The movie file, ending in .mp4 or .gif, in an existing directory.
+    stride : int, optional
+        Every ``stride``-th recorded frame (default: the smallest stride that keeps at most
+        ``max_frames``).
+    start, end : float, optional
+        The time span [s] to show (default: the whole record).
+    max_frames : int, optional
+        The most frames (default: 1200 for MP4, 300 for GIF).
+    fps : int
+        Frames per second.
+    width_px : int
+        The frame width [px].
+
+    Returns
+    -------
+    MovieInfo
+        What was written.
+
+    Raises
+    ------
+    InputError
+        If ``path`` has no known movie suffix or its directory is missing.
+    """
     path = check_movie_path(path)
     suffix = path.suffix.lower()
     indices, stride = choose_frames(

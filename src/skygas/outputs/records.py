@@ -33,10 +33,13 @@ RESULT_FILES = ("trajectories.nc", "reshuffler.nc", "frames.nc")
 
 @dataclass
 class RunRecord:
-    """One run: ``kind`` ("simulate", "reshuffle" or "neuron"), its result ``path``,
-    ``frames`` [m, s], the ``outline`` (nm), ``skyrmion_diameter`` [m], ``group_names`` and
-    ``group_of(ids, x, y)`` → index into them (the colour of each skyrmion), ``drive``: the
-    direction of the spin drift (unit vector, or None without one), and the provenance."""
+    """One run, read back from its result file.
+
+    ``kind`` ("simulate", "reshuffle" or "neuron"), its result ``path``, ``frames`` [m, s], the
+    ``outline`` (nm), ``skyrmion_diameter`` [m], ``group_names`` and ``group_of(ids, x, y)`` → index
+    into them (the colour of each skyrmion), ``drive``: the direction of the spin drift (unit
+    vector, or None without one), and the provenance.
+    """
 
     kind: str
     path: Path
@@ -56,13 +59,16 @@ class RunRecord:
 
     @property
     def directory(self) -> Path:
+        """The folder that holds the result file."""
         return self.path.parent
 
     def background(self, nx: int = 320):
-        """(values (ny, nx), extent (x0, x1, y0, y1) [m], label, scale) of the picture behind
-        the skyrmions, or None; NaN outside the device. The energy landscape (U/k_BT on the
-        engine's grid, ``scale`` "linear") when the run has one, else the current density
-        (``scale`` "log")."""
+        """The picture behind the skyrmions, or None.
+
+        (values (ny, nx), extent (x0, x1, y0, y1) [m], label, scale); NaN outside the device. The
+        energy landscape (U/k_BT on the engine's grid, ``scale`` "linear") when the run has one,
+        else the current density (``scale`` "log").
+        """
         field_ = self.landscape_fn() if self.landscape_fn is not None else None
         if field_ is not None and field_.terms:
             from skygas.runs.plotting import landscape_energy

@@ -152,6 +152,7 @@ def _write(text: str, path: Path) -> Path:
 
 
 def check_report_path(path: str | Path) -> Path:
+    """``path`` as a Path; refused (:class:`InputError`) unless .html in an existing folder."""
     path = Path(path)
     if path.suffix.lower() not in (".html", ".htm"):
         raise InputError("--out", str(path), "a file name ending in .html")
@@ -199,8 +200,10 @@ SUMMARY_FILES = ("summary.json", "reservoir.json", "saturation.json")
 
 
 def directory_report(directory: Path) -> str:
-    """The report of a run directory that holds a summary and figures but no positions (a
-    neuron run without ``--animate``, a reservoir study, a saturation curve)."""
+    """The report of a run directory that holds a summary and figures but no positions.
+
+    Such as a neuron run without ``--animate``, a reservoir study, a saturation curve.
+    """
     name = next(n for n in SUMMARY_FILES if (directory / n).exists())
     summary = json.loads((directory / name).read_text())
     provenance = summary.get("device", summary)  # the reservoir keeps it with its device
@@ -226,8 +229,11 @@ def directory_report(directory: Path) -> str:
 
 # -- runs -----------------------------------------------------------------------------------
 def run_report(record, *, analysis: dict | None = None) -> str:
-    """The HTML text of a run's report (``analysis``: a ready :func:`skygas.analysis.analyze`
-    result, computed here without the maps when not given)."""
+    """The HTML text of a run's report.
+
+    ``analysis``: a ready :func:`skygas.analysis.analyze` result, computed here without the maps
+    when not given.
+    """
     from skygas.analysis import analyze
 
     if analysis is None:
@@ -388,8 +394,10 @@ def _analysis_figures(a: dict):
 
 # -- sweeps -----------------------------------------------------------------------------------
 def sweep_report(store: Path | list[Path]) -> str:
-    """The HTML text of a sweep store's report (or of several stores drawn together):
-    provenance, scaling fits and figures."""
+    """The HTML text of a sweep store's report (or of several stores drawn together).
+
+    Provenance, scaling fits and figures.
+    """
     import tempfile
 
     from skygas.sweep import open_sweeps, plot_sweep

@@ -74,13 +74,14 @@ def lin_reichhardt_pair_force(d, amplitude: float = 1.0, decay_length: float = 0
 
 
 def tabulated_law(distance, force, skyrmion_diameter: float, force_scale: float):
-    """A tabulated force as a law: a one-argument callable of d (skyrmion diameters) returning
-    |F|/F₀.
+    """A tabulated force as a law: a callable of d (skyrmion diameters) returning |F|/F₀.
 
     ``distance`` [m] (strictly increasing, ≥ 0) and ``force`` [N] are the table; the law is the
     PCHIP interpolant of the table at r = d·``skyrmion_diameter`` [m], divided by
     ``force_scale`` F₀ [N]; held at ``force[0]`` for r below ``distance[0]`` and 0 for r beyond
     ``distance[-1]``. The interpolation runs in nm and pN, where the numbers are of order one.
+    Raises :class:`InputError` unless the table has at least two strictly increasing distances with
+    one force each.
     """
     r_nm = np.asarray(distance, dtype=float) * 1e9
     f_pn = np.asarray(force, dtype=float) * 1e12
@@ -155,8 +156,10 @@ class ForceTable:
         squared: bool = False,
         d_max: float = 50.0,
     ) -> ForceTable:
-        """Tabulate ``force_scale · law(r / length_unit)`` up to the law's cutoff (nm, pN);
-        the cutoff is searched up to ``d_max`` diameters (:func:`cutoff_distance`)."""
+        """Tabulate ``force_scale · law(r / length_unit)`` up to the law's cutoff (nm, pN).
+
+        The cutoff is searched up to ``d_max`` diameters (:func:`cutoff_distance`).
+        """
         cutoff = cutoff_distance(law, cutoff_fraction, d_max) * length_unit
         extent = cutoff * cutoff if squared else cutoff
         spacing = extent / (n_points - 1) if cutoff > 0 else 1.0

@@ -39,6 +39,18 @@ class Outline:
     (the reshuffler's UP and DOWN chambers). Build it with :func:`disk`, :func:`rectangle`,
     :func:`polygon`, :func:`union` and :meth:`with_port`, or :func:`chamber_with_conduits` for
     the paper's chamber.
+
+    Parameters
+    ----------
+    region : shapely.Polygon or shapely.MultiPolygon
+        The area a skyrmion may occupy [nm]; valid and not empty.
+    ports : dict of str to shapely.LineString
+        Named stretches of the boundary [nm] that are open rather than walls.
+
+    Raises
+    ------
+    InputError
+        If ``region`` is empty, not a (Multi)Polygon, or not valid (self-intersecting).
     """
 
     region: Polygon | MultiPolygon
@@ -59,7 +71,25 @@ class Outline:
         return union(self, other)
 
     def with_port(self, name: str, start, end) -> Outline:
-        """Open the boundary segment from ``start`` to ``end`` (metres) as port ``name``."""
+        """Open the boundary segment from ``start`` to ``end`` (metres) as port ``name``.
+
+        Parameters
+        ----------
+        name : str
+            The port's name, not already used.
+        start, end : tuple of float
+            The segment's ends (x, y) [m]; the segment must lie on the boundary.
+
+        Returns
+        -------
+        Outline
+            A new outline with the port added.
+
+        Raises
+        ------
+        InputError
+            If the name is taken or the segment is not on the boundary.
+        """
         segment = LineString([np.asarray(start) * M_TO_NM, np.asarray(end) * M_TO_NM])
         return self._with_port_nm(name, segment)
 
@@ -86,6 +116,7 @@ class Outline:
 
     @property
     def bounds_nm(self) -> tuple[float, float, float, float]:
+        """(x0, y0, x1, y1) [nm], the bounding box of the region."""
         return tuple(self.region.bounds)
 
     def translated(self, dx: float, dy: float) -> Outline:
@@ -114,9 +145,11 @@ class Outline:
         return shapely.distance(points, self.walls)
 
     def area_nm2(self) -> float:
+        """The area of the region [nm²]."""
         return float(self.region.area)
 
     def port_names(self) -> list[str]:
+        """The names of the open ports, in the order they were opened."""
         return list(self.ports)
 
     def describe(self) -> dict:
@@ -128,6 +161,7 @@ class Outline:
 
     @classmethod
     def from_record(cls, record: dict) -> Outline:
+        """The outline back from its :meth:`describe` record."""
         region = shapely.from_wkt(record["region_wkt_nm"])
         ports = {k: LineString(v) for k, v in record.get("ports_nm", {}).items()}
         return cls(region, ports)
@@ -157,14 +191,50 @@ def _circle(cx: float, cy: float, r: float) -> Polygon:
 
 
 def disk(radius: float, center=(0.0, 0.0)) -> Outline:
-    """A disk of ``radius`` [m] at ``center`` [m] (a polygon within 0.05 nm of the circle)."""
+    """A disk of ``radius`` [m] at ``center`` [m] (a polygon within 0.05 nm of the circle).
+
+    Parameters
+    ----------
+    radius : float
+        The radius [m], > 0.
+    center : tuple of float
+        (x, y) of the centre [m].
+
+    Returns
+    -------
+    Outline
+        The disk, without ports.
+
+    Raises
+    ------
+    InputError
+        If ``radius`` is not a finite length > 0.
+    """
     r = _positive("radius", radius) * M_TO_NM
     cx, cy = np.asarray(center, float) * M_TO_NM
     return Outline(_circle(cx, cy, r))
 
 
 def rectangle(width: float, height: float, center=(0.0, 0.0)) -> Outline:
-    """An axis-aligned rectangle of ``width`` × ``height`` [m] centred at ``center`` [m]."""
+    """An axis-aligned rectangle of ``width`` × ``height`` [m] centred at ``center`` [m].
+
+    Parameters
+    ----------
+    width, height : float
+        The sides along x and y [m], > 0.
+    center : tuple of float
+        (x, y) of the centre [m].
+
+    Returns
+    -------
+    Outline
+        The rectangle, without ports.
+
+    Raises
+    ------
+    InputError
+        If a side is not a finite length > 0.
+    """
     w = _positive("width", width) * M_TO_NM
     h = _positive("height", height) * M_TO_NM
     cx, cy = np.asarray(center, float) * M_TO_NM
@@ -172,7 +242,23 @@ def rectangle(width: float, height: float, center=(0.0, 0.0)) -> Outline:
 
 
 def polygon(vertices) -> Outline:
-    """A polygon through ``vertices`` [m] (an (n, 2) sequence, n ≥ 3)."""
+    """A polygon through ``vertices`` [m].
+
+    Parameters
+    ----------
+    vertices : array_like
+        (n, 2) points (x, y) [m], n ≥ 3, in order along the boundary.
+
+    Returns
+    -------
+    Outline
+        The polygon, without ports.
+
+    Raises
+    ------
+    InputError
+        If there are fewer than three (x, y) points, or the polygon intersects itself.
+    """
     v = np.asarray(vertices, float)
     require(
         v.ndim == 2 and v.shape[1] == 2 and len(v) >= 3,
@@ -184,7 +270,23 @@ def polygon(vertices) -> Outline:
 
 
 def union(*outlines: Outline) -> Outline:
-    """The union of overlapping outlines (ports are kept)."""
+    """The union of overlapping outlines (ports are kept).
+
+    Parameters
+    ----------
+    *outlines : Outline
+        Shapes that overlap into one connected region.
+
+    Returns
+    -------
+    Outline
+        One region, with the ports of every outline.
+
+    Raises
+    ------
+    InputError
+        If the union falls apart into disjoint pieces, or a port name is used twice.
+    """
     region = unary_union([o.region for o in outlines])
     if not isinstance(region, Polygon):
         raise InputError(
@@ -206,16 +308,39 @@ def chamber_with_conduits(
     center=(0.0, 0.0),
     corner_radius: float = 20e-9,
 ) -> Outline:
-    """The paper's device chamber: a disk with an input conduit on the left and an output
-    conduit on the right, along the x axis (paper, "Skyrmion Reshuffler" and Methods).
+    """The paper's device chamber: a disk with an input and an output conduit along the x axis.
 
-    ``conduit_length`` [m] is measured from where the conduit's edges meet the disk to its
-    open end. The open ends are the ports ``"input"`` (left) and ``"output"`` (right).
+    The input conduit is on the left, the output conduit on the right (paper, "Skyrmion Reshuffler"
+    and Methods). The open ends are the ports ``"input"`` (left) and ``"output"`` (right).
 
     The four re-entrant corners where the conduits meet the disk are rounded with
     ``corner_radius`` [m] (0 keeps them sharp). A sharp re-entrant corner makes the current
     density diverge there (as r^(−1/3)), and the drift then drives skyrmions into the wall
     faster than the wall law can push them back; lithographed devices have rounded corners.
+
+    Parameters
+    ----------
+    chamber_diameter : float
+        The disk's diameter [m].
+    conduit_width : float
+        The conduits' width [m], smaller than the diameter.
+    conduit_length : float
+        Measured from where the conduit's edges meet the disk to its open end [m].
+    center : tuple of float
+        The disk's centre [m].
+    corner_radius : float
+        Radius [m] of the rounded corners where the conduits meet the disk (0: sharp).
+
+    Returns
+    -------
+    Outline
+        One region with the ports ``"input"`` and ``"output"``.
+
+    Raises
+    ------
+    InputError
+        If a length is not > 0, the conduit is not narrower than the chamber, or ``corner_radius``
+        is negative.
     """
     d = _positive("chamber_diameter", chamber_diameter)
     w = _positive("conduit_width", conduit_width)
@@ -273,10 +398,10 @@ def random_positions(
     rng: np.random.Generator,
     max_tries: int = 200_000,
 ) -> np.ndarray:
-    """``count`` random points [nm] inside ``outline``, pairwise ≥ ``min_separation_nm`` apart
-    and ≥ ``min_wall_distance_nm`` from walls (random sequential addition).
+    """``count`` random points [nm] inside ``outline``, by random sequential addition.
 
-    Raises :class:`InputError` if the points do not fit.
+    The points are pairwise ≥ ``min_separation_nm`` apart and ≥ ``min_wall_distance_nm`` from walls.
+    Raises :class:`InputError` if the points do not fit (more than ``max_tries`` tries).
     """
     x0, y0, x1, y1 = outline.bounds_nm
     points = np.empty((0, 2))

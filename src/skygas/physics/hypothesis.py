@@ -43,8 +43,10 @@ class HypothesisSpec(StrictModel):
 
 
 def scale_dynamics(thiele: ThieleParameters, time_scale: float) -> ThieleParameters:
-    """The Thiele parameters with k → k/s and G → G/s (s = ``time_scale``): mobility and free
-    diffusion ×s, drift from v_s unchanged, F₀ and d_sk unchanged."""
+    """The Thiele parameters with k → k/s and G → G/s (s = ``time_scale``).
+
+    Mobility and free diffusion ×s, drift from v_s unchanged, F₀ and d_sk unchanged.
+    """
     if not (math.isfinite(time_scale) and time_scale > 0):
         raise ValueError(f"time scale must be finite and > 0, got {time_scale!r}")
     return replace(thiele, k=thiele.k / time_scale, gyrocoupling=thiele.gyrocoupling / time_scale)

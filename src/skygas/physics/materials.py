@@ -1,5 +1,6 @@
-"""Materials: the paper's presets S1–S7, user materials from TOML, and the Thiele parameters
-derived from a material and a film thickness.
+"""Materials: the paper's presets S1–S7, user materials from TOML, and their Thiele parameters.
+
+The Thiele parameters are derived from a material and a film thickness.
 
 Everything here is SI at the interface. The derived :class:`ThieleParameters` carry both SI values
 (for records) and the internal nm/ns/pN values the engine uses (see :mod:`skygas.core.units`).
@@ -64,9 +65,11 @@ class ForceTableSpec(BaseModel):
 
     Attributes
     ----------
-    distance: centre–centre distance (pair) or distance from the skyrmion's centre to the
-        nearest wall (wall) [m]; at least 4 points, strictly increasing, ≥ 0.
-    force: |F| at those distances [N]; finite, ≥ 0.
+    distance : tuple of float
+        Centre–centre distance (pair) or distance from the skyrmion's centre to the nearest
+        wall (wall) [m]; at least 4 points, strictly increasing, ≥ 0.
+    force : tuple of float
+        |F| at those distances [N]; finite, ≥ 0.
 
     The engine interpolates it with PCHIP, holds it at ``force[0]`` below the first distance and
     sets it to 0 beyond the last (:func:`skygas.physics.forces.tabulated_law`). The table is in SI,
@@ -109,10 +112,12 @@ class StrayFieldSpec(BaseModel):
 
     Attributes
     ----------
-    profile_radius: radii ρ [m], strictly increasing from 0 (at least 2).
-    profile_deficit: w(ρ) = 1 − m_z at those radii (dimensionless): 2 at a fully reversed core,
-        decaying to ~0 (at most PROFILE_TAIL_MAX) at the last radius; linearly interpolated and
-        0 beyond the last radius (:mod:`skygas.fields.landscape.stray_field`).
+    profile_radius : tuple of float
+        Radii ρ [m], strictly increasing from 0 (at least 2).
+    profile_deficit : tuple of float
+        w(ρ) = 1 − m_z at those radii (dimensionless): 2 at a fully reversed core, decaying to
+        ~0 (at most PROFILE_TAIL_MAX) at the last radius; linearly interpolated and 0 beyond
+        the last radius (:mod:`skygas.fields.landscape.stray_field`).
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
@@ -157,28 +162,46 @@ class Material(BaseModel):
 
     Attributes
     ----------
-    name: preset or user name.
-    saturation_magnetization: M_s [A/m].
-    exchange_stiffness: A_ex [J/m].
-    dmi: interfacial DMI constant D [J/m²] (recorded; the particle model does not use it).
-    anisotropy: uniaxial anisotropy K_u [J/m³].
-    applied_field: out-of-plane field B [T] (recorded only).
-    skyrmion_radius: R_sk [m]; the laws' length unit is the diameter 2 R_sk.
-    damping: Gilbert damping α.
-    pair_law: [a2, a1, a0] of the skyrmion–skyrmion law (docs/physics.md §2).
-    wall_law: wall-law polynomial p(d), highest power first.
-    topological_charge: Q = ±1 (standard micromagnetic sign).
-    antiferromagnetic: if true, the gyrocoupling vanishes (G = 0).
-    dissipation: dimensionless 𝒟; ``None`` uses the thin-wall estimate.
-    wall_width: Δ [m]; ``None`` uses √(A_ex/K_u).
-    film_thickness: t_F [m] the laws were measured for (a calibrated model); ``None``: any
-        film (default 2 nm). When set, a run in another film is refused.
-    gyromagnetic_ratio: γ [rad/(s·T)] for k = M_s t_F/γ; ``None`` uses
+    name : str
+        Preset or user name.
+    saturation_magnetization : float
+        M_s [A/m].
+    exchange_stiffness : float
+        A_ex [J/m].
+    dmi : float
+        Interfacial DMI constant D [J/m²] (recorded; the particle model does not use it).
+    anisotropy : float
+        Uniaxial anisotropy K_u [J/m³].
+    applied_field : float
+        Out-of-plane field B [T] (recorded only).
+    skyrmion_radius : float
+        R_sk [m]; the laws' length unit is the diameter 2 R_sk.
+    damping : float
+        Gilbert damping α.
+    pair_law : tuple of float
+        [a2, a1, a0] of the skyrmion–skyrmion law (docs/physics.md §2).
+    wall_law : tuple of float
+        Wall-law polynomial p(d), highest power first.
+    topological_charge : {-1, 1}
+        Q = ±1 (standard micromagnetic sign).
+    antiferromagnetic : bool
+        If true, the gyrocoupling vanishes (G = 0).
+    dissipation : float or None
+        Dimensionless 𝒟; ``None`` uses the thin-wall estimate.
+    wall_width : float or None
+        Δ [m]; ``None`` uses √(A_ex/K_u).
+    film_thickness : float or None
+        t_F [m] the laws were measured for (a calibrated model); ``None``: any film (default
+        2 nm). When set, a run in another film is refused.
+    gyromagnetic_ratio : float or None
+        γ [rad/(s·T)] for k = M_s t_F/γ; ``None`` uses
         :data:`skygas.core.units.GYROMAGNETIC_RATIO`.
-    pair_table, wall_table: tabulated laws in SI (:class:`ForceTableSpec`), chosen by
-        ``forces.pair_law`` / ``forces.wall_law = "table"`` (the default when present).
-    stray_field: the skyrmion's profile (:class:`StrayFieldSpec`) for the edge stray-field
-        energy, added with a tabulated wall law (docs/physics.md §2).
+    pair_table, wall_table : ForceTableSpec or None
+        Tabulated laws in SI, chosen by ``forces.pair_law`` / ``forces.wall_law = "table"``
+        (the default when present).
+    stray_field : StrayFieldSpec or None
+        The skyrmion's profile for the edge stray-field energy, added with a tabulated wall
+        law (docs/physics.md §2).
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -239,7 +262,13 @@ def preset_names() -> list[str]:
 
 
 def preset(name: str) -> Material:
-    """A built-in material preset by name (``"S1"`` … ``"S7"``)."""
+    """A built-in material preset by name (``"S1"`` … ``"S7"``).
+
+    Raises
+    ------
+    InputError
+        If there is no preset of that name (:func:`preset_names` lists them).
+    """
     table = _preset_table()
     if name not in table:
         raise InputError("material", name, f"one of {', '.join(sorted(table))} or a TOML file")
@@ -266,7 +295,25 @@ def material_from_mapping(data: dict, field: str = "material") -> Material:
 
 
 def load_material(source: str | Path | dict | Material) -> Material:
-    """A material from a preset name, a TOML file path, a mapping, or a Material."""
+    """A material from a preset name, a TOML file path, a mapping, or a Material.
+
+    Parameters
+    ----------
+    source : str, Path, dict or Material
+        A preset name (:func:`preset_names`); a ``.toml`` file, whose ``[material]`` table (or
+        its top level) is read; a mapping of :class:`Material` fields, where ``base = "S2"``
+        starts from that preset and overrides only the keys given; or a :class:`Material`,
+        returned as it is.
+
+    Returns
+    -------
+    Material
+
+    Raises
+    ------
+    InputError
+        If ``source`` is neither a preset nor an existing ``.toml`` file, or a field is invalid.
+    """
     if isinstance(source, Material):
         return source
     if isinstance(source, dict):
@@ -296,15 +343,24 @@ class ThieleParameters:
 
     Attributes
     ----------
-    k: M_s t_F / γ [kg/s].
-    gyrocoupling: G [kg/s] (= −4πQk, or 0 for antiferromagnets).
-    dissipation: 𝒟 (dimensionless).
-    damping: α.
-    eta: η, the non-adiabatic drive parameter (paper: η = α).
-    mu: μ, the drive intensity (paper: μ = 1).
-    force_scale: F₀ [N].
-    skyrmion_diameter: d_sk [m], the length unit of the force laws.
-    film_thickness: t_F [m].
+    k : float
+        M_s t_F / γ [kg/s].
+    gyrocoupling : float
+        G [kg/s] (= −4πQk, or 0 for antiferromagnets).
+    dissipation : float
+        𝒟 (dimensionless).
+    damping : float
+        α.
+    eta : float
+        η, the non-adiabatic drive parameter (paper: η = α).
+    mu : float
+        μ, the drive intensity (paper: μ = 1).
+    force_scale : float
+        F₀ [N].
+    skyrmion_diameter : float
+        d_sk [m], the length unit of the force laws.
+    film_thickness : float
+        t_F [m].
     """
 
     k: float
@@ -344,10 +400,12 @@ class ThieleParameters:
     # Internal-unit views used by the engine -----------------------------------------------
     @property
     def friction_internal(self) -> float:
+        """α𝒟k in pN·ns/nm."""
         return self.friction * units.KG_PER_S_TO_INTERNAL
 
     @property
     def gyrocoupling_internal(self) -> float:
+        """G in pN·ns/nm."""
         return self.gyrocoupling * units.KG_PER_S_TO_INTERNAL
 
     @property
@@ -357,10 +415,12 @@ class ThieleParameters:
 
     @property
     def force_scale_internal(self) -> float:
+        """F₀ in pN."""
         return self.force_scale * units.N_TO_PN
 
     @property
     def skyrmion_diameter_internal(self) -> float:
+        """d_sk in nm."""
         return self.skyrmion_diameter * units.M_TO_NM
 
 
@@ -383,8 +443,10 @@ def resolve_film_thickness(
 
 
 def film_mismatch(material: Material, film_thickness: float) -> str | None:
-    """What is allowed instead of ``film_thickness`` [m] for ``material``, or ``None`` if it is
-    allowed (any film for a material without ``film_thickness``)."""
+    """What is allowed instead of ``film_thickness`` [m] for ``material``; ``None`` if it is.
+
+    Any film is allowed for a material without ``film_thickness``.
+    """
     own = material.film_thickness
     if own is None or abs(film_thickness - own) <= FILM_THICKNESS_RTOL * own:
         return None
@@ -410,6 +472,33 @@ def derive_thiele(
     calibrated model; :func:`resolve_film_thickness`) or 2 nm, 𝒟 from the material (or the
     thin-wall estimate), F₀ = A_ex t_F / d_sk, d_sk = 2 R_sk, η = α; γ in k = M_s t_F/γ is the
     material's ``gyromagnetic_ratio`` or :data:`skygas.core.units.GYROMAGNETIC_RATIO`.
+
+    Parameters
+    ----------
+    material : Material
+        The film's material.
+    film_thickness : float, optional
+        t_F [m]; a material calibrated for one film refuses any other.
+    dissipation : float, optional
+        𝒟 (dimensionless), > 0.
+    force_scale : float, optional
+        F₀ [N], > 0.
+    skyrmion_diameter : float, optional
+        d_sk [m], the length unit of the force laws, > 0.
+    eta : float, optional
+        η, the non-adiabatic drive parameter.
+    mu : float
+        μ, the drive intensity.
+
+    Returns
+    -------
+    ThieleParameters
+        The coefficients in SI units.
+
+    Raises
+    ------
+    InputError
+        If a value given (or derived) is not > 0, or the film is not the calibrated one.
     """
     if film_thickness is not None and not film_thickness > 0:
         raise InputError("film_thickness", film_thickness, "a thickness > 0 in metres")

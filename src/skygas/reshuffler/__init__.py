@@ -1,5 +1,6 @@
-"""The Skyrmion Reshuffler (paper, "Skyrmion Reshuffler"): two chambers that decorrelate a
-stochastic bitstream while preserving its p-value.
+"""The Skyrmion Reshuffler (paper, "Skyrmion Reshuffler"): two chambers that reshuffle bits.
+
+They decorrelate a stochastic bitstream while preserving its p-value.
 
 - :func:`run_reshuffler` runs a configuration and writes its dataset, figures and summary;
 - :class:`ReshufflerConfig`, :func:`load_reshuffler_config`: configuration (TOML, presets

@@ -28,8 +28,11 @@ if TYPE_CHECKING:
 
 @dataclass
 class ReshufflerResult:
-    """The summary (JSON-able dict, SI units), the running correlation (None with fewer than
-    3 aligned events) and the full :class:`xarray.Dataset` (None if not asked for)."""
+    """The analysis of a run: its summary, running correlation and dataset.
+
+    The summary (JSON-able dict, SI units), the running correlation (None with fewer than 3 aligned
+    events) and the full :class:`xarray.Dataset` (None if not asked for).
+    """
 
     summary: dict
     running: corr.RunningCorrelation | None
@@ -53,7 +56,8 @@ def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
 
     ``dataset=False`` leaves out the dataset: a sweep's worker keeps only the summary and the
     running curve, and skips importing xarray (its first dataset alone imports dask.array,
-    ~0.5 s per fresh worker process)."""
+    ~0.5 s per fresh worker process).
+    """
     cfg = run.config
     counts = run.counts()
     inj = _injections(run)

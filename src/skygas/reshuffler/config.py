@@ -46,6 +46,8 @@ from skygas.runs.config import MaterialFields, OperationsField, resolve_paths
 
 
 class DeviceSpec(ChamberSize):
+    """The two chambers: the paper's chamber and conduits, ``chamber_gap`` [m] apart."""
+
     chamber_gap: Length = CHAMBER_GAP
 
 
@@ -59,6 +61,14 @@ class SignalConfig(StrictModel):
 
 
 class InjectionSpec(StrictModel):
+    """Nucleation: one event every ``interval`` [s], and the rule for an occupied site.
+
+    A site is occupied when another centre lies within ``site_clearance`` skyrmion diameters;
+    ``occupied_rule`` ``"delay"`` retries every ``retry_interval`` [s] (default: ``interval``/10),
+    dropping the oldest event of a queue longer than ``max_pending``; ``"skip"`` drops the event
+    (:mod:`skygas.reshuffler.injection`).
+    """
+
     interval: PositiveFloat = 5e-9
     occupied_rule: Literal["delay", "skip"] = "delay"
     site_clearance: PositiveFloat = 1.0  # skyrmion diameters
@@ -67,12 +77,26 @@ class InjectionSpec(StrictModel):
 
 
 class CurrentSpec(StrictModel):
+    """The current solve: its cell size, and the layer that carries the current.
+
+    Finite-volume ``cell_size`` [m], and the ``conductor_thickness`` [m] and ``resistivity`` [Ω·m]
+    of the layer. The defaults are those of :func:`~skygas.fields.current.solve_current` (the
+    layer's are assumptions).
+    """
+
     cell_size: PositiveFloat = DEFAULT_CELL_SIZE
     conductor_thickness: PositiveFloat = DEFAULT_CONDUCTOR_THICKNESS
     resistivity: PositiveFloat = DEFAULT_RESISTIVITY
 
 
 class OutputSpec(StrictModel):
+    """What a run records.
+
+    Snapshots of all positions every ``snapshot_interval`` [s] (stored sparsely), dense frames over
+    the first ``trajectory_window`` [s] for the device figure, ``running_points`` points of the
+    running correlation, and the lag scan of ρ over −``max_lag`` … ``max_lag`` events.
+    """
+
     snapshot_interval: PositiveFloat = 100e-9  # positions of all skyrmions, stored sparsely
     trajectory_window: float = Field(300e-9, ge=0)  # dense 1 ns frames for the figure
     running_points: int = Field(200, ge=2)
@@ -97,13 +121,19 @@ class ReshufflerConfig(MaterialFields, OperationsField):
     hypothesis: HypothesisSpec = HypothesisSpec()
 
     def thiele_parameters(self) -> ThieleParameters:
-        """The material's Thiele coefficients with the overrides, then the dynamics time scale
-        (``hypothesis.dynamics_time_scale``, :func:`skygas.physics.hypothesis.scale_dynamics`)."""
+        """The material's Thiele coefficients with the overrides, then the dynamics time scale.
+
+        The time scale is ``hypothesis.dynamics_time_scale``
+        (:func:`skygas.physics.hypothesis.scale_dynamics`).
+        """
         return scale_dynamics(super().thiele_parameters(), self.hypothesis.dynamics_time_scale)
 
     def noise_temperature(self) -> float:
-        """The temperature [K] given to the thermal noise: ``temperature`` ×
-        ``hypothesis.noise_scale`` (the engine uses the temperature for nothing else)."""
+        """The temperature [K] given to the thermal noise.
+
+        ``temperature`` × ``hypothesis.noise_scale``; the engine uses the temperature for nothing
+        else.
+        """
         return noise_temperature(self.temperature, self.hypothesis.noise_scale)
 
     def drift_coefficient(self) -> float:

@@ -118,8 +118,10 @@ def _same_size(**arrays: np.ndarray) -> None:
 
 @dataclass(frozen=True)
 class OutputSignal:
-    """The output bit sequence :math:`c_m` (True for UP) and its detection times :math:`s_m` [s],
-    in detection order; ``order`` maps back to the indices of the given events."""
+    """The output bit sequence :math:`c_m` (True for UP) and its detection times :math:`s_m` [s].
+
+    In detection order; ``order`` maps back to the indices of the given events.
+    """
 
     bits: np.ndarray
     times: np.ndarray
@@ -170,14 +172,14 @@ class LagScan:
 
 
 def pearson_vs_lag(b: Any, c: Any, max_lag: int) -> LagScan:
-    r"""Pearson :math:`\rho(\ell)` between :math:`b_k` and :math:`c_{k+\ell}`,
-    :math:`\ell = -L \dots L`.
+    r"""Pearson :math:`\rho(\ell)` between :math:`b_k` and :math:`c_{k+\ell}`.
 
-    For each lag all pairs with :math:`0 \le k < N_b` and :math:`0 \le k + \ell < N_c` are used
-    (no wrap-around; ``n_pairs`` holds their number). :math:`\ell = 0` is
-    :func:`pearson_by_index`. A positive best lag means the output repeats the input
-    :math:`\ell` events late (e.g. :math:`\ell` skyrmions were detected that had been injected
-    before the input record began). Ties in :math:`|\rho|` go to the smallest :math:`|\ell|`.
+    At lags :math:`\ell = -L \dots L`. For each lag all pairs with :math:`0 \le k < N_b` and
+    :math:`0 \le k + \ell < N_c` are used (no wrap-around; ``n_pairs`` holds their number).
+    :math:`\ell = 0` is :func:`pearson_by_index`. A positive best lag means the output repeats the
+    input :math:`\ell` events late (e.g. :math:`\ell` skyrmions were detected that had been
+    injected before the input record began). Ties in :math:`|\rho|` go to the smallest
+    :math:`|\ell|`.
     """
     b = as_bits(b, "b")
     c = as_bits(c, "c")
@@ -238,8 +240,10 @@ def _scalar_estimate(estimate: PValueEstimate) -> PValueEstimate:
 
 @dataclass(frozen=True)
 class RunningCorrelation:
-    r""":math:`\rho` of the first ``n_events`` aligned pairs, at the detection ``times`` [s] of
-    the last of them."""
+    r""":math:`\rho` of the first ``n_events`` aligned pairs, at the detection ``times`` [s].
+
+    The detection time of the last of them.
+    """
 
     n_events: np.ndarray
     times: np.ndarray

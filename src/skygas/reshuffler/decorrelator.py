@@ -25,8 +25,10 @@ from skygas.sc.decorrelators import FunctionDecorrelator
 
 
 class ReshufflerDecorrelator(FunctionDecorrelator):
-    """:class:`~skygas.sc.decorrelators.FunctionDecorrelator` that also counts the skyrmions
-    read out by force after the drain limit (``forced_readouts``, summed over calls)."""
+    """A :class:`~skygas.sc.decorrelators.FunctionDecorrelator` that counts forced read-outs.
+
+    The skyrmions read out by force after the drain limit (``forced_readouts``, summed over calls).
+    """
 
     forced_readouts: int = 0
 
@@ -91,10 +93,12 @@ def reshuffler_demo(
     correlation_bits: float = 16.0,
     trials: int = 2,
 ) -> dict:
-    """The paper's AND-gate figure with the device, and the reshuffler beside two CMOS
-    baselines: squaring x·x with an AND gate (x AND x gives p; x AND reshuffled x should give
-    p²), then SCC, squaring error, latency and energy per bit on Bernoulli and telegraph
-    inputs. Writes ``sc_reshuffler.png`` and ``sc_reshuffler.json`` into ``out_dir``."""
+    """The paper's AND-gate figure with the device, and the reshuffler beside two CMOS baselines.
+
+    Squaring x·x with an AND gate (x AND x gives p; x AND reshuffled x should give p²), then SCC,
+    squaring error, latency and energy per bit on Bernoulli and telegraph inputs. Writes
+    ``sc_reshuffler.png`` and ``sc_reshuffler.json`` into ``out_dir``.
+    """
     import json
     from pathlib import Path
 

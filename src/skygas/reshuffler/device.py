@@ -1,6 +1,7 @@
-"""The reshuffler's hardware: two identical chambers, their nucleation sites and read-outs,
-and the current that drives skyrmions through them (paper, "Skyrmion Reshuffler";
-docs/physics.md §3).
+"""The reshuffler's hardware: two identical chambers, their sites and read-outs, and the current.
+
+Their nucleation sites and read-outs, and the current that drives skyrmions through them (paper,
+"Skyrmion Reshuffler"; docs/physics.md §3).
 
 Layout: the UP chamber sits above the DOWN chamber, each the paper's disk with an input conduit
 on the left and an output conduit on the right
@@ -113,13 +114,15 @@ def _device_outline(geometry: ReshufflerGeometry) -> Outline:
 def drift_field_on_grid(
     geometry: ReshufflerGeometry, solution, grid, spin_drift_coefficient: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """v_s = ξ·j [m/s] on the simulation grid: the one-chamber current copied into both
-    chambers. ``solution`` is a :class:`~skygas.fields.current.CurrentSolution` of one chamber
-    centred at the origin; ``grid`` the engine's :class:`~skygas.fields.wall_field.Grid` (nm).
+    """v_s = ξ·j [m/s] on the simulation grid: the one-chamber current copied into both chambers.
+
+    ``solution`` is a :class:`~skygas.fields.current.CurrentSolution` of one chamber centred at the
+    origin; ``grid`` the engine's :class:`~skygas.fields.wall_field.Grid` (nm).
 
     The current is linear in J: its field for J = 1 A/m² is sampled on the grid once per
     process for each device and grid (:mod:`skygas.core.memo`) and every run scales it by ξJ, so
-    runs that differ in J (or p, temperature, …) do not sample the solution again."""
+    runs that differ in J (or p, temperature, …) do not sample the solution again.
+    """
     key = (geometry, grid, solution.cell_grid, solution.sources, solution.sinks)
     jx, jy = _UNIT_SAMPLE.get(
         key, lambda: _sample_both_chambers(geometry, solution.at_current_density(1.0), grid)

@@ -1,5 +1,8 @@
-"""Figures of a reshuffler run (matplotlib, Agg): the device with its current density and
-sample trajectories, the running correlation, and the occupancy of both chambers."""
+"""Figures of a reshuffler run (matplotlib, Agg).
+
+The device with its current density and sample trajectories, the running correlation, and the
+occupancy of both chambers.
+"""
 
 from __future__ import annotations
 
@@ -12,8 +15,10 @@ from skygas.runs.plotting import draw_landscape, draw_outline, landscape_energy
 
 
 def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
-    """|j| in both chambers (colour), walls, read-out lines and the first trajectories; with an
-    energy landscape, the landscape is the background and |j| its contour lines."""
+    """|j| in both chambers (colour), walls, read-out lines and the first trajectories.
+
+    With an energy landscape, the landscape is the background and |j| its contour lines.
+    """
     grid = run.sim.wall_field.grid
     jx, jy = drift_field_on_grid(run.geometry, run.current, grid, 1.0)
     magnitude = np.hypot(jx, jy)

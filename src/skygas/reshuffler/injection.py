@@ -41,6 +41,7 @@ class InjectionLog:
 
     @classmethod
     def for_bits(cls, bits: np.ndarray) -> InjectionLog:
+        """A log of the events ``bits``, none of them injected, delayed or skipped yet."""
         n = len(bits)
         return cls(
             np.asarray(bits, dtype=bool),
@@ -87,6 +88,7 @@ class Injector:
         return tick
 
     def act(self, sim) -> None:
+        """Nucleate the events now due, or queue or drop them by the rule; retry the queued ones."""
         while (
             self.next_event < len(self.bits) and self.next_event * self.interval_steps <= sim.step
         ):
@@ -110,8 +112,10 @@ class Injector:
 
     # -- the same, made by the compiled kernel (see skygas.engine.PlannedInsertions) ---------
     def plan_insertions(self, step: int, limit: int):
-        """The nucleations due at steps in (step, limit), for the kernel to make while their
-        sites are clear; None while a queue is waiting (retries need the rules above)."""
+        """The nucleations due at steps in (step, limit), for the kernel to make on clear sites.
+
+        None while a queue is waiting (retries need the rules above).
+        """
         if any(self.pending.values()):
             return None
         first = self.next_event
@@ -146,18 +150,22 @@ class Injector:
     # -- accounting -----------------------------------------------------------------------------
     @property
     def n_injected(self) -> int:
+        """Events nucleated so far."""
         return int(np.count_nonzero(self.log.skyrmion >= 0))
 
     @property
     def n_skipped(self) -> int:
+        """Events dropped so far (by ``"skip"``, or from a full queue)."""
         return int(np.count_nonzero(self.log.skipped))
 
     @property
     def n_delayed(self) -> int:
+        """Events that found their site occupied."""
         return int(np.count_nonzero(self.log.delayed))
 
     @property
     def n_pending(self) -> int:
+        """Events waiting in the chambers' queues."""
         return sum(len(q) for q in self.pending.values())
 
     def state_dict(self) -> dict:
@@ -172,6 +180,7 @@ class Injector:
         }
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore the log, the schedule and the queues that :meth:`state_dict` saved."""
         self.log.skyrmion = state["log_skyrmion"].copy()
         self.log.injection_step = state["log_injection_step"].copy()
         self.log.delayed = state["log_delayed"].copy()

@@ -63,8 +63,10 @@ def claim(
     overwrite: bool = False,
     resume: bool = False,
 ) -> dict | None:
-    """Check that ``command`` may write into ``out`` (see the module docstring); returns the
-    folder's manifest (None without one). Raises :class:`InputError` with one line otherwise.
+    """Check that ``command`` may write into ``out`` (see the module docstring).
+
+    Returns the folder's manifest (None without one). Raises :class:`InputError` with one line
+    otherwise.
     """
     found = read(out)
     if found is None:
@@ -144,8 +146,10 @@ def _iso(seconds: float) -> str:
 
 
 def options_hash(args) -> str:
-    """A hash of a command's options (for commands that have no configuration file of their
-    own); where they name files, of the names only."""
+    """A hash of a command's options, for commands that have no configuration file of their own.
+
+    Where the options name files, of the names only.
+    """
     skip = {"func", "debug", "quiet", "overwrite", "resume", "out", "json"}
     options = {k: v for k, v in sorted(vars(args).items()) if k not in skip}
     text = json.dumps(options, default=str, sort_keys=True)
@@ -153,8 +157,10 @@ def options_hash(args) -> str:
 
 
 def finish_command(out: str | Path, args, started_at: float) -> None:
-    """After a command-line command succeeded: write its manifest, unless it wrote one itself
-    (the run driver does, with the configuration's hash)."""
+    """After a command-line command succeeded: write its manifest, unless it wrote one itself.
+
+    The run driver writes one itself, with the configuration's hash.
+    """
     if _context["written"] or not Path(out).is_dir():
         return
     now = time.time()

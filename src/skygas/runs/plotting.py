@@ -1,5 +1,7 @@
-"""Figures of geometries, trajectories and current flow (matplotlib, Agg backend; no display
-needed). The physics modules compute; the figures of their results live here."""
+"""Figures of geometries, trajectories and current flow (matplotlib, Agg backend).
+
+No display needed. The physics modules compute; the figures of their results live here.
+"""
 
 from __future__ import annotations
 
@@ -13,9 +15,11 @@ from skygas.physics.geometry import Outline
 
 
 def draw_outline(ax, outline: Outline, scale: float = 1e-3, labels: bool = True) -> None:
-    """Walls in black, ports in red; coordinates shown in µm (``scale`` µm per nm). With
-    ``labels``, each port's name sits just outside the device, beside the port, on a white
-    ground, so it covers neither the wall nor a colour bar beside the axes."""
+    """Walls in black, ports in red; coordinates shown in µm (``scale`` µm per nm).
+
+    With ``labels``, each port's name sits just outside the device, beside the port, on a white
+    ground, so it covers neither the wall nor a colour bar beside the axes.
+    """
     walls = outline.walls
     for part in getattr(walls, "geoms", [walls]):
         xy = np.asarray(part.coords) * scale
@@ -54,9 +58,11 @@ def _label_port(ax, outline: Outline, name: str, xy: np.ndarray, scale: float) -
 def landscape_energy(
     field, outline: Outline | None = None, all_terms: bool = True
 ) -> tuple[np.ndarray, str] | None:
-    """The landscape's energy U on its grid (ny, nx) in plotting units, and their label: U/k_BT
-    at the field's temperature (zJ at T = 0), NaN outside ``outline``. ``all_terms`` draws
-    every term, switched-off ones (an open gate) included. None without terms."""
+    """The landscape's energy U on its grid (ny, nx) in plotting units, and their label.
+
+    U/k_BT at the field's temperature (zJ at T = 0), NaN outside ``outline``. ``all_terms`` draws
+    every term, switched-off ones (an open gate) included. None without terms.
+    """
     from skygas.core import units
 
     if field is None or not field.terms:
@@ -89,9 +95,12 @@ def draw_landscape(
     cmap: str = "cividis",
     colorbar: bool = True,
 ):
-    """Draw an energy landscape (:class:`~skygas.fields.landscape.LandscapeField`) on ``ax`` as an
-    image in µm, coloured by U/k_BT (:func:`landscape_energy`), with a labelled colour bar;
-    returns the image, or None when there is no landscape to draw."""
+    """Draw an energy landscape on ``ax`` as an image in µm, coloured by U/k_BT.
+
+    The landscape is a :class:`~skygas.fields.landscape.LandscapeField`, its values those of
+    :func:`landscape_energy`, with a labelled colour bar. Returns the image, or None when there is
+    no landscape to draw.
+    """
     energy = landscape_energy(field, outline, all_terms)
     if energy is None:
         return None
@@ -133,8 +142,11 @@ def plot_trajectories(
     title: str | None = None,
     landscape=None,
 ) -> Path:
-    """Save a PNG of the outline with the recorded trajectories (start ○, end ●), over the
-    energy ``landscape`` (a :class:`~skygas.fields.landscape.LandscapeField`) when there is one."""
+    """Save a PNG of the outline with the recorded trajectories (start ○, end ●).
+
+    Over the energy ``landscape`` (a :class:`~skygas.fields.landscape.LandscapeField`) when there is
+    one.
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(6.5 if landscape is not None and landscape.terms else 6, 5.5), dpi=120)
@@ -159,8 +171,10 @@ def plot_trajectories(
 def draw_current(
     ax, solution: CurrentSolution, outline: Outline, scale: float = 1e-3, streamlines: bool = True
 ):
-    """|j| map (A/m², log colour scale) with stream lines and the outline, in µm (``scale`` µm
-    per nm). Returns the image for a colour bar."""
+    """|j| map (A/m², log colour scale) with stream lines and the outline, in µm.
+
+    ``scale`` µm per nm. Returns the image for a colour bar.
+    """
     from matplotlib.colors import LogNorm
 
     jx, jy, inside, (x0, x1, y0, y1) = solution.cell_current_density

@@ -44,9 +44,11 @@ class TimeStepReport:
     passed: bool
 
     def as_dict(self) -> dict:
+        """The report as a dict (SI units)."""
         return asdict(self)
 
     def summary(self) -> str:
+        """One line: dt, τ_min, the dt vs dt/2 differences in diameters, and OK or TOO LARGE."""
         verdict = "OK" if self.passed else "TOO LARGE"
         return (
             f"time step {self.time_step:.3g} s (τ_min = {self.relaxation_time:.3g} s): "

@@ -78,19 +78,20 @@ def bernoulli_stream(
 
     Parameters
     ----------
-    p:
+    p : float or array_like
         p-value(s) in [0, 1]; scalar or an array broadcastable to ``shape``.
-    n_bits:
+    n_bits : int
         Stream length N (clock cycles).
-    shape:
+    shape : tuple of int
         Batch shape in front of the time axis.
-    seed:
+    seed : int, SeedSequence, Generator or None
         Seed or generator.
 
     Returns
     -------
-    Boolean array of shape ``broadcast(shape, p.shape) + (n_bits,)``. The estimate
-    ``mean(axis=-1)`` has variance :math:`p(1-p)/N`, the binomial limit.
+    numpy.ndarray
+        Boolean array of shape ``broadcast(shape, p.shape) + (n_bits,)``. The estimate
+        ``mean(axis=-1)`` has variance :math:`p(1-p)/N`, the binomial limit.
     """
     prob, lead = _batch(p, shape)
     n_bits = v.positive_int(n_bits, "n_bits")
@@ -148,15 +149,15 @@ def lfsr_stream(
 
     Parameters
     ----------
-    p:
+    p : float or array_like
         p-value(s) in [0, 1].
-    n_bits:
+    n_bits : int
         Stream length N.
-    width:
+    width : int
         Register width w in bits; one of :data:`LFSR_TAPS`.
-    shape:
+    shape : tuple of int
         Batch shape.
-    seed:
+    seed : int, SeedSequence, Generator or None
         Seed or generator; chooses the starting state (phase).
     """
     prob, lead = _batch(p, shape)

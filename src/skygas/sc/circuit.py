@@ -38,7 +38,7 @@ class Circuit:
 
     Parameters
     ----------
-    inputs:
+    inputs : sequence of str
         Names of the primary input streams.
     """
 

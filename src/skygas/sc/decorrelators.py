@@ -56,6 +56,7 @@ class EnergyFigure:
 
     @classmethod
     def unknown(cls) -> EnergyFigure:
+        """No attributable figure (``joules_per_bit`` None)."""
         return cls(None, "unknown: no attributable figure")
 
 
@@ -68,6 +69,7 @@ class FootprintFigure:
 
     @classmethod
     def unknown(cls) -> FootprintFigure:
+        """No attributable figure (``linear_size_m`` None)."""
         return cls(None, "unknown: no attributable figure")
 
 
@@ -77,13 +79,13 @@ class DecorrelatorResult:
 
     Attributes
     ----------
-    stream:
+    stream : numpy.ndarray
         Output bits, same shape as the input.
-    latency_bits:
+    latency_bits : float or None
         Latency in clock cycles (``None`` if unknown).
-    energy_per_bit_J:
+    energy_per_bit_J : float or None
         Energy per output bit (J), ``None`` if unknown.
-    energy_source:
+    energy_source : str
         Where ``energy_per_bit_J`` comes from.
     """
 
@@ -154,9 +156,11 @@ class DelayIsolator(Decorrelator):
 
     @property
     def latency_bits(self) -> float:
+        """The latency: k clock cycles, one per flip-flop."""
         return float(self.flip_flops)
 
     def p_bias_bound(self, n_bits: int) -> float:
+        """0: the delay preserves the number of ones exactly."""
         return 0.0
 
     def _apply(self, stream: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -190,9 +194,11 @@ class ShuffleBuffer(Decorrelator):
 
     @property
     def latency_bits(self) -> float:
+        """D clock cycles, the mean stay of a bit in the buffer."""
         return float(self.depth)
 
     def p_bias_bound(self, n_bits: int) -> float:
+        """D/N: the initial and final buffer contents may differ."""
         return self.depth / n_bits
 
     def _apply(self, stream: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -241,9 +247,11 @@ class Regenerator(Decorrelator):
 
     @property
     def latency_bits(self) -> float:
+        """W clock cycles: one window must be counted first."""
         return float(self.window)
 
     def p_bias_bound(self, n_bits: int) -> float:
+        """Bound on |E[p_out] − p_in|: 0 when W divides N, else W/N."""
         return 0.0 if n_bits % self.window == 0 else self.window / n_bits
 
     def _apply(self, stream: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -269,19 +277,19 @@ class FunctionDecorrelator(Decorrelator):
 
     Parameters
     ----------
-    name:
+    name : str
         Label used in tables and figures.
-    function:
+    function : callable
         ``function(bits, rng) -> (out_bits, energy_per_bit_J)`` or
         ``-> (out_bits, energy_per_bit_J, latency_bits)``, where ``bits`` is a 1-D boolean
         array of N bits, ``out_bits`` has the same length and ``rng`` a NumPy generator. Use
         ``None`` for an unknown energy. Batched inputs are processed row by row.
-    latency_bits:
+    latency_bits : float, optional
         Latency (clock cycles) if known in advance; a latency returned by ``function`` (mean
         over rows) takes precedence in :meth:`apply`.
-    energy_source:
+    energy_source : str
         Where the function's energy figure comes from (e.g. "current solve of the device").
-    p_bias:
+    p_bias : callable, optional
         Bound on the p-value change, as a function of N (default: 0, exact conservation).
     """
 
@@ -305,9 +313,11 @@ class FunctionDecorrelator(Decorrelator):
 
     @property
     def latency_bits(self) -> float | None:
+        """The latency given to the constructor (clock cycles; ``None`` if unknown)."""
         return self._latency
 
     def p_bias_bound(self, n_bits: int) -> float:
+        """``p_bias(n_bits)`` if given, else 0 (exact conservation)."""
         return 0.0 if self._p_bias is None else float(self._p_bias(n_bits))
 
     def _run(self, stream: np.ndarray, rng: np.random.Generator):
@@ -336,6 +346,11 @@ class FunctionDecorrelator(Decorrelator):
         return self._run(stream, rng)[0]
 
     def apply(self, stream: Any, seed: v.SeedLike = None) -> DecorrelatorResult:
+        """Decorrelate ``stream`` row by row; energy and latency as the function returns them.
+
+        The energy is the mean over rows (``None`` if any row's is unknown), the latency the mean of
+        those returned, else the one given to the constructor.
+        """
         stream = v.as_stream(stream, "stream")
         out, energy, latency = self._run(stream, v.make_rng(seed))
         return DecorrelatorResult(out, latency, energy, self._energy_source)

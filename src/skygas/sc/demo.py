@@ -154,11 +154,11 @@ def compare_decorrelators(
     correlation_bits: float = 16.0,
     seed: v.SeedLike = None,
 ) -> list[dict[str, Any]]:
-    """Each decorrelator on Bernoulli and on telegraph inputs (correlation time in clocks).
+    r"""Each decorrelator on Bernoulli and on telegraph inputs (correlation time in clocks).
 
     For each input kind, reports the mean SCC between the stream and its decorrelated copy,
     the RMS error of the squaring ``x AND d(x)`` against :math:`p^2`, the mean p-value shift
-    :math:`p_\\text{out} - p_\\text{in}`, and the decorrelator's latency and energy per bit.
+    :math:`p_\text{out} - p_\text{in}`, and the decorrelator's latency and energy per bit.
     """
     items = _check_decorrelators(decorrelators)
     prob = float(v.probability(p, "p"))
@@ -294,22 +294,23 @@ def run_demo(
 
     Parameters
     ----------
-    out_dir:
+    out_dir : str or Path
         Output directory (created if needed).
-    seed:
+    seed : int
         Master seed; each experiment gets its own child seed via ``SeedSequence.spawn``.
-    n_bits:
+    n_bits : int
         Stream length N for the squaring curve and the comparison (bits).
-    p:
+    p : float
         p-value squared in the error and comparison experiments.
-    correlation_bits:
+    correlation_bits : float
         Correlation time of the telegraph input (clock cycles).
-    decorrelators:
+    decorrelators : sequence of Decorrelator, optional
         Decorrelators to compare (default :func:`default_decorrelators`).
 
     Returns
     -------
-    The dictionary written to ``sc_demo.json``.
+    dict
+        The dictionary written to ``sc_demo.json``.
     """
     if decorrelators is None:
         decorrelators = default_decorrelators()

@@ -74,8 +74,9 @@ def mux(a: Any, b: Any, select: Any) -> np.ndarray:
 
 
 def jk_flip_flop(j: Any, k: Any, initial: bool = False) -> np.ndarray:
-    r"""JK flip-flop output :math:`Q_t`, with :math:`Q_0` = ``initial`` and
-    :math:`Q_{t+1} = J_t \bar Q_t + \bar K_t Q_t` (set, reset, toggle, hold).
+    r"""JK flip-flop output :math:`Q_t` (set, reset, toggle, hold).
+
+    :math:`Q_0` = ``initial`` and :math:`Q_{t+1} = J_t \bar Q_t + \bar K_t Q_t`.
 
     The output at clock t is the registered state *before* the update with :math:`J_t, K_t`.
     For independent Bernoulli inputs the state is a Markov chain with
@@ -171,7 +172,10 @@ def or_probability(p_a: Any, p_b: Any, scc: Any = 0.0) -> np.ndarray:
 
 
 def xor_probability(p_a: Any, p_b: Any, scc: Any = 0.0) -> np.ndarray:
-    r"""XOR output: :math:`p_a + p_b - 2p_{a\wedge b}(s)`; :math:`|p_a - p_b|` at s = +1
-    (stochastic absolute difference) and :math:`\min(p_a + p_b, 2 - p_a - p_b)` at s = -1."""
+    r"""XOR output: :math:`p_a + p_b - 2p_{a\wedge b}(s)`.
+
+    :math:`|p_a - p_b|` at s = +1 (stochastic absolute difference) and :math:`\min(p_a + p_b, 2 -
+    p_a - p_b)` at s = -1.
+    """
     pa, pb, _ = _scc_args(p_a, p_b, scc)
     return pa + pb - 2.0 * and_probability(pa, pb, scc)

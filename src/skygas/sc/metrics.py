@@ -44,8 +44,11 @@ def p_value(stream: Any) -> np.ndarray:
 
 @dataclass(frozen=True)
 class PValueEstimate:
-    """A p-value estimate with its two-sided confidence interval (arrays of the batch shape;
-    floats for one stream, as :mod:`skygas.reshuffler.correlation` reports them)."""
+    """A p-value estimate with its two-sided confidence interval.
+
+    Arrays of the batch shape; floats for one stream, as :mod:`skygas.reshuffler.correlation`
+    reports them.
+    """
 
     estimate: np.ndarray | float
     low: np.ndarray | float
@@ -90,8 +93,9 @@ def binomial_std(p: Any, n_bits: Any) -> np.ndarray:
 
 
 def scc(x: Any, y: Any) -> np.ndarray:
-    r"""Stochastic computing correlation (Alaghi & Hayes, ICCD 2013, "Exploiting correlation
-    in stochastic circuit design").
+    r"""Stochastic computing correlation (SCC) of two streams.
+
+    Alaghi & Hayes, ICCD 2013, "Exploiting correlation in stochastic circuit design":
 
     .. math::
 
@@ -130,8 +134,10 @@ def pearson(x: Any, y: Any) -> np.ndarray:
 
 
 def zce(x: Any, y: Any) -> np.ndarray:
-    r"""Zero correlation error (Hsiao et al., "Zero Correlation Error: A Metric for
-    Finite-Length Bitstream Independence in Stochastic Computing").
+    r"""Zero correlation error (ZCE) of two streams.
+
+    Hsiao et al., "Zero Correlation Error: A Metric for Finite-Length Bitstream Independence in
+    Stochastic Computing".
 
     N bits can only represent :math:`p_{xy}` in steps of :math:`1/N`, so even the most
     independent alignment misses :math:`p_x p_y` by

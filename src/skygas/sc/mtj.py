@@ -38,17 +38,17 @@ from skygas.sc.bitstreams import _refreshed_chain
 
 @dataclass(frozen=True)
 class SuperparamagneticMTJ:
-    """A current-biased superparamagnetic MTJ read once per clock.
+    r"""A current-biased superparamagnetic MTJ read once per clock.
 
     Parameters
     ----------
-    attempt_frequency_Hz:
+    attempt_frequency_Hz : float
         Attempt frequency :math:`f_0` (Hz).
-    barrier_kT:
-        Thermal stability factor :math:`\\Delta = E_b/(k_B T)` (dimensionless).
-    critical_current_A:
+    barrier_kT : float
+        Thermal stability factor :math:`\Delta = E_b/(k_B T)` (dimensionless).
+    critical_current_A : float
         Critical switching current :math:`I_c` (A), > 0.
-    clock_period_s:
+    clock_period_s : float
         Read-out period :math:`T` (s).
     """
 
@@ -78,7 +78,7 @@ class SuperparamagneticMTJ:
         return f0 * np.exp(-delta * (1.0 - reduced)), f0 * np.exp(-delta * (1.0 + reduced))
 
     def p_value(self, current_A: Any) -> np.ndarray:
-        """Stationary probability of reading 1: :math:`1/(1 + e^{-2\\Delta I/I_c})`."""
+        r"""Stationary probability of reading 1: :math:`1/(1 + e^{-2\Delta I/I_c})`."""
         reduced = self._current(current_A) / self.critical_current_A
         return 1.0 / (1.0 + np.exp(-2.0 * self.barrier_kT * reduced))
 
@@ -98,10 +98,10 @@ class SuperparamagneticMTJ:
     def stream(
         self, current_A: Any, n_bits: int, *, shape: Any = (), seed: v.SeedLike = None
     ) -> np.ndarray:
-        """Sampled MTJ state, boolean array of shape ``broadcast(shape, I.shape) + (n_bits,)``.
+        r"""Sampled MTJ state, boolean array of shape ``broadcast(shape, I.shape) + (n_bits,)``.
 
         Between reads the junction relaxes to its stationary state with probability
-        :math:`1 - e^{-(r_{0\\to1} + r_{1\\to0})T}`, so successive bits are independent only
+        :math:`1 - e^{-(r_{0\to1} + r_{1\to0})T}`, so successive bits are independent only
         when the clock is slow compared with the switching (``correlation_bits << 1``).
         """
         current = self._current(current_A)

@@ -66,14 +66,14 @@ class SignalSpec:
 
     Parameters
     ----------
-    kind:
+    kind : {"telegraph", "bernoulli", "file"}
         ``"telegraph"``, ``"bernoulli"`` or ``"file"`` (see the module docstring).
-    p:
+    p : float
         p-value, the stationary probability of a 1. ``"telegraph"``: strictly between 0 and 1
         (a constant signal has no dwell times); ``"bernoulli"``: in [0, 1]; unused for files.
-    correlation_time:
+    correlation_time : float
         Telegraph correlation time :math:`\tau_c` [s], > 0. Unused by the other kinds.
-    path:
+    path : str or Path, optional
         The bit file for ``"file"`` (``.npy``, ``.csv`` or ``.txt``).
     """
 
@@ -132,15 +132,15 @@ def generate_bits(
 
     Parameters
     ----------
-    spec:
+    spec : SignalSpec
         The signal source.
-    n_events:
+    n_events : int or None
         Number of injection events. For ``"file"`` it may be ``None`` (all bits of the file);
         otherwise the first ``n_events`` bits are used and the file must hold at least that many.
-    injection_interval:
+    injection_interval : float
         :math:`\Delta` [s], > 0; only the telegraph signal depends on it (through
         :math:`\tau_c/\Delta`).
-    seed:
+    seed : int, SeedSequence, Generator or None
         int, ``numpy.random.SeedSequence``, ``numpy.random.Generator`` or ``None``.
     """
     if not isinstance(spec, SignalSpec):

@@ -88,10 +88,13 @@ POINT_COLUMNS = (
 
 
 def point_table(ds: xr.Dataset) -> list[dict]:
-    """One row per swept point: its coordinates, ρ's replica mean and standard error, and the
-    other figures of :data:`POINT_COLUMNS` combined over the finished replicas (``max`` for the
-    occupancy: the fullest chamber seen; ``min``/``max`` for the ends of p_out's 95 % intervals;
-    the largest |p_out − p_in| relative to its interval as ``p_out_worst_z``)."""
+    """One row per swept point: its coordinates, ρ's replica mean and error, and the other figures.
+
+    ρ's replica mean and standard error, and the other figures of :data:`POINT_COLUMNS` combined
+    over the finished replicas (``max`` for the occupancy: the fullest chamber seen; ``min``/``max``
+    for the ends of p_out's 95 % intervals; the largest |p_out − p_in| relative to its interval as
+    ``p_out_worst_z``).
+    """
     done = ds["done"] == 1
     rows = []
     stats = _table(ds)
@@ -236,7 +239,8 @@ def running_mean(ds: xr.Dataset, where: dict | None = None, points: int = 200) -
     """Running correlation averaged over replicas on a common time grid (mean, sem).
 
     ``where`` selects one point (``{"current_density": 3.8e11, "signal_p": 0.62}``); each
-    replica's curve is interpolated onto ``points`` times up to the shortest curve's end."""
+    replica's curve is interpolated onto ``points`` times up to the shortest curve's end.
+    """
     sub = ds.sel(where or {})
     rho = np.asarray(sub["running_rho"].values).reshape(-1, sub.sizes["running"])
     times = np.asarray(sub["running_time"].values).reshape(-1, sub.sizes["running"])

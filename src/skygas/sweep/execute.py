@@ -38,8 +38,10 @@ LOCAL_CLUSTER_CONFIG = {
 
 
 def start_local_cluster(workers: int):
-    """A local Dask cluster of ``workers`` single-threaded worker processes, with
-    :data:`LOCAL_CLUSTER_CONFIG`."""
+    """A local Dask cluster of ``workers`` single-threaded worker processes.
+
+    With :data:`LOCAL_CLUSTER_CONFIG`.
+    """
     import copy
 
     import dask
@@ -60,9 +62,10 @@ def start_local_cluster(workers: int):
 
 
 def relative_cost(config) -> float:
-    """A rough relative cost of one run, used only to start the longest runs first, so that no
-    worker is left finishing one long run alone at the end of a sweep (results do not depend
-    on the order). Cost ∝ steps × (1 + skyrmions in the device): a skyrmion crosses a chamber
+    """A rough relative cost of one run, used only to start the longest runs first.
+
+    So that no worker is left finishing one long run alone at the end of a sweep (results do not
+    depend on the order). Cost ∝ steps × (1 + skyrmions in the device): a skyrmion crosses a chamber
     and its conduits at about the spin-drift speed ξJ, and one enters per injection interval.
     """
     device = config.device
@@ -76,8 +79,11 @@ def relative_cost(config) -> float:
 
 @dataclass
 class SweepReport:
-    """What one invocation did: runs computed now, runs found done, the store's path and the
-    invocation's session number in it (−1 if it ended before opening the store)."""
+    """What one invocation did.
+
+    Runs computed now, runs found done, the store's path and the invocation's session number in it
+    (−1 if it ended before opening the store).
+    """
 
     store: Path
     session: int

@@ -52,9 +52,11 @@ def _fmt(fit: dict, key: str) -> str:
 
 
 def fit_label(name: str, model_at_points, mean, sem) -> tuple[str, str]:
-    """Legend text and line style of a fitted curve, saying how well it meets the points it
-    is drawn over: χ²/dof of the replica means (errors = their standard errors), with
-    "misses the data" and a dashed line when χ²/dof > 3 (a miss far beyond the scatter)."""
+    """Legend text and line style of a fitted curve, saying how well it meets its points.
+
+    The points it is drawn over: χ²/dof of the replica means (errors = their standard errors), with
+    "misses the data" and a dashed line when χ²/dof > 3 (a miss far beyond the scatter).
+    """
     model_at_points, mean, sem = (
         np.ravel(np.asarray(a, float)) for a in (model_at_points, mean, sem)
     )
@@ -75,6 +77,11 @@ def _grid_only(ds: xr.Dataset, keep: tuple[str, ...]) -> xr.Dataset:
 
 
 def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
+    """The reshuffler figure to ``path``: ρ against J with the fits, and the running ρ.
+
+    ``fits`` is :func:`fit_current_scaling`'s result (the paper's fit and the power law of the odds
+    ρ/(1 − ρ)).
+    """
     ds = _grid_only(ds, (CURRENT, P_VALUE))
     stats = replica_mean(ds)
     from matplotlib.figure import Figure
@@ -150,6 +157,11 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
 
 
 def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
+    """The chamber-size figure to ``path``: ρ against the chamber diameter L with the fits.
+
+    ``fits`` is :func:`fit_chamber_scaling`'s result (the paper's fit c_A + c_B/√L and the power law
+    of the odds ρ/(1 − ρ)).
+    """
     ds = _grid_only(ds, (CHAMBER,))
     stats = replica_mean(ds)
     length = ds[CHAMBER].values / LENGTH_UNIT
@@ -201,8 +213,10 @@ def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
 
 
 def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
-    """p_out − p_in, the fullest chamber, the transit time and the lag scan against ``x_dim``
-    (one series per p-value when p is swept)."""
+    """p_out − p_in, the fullest chamber, the transit time and the lag scan against ``x_dim``.
+
+    One series per p-value when p is swept.
+    """
     from matplotlib.figure import Figure
 
     series = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
@@ -274,8 +288,20 @@ def write_point_table(ds: xr.Dataset, path: Path) -> Path:
 
 
 def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
-    """Write the figures that fit the store's swept fields, and ``fits.json``; return the fits
-    and the paths written."""
+    """Write the figures that fit the store's swept fields, and ``fits.json``.
+
+    Parameters
+    ----------
+    store : str, Path or xarray.Dataset
+        A sweep store, or the dataset :func:`open_sweep` (or :func:`open_sweeps`) returns.
+    out_dir : str or Path
+        The folder of the figures (created if needed).
+
+    Returns
+    -------
+    dict
+        The fits, per swept field, and the paths written.
+    """
     ds = store if isinstance(store, xr.Dataset) else open_sweep(store)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -89,21 +89,26 @@ class Sweep:
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """The shape of the points: one dimension per field for a grid, ``(points,)`` for a list."""
         if self.layout == "list":
             return (len(self.values[0]),)
         return tuple(len(v) for v in self.values)
 
     @property
     def point_dims(self) -> tuple[str, ...]:
+        """The store's dimensions of a point: ``("point",)`` for a list, else :attr:`dims`."""
         return ("point",) if self.layout == "list" else self.dims
 
     @property
     def n_points(self) -> int:
+        """The number of swept points (replicas not counted)."""
         return math.prod(self.shape)
 
     def fingerprint(self) -> str:
-        """Hash of every run's resolved configuration and seed (not of the file's text), so a
-        store can tell whether it was written by the same sweep."""
+        """Hash of every run's resolved configuration and seed (not of the file's text).
+
+        So a store can tell whether it was written by the same sweep.
+        """
         digest = hashlib.sha256()
         digest.update(json.dumps([self.fields, self.layout, self.replicas]).encode())
         for run in self.runs:
@@ -112,6 +117,7 @@ class Sweep:
 
 
 def dim_name(field: str) -> str:
+    """The store's dimension name of a dotted config field (``"signal.p"`` → ``"signal_p"``)."""
     return field.replace(".", "_")
 
 
@@ -371,7 +377,8 @@ def load_sweep(path: str | Path, settings: list[str] | None = None) -> Sweep:
     ``TABLE.KEY=VALUE`` with a TOML value: ``sweep.replicas=2``, ``base.duration=1e-5``,
     ``base.output.trajectory_window=0.0``, ``grid.signal.p=[0.2, 0.8]`` (after ``grid.``
     the rest is the swept field). They are appended to the recorded file text as comments, so
-    a store records them and a store written without them is not resumed with them."""
+    a store records them and a store written without them is not resumed with them.
+    """
     path = Path(path)
     data = read_toml(path, "sweep file")
     text = path.read_text()

@@ -61,8 +61,10 @@ STORE_LAYOUT = 2
 
 
 def _create(path: Path, sweep: Sweep) -> None:
-    """Write a new, empty store at ``path``: coordinates, seeds and attributes, and the per-run
-    arrays as metadata only (their chunks are absent until a run writes them)."""
+    """Write a new, empty store at ``path``: coordinates, seeds, attributes and per-run metadata.
+
+    The per-run arrays are metadata only: their chunks are absent until a run writes them.
+    """
     dims = (*sweep.point_dims, "replica")
     shape = (*sweep.shape, sweep.replicas)
     n_running = max(run.config.output.running_points for run in sweep.runs)
@@ -195,13 +197,16 @@ class SweepStore:
         return (Path(path) / "zarr.json").exists()
 
     def done(self) -> np.ndarray:
+        """Which runs are done: booleans of shape (*point shape, replicas)."""
         return np.asarray(self._arrays["done"][...]).astype(bool)
 
     def pending(self) -> list[Run]:
+        """The sweep's runs not yet done, in the sweep's order."""
         done = self.done()
         return [run for run in self.sweep.runs if not done[(*run.index, run.replica)]]
 
     def start_session(self) -> int:
+        """Record a new invocation (start time and skygas version) and return its session number."""
         sessions = json.loads(cast(str, self.group.attrs.get("sessions_json", "[]")))  # JSON text
         sessions.append({"started": time.time(), "skygas_version": __version__})
         self.group.attrs["sessions_json"] = json.dumps(sessions)
@@ -212,7 +217,8 @@ class SweepStore:
 
         The values go to their four arrays concurrently (one chunk file each, on zarr's I/O
         loop): the client's CPU time per run competes with the workers when they share the
-        client's cores. ``done`` is written only after every value has been written."""
+        client's cores. ``done`` is written only after every value has been written.
+        """
         at = (*run.index, run.replica)
         summary = np.array([result[name] for name in QUANTITIES], dtype=np.float64)
         running = np.full(self._arrays["running_curves"].shape[-2:], np.nan)
@@ -239,9 +245,11 @@ async def _set_all(items) -> None:
 
 
 def open_sweep(path: str | Path) -> xr.Dataset:
-    """The sweep store as an :class:`xarray.Dataset`, one variable per quantity
-    (``correlation``, …, ``running_rho``, ``running_time``), with ``seed``, ``done``,
-    ``session`` and ``finished_at`` (datetime64; NaT until done). Runs not yet done are NaN."""
+    """The sweep store as an :class:`xarray.Dataset`, one variable per quantity.
+
+    Quantities ``correlation``, …, ``running_rho``, ``running_time``, with ``seed``, ``done``,
+    ``session`` and ``finished_at`` (datetime64; NaT until done). Runs not yet done are NaN.
+    """
     path = Path(path)
     if not (path / "zarr.json").exists() or path.name.endswith(CREATING):
         raise InputError(
@@ -279,13 +287,15 @@ def open_sweep(path: str | Path) -> xr.Dataset:
 
 
 def open_sweeps(paths) -> xr.Dataset:
-    """Several sweep stores over the same swept fields as one :class:`xarray.Dataset` on the
-    union of their grids (points no store holds are NaN, not done), for figures and fits that
+    """Several sweep stores over the same swept fields as one :class:`xarray.Dataset`.
+
+    On the union of their grids (points no store holds are NaN, not done), for figures and fits that
     span them: say, a grid at one p-value and a second grid of other p-values at some of its
     currents. A point done in two stores is refused (the stores would disagree on its runs).
 
     One path: :func:`open_sweep`. The attributes keep each store's sweep file
-    (``sweep_text``, one after the other) and its root seed (``root_seed``, listed)."""
+    (``sweep_text``, one after the other) and its root seed (``root_seed``, listed).
+    """
     paths = [Path(p) for p in ([paths] if isinstance(paths, (str, Path)) else paths)]
     if len(paths) == 1:
         return open_sweep(paths[0])

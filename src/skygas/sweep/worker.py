@@ -38,9 +38,12 @@ RUNNING = ("running_rho", "running_time")
 
 
 def run_one(config_json: str) -> dict:
-    """Run one reshuffler configuration (JSON of a
-    :class:`~skygas.reshuffler.ReshufflerConfig`) and return :data:`QUANTITIES` as floats and
-    :data:`RUNNING` as float64 arrays (empty with fewer than 3 aligned events)."""
+    """Run one reshuffler configuration and return its quantities.
+
+    ``config_json`` is the JSON of a :class:`~skygas.reshuffler.ReshufflerConfig`; the result holds
+    :data:`QUANTITIES` as floats and :data:`RUNNING` as float64 arrays (empty with fewer than 3
+    aligned events).
+    """
     from skygas.reshuffler.analysis import summarize
     from skygas.reshuffler.config import ReshufflerConfig
     from skygas.reshuffler.run import ReshufflerRun

@@ -36,8 +36,10 @@ __all__ = [
 
 
 def parse_potentials(potentials) -> list:
-    """Potentials given as objects or as mappings with a ``kind`` (TOML tables), validated;
-    a bad one raises :class:`~skygas.core.errors.InputError` naming its field."""
+    """Potentials given as objects or as mappings with a ``kind`` (TOML tables), validated.
+
+    A bad one raises :class:`~skygas.core.errors.InputError` naming its field.
+    """
     from pydantic import TypeAdapter, ValidationError
 
     from skygas.core.config_types import to_input_error

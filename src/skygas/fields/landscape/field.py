@@ -24,16 +24,17 @@ LANDSCAPE_STREAM = 0x4C414E44
 
 
 def _aligned_cells(ny: int, nx: int) -> np.ndarray:
-    """Zeroed float32 (ny, nx, 16) whose cells start on 64-byte boundaries (one cache line
-    each)."""
+    """Zeroed float32 (ny, nx, 16) whose cells start on 64-byte boundaries (one cache line each)."""
     raw = np.zeros(ny * nx * 16 + 16, dtype=np.float32)
     skip = (-raw.ctypes.data % 64) // 4
     return raw[skip : skip + ny * nx * 16].reshape(ny, nx, 16)
 
 
 def _max_curvature(gx: np.ndarray, gy: np.ndarray, h: float, where=None) -> float:
-    """Largest difference quotient of the gradient (gx, gy) [pN] between neighbouring nodes
-    [pN/nm]; with ``where`` (a node mask) only between two nodes it holds."""
+    """Largest difference quotient [pN/nm] of the gradient (gx, gy) [pN] between neighbouring nodes.
+
+    With ``where`` (a node mask), only between two nodes it holds.
+    """
     out = 0.0
     for g in (gx, gy):
         for axis in (0, 1):
@@ -50,13 +51,15 @@ def _max_curvature(gx: np.ndarray, gy: np.ndarray, h: float, where=None) -> floa
 
 
 class LandscapeField:
-    """The potentials ``terms`` sampled on ``grid`` (:class:`~skygas.fields.wall_field.Grid`) at
-    temperature ``temperature`` [K], random kinds drawn from ``seed``.
+    """The potentials ``terms`` sampled on ``grid`` at temperature ``temperature`` [K].
+
+    ``grid`` is a :class:`~skygas.fields.wall_field.Grid`; random kinds are drawn from ``seed``.
 
     Terms made by the device's shape (``needs_film``, the edge stray field) read ``inside``,
     the film's share of each node's cell (:class:`~skygas.fields.landscape.kinds.SampleContext`),
     and their curvature counts for the time step only at the nodes ``reachable`` (where skyrmion
-    centres can be; every node if ``None``)."""
+    centres can be; every node if ``None``).
+    """
 
     def __init__(self, terms, grid, temperature: float, seed: int, *, inside=None, reachable=None):
         self.terms = list(terms)
@@ -138,13 +141,16 @@ class LandscapeField:
         return u / units.J_TO_PN_NM, force
 
     def max_curvature(self) -> float:
-        """Largest |∂²U| [pN/nm] on the grid (finite differences of the sampled gradient): the
-        stiffness that limits the time step, like the force laws' slopes.
+        """Largest |∂²U| [pN/nm] on the grid: the stiffness that limits the time step.
+
+        It is taken from finite differences of the sampled gradient, and limits the time step like
+        the force laws' slopes.
 
         Terms made by the device's shape (the edge stray field) are counted apart, at the
         ``reachable`` nodes only, as the wall law's slope is counted only where skyrmions can
         be (closer to a wall the step is undone); the bound is the sum, |∂²(U₁ + U₂)| ≤
-        |∂²U₁| + |∂²U₂|. Without such terms this is the maximum over all nodes, as always."""
+        |∂²U₁| + |∂²U₂|. Without such terms this is the maximum over all nodes, as always.
+        """
         if not self.terms:
             return 0.0
         h = self.grid.spacing

@@ -55,8 +55,11 @@ HERMITE = np.array(
 
 
 def cell_coefficients(nodes: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
-    """The polynomial coefficients c[j, i, 4b + a] = α_ab (of tᵃ uᵇ) of every cell (ny − 1,
-    nx − 1, 16) from the nodes (ny, nx, 4) = (U, h ∂U/∂x, h ∂U/∂y, h² ∂²U/∂x∂y)."""
+    """The polynomial coefficients of every cell (ny − 1, nx − 1, 16) from the nodes.
+
+    c[j, i, 4b + a] = α_ab (of tᵃ uᵇ), from the nodes (ny, nx, 4) = (U, h ∂U/∂x, h ∂U/∂y, h²
+    ∂²U/∂x∂y).
+    """
     n00, n10 = nodes[:-1, :-1], nodes[:-1, 1:]  # corners (t, u) = (0, 0), (1, 0)
     n01, n11 = nodes[1:, :-1], nodes[1:, 1:]  # (0, 1), (1, 1)
     # F[a-row, b-column]: rows p(t=0), p(t=1), ∂t p(0), ∂t p(1); columns u = 0, 1, ∂u at 0, 1
@@ -79,8 +82,10 @@ def cell_coefficients(nodes: np.ndarray, out: np.ndarray | None = None) -> np.nd
 
 @numba.njit(inline="always")
 def _cell(coefficients, fx, fy):
-    """Cell (i, j) holding fractional node indices (fx, fy), clamped to the grid, and the
-    fractions (t, u)."""
+    """Cell (i, j) holding fractional node indices (fx, fy), clamped to the grid, and (t, u).
+
+    (t, u) are the fractions within the cell.
+    """
     ny, nx = coefficients.shape[0], coefficients.shape[1]  # cells
     fx = min(max(fx, 0.0), nx - 0.000001)
     fy = min(max(fy, 0.0), ny - 0.000001)
@@ -91,8 +96,10 @@ def _cell(coefficients, fx, fy):
 
 @numba.njit(inline="always")
 def prefetch_cell(coefficients, fx, fy):
-    """Start loading the cache line of the cell holding fractional node indices (fx, fy)
-    (:func:`hermite_gradient` will read it)."""
+    """Start loading the cache line of the cell holding fractional node indices (fx, fy).
+
+    :func:`hermite_gradient` will read it.
+    """
     i, j, _, _ = _cell(coefficients, fx, fy)
     _prefetch(coefficients, (j * coefficients.shape[1] + i) * 16)
 
@@ -221,8 +228,10 @@ def _gradient_at(typingctx, coefficients, offset, t, u):
 
 @numba.njit(inline="always")
 def hermite_gradient(coefficients, fx, fy, inv_h):
-    """(∂U/∂x, ∂U/∂y) [pN] of the interpolant at fractional node indices (fx, fy);
-    ``inv_h`` = 1/h."""
+    """(∂U/∂x, ∂U/∂y) [pN] of the interpolant at fractional node indices (fx, fy).
+
+    ``inv_h`` = 1/h.
+    """
     i, j, t, u = _cell(coefficients, fx, fy)
     gt, gu = _gradient_at(coefficients, (j * coefficients.shape[1] + i) * 16, t, u)
     return gt * inv_h, gu * inv_h
@@ -238,8 +247,10 @@ def hermite_value(coefficients, fx, fy):
 
 @numba.njit(cache=True)
 def energy_and_gradient(coefficients, x0, y0, spacing, x, y, energy, grad_x, grad_y):
-    """U [pN·nm] and ∇U [pN] of the interpolant at points (x, y) [nm] (vectorised, for
-    analysis and tests; the engine calls :func:`hermite_gradient` inline)."""
+    """U [pN·nm] and ∇U [pN] of the interpolant at points (x, y) [nm], vectorised.
+
+    For analysis and tests; the engine calls :func:`hermite_gradient` inline.
+    """
     inv_h = 1.0 / spacing
     for k in range(x.shape[0]):
         fx = (x[k] - x0) * inv_h

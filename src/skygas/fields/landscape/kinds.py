@@ -52,11 +52,13 @@ class Samples(NamedTuple):
 
 
 class SampleContext(NamedTuple):
-    """What sampling needs besides the potential: node coordinates (ny, nx) [nm], k_BT
-    [pN·nm] at the run's temperature, a seed for the random kinds, and, for the kinds made by
-    the device's shape (:attr:`_Kind.needs_film`), ``inside``: the film's share of each node's
-    cell (ny, nx), 1 inside the outline, 0 outside, fractions along the walls (``None`` when
-    no term needs it)."""
+    """What sampling needs besides the potential.
+
+    Node coordinates (ny, nx) [nm], k_BT [pN·nm] at the run's temperature, a seed for the random
+    kinds, and, for the kinds made by the device's shape (:attr:`_Kind.needs_film`), ``inside``: the
+    film's share of each node's cell (ny, nx), 1 inside the outline, 0 outside, fractions along the
+    walls (``None`` when no term needs it).
+    """
 
     x: np.ndarray
     y: np.ndarray
@@ -66,8 +68,10 @@ class SampleContext(NamedTuple):
 
 
 class _Kind(StrictModel):
-    """A potential: strict like every configuration section, and immutable (a run's landscape
-    is sampled once from it)."""
+    """A potential: strict like every configuration section, and immutable.
+
+    Immutable because a run's landscape is sampled once from it.
+    """
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
 
@@ -115,14 +119,17 @@ class _Amplitude(_Kind):
 
 
 class Gaussian(_Amplitude):
-    """U = A exp(−|r − c|²/(2σ²)): a bump (A > 0) or a well (A < 0) of width ``sigma`` [m] at
-    ``center`` [m]."""
+    """U = A exp(−|r − c|²/(2σ²)): a bump (A > 0) or a well (A < 0).
+
+    Of width ``sigma`` [m] at ``center`` [m].
+    """
 
     kind: Literal["gaussian"] = "gaussian"
     center: Point
     sigma: Length
 
     def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm)."""
         s = self.sigma * units.M_TO_NM
         dx = ctx.x - self.center[0] * units.M_TO_NM
         dy = ctx.y - self.center[1] * units.M_TO_NM
@@ -144,6 +151,7 @@ class Periodic(_Amplitude):
         return self
 
     def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm)."""
         n = np.asarray(self.direction) / math.hypot(*self.direction)
         kx, ky = 2 * math.pi / (self.wavelength * units.M_TO_NM) * n
         phase = kx * ctx.x + ky * ctx.y
@@ -165,7 +173,8 @@ class Band(_Kind):
     Given either as ``start`` and ``end`` [m] of its centre line plus a ``width`` [m] (a
     rectangle, smooth and exact), or as a ``polygon`` [m]. Its profile rises over
     ``edge_width`` [m] (tanh edges). ``height`` in J or ``height_kT`` in k_BT. A band can be
-    switched off and on during a run (:meth:`LandscapeField.set_enabled`)."""
+    switched off and on during a run (:meth:`LandscapeField.set_enabled`).
+    """
 
     kind: Literal["band"] = "band"
     height: Energy | None = None
@@ -190,6 +199,7 @@ class Band(_Kind):
         return self
 
     def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm)."""
         h = _energy(self.height, self.height_kT, ctx.kt, "height")
         e = self.edge_width * units.M_TO_NM
         if self.polygon is not None:
@@ -226,10 +236,12 @@ class Band(_Kind):
 
 
 class RandomPinning(_Kind):
-    """Gaussian wells of width ``sigma`` [m] at random positions, ``density`` [1/m²] on
-    average, with depths drawn from a normal law of mean ``depth`` and spread ``depth_spread``
-    (J, or ``depth_kT`` / ``depth_spread_kT`` in k_BT; negative draws are clipped to 0), all
-    drawn from the run's seed."""
+    """Gaussian wells of width ``sigma`` [m] at random positions, ``density`` [1/m²] on average.
+
+    Their depths are drawn from a normal law of mean ``depth`` and spread ``depth_spread`` (J, or
+    ``depth_kT`` / ``depth_spread_kT`` in k_BT; negative draws are clipped to 0), all drawn from the
+    run's seed.
+    """
 
     kind: Literal["random_pinning"] = "random_pinning"
     density: Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -269,6 +281,7 @@ class RandomPinning(_Kind):
         return centres, depths
 
     def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm), summed over wells."""
         s = self.sigma * units.M_TO_NM
         out = [np.zeros_like(ctx.x) for _ in range(4)]
         spacing = float(ctx.x[0, 1] - ctx.x[0, 0])
@@ -289,12 +302,15 @@ class RandomPinning(_Kind):
 
 
 class Disorder(_Kind):
-    """A Gaussian random field of standard deviation ``rms`` (J, or ``rms_kT``) and covariance
-    rms²·exp(−r²/(2ξ²)), ξ = ``correlation_length`` [m], drawn from the run's seed.
+    """A Gaussian random field of standard deviation ``rms``, drawn from the run's seed.
+
+    ``rms`` in J, or ``rms_kT`` in k_BT; covariance rms²·exp(−r²/(2ξ²)), ξ = ``correlation_length``
+    [m].
 
     Synthesised by FFT on the grid, padded by 4ξ on each side so that the periodic wrap of the
     transform leaves no correlation across the device; derivatives are spectral (exact for the
-    synthesised field)."""
+    synthesised field).
+    """
 
     kind: Literal["disorder"] = "disorder"
     rms: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = None
@@ -307,6 +323,7 @@ class Disorder(_Kind):
         return self
 
     def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm), spectral."""
         rms = _energy(self.rms, self.rms_kT, ctx.kt, "rms")
         xi = self.correlation_length * units.M_TO_NM
         h = float(ctx.x[0, 1] - ctx.x[0, 0])
@@ -334,9 +351,11 @@ class Disorder(_Kind):
 
 
 def read_grid(path: str, array: str | None = None) -> tuple[np.ndarray, bool]:
-    """The samples of a grid file (ny, nx), row 0 at the lowest y, and whether it is an image
-    (grey levels 0…1) rather than an array of energies. Raises ValueError saying what is wrong
-    with the file (missing, unreadable, not 2-D, smaller than 4×4, not finite)."""
+    """The samples of a grid file (ny, nx), row 0 at the lowest y, and whether it is an image.
+
+    An image holds grey levels 0…1 rather than an array of energies. Raises ValueError saying what
+    is wrong with the file (missing, unreadable, not 2-D, smaller than 4×4, not finite).
+    """
     file = Path(path)
     if not file.is_file():
         raise ValueError(f"an existing .npy, .npz or image file (no file {file})")
@@ -375,14 +394,16 @@ def read_grid(path: str, array: str | None = None) -> tuple[np.ndarray, bool]:
 
 
 class GridFile(_Kind):
-    """A landscape measured or computed elsewhere (e.g. a micromagnetic energy map), read from
-    ``path``: a .npy/.npz array of energies (rows along y, J or k_BT per ``unit``), or a
+    """A landscape measured or computed elsewhere (e.g. a micromagnetic energy map), from a file.
+
+    ``path`` holds a .npy/.npz array of energies (rows along y, J or k_BT per ``unit``), or a
     greyscale image whose grey level 0…1 is scaled by ``amplitude`` (J) or ``amplitude_kT``.
     ``spacing`` [m] is the distance between samples, ``origin`` [m] the position of the first
-    (lower-left) sample. Fitted with a bicubic spline (scipy) and sampled, with its
-    derivatives, at the engine's nodes; it must cover the whole device. The file is read and
-    checked when the potential is validated; a relative ``path`` in a TOML configuration is
-    taken relative to the configuration's folder."""
+    (lower-left) sample. Fitted with a bicubic spline (scipy) and sampled, with its derivatives, at
+    the engine's nodes; it must cover the whole device. The file is read and checked when the
+    potential is validated; a relative ``path`` in a TOML configuration is taken relative to the
+    configuration's folder.
+    """
 
     kind: Literal["grid"] = "grid"
     array: str | None = None  # the array's name inside an .npz (default: its only array)
@@ -423,6 +444,10 @@ class GridFile(_Kind):
         return values * (kt if self.unit == "kT" else units.J_TO_PN_NM)
 
     def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm), from the spline.
+
+        Raises :class:`~skygas.core.errors.InputError` if the file's samples do not cover the nodes.
+        """
         from scipy.interpolate import RectBivariateSpline
 
         from skygas.core.errors import InputError
@@ -457,8 +482,11 @@ class GridFile(_Kind):
 
 
 def _fourth_order_derivative(f: np.ndarray, spacing: float, axis: int) -> np.ndarray:
-    """∂f along ``axis`` by the fourth-order central difference (f(−2) − 8f(−1) + 8f(1) −
-    f(2))/(12 h), on the nodes at least two from the ends (the result is 4 shorter there)."""
+    """∂f along ``axis`` by the fourth-order central difference.
+
+    (f(−2) − 8f(−1) + 8f(1) − f(2))/(12 h), on the nodes at least two from the ends (the result
+    is 4 shorter along ``axis``).
+    """
     n = f.shape[axis]
 
     def part(lo: int) -> np.ndarray:
@@ -468,8 +496,9 @@ def _fourth_order_derivative(f: np.ndarray, spacing: float, axis: int) -> np.nda
 
 
 class EdgeStrayField(_Kind):
-    """The energy of a skyrmion in the stray field of the film's edges (docs/physics.md §2,
-    :mod:`skygas.fields.landscape.stray_field`):
+    """The energy of a skyrmion in the stray field of the film's edges.
+
+    See docs/physics.md §2 and :mod:`skygas.fields.landscape.stray_field`:
 
         U(r) = μ₀ M_s t ∫_film w(|r' − r|) H_dev(r') dA'
 
@@ -480,7 +509,8 @@ class EdgeStrayField(_Kind):
     term itself when its tabulated wall law is used; listing it by hand is for other uses.
 
     U is computed on the engine's grid, padded by two nodes, and differentiated by fourth-order
-    central differences (U varies on the skyrmion's scale, many nodes wide)."""
+    central differences (U varies on the skyrmion's scale, many nodes wide).
+    """
 
     kind: Literal["edge_stray_field"] = "edge_stray_field"
     saturation_magnetization: Length
@@ -502,6 +532,11 @@ class EdgeStrayField(_Kind):
         return self
 
     def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm).
+
+        Raises :class:`~skygas.core.errors.InputError` without ``ctx.inside`` (a context made by a
+        Simulation, which knows the device's outline).
+        """
         from skygas.core.errors import InputError
 
         if ctx.inside is None:

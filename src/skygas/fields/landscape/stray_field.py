@@ -84,18 +84,23 @@ def _check(inside, spacing: float, thickness: float, saturation_magnetization: f
 
 
 def _corner_terms(x, y, h):
-    """The two parts of F(x, y) = atan(x y/(h √(x² + y² + h²))) at corners that are never on
-    an axis: F = s·π/2 − s·atan2(h r, |x y|), s = sign(x y). Summed over a cell's corners the
-    constant parts cancel exactly where the cell lies in one quadrant, and the second parts
-    keep a far cell's small integral to full relative precision."""
+    """The two parts of F(x, y) = atan(x y/(h √(x² + y² + h²))) at corners never on an axis.
+
+    F = s·π/2 − s·atan2(h r, |x y|), s = sign(x y). Summed over a cell's corners the constant parts
+    cancel exactly where the cell lies in one quadrant, and the second parts keep a far cell's small
+    integral to full relative precision.
+    """
     sign = np.sign(x) * np.sign(y)
     r = np.sqrt(x * x + y * y + h * h)
     return sign, sign * np.arctan2(h * r, np.abs(x * y))
 
 
 def _corner_sum(corners_x, corners_y, h):
-    """∫∫ h/(x² + y² + h²)^{3/2} over the cells between consecutive ``corners_x`` (1-D) and
-    ``corners_y`` (1-D): an array (len(corners_y) − 1, len(corners_x) − 1)."""
+    """∫∫ h/(x² + y² + h²)^{3/2} over the cells between consecutive corners.
+
+    The corners are ``corners_x`` (1-D) and ``corners_y`` (1-D); the result is an array
+    (len(corners_y) − 1, len(corners_x) − 1).
+    """
     sign, part = _corner_terms(corners_x[None, :], corners_y[:, None], h)
 
     def corners(a):
@@ -105,10 +110,12 @@ def _corner_sum(corners_x, corners_y, h):
 
 
 def cell_kernel(offset_x, offset_y, height: float) -> np.ndarray | float:
-    """∫∫ over the unit cell centred at (``offset_x``, ``offset_y``) of h/(x² + y² + h²)^{3/2}
-    (lengths in cells, ``height`` h = t/(2s)); broadcasts its arguments. Offsets are integers
-    plus, for averages inside a cell, fractions strictly between −½ and ½ (so that no corner
-    lies on an axis). Scalar offsets give a NumPy float."""
+    """∫∫ of h/(x² + y² + h²)^{3/2} over the unit cell centred at (``offset_x``, ``offset_y``).
+
+    Lengths are in cells, ``height`` h = t/(2s); broadcasts its arguments. Offsets are integers
+    plus, for averages inside a cell, fractions strictly between −½ and ½ (so that no corner lies on
+    an axis). Scalar offsets give a NumPy float.
+    """
     ox, oy = np.broadcast_arrays(np.asarray(offset_x, float), np.asarray(offset_y, float))
     total: np.ndarray | float = 0.0
     for sx, sy, weight in ((0.5, 0.5, 1), (-0.5, 0.5, -1), (0.5, -0.5, -1), (-0.5, -0.5, 1)):
@@ -118,8 +125,10 @@ def cell_kernel(offset_x, offset_y, height: float) -> np.ndarray | float:
 
 
 def _sub_points(subsamples: int) -> np.ndarray:
-    """Offsets (in cells, strictly between −½ and ½) of the midpoints of a cell's
-    ``subsamples`` sub-intervals along one axis."""
+    """Offsets of the midpoints of a cell's ``subsamples`` sub-intervals along one axis.
+
+    In cells, strictly between −½ and ½.
+    """
     return (np.arange(subsamples) + 0.5) / subsamples - 0.5
 
 
@@ -129,10 +138,12 @@ def _fft_shape(film: np.ndarray) -> tuple[int, int]:
 
 
 def _wrapped_kernel(shape: tuple[int, int], height: float, px: float, py: float) -> np.ndarray:
-    """The convolution kernel of the field at the point p = (``px``, ``py``) of a cell, on a
-    circular array of ``shape`` (index k ↔ signed offset, as ``numpy.fft.fftfreq`` orders
-    them): entry k is the source cell at offset −k seen from p, K_cell(−k − p) = K_cell(k + p).
-    One grid of corner values gives it (a quarter of the evaluations of :func:`cell_kernel`)."""
+    """The convolution kernel of the field at the point p = (``px``, ``py``) of a cell.
+
+    On a circular array of ``shape`` (index k ↔ signed offset, as ``numpy.fft.fftfreq`` orders
+    them): entry k is the source cell at offset −k seen from p, K_cell(−k − p) = K_cell(k + p). One
+    grid of corner values gives it (a quarter of the evaluations of :func:`cell_kernel`).
+    """
     ny, nx = shape
     oy = np.arange(-(ny // 2), (ny - 1) // 2 + 2) - 0.5  # corners of the sorted offsets
     ox = np.arange(-(nx // 2), (nx - 1) // 2 + 2) - 0.5
@@ -140,9 +151,11 @@ def _wrapped_kernel(shape: tuple[int, int], height: float, px: float, py: float)
 
 
 def _film_integrals(film: np.ndarray, height: float, subsamples: int):
-    """For each of the ``subsamples``² points (px, py) of the cells: (px, py, Σ_film cells
-    K_cell seen from that point of every node's cell), the integral dimensionless, between 0
-    and 2π."""
+    """The film's integral of K_cell seen from each of the ``subsamples``² points of the cells.
+
+    For each point (px, py): (px, py, Σ_film cells K_cell seen from that point of every node's
+    cell), the integral dimensionless, between 0 and 2π.
+    """
     ny, nx = film.shape
     shape = _fft_shape(film)
     film_hat = fft.rfft2(film, shape)
@@ -164,16 +177,24 @@ def edge_field(
 
     Parameters
     ----------
-    inside: (ny, nx) booleans (or film fractions 0…1) of the cells around the nodes; x is
-        axis 1, y axis 0; everything beyond the array is outside the film.
-    spacing: grid spacing s [m].
-    thickness: film thickness t [m].
-    saturation_magnetization: M_s [A/m].
-    subsamples: 1 gives H_dev at the nodes; p > 1 its mean over p × p points of each cell.
+    inside : array_like
+        (ny, nx) booleans (or film fractions 0…1) of the cells around the nodes; x is axis 1,
+        y axis 0; everything beyond the array is outside the film.
+    spacing : float
+        Grid spacing s [m].
+    thickness : float
+        Film thickness t [m].
+    saturation_magnetization : float
+        M_s [A/m].
+    subsamples : int
+        1 gives H_dev at the nodes; p > 1 its mean over p × p points of each cell.
 
-    Returns H_dev = M_s − (M_s/2π) ∫_film h/(|r − r'|² + h²)^{3/2} dA', h = t/2, the in-plane
-    field of the edges (H_z = −M_s + H_dev; see the module's docstring for the exact kernel and
-    why there is no truncation error).
+    Returns
+    -------
+    numpy.ndarray
+        H_dev = M_s − (M_s/2π) ∫_film h/(|r − r'|² + h²)^{3/2} dA', h = t/2, the in-plane field
+        of the edges (H_z = −M_s + H_dev; see the module's docstring for the exact kernel and
+        why there is no truncation error), (ny, nx) [A/m].
     """
     film = _check(inside, spacing, thickness, saturation_magnetization)
     subsamples = _count(subsamples)
