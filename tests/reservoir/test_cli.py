@@ -1,5 +1,6 @@
 """``skygas reservoir``: bad configurations get one clear line before any work; a short run
-writes its JSON, figures and report."""
+writes its JSON, figures and report; a finished study's folder is refused in one line unless
+``--overwrite`` is given."""
 
 from __future__ import annotations
 
@@ -72,6 +73,17 @@ def test_short_run_writes_json_figures_and_report(tmp_path, capsys):
     assert summary["device"]["seed"] == 0 and summary["device"]["skygas_version"]
     for name in ("reservoir.json", "occupation.png", "accuracy.png", "report.md", "report.html"):
         assert (tmp_path / "out" / name).is_file()
-    # a finished study is never overwritten
-    code, out, err, _ = _run(tmp_path, capsys, FAST)
-    assert code == 2 and err.startswith("skygas: error: --out = ")
+    # a finished study is never overwritten, nor continued by a sweep
+    for extra in ([], ["--resume"], ["--sweep"], ["--sweep", "--resume"]):
+        code, out, err, _ = _run(tmp_path, capsys, FAST, *extra)
+        assert code == 2 and out == "", extra
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("skygas: error: --out = "), err
+        assert "--overwrite" in lines[0], err
+    # --overwrite runs it again (the same numbers) and removes an earlier sweep's results
+    (tmp_path / "out" / "sweep.json").write_text("{}")
+    code, out, err, _ = _run(tmp_path, capsys, FAST, "--overwrite", "--json", "--no-report")
+    assert code == 0 and not (tmp_path / "out" / "sweep.json").exists()
+    again = json.loads(out)
+    for key in ("accuracy", "boolean", "temporal", "sensor_means", "steps", "device"):
+        assert again[key] == summary[key], key

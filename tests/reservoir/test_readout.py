@@ -84,7 +84,7 @@ def test_truth_tables_and_the_xor_of_separated_states():
 
 def test_a_random_landscape_is_one_device_in_one_stream():
     from skygas.reservoir.config import reservoir_config
-    from skygas.reservoir.device import run_streams
+    from skygas.reservoir.streams import run_streams
 
     pinned = reservoir_config(
         {

@@ -3,11 +3,22 @@
 from .boltzmann import boltzmann_wall_distance_pdf
 from .chamber import build_chamber, contact_middles
 from .config import ReservoirConfig, load_reservoir_config, reservoir_config
-from .device import ReservoirDevice, StreamResult, run_streams
+from .device import ReservoirDevice, StreamResult, StreamRun, StreamSpec
 from .drive import Drive
+from .files import ReservoirJob, run_reservoir
 from .readout import fit_and_score, split
+from .report import markdown_report
 from .sensors import coverage, disk_overlap_area
-from .study import accuracy_sweep, run_study, score_streams
+from .streams import StreamPool, run_streams, stream_specs
+from .study import (
+    accuracy_sweep,
+    run_study,
+    score_streams,
+    study_summary,
+    sweep_configs,
+    sweep_point,
+    sweep_record,
+)
 from .tasks import BOOLEAN_NAMES, boolean_study, boolean_value, temporal_study
 
 __all__ = [
@@ -15,7 +26,11 @@ __all__ = [
     "Drive",
     "ReservoirConfig",
     "ReservoirDevice",
+    "ReservoirJob",
+    "StreamPool",
     "StreamResult",
+    "StreamRun",
+    "StreamSpec",
     "accuracy_sweep",
     "boltzmann_wall_distance_pdf",
     "boolean_study",
@@ -26,10 +41,17 @@ __all__ = [
     "disk_overlap_area",
     "fit_and_score",
     "load_reservoir_config",
+    "markdown_report",
     "reservoir_config",
+    "run_reservoir",
     "run_streams",
     "run_study",
     "score_streams",
     "split",
+    "stream_specs",
+    "study_summary",
+    "sweep_configs",
+    "sweep_point",
+    "sweep_record",
     "temporal_study",
 ]

@@ -8,8 +8,11 @@ noise. The reservoir state of that input is the feature vector of the sensor mea
 present input sends the skyrmion, the first still remembers where the previous one left it.
 
 The skyrmion is never reset between inputs: the device carries its state from one input to the
-next, which is its (fading) memory. Several independent streams (``study.workers``, each its own
-device and seed) run in parallel processes and are concatenated.
+next, which is its (fading) memory. A stream (:class:`StreamSpec`) is run by a
+:class:`StreamRun`, which can stop after any input and continue from its
+:meth:`~StreamRun.state_dict` in this or another process, with the same numbers as a stream
+run in one go. Several independent streams of a study (each its own seed) run in parallel
+processes and are concatenated (:mod:`skygas.reservoir.streams`).
 """
 
 from __future__ import annotations
@@ -21,15 +24,15 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import require
+from skygas.core.state_keys import nest, unnest
 from skygas.core.units import M_TO_NM
 from skygas.physics import geometry as geo
 from skygas.reservoir.chamber import build_chamber, contact_middles
 from skygas.reservoir.config import ReservoirConfig
 from skygas.reservoir.drive import Drive
 from skygas.reservoir.sensors import coverage
+from skygas.runs.run_driver import from_json_array, json_array
 
-#: Landscape kinds drawn at random from the run's seed (see :func:`run_streams`).
-RANDOM_LANDSCAPES = ("random_pinning", "disorder")
 #: Occupation maps are histograms on this many bins along the chamber's longer side.
 MAP_BINS = 48
 
@@ -48,9 +51,38 @@ class StreamResult:
     wall_seconds: float
 
 
+@dataclass(eq=False)
+class StreamSpec:
+    """One stream of held inputs, as a study draws it.
+
+    The configuration whose device runs it, the input symbols, the seed, and how the inputs
+    are held (``None``: the configuration's ``hold_time`` and ``sensors.sample_interval``).
+    ``warmup`` random inputs (drawn from the seed) are held first and not recorded.
+    """
+
+    config: ReservoirConfig
+    bits: np.ndarray  # (n_inputs, n_input_contacts) of 0/1
+    seed: int
+    warmup: int = 0
+    hold_time: float | None = None  # s
+    sample_interval: float | None = None  # s
+
+    @property
+    def hold(self) -> float:
+        """The time each input is held [s]."""
+        return self.config.hold_time if self.hold_time is None else self.hold_time
+
+    @property
+    def n_total(self) -> int:
+        """Inputs held in all, the warm-up included."""
+        return self.warmup + len(self.bits)
+
+
 class ReservoirDevice:
-    """A validated reservoir: chamber, contacts, drive, sensors (everything checked on
-    construction, before any run)."""
+    """A validated reservoir: chamber, contacts, drive, sensors.
+
+    Everything is checked on construction, before any run.
+    """
 
     def __init__(self, config: ReservoirConfig):
         self.config = config
@@ -134,78 +166,25 @@ class ReservoirDevice:
         return geo.random_positions(self.walls, self.config.n_skyrmions, 1.2 * d, 1.0 * d, rng)
 
     def map_extent(self) -> tuple[float, float, float, float]:
+        """The occupation maps' extent (x0, x1, y0, y1) [nm]: the chamber's bounds."""
         x0, y0, x1, y1 = self.outline.bounds_nm
         return (x0, x1, y0, y1)
 
     def map_shape(self) -> tuple[int, int]:
+        """The occupation maps' shape (ny, nx): square bins, :data:`MAP_BINS` on the long side."""
         x0, x1, y0, y1 = self.map_extent()
         size = max(x1 - x0, y1 - y0) / MAP_BINS
         return (max(1, round((y1 - y0) / size)), max(1, round((x1 - x0) / size)))
 
     # -- running -------------------------------------------------------------------------------
-    def run_stream(
-        self,
-        bits: np.ndarray,
-        seed: int,
-        warmup: int = 0,
-        hold_time: float | None = None,
-        sample_interval: float | None = None,
-        progress=None,
-    ) -> StreamResult:
-        """Hold each symbol of ``bits`` (n, n_input_contacts) for ``hold_time`` in turn,
-        reading the sensors every ``sample_interval`` (defaults: the configuration's), after
-        ``warmup`` random symbols that are not recorded; returns the features and maps."""
-        c = self.config
-        hold = c.hold_time if hold_time is None else hold_time
-        every = c.sensors.sample_interval if sample_interval is None else sample_interval
-        started, cpu = time.perf_counter(), time.process_time()
-        rng = np.random.default_rng(np.random.SeedSequence([seed, 0x5E5]))
-        sim = self.simulation(seed)
-        sim.state.insert_nm(self._initial_positions(sim, rng))
-        symbols = self.drive.symbols
-        n_bins = c.sensors.bins
-        reads = max(n_bins, int(round(hold / every)))
-        interval = hold / reads
-        extent = self.map_extent()
-        shape = self.map_shape()
-        occupation = np.zeros((len(symbols), *shape))
-        sums = np.zeros((len(symbols), len(self.sensor_centers)))
-        counts = np.zeros(len(symbols))
-        features = np.empty((len(bits), len(self.sensor_centers) * n_bins))
-        warm = rng.integers(0, 2, size=(warmup, bits.shape[1]))
-        centers_nm = self.sensor_centers * M_TO_NM
-        for n, symbol in enumerate(np.vstack([warm, bits]).astype(int)):
-            key = tuple(int(b) for b in symbol)
-            sim.set_drift_field(*self._fields[key])
-            sim.run(hold, record_interval=interval)
-            blocks = sim.take_frames()
-            x = np.concatenate([b.x for b in blocks])
-            y = np.concatenate([b.y for b in blocks])
-            if n < warmup:
-                continue
-            signal = coverage(x, y, centers_nm, c.sensors.radius * M_TO_NM, self.skyrmion_radius_nm)
-            if c.sensors.read_noise > 0:
-                signal = signal + rng.normal(0.0, c.sensors.read_noise, signal.shape)
-            windows = np.array_split(signal, n_bins)
-            features[n - warmup] = np.concatenate([w.mean(axis=0) for w in windows])
-            s = symbols.index(key)
-            sums[s] += signal.sum(axis=0)
-            counts[s] += len(signal)
-            ok = np.isfinite(x)
-            hist, _, _ = np.histogram2d(y[ok], x[ok], bins=shape, range=[extent[2:], extent[:2]])
-            occupation[s] += hist
-            if progress is not None:
-                progress(n - warmup + 1)
-        return StreamResult(
-            bits=np.asarray(bits, int),
-            features=features,
-            occupation=occupation,
-            map_extent=extent,
-            sensor_means=sums / np.maximum(counts, 1)[:, None],
-            steps=sim.step,
-            cpu_seconds=time.process_time() - cpu,
-            wall_seconds=time.perf_counter() - started,
-        )
+    def run_stream(self, spec: StreamSpec) -> StreamResult:
+        """Hold every input of the stream ``spec`` in turn and return what it produced.
+
+        See :class:`StreamRun`.
+        """
+        run = StreamRun(self, spec)
+        run.advance(spec.n_total)
+        return run.result()
 
     def describe(self) -> dict:
         """A JSON-able record of the device (SI)."""
@@ -232,60 +211,135 @@ class ReservoirDevice:
         }
 
 
-def _run_one(
-    config: ReservoirConfig, stream: int, n_boolean: int, n_temporal: int
-) -> tuple[StreamResult, StreamResult | None]:
-    """Stream ``stream`` of a study, for a worker process: its own device, seed and random
-    inputs; ``n_boolean`` inputs held ``hold_time``, then (if ``n_temporal`` > 0) a fresh
-    stream of ``n_temporal`` inputs held ``study.temporal_hold_time``."""
-    device = ReservoirDevice(config)
-    rng = np.random.default_rng(np.random.SeedSequence([config.seed, stream, 0xB175]))
-    width = len(config.drive.input_contacts)
-    seed = config.seed * 1000 + stream
-    boolean = device.run_stream(
-        rng.integers(0, 2, size=(n_boolean, width)), seed=seed, warmup=config.study.warmup_inputs
+class StreamRun:
+    """A stream of held inputs (:class:`StreamSpec`) on ``device``, held a few inputs at a time.
+
+    Each input sets its symbol's drift field and runs the engine for the hold time, reading
+    the sensors every ``interval`` (the hold divided into a whole number of reads, at least
+    ``sensors.bins``); its features are the sensor means over ``bins`` windows of the hold.
+    :meth:`state_dict` holds everything that changes (the simulation, the stream's random
+    generator for the read noise, the features and occupation so far) as NumPy arrays: a run
+    built again from the same device and spec and given that state continues bit-identically,
+    wherever the stream was cut (every input is one call of the engine either way).
+    """
+
+    def __init__(self, device: ReservoirDevice, spec: StreamSpec):
+        self.device = device
+        self.spec = spec
+        c = device.config
+        self.hold = spec.hold
+        every = c.sensors.sample_interval if spec.sample_interval is None else spec.sample_interval
+        # the stream's own generator: initial positions, warm-up symbols, read noise (in order)
+        self.rng = np.random.default_rng(np.random.SeedSequence([spec.seed, 0x5E5]))
+        self.sim = device.simulation(spec.seed)
+        self.sim.state.insert_nm(device._initial_positions(self.sim, self.rng))
+        self.bits = np.asarray(spec.bits, int)
+        warm = self.rng.integers(0, 2, size=(spec.warmup, self.bits.shape[1]))
+        self.inputs = np.vstack([warm, self.bits]).astype(int)
+        self.warmup = spec.warmup
+        self.n_bins = c.sensors.bins
+        reads = max(self.n_bins, int(round(self.hold / every)))
+        self.interval = self.hold / reads
+        self.extent = device.map_extent()
+        self.shape = device.map_shape()
+        n_symbols, n_sensors = len(device.drive.symbols), len(device.sensor_centers)
+        self.occupation = np.zeros((n_symbols, *self.shape))
+        self.sums = np.zeros((n_symbols, n_sensors))
+        self.counts = np.zeros(n_symbols)
+        self.features = np.zeros((len(self.bits), n_sensors * self.n_bins))
+        self.position = 0  # inputs held so far, the warm-up included
+        self.cpu_seconds = 0.0
+        self.wall_seconds = 0.0
+
+    @property
+    def finished(self) -> bool:
+        """Whether every input has been held."""
+        return self.position >= len(self.inputs)
+
+    def advance(self, n_inputs: int) -> None:
+        """Hold the next ``n_inputs`` inputs (fewer at the end of the stream)."""
+        started, cpu = time.perf_counter(), time.process_time()
+        device, sim, c = self.device, self.sim, self.device.config
+        symbols = device.drive.symbols
+        centers_nm = device.sensor_centers * M_TO_NM
+        end = min(self.position + n_inputs, len(self.inputs))
+        for n in range(self.position, end):
+            key = tuple(int(b) for b in self.inputs[n])
+            sim.set_drift_field(*device._fields[key])
+            sim.run(self.hold, record_interval=self.interval)
+            blocks = sim.take_frames()
+            x = np.concatenate([b.x for b in blocks])
+            y = np.concatenate([b.y for b in blocks])
+            if n < self.warmup:
+                continue
+            signal = coverage(
+                x, y, centers_nm, c.sensors.radius * M_TO_NM, device.skyrmion_radius_nm
+            )
+            if c.sensors.read_noise > 0:
+                signal = signal + self.rng.normal(0.0, c.sensors.read_noise, signal.shape)
+            windows = np.array_split(signal, self.n_bins)
+            self.features[n - self.warmup] = np.concatenate([w.mean(axis=0) for w in windows])
+            s = symbols.index(key)
+            self.sums[s] += signal.sum(axis=0)
+            self.counts[s] += len(signal)
+            ok = np.isfinite(x)
+            extent = self.extent
+            hist, _, _ = np.histogram2d(
+                y[ok], x[ok], bins=self.shape, range=[extent[2:], extent[:2]]
+            )
+            self.occupation[s] += hist
+        self.position = end
+        self.cpu_seconds += time.process_time() - cpu
+        self.wall_seconds += time.perf_counter() - started
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The stream's state as NumPy arrays (the simulation's under ``sim_``)."""
+        state = nest("sim_", self.sim.state_dict())
+        state.update(
+            rng=json_array(self.rng.bit_generator.state),
+            position=np.array(self.position),
+            features=self.features.copy(),
+            occupation=self.occupation.copy(),
+            sums=self.sums.copy(),
+            counts=self.counts.copy(),
+            map_extent=np.array(self.extent, float),
+            steps=np.array(self.sim.step),
+            cpu_seconds=np.array(self.cpu_seconds),
+            wall_seconds=np.array(self.wall_seconds),
+        )
+        return state
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Continue from a state saved by :meth:`state_dict` (same device and spec)."""
+        self.sim.load_state_dict(unnest("sim_", state))
+        self.rng.bit_generator.state = from_json_array(state["rng"])
+        self.position = int(state["position"])
+        self.features = np.array(state["features"], float)
+        self.occupation = np.array(state["occupation"], float)
+        self.sums = np.array(state["sums"], float)
+        self.counts = np.array(state["counts"], float)
+        self.cpu_seconds = float(state["cpu_seconds"])
+        self.wall_seconds = float(state["wall_seconds"])
+
+    def result(self) -> StreamResult:
+        """What the stream produced (its inputs held so far)."""
+        return stream_result(self.bits, self.state_dict())
+
+
+def stream_result(bits: np.ndarray, state: dict[str, np.ndarray]) -> StreamResult:
+    """What a stream of inputs ``bits`` produced, from its state alone.
+
+    ``state`` is :meth:`StreamRun.state_dict` of the finished stream; its device is not built
+    again.
+    """
+    counts = np.asarray(state["counts"], float)
+    return StreamResult(
+        bits=np.asarray(bits, int),
+        features=np.asarray(state["features"], float),
+        occupation=np.asarray(state["occupation"], float),
+        map_extent=tuple(float(v) for v in state["map_extent"]),
+        sensor_means=np.asarray(state["sums"], float) / np.maximum(counts, 1)[:, None],
+        steps=int(state["steps"]),
+        cpu_seconds=float(state["cpu_seconds"]),
+        wall_seconds=float(state["wall_seconds"]),
     )
-    temporal = None
-    if n_temporal:
-        st = config.study
-        temporal = device.run_stream(
-            rng.integers(0, 2, size=(n_temporal, width)),
-            seed=seed + 500,
-            warmup=st.warmup_inputs,
-            hold_time=st.temporal_hold_time,
-            sample_interval=st.temporal_sample_interval,
-        )
-    return boolean, temporal
-
-
-def run_streams(
-    config: ReservoirConfig,
-    n_inputs: int | None = None,
-    n_temporal: int | None = None,
-    workers: int | None = None,
-) -> tuple[list[StreamResult], list[StreamResult]]:
-    """The Boolean streams (``n_inputs`` held inputs in all) and the temporal streams
-    (``n_temporal``), split into ``workers`` independent streams run in parallel processes
-    (one: in this process).
-
-    A landscape with random terms (pinning wells, disorder) is drawn from the run's seed, and
-    every stream has its own seed: streams would be different devices. Such a study runs as
-    one stream, so that one read-out is trained and tested on one device."""
-    st = config.study
-    n_inputs = st.n_inputs if n_inputs is None else n_inputs
-    n_temporal = st.temporal_inputs if n_temporal is None else n_temporal
-    workers = max(1, min(st.workers if workers is None else workers, n_inputs // 4))
-    if any(p.kind in RANDOM_LANDSCAPES for p in config.potentials):
-        workers = 1
-    sizes = [len(a) for a in np.array_split(np.arange(n_inputs), workers)]
-    temporal = [len(a) for a in np.array_split(np.arange(n_temporal), workers)]
-    if workers == 1:
-        results = [_run_one(config, 0, n_inputs, n_temporal)]
-    else:
-        from joblib import Parallel, delayed
-
-        results = Parallel(n_jobs=workers)(
-            delayed(_run_one)(config, k, m, t)
-            for k, (m, t) in enumerate(zip(sizes, temporal, strict=True))
-        )
-    return [b for b, _ in results], [t for _, t in results if t is not None]

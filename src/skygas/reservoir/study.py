@@ -1,27 +1,29 @@
-"""Studies of the reservoir: the default Boolean + temporal study, and accuracy against one
-parameter with replicas.
+"""Studies of the reservoir: the Boolean and temporal study, and the accuracy sweep.
 
-:func:`run_study` runs the input streams (:func:`~skygas.reservoir.device.run_streams`), trains
+:func:`run_study` runs the input streams (:func:`~skygas.reservoir.streams.run_streams`), trains
 and scores the 16 Boolean read-outs and the temporal tasks, and returns one JSON-able record
-with every parameter, the seed and the version. :func:`accuracy_sweep` repeats a smaller study
-for each value of a parameter (hold time, temperature, number of skyrmions, pinning depth,
-current density) and each replica seed.
+with every parameter, the seed and the version (:func:`study_summary`). :func:`accuracy_sweep`
+repeats a smaller study for each value of a parameter (hold time, temperature, number of
+skyrmions, pinning depth, current density) and each replica seed (:func:`sweep_configs`,
+:func:`sweep_point`, :func:`sweep_record`).
+
+These run in memory; ``skygas reservoir`` runs the same streams piece by piece through the run
+driver, with checkpoints and resume (:mod:`skygas.reservoir.files`), and gives the same numbers.
 """
 
 from __future__ import annotations
 
-import json
-import os
 import time
-from pathlib import Path
+from collections.abc import Mapping
 from typing import cast
 
 import numpy as np
 
 from skygas._version import __version__
 from skygas.reservoir.config import ReservoirConfig
-from skygas.reservoir.device import ReservoirDevice, StreamResult, run_streams
+from skygas.reservoir.device import ReservoirDevice, StreamResult
 from skygas.reservoir.readout import split
+from skygas.reservoir.streams import run_streams
 from skygas.reservoir.tasks import boolean_study, temporal_study
 
 
@@ -32,7 +34,23 @@ def _readout(config: ReservoirConfig) -> dict:
 def score_streams(
     config: ReservoirConfig, streams: list[StreamResult], temporal: list[StreamResult]
 ) -> dict:
-    """Boolean scores of the states of ``streams``, temporal scores of ``temporal``."""
+    """Boolean scores of the states of ``streams``, temporal scores of ``temporal``.
+
+    Parameters
+    ----------
+    config
+        The configuration (read-out, test fraction, delays, seed of the split).
+    streams
+        The Boolean streams, concatenated in order.
+    temporal
+        The temporal streams (none: no temporal scores).
+
+    Returns
+    -------
+    dict
+        ``"boolean"``: the 16 functions' scores (XOR first); ``"temporal"``: recall and parity
+        scores, or None.
+    """
     features = np.concatenate([s.features for s in streams])
     bits = np.concatenate([s.bits for s in streams])
     train, test = split(len(features), config.readout.test_fraction, config.seed)
@@ -50,23 +68,34 @@ def score_streams(
     }
 
 
-def run_study(
+def study_summary(
     config: ReservoirConfig,
-    device: ReservoirDevice | None = None,
-    n_inputs: int | None = None,
-    temporal_tasks: bool = True,
-) -> tuple[dict, list[StreamResult]]:
-    """The study of ``config`` (``temporal_tasks=False`` skips the temporal stream): (summary
-    record, the Boolean streams)."""
-    device = device or ReservoirDevice(config)
-    started = time.perf_counter()
-    streams, temporal = run_streams(
-        config, n_inputs=n_inputs, n_temporal=None if temporal_tasks else 0
-    )
-    scores = score_streams(config, streams, temporal)
-    wall = time.perf_counter() - started
+    device: ReservoirDevice,
+    streams: list[StreamResult],
+    temporal: list[StreamResult],
+    scores: dict,
+    wall_seconds: float,
+) -> dict:
+    """The JSON-able record of a study (what ``reservoir.json`` holds).
+
+    Parameters
+    ----------
+    config, device
+        The study's configuration and its device.
+    streams, temporal
+        The Boolean and temporal streams' results.
+    scores
+        Their scores (:func:`score_streams`).
+    wall_seconds
+        Wall time the study took [s] (streams and scoring).
+
+    Returns
+    -------
+    dict
+        Accuracies, parameters, sensor means, counts, times and the device's record.
+    """
     boolean = scores["boolean"]
-    summary = {
+    return {
         "task": "boolean-2-input",
         "accuracy": {name: r["accuracy"] for name, r in boolean.items()},
         "xor": boolean["XOR"],
@@ -90,12 +119,47 @@ def run_study(
         "n_inputs": int(sum(len(s.bits) for s in streams)),
         "streams": len(streams),
         "steps": int(sum(s.steps for s in streams + temporal)),
-        "wall_seconds": wall,
+        "wall_seconds": wall_seconds,
         # worker processes' CPU time (this process only waits on them)
         "cpu_seconds": float(sum(s.cpu_seconds for s in streams + temporal)),
         "temporal_hold_time_s": config.study.temporal_hold_time,
         "device": device.describe(),
     }
+
+
+def run_study(
+    config: ReservoirConfig,
+    device: ReservoirDevice | None = None,
+    n_inputs: int | None = None,
+    temporal_tasks: bool = True,
+) -> tuple[dict, list[StreamResult]]:
+    """The study of ``config``, in memory.
+
+    Parameters
+    ----------
+    config
+        The validated configuration.
+    device
+        Its device, if already built.
+    n_inputs
+        Held inputs of the Boolean streams (default ``study.n_inputs``).
+    temporal_tasks
+        False: no temporal stream.
+
+    Returns
+    -------
+    tuple
+        The summary record (:func:`study_summary`) and the Boolean streams' results.
+    """
+    device = device or ReservoirDevice(config)
+    started = time.perf_counter()
+    streams, temporal = run_streams(
+        config, n_inputs=n_inputs, n_temporal=None if temporal_tasks else 0
+    )
+    scores = score_streams(config, streams, temporal)
+    summary = study_summary(
+        config, device, streams, temporal, scores, time.perf_counter() - started
+    )
     return summary, streams
 
 
@@ -127,54 +191,65 @@ def _with(config: ReservoirConfig, parameter: str, value: float, seed: int) -> R
     return ReservoirConfig.model_validate(data)
 
 
-def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None, progress=None) -> dict:
-    """XOR and mean Boolean accuracy against ``config.sweep.parameter`` (mean and standard
-    deviation over ``replicas`` seeds).
+def sweep_configs(config: ReservoirConfig) -> list[tuple[float, int, ReservoirConfig]]:
+    """The points of the sweep of ``config`` (``config.sweep``), in order.
 
-    Every (value, replica) point is appended to ``checkpoint`` (JSON lines) when it finishes;
-    a later call with the same file skips the points already there, so an interrupted sweep
-    resumes where it stopped. Every point's configuration is validated before the first runs.
+    Each is (value, replica, the configuration with that value and the replica's seed
+    ``seed + 1000·(replica + 1)``), every value with every replica. The configurations are
+    validated, not their devices.
     """
     sw = config.sweep
-    plan = [
+    return [
         (value, r, _with(config, sw.parameter, value, config.seed + 1000 * (r + 1)))
         for value in sw.values
         for r in range(sw.replicas)
     ]
-    for _, _, cfg in plan:
-        ReservoirDevice(cfg)
-    done = {}
-    if checkpoint is not None and Path(checkpoint).exists():
-        for line in Path(checkpoint).read_text().splitlines():
-            try:
-                point = json.loads(line)
-            except json.JSONDecodeError:
-                continue  # a line cut short by a kill while it was written: run that point again
-            done[(point["value"], point["replica"])] = point
-    for value, r, cfg in plan:
-        if (value, r) not in done:
-            summary, _ = run_study(cfg, n_inputs=sw.n_inputs, temporal_tasks=False)
-            point = {
-                "value": value,
-                "replica": r,
-                "seed": cfg.seed,
-                "xor_accuracy": summary["xor"]["accuracy"],
-                "mean_accuracy": summary["mean_accuracy"],
-            }
-            done[(value, r)] = point
-            if checkpoint is not None:
-                # a whole line per point, flushed to disk before the next point starts; after
-                # a line cut short by a kill the next point starts on a line of its own
-                with open(checkpoint, "a") as f:
-                    f.write("\n" + json.dumps(point) + "\n")
-                    f.flush()
-                    os.fsync(f.fileno())
-        if progress is not None:
-            progress(value, r)
+
+
+def sweep_point(
+    value: float, replica: int, config: ReservoirConfig, streams: list[StreamResult]
+) -> dict:
+    """The record of one sweep point: XOR and mean Boolean accuracy of its streams.
+
+    ``streams`` are the results of :func:`~skygas.reservoir.streams.stream_specs` of
+    ``config`` with ``sweep.n_inputs`` inputs and no temporal stream.
+
+    Parameters
+    ----------
+    value, replica
+        The point's value of the swept parameter, and its replica.
+    config
+        The point's configuration (:func:`sweep_configs`).
+    streams
+        Its Boolean streams' results.
+
+    Returns
+    -------
+    dict
+        ``value``, ``replica``, ``seed``, ``xor_accuracy`` and ``mean_accuracy``.
+    """
+    boolean = score_streams(config, streams, [])["boolean"]
+    return {
+        "value": value,
+        "replica": replica,
+        "seed": config.seed,
+        "xor_accuracy": boolean["XOR"]["accuracy"],
+        "mean_accuracy": float(np.mean([r["accuracy"] for r in boolean.values()])),
+    }
+
+
+def sweep_record(config: ReservoirConfig, points: Mapping[tuple[float, int], dict]) -> dict:
+    """XOR and mean Boolean accuracy against the swept parameter: what ``sweep.json`` holds.
+
+    One row per value of ``config.sweep``: every replica's accuracies, their mean and standard
+    deviation, from every point's record (:func:`sweep_point`) in ``points``, keyed by (value,
+    replica).
+    """
+    sw = config.sweep
     rows = []
     for value in sw.values:
-        xor = [done[(value, r)]["xor_accuracy"] for r in range(sw.replicas)]
-        mean = [done[(value, r)]["mean_accuracy"] for r in range(sw.replicas)]
+        xor = [points[(value, r)]["xor_accuracy"] for r in range(sw.replicas)]
+        mean = [points[(value, r)]["mean_accuracy"] for r in range(sw.replicas)]
         rows.append(
             {
                 "value": value,
@@ -193,3 +268,18 @@ def accuracy_sweep(config: ReservoirConfig, checkpoint: Path | None = None, prog
         "seed": config.seed,
         "rows": rows,
     }
+
+
+def accuracy_sweep(config: ReservoirConfig) -> dict:
+    """The sweep of ``config`` (``config.sweep``), in memory; returns :func:`sweep_record`.
+
+    Every point's configuration is validated, its device built, before the first runs.
+    """
+    plan = sweep_configs(config)
+    for _, _, cfg in plan:
+        ReservoirDevice(cfg)
+    points = {}
+    for value, r, cfg in plan:
+        streams, _ = run_streams(cfg, n_inputs=config.sweep.n_inputs, n_temporal=0)
+        points[(value, r)] = sweep_point(value, r, cfg, streams)
+    return sweep_record(config, points)
