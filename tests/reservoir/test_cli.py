@@ -73,8 +73,11 @@ def test_short_run_writes_json_figures_and_report(tmp_path, capsys):
     assert summary["device"]["seed"] == 0 and summary["device"]["skygas_version"]
     for name in ("reservoir.json", "occupation.png", "accuracy.png", "report.md", "report.html"):
         assert (tmp_path / "out" / name).is_file()
-    # a finished study is never overwritten, nor continued by a sweep
-    for extra in ([], ["--resume"], ["--sweep"], ["--sweep", "--resume"]):
+    # a finished study is never overwritten, nor continued by a sweep; resumed, it has
+    # nothing to do
+    code, out, err, _ = _run(tmp_path, capsys, FAST, "--resume")
+    assert code == 0 and "nothing to resume" in err, err
+    for extra in ([], ["--sweep"], ["--sweep", "--resume"]):
         code, out, err, _ = _run(tmp_path, capsys, FAST, *extra)
         assert code == 2 and out == "", extra
         lines = err.strip().splitlines()

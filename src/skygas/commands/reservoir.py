@@ -60,18 +60,25 @@ def _reservoir(args) -> int:
     with named_by_flags(args, OVERRIDES):  # a bad value names the option that set it
         config = load_reservoir_config(args.config, **overrides)
         summary = run_reservoir(
-            config, args.out, sweep=args.sweep, **run_options(args, progress=not args.json)
+            config,
+            args.out,
+            sweep=args.sweep,
+            **run_options(args, progress=not args.json),
+            then=None if args.no_report else _write_report,
         )
     out = Path(args.out)
-    if not args.no_report:
-        from skygas.outputs.report import write_report
-
-        write_report(out, out / "report.html")
     if args.json:
         print_json(summary)
     else:
         print(_format(summary, out))
     return 0
+
+
+def _write_report(out: Path) -> None:
+    """``report.html``, part of the run's final write (a kill during it: ``--resume``)."""
+    from skygas.outputs.report import write_report
+
+    write_report(out, out / "report.html")
 
 
 def register(subparsers) -> None:

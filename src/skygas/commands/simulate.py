@@ -62,8 +62,10 @@ def _demo(args) -> int:
 
 
 def _outputs(args):
-    """The movie and report a run writes once its results are there (part of its final
-    write: a kill during them is completed by --resume)."""
+    """The movie and report a run writes once its results are there.
+
+    They are part of its final write: a kill during them is completed by ``--resume``.
+    """
     from skygas.outputs.finish import finish_outputs
 
     return lambda out: finish_outputs(out, animate=args.animate, report=not args.no_report)

@@ -1,7 +1,9 @@
-"""The Brownian reservoir: skyrmions in a confined chamber with contacts, whose thermally
-assisted, current-biased occupation is read by magnetoresistive sensors and classified by a
-trained linear read-out (all 16 Boolean functions of two inputs from one device, and temporal
-tasks). See docs/reservoir.md."""
+"""The Brownian reservoir.
+
+Skyrmions in a confined chamber with contacts, whose thermally assisted, current-biased occupation
+is read by magnetoresistive sensors and classified by a trained linear read-out (all 16 Boolean
+functions of two inputs from one device, and temporal tasks). See docs/reservoir.md.
+"""
 
 import lazy_loader
 

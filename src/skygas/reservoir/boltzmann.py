@@ -38,8 +38,11 @@ def boltzmann_wall_distance_pdf(
     edges_nm: np.ndarray,
     resolution_nm: float = 0.5,
 ) -> np.ndarray:
-    """Probability of each wall-distance bin ``edges_nm`` [nm] in the Boltzmann distribution
-    of the walls at ``temperature`` [K] (quadrature on a square grid of ``resolution_nm``)."""
+    """Probability of each wall-distance bin in the walls' Boltzmann distribution.
+
+    The bins are ``edges_nm`` [nm], the temperature ``temperature`` [K]; the quadrature runs on
+    a square grid of ``resolution_nm``.
+    """
     x0, y0, x1, y1 = outline.bounds_nm
     gx, gy = np.meshgrid(
         np.arange(x0, x1, resolution_nm) + resolution_nm / 2,

@@ -1,5 +1,6 @@
-"""The reservoir's chamber: a confined outline whose contacts are electrodes for the current
-and walls for the skyrmions.
+"""The reservoir's chamber.
+
+A confined outline whose contacts are electrodes for the current and walls for the skyrmions.
 
 Shapes (``ChamberSpec.shape``), all centred on the origin:
 
@@ -42,8 +43,10 @@ def _regular(n: int, side: float, first_angle: float) -> np.ndarray:
 
 
 def _cut_corners(vertices: np.ndarray, width: float) -> tuple[np.ndarray, list]:
-    """The polygon with every corner cut by a segment of length ``width`` [m]; returns the new
-    vertices and the (start, end) of each cut."""
+    """The polygon with every corner cut by a segment of length ``width`` [m].
+
+    Returns the new vertices and the (start, end) of each cut.
+    """
     n = len(vertices)
     points, cuts = [], []
     for k in range(n):
@@ -67,9 +70,11 @@ def _cut_corners(vertices: np.ndarray, width: float) -> tuple[np.ndarray, list]:
 
 
 def _disk_with_flats(diameter: float, width: float) -> geo.Outline:
-    """A disk with straight flats of length ``width`` [m] centred at 210°, 330° and 90°: the
-    flats' ends lie exactly on the circle, the arcs between them are polygons whose chords stray
-    at most 0.05 nm from the circle (like :func:`skygas.physics.geometry.disk`)."""
+    """A disk with straight flats of length ``width`` [m] centred at 210°, 330° and 90°.
+
+    The flats' ends lie exactly on the circle, the arcs between them are polygons whose chords
+    stray at most 0.05 nm from the circle (like :func:`skygas.physics.geometry.disk`).
+    """
     radius = diameter / 2
     require(
         width < diameter,

@@ -54,8 +54,11 @@ class DriveSpec(_Strict):
 
 
 class SensorSpec(_Strict):
-    """Magnetoresistive sensors: disks; the signal is the fraction of the sensor's area the
-    skyrmions cover, plus Gaussian read noise."""
+    """Magnetoresistive sensors.
+
+    Disks; the signal is the fraction of the sensor's area the skyrmions cover, plus Gaussian
+    read noise.
+    """
 
     radius: float = Field(90e-9, gt=0)  # m
     centers: list[tuple[float, float]] = []  # m; empty: one at each contact's middle
@@ -125,8 +128,10 @@ def _check_counts(data: dict) -> None:
 
 
 def reservoir_config(data: dict | None = None, **overrides) -> ReservoirConfig:
-    """A validated :class:`ReservoirConfig` from a mapping plus overrides (dotted keys,
-    :func:`~skygas.core.config_types.apply_overrides`)."""
+    """A validated :class:`ReservoirConfig` from a mapping plus overrides.
+
+    Overrides are dotted keys (:func:`~skygas.core.config_types.apply_overrides`).
+    """
     data = apply_overrides(data or {}, overrides)
     _check_counts(data)
     try:
@@ -138,5 +143,6 @@ def reservoir_config(data: dict | None = None, **overrides) -> ReservoirConfig:
 
 
 def load_reservoir_config(path: str | Path | None = None, **overrides) -> ReservoirConfig:
+    """The configuration of TOML file ``path`` (defaults without one), plus overrides."""
     data = read_toml(path) if path is not None else {}
     return reservoir_config(data, **overrides)

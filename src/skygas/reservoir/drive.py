@@ -34,6 +34,7 @@ class Drive:
 
     @classmethod
     def build(cls, outline: Outline, spec: DriveSpec) -> Drive:
+        """The drive of ``spec``'s contacts on ``outline`` (the unit current patterns solved)."""
         for k, name in enumerate(spec.input_contacts):
             require(
                 name in outline.ports,
@@ -72,6 +73,7 @@ class Drive:
         return volts
 
     def flow(self, symbol) -> ContactFlow:
+        """The current flow while ``symbol`` is held."""
         return self.basis.flow(self.potentials(symbol))
 
     def drift_fields(self, grid) -> dict[tuple[int, ...], tuple[np.ndarray, np.ndarray]]:
@@ -84,8 +86,11 @@ class Drive:
         return self.basis.power(self.potentials(symbol))
 
     def record(self, hold_time: float) -> dict:
-        """Voltages, powers, mean |j| and energy per operation (the mean over equiprobable
-        symbols of P·hold_time) [SI]."""
+        """Voltages, powers.
+
+        Mean |j| and energy per operation (the mean over equiprobable symbols of
+        P·hold_time) [SI].
+        """
         per = {}
         for s in self.symbols:
             flow = self.flow(s)

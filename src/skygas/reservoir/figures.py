@@ -1,5 +1,7 @@
-"""Figures of the reservoir: occupation map per input, accuracies, accuracy against a swept
-parameter (matplotlib, Agg backend)."""
+"""Figures of the reservoir.
+
+Occupation map per input, accuracies, accuracy against a swept parameter (matplotlib, Agg backend).
+"""
 
 from __future__ import annotations
 
@@ -13,8 +15,11 @@ from skygas.runs.plotting import draw_outline
 
 
 def plot_occupation(device, streams, path: Path) -> Path:
-    """Where the skyrmion centres were while each input symbol was held (fraction of the
-    frames per bin, log colour scale), with the contacts, their voltages and the sensors."""
+    """Where the skyrmion centres were while each input symbol was held.
+
+    The fraction of the frames per bin, on a log colour scale, with the contacts, their
+    voltages and the sensors.
+    """
     from matplotlib.colors import LogNorm
 
     symbols = device.drive.symbols
@@ -61,8 +66,11 @@ def plot_occupation(device, streams, path: Path) -> Path:
 
 
 def plot_accuracies(summary: dict, path: Path) -> Path:
-    """Test accuracy of the 16 Boolean read-outs (chance level marked) and of the temporal
-    tasks (recall against delay, parity of the last two inputs)."""
+    """Test accuracy of the 16 Boolean read-outs and of the temporal tasks.
+
+    The chance level is marked; the temporal tasks are the recall against delay and the
+    parity of the last two inputs.
+    """
     t = summary["temporal"]
     fig = Figure(figsize=(10 if t else 5.5, 3.8), dpi=110)
     ax = fig.add_subplot(1, 2 if t else 1, 1)

@@ -27,8 +27,10 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -259,6 +261,7 @@ def run_reservoir(
     checkpoint_seconds: float = 30.0,
     overwrite: bool = False,
     strict: bool = False,
+    then: Callable[[Path], Any] | None = None,
 ) -> dict:
     """Run the study of ``config`` (and its sweep) and write its files into ``out_dir``.
 
@@ -270,9 +273,10 @@ def run_reservoir(
         The output folder (see the module docstring for its files).
     sweep
         Also run the accuracy sweep ``config.sweep``.
-    progress, resume, checkpoint_seconds, overwrite, strict
+    progress, resume, checkpoint_seconds, overwrite, strict, then
         As for :func:`~skygas.runs.run_driver.drive`: a finished folder is refused unless
-        ``overwrite``, an interrupted one unless ``resume`` (or ``overwrite``).
+        ``overwrite``, an interrupted one unless ``resume`` (or ``overwrite``); ``then``
+        writes more once the results are there (the command's HTML report).
 
     Returns
     -------
@@ -289,4 +293,5 @@ def run_reservoir(
             checkpoint_seconds=checkpoint_seconds,
             overwrite=overwrite,
             strict=strict,
+            then=then,
         )

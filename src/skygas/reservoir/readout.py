@@ -1,5 +1,6 @@
-"""The trained linear read-out: features → label, trained on one part of the inputs and scored
-on the held-out rest.
+"""The trained linear read-out.
+
+Features → label, trained on one part of the inputs and scored on the held-out rest.
 
 The features are standardised (zero mean, unit variance on the training set) and fed to a
 ridge classifier (least squares on ±1 targets with an L2 penalty α, scikit-learn's

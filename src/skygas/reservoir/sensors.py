@@ -14,8 +14,10 @@ import numpy as np
 
 
 def disk_overlap_area(d, r1: float, r2: float) -> np.ndarray:
-    """Area of the intersection of two disks of radii ``r1``, ``r2`` whose centres are ``d``
-    apart (any length unit; the area in that unit squared)."""
+    """Area of the intersection of two disks of radii ``r1``.
+
+    ``r2`` whose centres are ``d`` apart (any length unit; the area in that unit squared).
+    """
     d = np.asarray(d, float)
     small, big = min(r1, r2), max(r1, r2)
     out = np.zeros(d.shape)
@@ -37,8 +39,10 @@ def coverage(
     sensor_radius_nm: float,
     skyrmion_radius_nm: float,
 ) -> np.ndarray:
-    """Covered fraction of each sensor, (frames, sensors), from positions (frames, slots) [nm]
-    (NaN for empty slots)."""
+    """Covered fraction of each sensor, (frames, sensors).
+
+    From positions (frames, slots) [nm] (NaN for empty slots).
+    """
     out = np.empty((x_nm.shape[0], len(centers_nm)))
     area = np.pi * sensor_radius_nm**2
     for s, (cx, cy) in enumerate(centers_nm):

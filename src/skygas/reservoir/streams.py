@@ -155,8 +155,7 @@ def advance_stream(
 
 
 def _start_worker(parent: int) -> None:
-    """A worker's initializer: leave SIGINT and SIGTERM to the parent, and exit once it is
-    gone."""
+    """A worker's initializer: leave SIGINT and SIGTERM to the parent, and exit once it is gone."""
     for s in _SIGNALS:
         signal.signal(s, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):

@@ -48,8 +48,7 @@ def boolean_value(number: int, a, b) -> np.ndarray:
 def boolean_study(
     features: np.ndarray, bits: np.ndarray, train, test, **readout
 ) -> dict[str, dict]:
-    """Scores of the 16 functions (XOR first) on the states ``features`` of inputs ``bits``
-    (n, 2)."""
+    """Scores of the 16 functions (XOR first) on the states ``features`` of ``bits`` (n, 2)."""
     return {
         BOOLEAN_NAMES[k]: {
             "truth_table": k,
@@ -62,8 +61,10 @@ def boolean_study(
 
 
 def temporal_study(streams, delays, test_fraction: float, seed: int, **readout) -> dict:
-    """Recall of input a k steps back (each k in ``delays``) and parity a_n ⊕ a_{n−1}, from
-    the state at step n; states whose history starts before the stream are left out."""
+    """Recall of input a k steps back (each k in ``delays``) and parity a_n ⊕ a_{n−1}.
+
+    From the state at step n; states whose history starts before the stream are left out.
+    """
     deepest = max([1, *delays])
     feats = np.concatenate([s.features[deepest:] for s in streams])
     a = [s.bits[:, 0] for s in streams]

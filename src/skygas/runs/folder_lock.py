@@ -47,9 +47,11 @@ def _holder_line(path: Path) -> str:
 
 
 def _take(path: Path) -> int | None:
-    """Open and lock ``path``; return the file descriptor, or None if another process holds
-    it. A lock file removed by its previous holder between our open and our lock is opened
-    again (its inode changed), so that two runs never hold two different files."""
+    """Open and lock ``path``; return the file descriptor, or None if another process holds it.
+
+    A lock file removed by its previous holder between our open and our lock is opened again
+    (its inode changed), so that two runs never hold two different files.
+    """
     assert fcntl is not None
     while True:
         fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)

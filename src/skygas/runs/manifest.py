@@ -90,7 +90,10 @@ def claim(
         )
     finished = found.get("finished_at") is not None
     if finished and resume and not overwrite:
-        raise RunFinished(out, command)
+        if config_hash is None:
+            return found  # the run driver decides, knowing the configuration
+        if found.get("config_hash") == config_hash:
+            raise RunFinished(out, command)
     if finished and not overwrite:
         raise InputError(
             "--out",
