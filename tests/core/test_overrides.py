@@ -26,6 +26,32 @@ def test_an_index_past_a_list_is_one_line():
         apply_overrides({"potentials": [{"rms": 1.0}]}, {"potentials.3.rms": 2.0})
 
 
+@pytest.mark.parametrize(
+    ("key", "words"),
+    [
+        ("seed.x", "seed is a value"),  # through a number
+        ("signal.p.q", "signal.p is a value"),
+        ("vertices.5", "an index below 2"),  # past the end of a list of numbers
+        ("vertices.x", "an index below 2"),
+        ("potentials.0.rms.x", "potentials.0.rms is a value"),
+    ],
+)
+def test_a_key_that_does_not_fit_the_data_is_one_line(key, words):
+    data = {"seed": 1, "signal": {"p": 0.5}, "vertices": [1.0, 2.0], "potentials": [{"rms": 1}]}
+    with pytest.raises(InputError, match=words):
+        apply_overrides(data, {key: 3.0})
+    assert data == {
+        "seed": 1,
+        "signal": {"p": 0.5},
+        "vertices": [1.0, 2.0],
+        "potentials": [{"rms": 1}],
+    }
+
+
+def test_an_element_of_a_list_of_numbers_can_be_set():
+    assert apply_overrides({"center": [1.0, 2.0]}, {"center.1": 5.0}) == {"center": [1.0, 5.0]}
+
+
 def test_the_neuron_and_the_reservoir_take_dotted_overrides():
     from skygas.neuron.config import neuron_config
     from skygas.reservoir.config import reservoir_config

@@ -192,27 +192,38 @@ def apply_overrides(data: dict, overrides: Mapping[str, Any]) -> dict:
             continue
         node: dict | list = data
         parts = key.split(".")
-        for part in parts[:-1]:
-            if isinstance(node, list):  # an index into a list of tables ("potentials.0.rms")
+        for depth, part in enumerate(parts):
+            last = depth == len(parts) - 1
+            if isinstance(node, list):  # an index into a list ("potentials.0.rms")
                 require(
                     part.isdigit() and int(part) < len(node),
                     key,
                     value,
-                    f"an index below {len(node)} into the list of {parts[0]}",
+                    f"an index below {len(node)} into the list {'.'.join(parts[:depth])}",
                 )
-                node = node[int(part)]
-                continue
-            child = node.get(part, {})
-            node[part] = child = (
-                [dict(t) for t in child]
-                if isinstance(child, list)
-                else dict(child)
-                if isinstance(child, dict)
-                else child
-            )
+                if last:
+                    node[int(part)] = value
+                    break
+                child = node[int(part)]
+                index: int | str = int(part)
+            else:
+                if last:
+                    node[part] = value
+                    break
+                child = node.get(part, {})
+                index = part
+            # copied on the way down: the caller's data is never changed
+            if isinstance(child, dict):
+                child = dict(child)
+            elif isinstance(child, list):
+                child = [dict(t) if isinstance(t, dict) else t for t in child]
+            else:
+                raise InputError(
+                    key,
+                    value,
+                    f"a key into a table ({'.'.join(parts[: depth + 1])} is a value, not a "
+                    "table or a list)",
+                )
+            node[index] = child  # type: ignore[index]
             node = child
-        if isinstance(node, list):
-            node[int(parts[-1])] = value
-        else:
-            node[parts[-1]] = value
     return data
