@@ -2,7 +2,9 @@
 
 - :class:`Frames`: positions as one table of entries (dense and sparse records alike);
 - :func:`mean_squared_displacement`: MSD over overlapping time origins and the diffusion
-  constant, with jackknife standard errors (:mod:`~skygas.analysis.diffusion`);
+  constant, with jackknife standard errors, and :func:`diffusion_estimate`: the short- and
+  long-time diffusion constants only where the record supports them
+  (:mod:`~skygas.analysis.diffusion`);
 - :func:`pair_correlation`: g(r) normalised for the confinement (:mod:`~skygas.analysis.structure`);
 - :func:`mean_velocity`, :func:`hall_angle`: drift and the skyrmion Hall angle
   (:mod:`~skygas.analysis.transport`);
@@ -13,7 +15,12 @@ These are device-independent; the device-specific analyses stay beside their dev
 (:mod:`skygas.reshuffler.analysis`, :mod:`skygas.neuron.analysis`, :mod:`skygas.sweep.analysis`).
 """
 
-from skygas.analysis.diffusion import MSDResult, mean_squared_displacement
+from skygas.analysis.diffusion import (
+    DiffusionEstimate,
+    MSDResult,
+    diffusion_estimate,
+    mean_squared_displacement,
+)
 from skygas.analysis.frames import Frames
 from skygas.analysis.maps import FieldMap, density_map, occupancy, velocity_map
 from skygas.analysis.observables import analyze
@@ -24,6 +31,8 @@ __all__ = [
     "Frames",
     "MSDResult",
     "mean_squared_displacement",
+    "DiffusionEstimate",
+    "diffusion_estimate",
     "PairCorrelation",
     "pair_correlation",
     "MeanVelocity",

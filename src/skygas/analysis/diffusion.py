@@ -8,6 +8,18 @@ The diffusion constant follows from MSD = 4 D τ in two dimensions (free Brownia
 docs/physics.md): D = Σ_k τ_k MSD(τ_k) / (4 Σ_k τ_k²), the least-squares slope through the
 origin over the fitted lags. Standard errors are delete-one-skyrmion jackknife errors
 (:mod:`skygas.analysis.jackknife`), which account for the overlapping origins.
+
+:func:`diffusion_estimate` decides what the MSD can support. It reports
+
+- the **short-time** D₀, fitted over the first :data:`SHORT_LAGS` frame lags (always these,
+  whatever lags were asked for), only where MSD(τ)/4τ is flat over them: where it already falls
+  (a confined, pinned or crowded gas recorded too sparsely), the frames cannot resolve free
+  diffusion and D₀ is absent, with the reason;
+- the **long-time** D_eff, the plateau of MSD(τ)/4τ over the last half-decade of lags, only
+  where it is flat there: in a closed chamber the MSD saturates and there is none;
+- MSD(τ)/4τ itself with its errors, the curve on which both are read.
+
+A burn-in [s] drops the first frames (a run that starts from random placement relaxes first).
 """
 
 from __future__ import annotations
@@ -57,6 +69,13 @@ class MSDResult:
         return float(self.lag_time[0] / self.lags[0]) if len(self.lags) else float("nan")
 
 
+#: Frame lags 1 … SHORT_LAGS fit the short-time diffusion constant.
+SHORT_LAGS = 4
+#: Largest relative change of MSD(τ)/4τ across a fit range that still counts as flat (linear
+#: MSD), when the change is also significant (beyond 3 standard errors).
+FLATNESS = 0.2
+
+
 def default_lags(n_frames: int, count: int = 16) -> np.ndarray:
     """Up to ``count`` log-spaced lags from 1 to a quarter of the record (frames)."""
     top = max(1, (n_frames - 1) // 4)
@@ -78,8 +97,9 @@ def mean_squared_displacement(
         The lags [frames] (default :func:`default_lags`); those not shorter than the record are
         dropped.
     fit_lags : array of int, optional
-        The lags D is fitted over (default: the shortest lags, up to five, where the motion is still
-        free in a crowded or confined gas).
+        The lags [frames] D is fitted over (default: 1 … :data:`SHORT_LAGS`, the shortest, where
+        the motion is still free in a crowded or confined gas; they are computed whatever
+        ``lags`` holds, so D does not depend on the lags asked for).
     subtract_drift : bool
         Remove the mean displacement at each lag first: ⟨|Δr − ⟨Δr⟩|²⟩, the spread of a drifting
         gas.
@@ -96,10 +116,12 @@ def mean_squared_displacement(
     """
     dt = frames.frame_interval()
     lags = default_lags(frames.n_frames) if lags is None else np.asarray(lags, np.int64)
+    fit = np.arange(1, SHORT_LAGS + 1) if fit_lags is None else np.asarray(fit_lags, np.int64)
+    lags = np.union1d(lags, fit)
     lags = lags[(lags >= 1) & (lags < frames.n_frames)]
     if len(lags) == 0:
         raise ValueError("no lag shorter than the record")
-    fit = lags[:5] if fit_lags is None else np.intersect1d(np.asarray(fit_lags, np.int64), lags)
+    fit = np.intersect1d(fit, lags)
     _, group = np.unique(frames.ids, return_inverse=True)
     n_groups = int(group.max()) + 1 if len(group) else 0
     # per skyrmion and lag: [count, Σdx, Σdy, Σ|d|²]
@@ -135,4 +157,157 @@ def mean_squared_displacement(
         float(jackknife_error(sums, d_of)),
         lags[in_fit],
         subtract_drift,
+    )
+
+
+@dataclass(frozen=True)
+class DiffusionEstimate:
+    """What an MSD supports: D₀ and D_eff [m²/s] where it does, the reasons where it does not.
+
+    ``short_time`` / ``long_time`` are (D, error) or ``None``; ``short_reason`` /
+    ``long_reason`` say why one is absent. ``msd_over_4tau`` and its error [m²/s] per lag of
+    ``msd`` are the curve both are read on; ``burn_in`` [s] the time dropped at the start.
+    """
+
+    msd: MSDResult
+    msd_over_4tau: np.ndarray
+    msd_over_4tau_error: np.ndarray
+    short_time: tuple[float, float] | None
+    short_reason: str | None
+    long_time: tuple[float, float] | None
+    long_reason: str | None
+    long_lag_times: np.ndarray
+    burn_in: float
+
+    def as_dict(self) -> dict:
+        """JSON-able, SI units in the keys; ``None`` where a constant is not supported."""
+        return {
+            "short_time_diffusion_m2_s": None if self.short_time is None else self.short_time[0],
+            "short_time_diffusion_error_m2_s": None
+            if self.short_time is None
+            else self.short_time[1],
+            "short_time_lag_times_s": (self.msd.fit_lags * self.msd._dt).tolist(),
+            "short_time_reason": self.short_reason,
+            "long_time_diffusion_m2_s": None if self.long_time is None else self.long_time[0],
+            "long_time_diffusion_error_m2_s": None if self.long_time is None else self.long_time[1],
+            "long_time_lag_times_s": self.long_lag_times.tolist(),
+            "long_time_reason": self.long_reason,
+            "lag_time_s": self.msd.lag_time.tolist(),
+            "msd_over_4tau_m2_s": self.msd_over_4tau.tolist(),
+            "msd_over_4tau_error_m2_s": self.msd_over_4tau_error.tolist(),
+            "burn_in_s": self.burn_in,
+            "drift_subtracted": self.msd.drift_subtracted,
+        }
+
+
+def _flat(values: np.ndarray, errors: np.ndarray) -> tuple[bool, float]:
+    """Whether ``values`` (MSD/4τ over a fit range) stay flat, and their relative change.
+
+    Flat unless the change from the first to the last exceeds :data:`FLATNESS` and three
+    standard errors.
+    """
+    first, last = float(values[0]), float(values[-1])
+    change = (last - first) / first if first > 0 else float("inf")
+    sigma = float(np.hypot(errors[0], errors[-1]))
+    significant = abs(last - first) > 3 * sigma
+    return not (abs(change) > FLATNESS and significant), change
+
+
+def diffusion_estimate(
+    frames: Frames,
+    lags=None,
+    *,
+    burn_in: float = 0.0,
+    subtract_drift: bool = False,
+    min_pairs: int = 100,
+) -> DiffusionEstimate:
+    """The short- and long-time diffusion constants that the MSD of ``frames`` supports.
+
+    Parameters
+    ----------
+    frames : Frames
+        The recorded positions, evenly spaced in time.
+    lags : array of int, optional
+        The lags [frames] of the MSD curve (default :func:`default_lags`); frame lags
+        1 … :data:`SHORT_LAGS` are always added.
+    burn_in : float
+        Time [s] dropped at the start of the record (the run's relaxation from its start).
+    subtract_drift : bool
+        Remove the mean displacement at each lag (a drifting gas).
+    min_pairs : int
+        Displacements a lag needs to enter the long-time plateau.
+
+    Returns
+    -------
+    DiffusionEstimate
+        D₀ from the short lags where MSD(τ)/4τ is flat there, D_eff from the plateau of
+        MSD(τ)/4τ over the last half-decade of lags where it has one; each absent, with the
+        reason, where the record cannot support it.
+
+    Raises
+    ------
+    ValueError
+        If the frames are not evenly spaced, or no lag is shorter than the record after the
+        burn-in.
+    """
+    if burn_in < 0:
+        raise ValueError("burn_in must be >= 0")
+    if burn_in > 0:
+        frames = frames.window(start=float(frames.time[0]) + burn_in)
+    msd = mean_squared_displacement(frames, lags, subtract_drift=subtract_drift)
+    tau = msd.lag_time
+    ratio = msd.msd / (4 * tau)
+    ratio_error = msd.msd_error / (4 * tau)
+    dt = msd._dt
+
+    short = np.isin(msd.lags, msd.fit_lags)
+    short_time: tuple[float, float] | None = None
+    short_reason = None
+    if short.sum() < 2:
+        short_reason = "the record is too short for the first frame lags"
+    else:
+        flat, change = _flat(ratio[short], ratio_error[short])
+        if flat:
+            short_time = (msd.diffusion_constant, msd.diffusion_error)
+        else:
+            short_reason = (
+                f"MSD(τ)/4τ changes by {100 * change:+.0f} % between lags of "
+                f"{tau[short][0]:.3g} s and {tau[short][-1]:.3g} s: the frames are too far apart "
+                "to resolve free diffusion (walls, pinning or neighbours act within one frame); "
+                f"record more often than every {dt:.3g} s"
+            )
+
+    enough = msd.n_pairs >= min_pairs
+    top = tau[enough].max() if enough.any() else 0.0
+    long = enough & (tau >= top / np.sqrt(10))
+    long_time: tuple[float, float] | None = None
+    long_reason = None
+    if long.sum() < 2 or top < 10 * tau[0]:
+        long_reason = (
+            "the record is too short: its longest well-sampled lag is less than ten frame intervals"
+        )
+    else:
+        flat, change = _flat(ratio[long], ratio_error[long])
+        if flat:
+            weights = 1.0 / np.maximum(ratio_error[long], 1e-300) ** 2
+            value = float(np.sum(weights * ratio[long]) / np.sum(weights))
+            # the lags' errors are correlated (overlapping origins): quote the largest, not
+            # the error of their weighted mean
+            long_time = (value, float(np.max(ratio_error[long])))
+        else:
+            long_reason = (
+                f"MSD(τ)/4τ still changes by {100 * change:+.0f} % over the longest lags "
+                f"({tau[long][0]:.3g} s to {tau[long][-1]:.3g} s): no plateau (a confined gas's "
+                "MSD saturates, and a slow one has not reached its long-time regime)"
+            )
+    return DiffusionEstimate(
+        msd,
+        ratio,
+        ratio_error,
+        short_time,
+        short_reason,
+        long_time,
+        long_reason,
+        tau[long] if long.any() else np.empty(0),
+        float(burn_in),
     )

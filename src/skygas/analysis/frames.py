@@ -95,6 +95,14 @@ class Frames:
             self.time[frames], self.count[frames], self.ids[take], self.x[take], self.y[take]
         )
 
+    def entries_where(self, keep: np.ndarray) -> Frames:
+        """The same frames with only the entries where ``keep`` (E,) is true."""
+        keep = np.asarray(keep, bool)
+        counts = np.bincount(self.frame_of_entry[keep], minlength=self.n_frames)
+        return Frames(
+            self.time, counts.astype(np.int64), self.ids[keep], self.x[keep], self.y[keep]
+        )
+
     def window(self, start: float | None = None, end: float | None = None) -> Frames:
         """The frames with start ≤ time ≤ end [s] (either bound may be None)."""
         keep = np.ones(self.n_frames, bool)

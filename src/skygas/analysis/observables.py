@@ -1,9 +1,16 @@
 """Every standard observable of one run, as one JSON-able dict (``skygas analyze``).
 
-Which observables apply depends on the record: the MSD and D need evenly spaced frames; the
-Hall angle needs a drive direction. The free diffusion constant D₀ = k_B T α𝒟k/((α𝒟k)² + G²)
-of the run's material is given beside the measured D for comparison (they agree for a dilute
-gas far from walls; crowding and confinement lower the measured one).
+Which observables apply depends on the record, and an observable the record cannot support is
+absent, with the reason:
+
+- the MSD needs evenly spaced frames; the short- and long-time diffusion constants are given
+  only where MSD(τ)/4τ is flat over their lags (:func:`~skygas.analysis.diffusion_estimate`);
+  the free diffusion constant D₀ = k_B T α𝒟k/((α𝒟k)² + G²) of the run's material is given
+  beside them for comparison (they agree for a dilute gas far from walls);
+- the skyrmion Hall angle needs a uniform drive (``skygas simulate`` with ``[drift]``), and is
+  measured on the skyrmions at least :data:`HALL_WALL_CLEARANCE` diameters from every wall:
+  near a wall, or in a device whose current follows its conduits, the angle of the mean
+  velocity is set by the walls, not by the skyrmion.
 """
 
 from __future__ import annotations
@@ -13,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from skygas.analysis.diffusion import mean_squared_displacement
+from skygas.analysis.diffusion import diffusion_estimate
 from skygas.analysis.maps import density_map, occupancy, velocity_map
 from skygas.analysis.structure import pair_correlation
 from skygas.analysis.transport import mean_velocity
@@ -22,6 +29,10 @@ if TYPE_CHECKING:
     from skygas.neuron.config import NeuronConfig
     from skygas.reshuffler.config import ReshufflerConfig
     from skygas.runs.config import SimulationConfig
+
+
+#: Skyrmion diameters from every wall beyond which displacements count for the Hall angle.
+HALL_WALL_CLEARANCE = 2.0
 
 
 def _free_diffusion_constant(record) -> float | None:
@@ -39,7 +50,7 @@ def _free_diffusion_constant(record) -> float | None:
     return thiele.diffusion_constant(float(temperature))
 
 
-def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
+def analyze(record, *, maps: bool = True, pair_bins: int = 40, burn_in: float = 0.0) -> dict:
     """The observables of a :class:`~skygas.outputs.records.RunRecord` (SI units).
 
     Parameters
@@ -50,6 +61,9 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
         Add the density map and, with evenly spaced frames, the velocity map.
     pair_bins : int
         Bins of the pair correlation function.
+    burn_in : float
+        Time [s] dropped at the start of the record before the MSD (a run that starts from
+        random placement relaxes first).
 
     Returns
     -------
@@ -74,10 +88,17 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
         except ValueError:
             even = False
     if even and len(frames.ids):
-        msd = mean_squared_displacement(frames, subtract_drift=record.drive is not None)
-        out["msd"] = msd.as_dict()
+        try:
+            est = diffusion_estimate(
+                frames, burn_in=burn_in, subtract_drift=record.drive is not None
+            )
+        except ValueError as err:  # nothing left after the burn-in
+            out["diffusion"] = {"reason": str(err)}
+        else:
+            out["msd"] = est.msd.as_dict()
+            out["diffusion"] = est.as_dict()
         out["free_diffusion_constant_m2_s"] = _free_diffusion_constant(record)
-        out["velocity"] = mean_velocity(frames).as_dict(record.drive)
+        out["velocity"] = _velocity(record, frames)
     x0, y0, x1, y1 = record.outline.bounds_nm
     r_max = min(10 * record.skyrmion_diameter, 0.5 * min(x1 - x0, y1 - y0) * 1e-9)
     if frames.n_frames and frames.count.max(initial=0) >= 2:
@@ -107,6 +128,43 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40) -> dict:
                 "samples": vm.samples.astype(int).tolist(),
             }
     return out
+
+
+def _velocity(record, frames) -> dict:
+    """The mean velocity, and the Hall angle where it is the skyrmion's (module docstring)."""
+    velocity = mean_velocity(frames).as_dict()
+    if record.drive is None:
+        return velocity
+    if record.kind != "simulate":
+        velocity["hall_angle_reason"] = (
+            "the drift follows the device's current and walls: the angle of the mean velocity "
+            "to one direction is not the skyrmion Hall angle"
+        )
+        return velocity
+    clearance_nm = HALL_WALL_CLEARANCE * record.skyrmion_diameter * 1e9
+    far = record.outline.wall_distance_nm(frames.x * 1e9, frames.y * 1e9) >= clearance_nm
+    free = frames.entries_where(far)
+    try:
+        away = mean_velocity(free)
+    except ValueError:
+        away = None
+    if away is None or away.n < 10:
+        velocity["hall_angle_reason"] = (
+            f"fewer than 10 displacements of skyrmions {HALL_WALL_CLEARANCE:g} diameters or more "
+            "from every wall"
+        )
+        return velocity
+    far_from_walls = away.as_dict(record.drive)
+    velocity.update(
+        {
+            "hall_angle_rad": far_from_walls["hall_angle_rad"],
+            "hall_angle_error_rad": far_from_walls["hall_angle_error_rad"],
+            "drive_direction": far_from_walls["drive_direction"],
+            "hall_angle_displacements": away.n,
+            "hall_angle_wall_clearance_diameters": HALL_WALL_CLEARANCE,
+        }
+    )
+    return velocity
 
 
 def _nan_to_none(values: np.ndarray) -> list:

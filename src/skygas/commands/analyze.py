@@ -1,6 +1,7 @@
 """``skygas analyze RUN [--json]``: the standard observables of a run (:mod:`skygas.analysis`).
 
-MSD and D, g(r), velocity and Hall angle, occupancy, density and velocity maps.
+MSD and the diffusion constants it supports, g(r), velocity and Hall angle, occupancy, density
+and velocity maps; an observable the run cannot support is absent, with the reason.
 """
 
 from __future__ import annotations
@@ -27,19 +28,23 @@ def _analyze(args) -> int:
     from skygas.analysis import analyze
     from skygas.outputs.records import load_run
 
-    result = analyze(load_run(args.run), maps=not args.no_maps)
+    result = analyze(load_run(args.run), maps=not args.no_maps, burn_in=args.burn_in)
     if args.json:
         print_json(result)
         return 0
     print(f"{result['kind']} run, {result['frames']} frames, {result['entries']} positions")
-    msd = result.get("msd")
-    if msd:
+    diffusion = result.get("diffusion")
+    if diffusion:
         free = result.get("free_diffusion_constant_m2_s")
-        print(
-            f"  diffusion constant D = "
-            f"{_pm(msd['diffusion_constant_m2_s'], msd['diffusion_constant_error_m2_s'])} "
-            f"m²/s" + (f" (free skyrmion: {free:.4g} m²/s)" if free else "")
-        )
+        for key, label in (("short_time", "short-time D₀"), ("long_time", "long-time D_eff")):
+            value = diffusion.get(f"{key}_diffusion_m2_s")
+            if value is not None:
+                error = diffusion[f"{key}_diffusion_error_m2_s"]
+                print(f"  {label} = {_pm(value, error)} m²/s")
+            else:
+                print(f"  {label}: none ({diffusion.get(f'{key}_reason')})")
+        if free:
+            print(f"  free skyrmion of the material: D₀ = {free:.4g} m²/s")
     v = result.get("velocity")
     if v:
         print(
@@ -48,7 +53,9 @@ def _analyze(args) -> int:
         )
         if "hall_angle_rad" in v:
             angle = _pm(v["hall_angle_rad"], v["hall_angle_error_rad"], 180 / math.pi)
-            print(f"  Hall angle = {angle}°")
+            print(f"  Hall angle = {angle}° (skyrmions away from the walls)")
+        elif v.get("hall_angle_reason"):
+            print(f"  Hall angle: none ({v['hall_angle_reason']})")
     occ = result["occupancy"]
     print(f"  skyrmions present: mean {occ['mean_total']:.3g}, largest {occ['max_total']}")
     g = result.get("pair_correlation")
@@ -65,4 +72,11 @@ def register(subparsers) -> None:
     p.add_argument("run", help="run directory or result file")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--no-maps", action="store_true", help="leave out the density and velocity maps")
+    p.add_argument(
+        "--burn-in",
+        type=float,
+        default=0.0,
+        metavar="S",
+        help="time dropped at the start of the record before the MSD [s]",
+    )
     p.set_defaults(func=_analyze)

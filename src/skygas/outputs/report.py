@@ -291,16 +291,18 @@ def _summary_rows(summary: dict):
 
 def _observable_rows(a: dict):
     rows = [("frames analysed", a.get("frames")), ("skyrmion entries", a.get("entries"))]
-    msd = a.get("msd")
-    if msd:
-        rows.append(
-            (
-                "diffusion constant D" + (" (drift removed)" if msd["drift_subtracted"] else ""),
-                _number(
-                    msd["diffusion_constant_m2_s"], msd["diffusion_constant_error_m2_s"], "m²/s"
-                ),
-            )
-        )
+    diffusion = a.get("diffusion")
+    if diffusion:
+        removed = " (drift removed)" if diffusion.get("drift_subtracted") else ""
+        for key, label in (("short_time", "short-time D₀"), ("long_time", "long-time D_eff")):
+            value = diffusion.get(f"{key}_diffusion_m2_s")
+            if value is not None:
+                error = diffusion[f"{key}_diffusion_error_m2_s"]
+                rows.append((f"{label}{removed}", _number(value, error, "m²/s")))
+            elif diffusion.get(f"{key}_reason"):
+                rows.append((f"{label}", f"none: {diffusion[f'{key}_reason']}"))
+        if diffusion.get("reason"):
+            rows.append(("diffusion constant", f"none: {diffusion['reason']}"))
         if a.get("free_diffusion_constant_m2_s"):
             rows.append(
                 (
@@ -317,10 +319,13 @@ def _observable_rows(a: dict):
                 f"{_number(v['velocity_m_s'][1], v['velocity_error_m_s'][1])} m/s",
             )
         )
+        if v.get("hall_angle_reason"):
+            rows.append(("Hall angle", f"none: {v['hall_angle_reason']}"))
         if "hall_angle_rad" in v:
             rows.append(
                 (
-                    "Hall angle from the drive direction",
+                    f"Hall angle from the drive direction (skyrmions ≥ "
+                    f"{v['hall_angle_wall_clearance_diameters']:g} d_sk from walls)",
                     _number(
                         math.degrees(v["hall_angle_rad"]),
                         math.degrees(v["hall_angle_error_rad"]),
@@ -340,31 +345,42 @@ def _observable_rows(a: dict):
 def _analysis_figures(a: dict):
     from matplotlib.figure import Figure
 
-    msd = a.get("msd")
-    if msd:
+    diffusion = a.get("diffusion")
+    if diffusion and diffusion.get("lag_time_s"):
+        # MSD(τ)/4τ: flat where the motion is diffusive; the constants are read on its plateaus
         fig = Figure(figsize=(4.6, 3.4), dpi=100)
         ax = fig.add_subplot()
-        t = np.array(msd["lag_time_s"]) * 1e9
-        m = np.array(msd["msd_m2"]) * 1e18
-        ax.errorbar(t, m, yerr=np.array(msd["msd_error_m2"]) * 1e18, fmt="o", ms=3)
-        d = msd["diffusion_constant_m2_s"]
-        ax.plot(t, 4 * d * t * 1e-9 * 1e18, "k--", lw=1, label="4Dτ (fit)")
+        t = np.array(diffusion["lag_time_s"]) * 1e9
+        ratio = np.array(diffusion["msd_over_4tau_m2_s"]) * 1e9  # nm²/ns
+        error = np.array(diffusion["msd_over_4tau_error_m2_s"]) * 1e9
+        ax.errorbar(t, ratio, yerr=error, fmt="o", ms=3, color="tab:blue", label="MSD(τ)/4τ")
+        for key, style, label in (
+            ("short_time", "k--", "D₀ (short lags)"),
+            ("long_time", "k-.", "D_eff (plateau)"),
+        ):
+            value = diffusion.get(f"{key}_diffusion_m2_s")
+            lags = np.array(diffusion.get(f"{key}_lag_times_s") or []) * 1e9
+            if value is not None and len(lags):
+                ax.plot(lags, np.full(len(lags), value * 1e9), style, lw=1.5, label=label)
         if a.get("free_diffusion_constant_m2_s"):
-            ax.plot(
-                t,
-                4 * a["free_diffusion_constant_m2_s"] * t * 1e-9 * 1e18,
-                ":",
+            ax.axhline(
+                a["free_diffusion_constant_m2_s"] * 1e9,
+                ls=":",
                 color="tab:red",
-                label="4D₀τ (free)",
+                label="free D₀ of the material",
             )
         if len(t) > 1:
             ax.set_xscale("log")
-            ax.set_yscale("log")
+        ax.set_ylim(bottom=0)
         ax.set_xlabel("lag τ (ns)")
-        ax.set_ylabel("MSD (nm²)")
+        ax.set_ylabel("MSD(τ)/4τ (nm²/ns)")
         ax.legend(fontsize=8)
         fig.tight_layout()
-        yield _figure_png(fig), "mean-squared displacement (± jackknife error)"
+        yield (
+            _figure_png(fig),
+            "MSD(τ)/4τ against the lag (± jackknife error): flat where the motion is "
+            "diffusive; the constants drawn are those it supports",
+        )
     g = a.get("pair_correlation")
     if g:
         fig = Figure(figsize=(4.6, 3.4), dpi=100)
