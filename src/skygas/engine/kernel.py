@@ -121,6 +121,7 @@ def advance(
     pair_j = np.empty(capacity, dtype=np.int64)
     n_owners = -1  # no list yet
     n_exits = 0
+    moved = 0  # skyrmion-steps taken (the rate of wall escapes is counted against them)
     n_planned = plan.steps.shape[0]
     cursor = 0
     steps_done = n_steps
@@ -254,6 +255,7 @@ def advance(
         for i in range(n):
             if not alive[i]:
                 continue
+            moved += 1
             # ``domain`` holds the boundary distance at the last evaluated position (Heun's
             # predictor, or x for Euler); the interpolated field changes by at most √2 per nm,
             # so a skyrmion that moved less than distance/√2 from there is certainly inside.
@@ -287,6 +289,7 @@ def advance(
             record_frame(x, y, alive, ids, counters.frames, frames.x, frames.y, frames.ids)
             counters.frames += 1
     counters.exits += n_exits
+    counters.skyrmion_steps = moved
     counters.steps = steps_done
     counters.inserted = cursor
     return n_exits

@@ -260,6 +260,9 @@ class Simulation:
         self.state = StateView(self)
         self.step = 0
         self.wall_escapes = 0
+        #: steps of one skyrmion taken, summed over the skyrmions (what wall escapes are
+        #: counted against)
+        self.skyrmion_steps = 0
         self.pair_evaluations = 0
         self.neighbor_rebuilds = 0
 
@@ -648,6 +651,7 @@ class Simulation:
             )
         self.step += int(c["steps"])
         self.wall_escapes += int(c["wall_escapes"])
+        self.skyrmion_steps += int(c["skyrmion_steps"])
         self.pair_evaluations += int(c["pair_evaluations"])
         self.neighbor_rebuilds += int(c["neighbor_rebuilds"])
         return int(c["inserted"])
@@ -663,7 +667,13 @@ class Simulation:
             **nest("store_", self.store.state_dict()),
             **nest("record_", self.recorder.state_dict()),
             "counters": np.array(
-                [self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds],
+                [
+                    self.step,
+                    self.wall_escapes,
+                    self.pair_evaluations,
+                    self.neighbor_rebuilds,
+                    self.skyrmion_steps,
+                ],
                 dtype=np.int64,
             ),
             # which landscape terms are switched on (a gate can be open or closed)
@@ -680,9 +690,9 @@ class Simulation:
         """Restore a state saved by :meth:`state_dict`."""
         self.store.load_state_dict(unnest("store_", state))
         self.recorder.load_state_dict(unnest("record_", state))
-        self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = (
-            int(v) for v in state["counters"]
-        )
+        counters = [int(v) for v in state["counters"]]
+        self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = counters[:4]
+        self.skyrmion_steps = counters[4] if len(counters) > 4 else 0
         for term, on in enumerate(state.get("landscape_enabled", ())):
             self.landscape.set_enabled(term, bool(on))
         for name, op in named_operations(self.operations).items():

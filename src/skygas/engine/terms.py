@@ -196,6 +196,7 @@ COUNTERS = np.dtype(
         #   cannot be made)
         ("inserted", np.int64),  # planned insertions made
         ("next_id", np.int64),  # in: id of the next inserted skyrmion; out: the one after
+        ("skyrmion_steps", np.int64),  # steps of one skyrmion taken, summed over skyrmions
     ]
 )
 

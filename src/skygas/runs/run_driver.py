@@ -428,7 +428,7 @@ def drive(
     command = manifest.current_command(type(job).__name__)
     with folder_lock.hold(out, command):  # one run per folder, for the run's whole life
         result = _run_in_folder(
-            job, out, command, resume, overwrite, progress, checkpoint_seconds, then
+            job, out, command, resume, overwrite, progress, checkpoint_seconds, then, strict
         )
     sanity.after_run(job, strict)
     return result
@@ -443,9 +443,10 @@ def _run_in_folder(
     progress: bool,
     checkpoint_seconds: float,
     then: Callable[[Path], Any] | None,
+    strict: bool,
 ) -> Any:
     """The part of :func:`drive` that runs while the folder's lock is held."""
-    from skygas.runs import manifest
+    from skygas.runs import manifest, sanity
 
     resume_from = _prepare_folder(job, out, resume, overwrite)
     ckpt = out / CHECKPOINT
@@ -460,6 +461,7 @@ def _run_in_folder(
             while job.work_done() < job.work_total:
                 job.advance_piece()
                 update()
+                sanity.during_run(job, strict)  # --strict refuses as soon as it is certain
                 if signals.received is not None:
                     save_checkpoint(job, ckpt)
                     raise RunInterrupted(signals.received, ckpt)
