@@ -58,3 +58,14 @@ def drop_stale_kernels() -> None:
         partial.replace(stamp)  # atomic: a concurrent reader sees the old stamp or the new one
     except OSError:
         pass  # a read-only installation: numba then caches elsewhere or not at all
+
+
+def engine_compiled() -> bool:
+    """Whether the engine's time loop is in the cache (else the first run compiles it).
+
+    Looked at after :func:`drop_stale_kernels`, so a stale cache counts as absent. Compiling
+    the kernels takes about half a minute on one core; the run driver says so before it, and
+    measures the progress bar's rate from the end of the first piece.
+    """
+    drop_stale_kernels()
+    return any((_package() / "engine" / "__pycache__").glob("kernel.advance-*.nbi"))

@@ -332,7 +332,21 @@ def _progress_bar(job: Job, enabled: bool):
     if not enabled:
         yield lambda: None
         return
+    import sys
+
     from tqdm import tqdm
+
+    from skygas.core.kernel_cache import engine_compiled
+
+    # a run of the engine whose time loop is not in the cache yet compiles it in its first piece
+    steps_the_engine = getattr(getattr(job, "run", None), "sim", None) is not None
+    compiling = steps_the_engine and not engine_compiled()
+    if compiling:
+        print(
+            "skygas: compiling the engine's kernels (once per installation, about half a "
+            "minute)...",
+            file=sys.stderr,
+        )
 
     bar = tqdm(
         total=round(job.work_total, 6),
@@ -344,8 +358,19 @@ def _progress_bar(job: Job, enabled: bool):
     )
 
     def update() -> None:
+        nonlocal compiling
         bar.total = round(job.work_total, 6)  # a job may learn its size as it goes
-        bar.update(round(job.work_done(), 6) - bar.n)  # tqdm throttles the redraws
+        done = round(job.work_done(), 6)
+        if compiling:
+            # the first piece included the compilation: the rate, and so the remaining time,
+            # is measured afresh from here, on the stepping alone
+            compiling = False
+            now = time.time()  # tqdm's clock
+            bar.n = bar.initial = done
+            bar.start_t = bar.last_print_t = now
+            bar.refresh()
+            return
+        bar.update(done - bar.n)  # tqdm throttles the redraws
 
     try:
         yield update
