@@ -4,6 +4,8 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+# The documentation tools (the `docs` extra) have a stamp of their own: `make test` needs none.
+DOCS_STAMP := $(VENV)/.installed-docs
 DEMO_OUT ?= demo-output
 # torch is installed first and pinned: magnum.np (the `micromagnetics` extra) accepts any torch,
 # and pip's default on Linux is a CUDA build of several GB. Here 2.13.0 is a CPU build. On a
@@ -11,7 +13,7 @@ DEMO_OUT ?= demo-output
 # (or any CUDA build); elsewhere a CPU build: `--index-url https://download.pytorch.org/whl/cpu`.
 TORCH ?= torch==2.13.0
 
-.PHONY: demo test lint format bench clean venv
+.PHONY: demo test lint format bench docs clean venv
 
 venv: $(STAMP)
 
@@ -21,6 +23,10 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet $(TORCH)
 	$(BIN)/python -m pip install --quiet -e '.[test,micromagnetics]'
 	touch $(STAMP)
+
+$(DOCS_STAMP): $(STAMP) pyproject.toml
+	$(BIN)/python -m pip install --quiet -e '.[docs]'
+	touch $(DOCS_STAMP)
 
 demo: $(STAMP)
 	$(BIN)/skygas reshuffle --out $(DEMO_OUT) --overwrite
@@ -40,8 +46,13 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src tests benchmarks examples
 	$(BIN)/ruff format src tests benchmarks examples
 
+# The documentation site (mkdocs.yml) into site/: the pages of docs/, the API reference from the
+# docstrings and the tutorials, whose code runs during the build. Any warning is an error.
+docs: $(DOCS_STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
+
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_engine.py
 
 clean:
-	rm -rf $(VENV) $(DEMO_OUT) .pytest_cache
+	rm -rf $(VENV) $(DEMO_OUT) .pytest_cache site
