@@ -102,41 +102,64 @@ def _packed_wall_channels(wall_field: WallField) -> np.ndarray:
 class Simulation:
     """A skyrmion gas in a device outline.
 
-    Parameters
-    ----------
-    outline: the device (:mod:`skygas.physics.geometry`).
-    material: a :class:`~skygas.physics.materials.Material`, preset name or TOML path.
-    temperature: T [K] (0 for deterministic dynamics).
-    time_step: dt [s]; refused above :meth:`max_time_step`; ``None`` takes
-        :meth:`suggested_time_step`.
-    seed: non-negative integer; with the same seed a run is bit-identical.
-    film_thickness: t_F [m]; ``None``: the material's own (a calibrated model, which refuses
-        any other), else 2 nm as in the paper.
-    thiele: explicit Thiele parameters (otherwise derived from the material and film).
-    drift_velocity: uniform spin-drift velocity v_s [m/s] (x, y).
-    external_force: a uniform force (F_x, F_y) [N] on every skyrmion, e.g. of a field gradient
-        (:class:`~skygas.engine.term_rules.ConstantForce`).
-    pair_law, wall_law: ``"paper"``, ``"lin-reichhardt"`` (pair only) or ``"table"`` (the
-        material's ``pair_table`` / ``wall_table``); ``None``: the material's own, ``"table"``
-        when it has the table, else ``"paper"`` (:func:`~skygas.engine.force_model.
-        resolve_law_names`). With the table wall law, a material with a ``stray_field``
-        profile also gets the edge stray-field energy as a landscape term
-        (:class:`~skygas.fields.landscape.kinds.EdgeStrayField`, docs/physics.md §2).
-    pair_law_params, cutoff_fraction: see :mod:`skygas.physics.forces`.
-    grid_spacing: wall-field grid spacing [m] (default d_sk/16).
-    integrator: ``"heun"`` (default) or ``"euler-maruyama"`` (for comparison only).
-    brownian_substeps: draw each step's noise as the sum of this many sub-increments, so that
-        runs with steps dt and dt/m share one Brownian path (strong-convergence studies).
-    capacity: initial room in the store (it grows on demand).
-    landscape: external potentials (:mod:`skygas.fields.landscape`: objects or their TOML tables),
-        added up on the field grid; their force −∇U enters like the pair and wall forces.
-    step_interval: with ``time_step=None``, the suggested step is shortened so that this
-        interval [s] (a recording or injection interval) is a whole number of steps
-        (:func:`~skygas.engine.force_model.default_time_step`).
-
     Operations (:attr:`operations`) act on the run at the steps they ask for and read and
     change skyrmions through :attr:`state`. :attr:`edge_stray_field` is the stray-field term
-    the material added to the landscape (its last term), or ``None``.
+    the material added to the landscape (its last term), or ``None``. The equation of motion
+    is docs/physics.md §1.
+
+    Parameters
+    ----------
+    outline : Outline
+        The device (:mod:`skygas.physics.geometry`).
+    material : Material or str
+        A :class:`~skygas.physics.materials.Material`, a preset name or a TOML path.
+    temperature : float
+        T [K] (0 for deterministic dynamics).
+    time_step : float, optional
+        dt [s]; refused above :meth:`max_time_step`; ``None`` takes
+        :meth:`suggested_time_step`.
+    seed : int
+        A non-negative integer; with the same seed a run is bit-identical.
+    film_thickness : float, optional
+        t_F [m]; ``None``: the material's own (a calibrated model, which refuses any other),
+        else 2 nm as in the paper.
+    thiele : ThieleParameters, optional
+        Explicit Thiele parameters (otherwise derived from the material and film).
+    drift_velocity : (float, float)
+        A uniform spin-drift velocity v_s [m/s] (x, y).
+    pair_law : str, optional
+        ``"paper"``, ``"lin-reichhardt"`` or ``"table"`` (the material's ``pair_table``);
+        ``None``: the material's own, ``"table"`` when it has the table, else ``"paper"``
+        (:func:`~skygas.engine.force_model.resolve_law_names`).
+    pair_law_params : dict, optional
+        The pair law's parameters (:mod:`skygas.physics.forces`).
+    cutoff_fraction : float
+        The force, as a fraction of F₀, below which the laws are cut off
+        (:mod:`skygas.physics.forces`).
+    grid_spacing : float, optional
+        The wall-field grid spacing [m] (default d_sk/16).
+    integrator : str
+        ``"heun"`` (default) or ``"euler-maruyama"`` (for comparison only).
+    brownian_substeps : int
+        Draw each step's noise as the sum of this many sub-increments, so that runs with steps
+        dt and dt/m share one Brownian path (strong-convergence studies).
+    capacity : int
+        The initial room in the store (it grows on demand).
+    landscape : sequence
+        External potentials (:mod:`skygas.fields.landscape`: objects or their TOML tables),
+        added up on the field grid; their force −∇U enters like the pair and wall forces.
+    wall_law : str, optional
+        ``"paper"`` or ``"table"`` (the material's ``wall_table``); ``None`` as for
+        ``pair_law``. With the table wall law, a material with a ``stray_field`` profile also
+        gets the edge stray-field energy as a landscape term
+        (:class:`~skygas.fields.landscape.kinds.EdgeStrayField`, docs/physics.md §2).
+    step_interval : float, optional
+        With ``time_step=None``, the suggested step is shortened so that this interval [s] (a
+        recording or injection interval) is a whole number of steps
+        (:func:`~skygas.engine.force_model.default_time_step`).
+    external_force : (float, float)
+        A uniform force (F_x, F_y) [N] on every skyrmion, e.g. of a field gradient
+        (:class:`~skygas.engine.term_rules.ConstantForce`).
     """
 
     def __init__(
