@@ -306,3 +306,97 @@ def test_a_sanity_finding_is_a_warning_without_strict(tmp_path):
     assert warnings and all(w.startswith("skygas: warning: ") for w in warnings)
     assert any("temperature = 1000000000.0" in w and "600 K" in w for w in warnings)
     json.loads(proc.stdout)
+
+
+# -- outputs never overwrite inputs (issue: nothing lost) --
+# export, animate, report and plot read a run folder or a sweep store and write something made
+# from it: an --out over one of their inputs, a run's results or into a store is refused, one
+# line before any work, and an existing file is replaced only with --overwrite.
+
+#: a finished run folder and a sweep store, as these commands find them (never read: every case
+#: is refused before the run is loaded)
+SAFE_FILES = {
+    "run/manifest.json": _manifest("simulate"),
+    "run/trajectories.nc": "netcdf\n",
+    "run/summary.json": '{"seed": 4}\n',
+    "run/report.html": "<html>the run's report</html>\n",
+    "store.zarr/zarr.json": '{"zarr_format": 3, "node_type": "group"}\n',
+    "store.zarr/seed/zarr.json": '{"zarr_format": 3, "node_type": "array"}\n',
+    "old.gsd": "an earlier export\n",
+    "old.mp4": "an earlier movie\n",
+    "old.html": "an earlier report\n",
+}
+
+SAFE_CASES = {
+    "export over its result file": (
+        ["export", "run", "--format", "gsd", "--out", "run/trajectories.nc"],
+        "not one of the command's inputs",
+    ),
+    "export over the run's summary": (
+        ["export", "run", "--format", "extxyz", "--out", "run/summary.json"],
+        "the only kind written into the run folder",
+    ),
+    "export over the run's manifest": (
+        ["export", "run/trajectories.nc", "--format", "gsd", "--out", "run/manifest.json"],
+        "never replaced",
+    ),
+    "export over an existing file": (
+        ["export", "run", "--format", "gsd", "--out", "old.gsd"],
+        "add --overwrite",
+    ),
+    "export into a store": (
+        ["export", "run", "--format", "gsd", "--out", "store.zarr/run.gsd", "--overwrite"],
+        "outside the sweep store",
+    ),
+    "animate over its result file": (
+        ["animate", "run", "--out", "run/trajectories.nc"],
+        "--out = 'run/trajectories.nc'",
+    ),
+    "animate over an existing movie": (["animate", "run", "--out", "old.mp4"], "add --overwrite"),
+    "report over the run's summary": (
+        ["report", "run", "--out", "run/summary.json"],
+        "not one of the command's inputs",  # the report reads the summary
+    ),
+    "report over an existing file": (["report", "run", "--out", "old.html"], "add --overwrite"),
+    "report over its input": (
+        ["report", "run/trajectories.nc", "--out", "run/trajectories.nc", "--overwrite"],
+        "not one of the command's inputs",
+    ),
+    "report into the store": (
+        ["report", "store.zarr", "--out", "store.zarr/report.html"],
+        "beside the store, e.g. --out store-report.html",
+    ),
+    "report into another store": (
+        ["report", "run", "--out", "store.zarr/seed/report.html", "--overwrite"],
+        "outside the sweep store",
+    ),
+    "plot into its store": (["plot", "store.zarr", "--out", "store.zarr"], "outside the input"),
+    "plot into a folder of its store": (
+        ["plot", "store.zarr", "--out", "store.zarr/figs"],
+        "outside the input",
+    ),
+    "plot into a run folder": (["plot", "store.zarr", "--out", "run/figs"], "run folder"),
+}
+
+
+@pytest.mark.parametrize("name", list(SAFE_CASES))
+def test_an_output_over_an_input_is_refused_and_the_inputs_are_unchanged(name, tmp_path):
+    args, expected = SAFE_CASES[name]
+    for relative, text in SAFE_FILES.items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_text(text)
+    before = _snapshot(tmp_path)
+    proc = _run(args, tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: --out = "), lines[0]
+    assert expected in lines[0], lines[0]
+    assert _snapshot(tmp_path) == before  # inputs byte-identical, nothing created or left behind
+    assert proc.stdout == ""
+
+
+def test_the_reading_commands_take_overwrite():
+    commands = dict(_subparsers(cli.build_parser()))
+    for name in ("export", "animate", "report", "plot"):
+        assert "--overwrite" in commands[name].format_help(), name

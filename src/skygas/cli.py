@@ -15,7 +15,9 @@ that cannot be written (any :class:`OSError`), and a job too large to compute
 allocating, :mod:`skygas.core.resources`). Anything else is a bug in skygas: one line saying so,
 exit status 70 (``EX_SOFTWARE``). ``skygas --debug COMMAND ...`` shows the traceback instead.
 An ``--out`` folder that the failing command created is removed again when it is still empty,
-so a refused command leaves nothing behind.
+so a refused command leaves nothing behind. A command that reads a run or a sweep store checks
+its ``--out`` against what it reads (``check_out``, :mod:`skygas.outputs.out_paths`) before
+anything is created or locked.
 """
 
 from __future__ import annotations
@@ -54,6 +56,11 @@ EXIT_INTERNAL = 70
 
 #: commands whose ``--out`` is a file, not a folder
 _FILE_OUT_COMMANDS = {"animate", "export", "report"}
+
+#: commands that read a run or a sweep store: ``--overwrite`` lets them replace an existing
+#: ``--out`` file (never an input, a run's results or anything in a store;
+#: :mod:`skygas.outputs.out_paths`)
+_READING_COMMANDS = {"animate", "export", "report"}
 
 #: commands whose ``--out`` keeps its own record instead of a manifest (a sweep store resumes)
 _OWN_OUT_RULES = {"sweep"}
@@ -130,7 +137,9 @@ def _subparser_actions(parser: argparse.ArgumentParser):
 def _complete_subparsers(parser: argparse.ArgumentParser, prefix: str = "") -> None:
     """Give every sub-command its example, and ``--overwrite`` to those writing an ``--out`` folder.
 
-    The run commands have theirs from :func:`~skygas.commands.run_options.add_run_options`.
+    The run commands have theirs from :func:`~skygas.commands.run_options.add_run_options`; the
+    commands that read a run and write one file (:data:`_READING_COMMANDS`) get one that lets
+    them replace an existing file.
     """
     for action in _subparser_actions(parser):
         for name, sub in action.choices.items():
@@ -147,6 +156,13 @@ def _complete_subparsers(parser: argparse.ArgumentParser, prefix: str = "") -> N
                     "--overwrite",
                     action="store_true",
                     help="replace the finished results of the same command in OUT",
+                )
+            elif "--out" in options and "--overwrite" not in options and key in _READING_COMMANDS:
+                sub.add_argument(
+                    "--overwrite",
+                    action="store_true",
+                    help="replace an existing OUT file (never an input, a run's results or a "
+                    "file in a sweep store)",
                 )
             _complete_subparsers(sub, f"{key} ")
 
@@ -270,6 +286,10 @@ def main(argv: list[str] | None = None) -> int:
     created = None
     started = time.time()
     try:
+        # a command's own checks of its --out against its inputs, before anything is touched
+        check_out = getattr(args, "check_out", None)
+        if check_out is not None:
+            check_out(args)
         if out is not None:
             created = _check_output_folder(out)
         # one run per folder: held from the first look at the folder to the last file written

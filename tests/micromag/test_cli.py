@@ -84,6 +84,13 @@ def test_fit_from_ovf_snapshots(tmp_path, capsys):
     assert record["thiele"]["measured_charge"] == pytest.approx(-1.0, abs=1e-3)
     assert record["skygas_version"]
     assert (out / "fit.png").exists() and (out / "forces.csv").exists()
+    from PIL import Image
+
+    with Image.open(out / "fit.png") as png:  # provenance in the PNG's text chunks
+        assert png.text["skygas_version"] == record["skygas_version"]
+        assert png.text["seed"] == "none"  # a fit draws no random numbers
+        assert png.text["config_hash"] == record["config_hash"]
+        assert png.text["command_line"].startswith("skygas micromag fit ")
 
 
 def test_fit_needs_times(tmp_path, capsys):

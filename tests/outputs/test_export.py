@@ -88,3 +88,52 @@ def test_export_refuses_a_missing_run_before_any_work(tmp_path, capsys):
     )
     assert "skygas: error: RUN" in capsys.readouterr().err
     assert not (tmp_path / "x.gsd").exists()
+
+
+def _run_provenance(directory):
+    """The seed, version and configuration hash of a run, from its result file and manifest."""
+    import json
+
+    record = load_run(directory)
+    manifest = json.loads((directory / "manifest.json").read_text())
+    return {
+        "skygas_version": record.version,
+        "seed": str(record.seed),
+        "config_hash": manifest["config_hash"],
+    }
+
+
+def test_exports_record_the_run_provenance(simulation_run, tmp_path):
+    import json
+
+    import gsd.hoomd
+
+    expected = _run_provenance(simulation_run)
+    gsd_out, xyz_out = tmp_path / "run.gsd", tmp_path / "run.xyz"
+    assert main(["export", str(simulation_run), "--format", "gsd", "--out", str(gsd_out)]) == 0
+    with gsd.hoomd.open(gsd_out) as traj:
+        for frame in (traj[0], traj[len(traj) - 1]):
+            record = json.loads(bytes(frame.log["skygas/provenance_json"]).decode())
+            assert {k: record[k] for k in expected} == expected
+            assert record["command_line"].startswith("skygas export ")
+    assert main(["export", str(simulation_run), "--format", "extxyz", "--out", str(xyz_out)]) == 0
+    header = xyz_out.read_text().splitlines()[1]
+    for key, value in expected.items():
+        assert f" {key}={value} " in header
+    assert 'skygas_command="skygas export ' in header
+    assert not [p.name for p in tmp_path.iterdir() if ".partial" in p.name]
+
+
+def test_an_existing_export_is_replaced_only_with_overwrite(simulation_run, tmp_path, capsys):
+    out = tmp_path / "old.xyz"
+    out.write_text("mine\n")
+    args = ["export", str(simulation_run), "--format", "extxyz", "--out", str(out)]
+    assert main(args) == 2
+    assert "--overwrite" in capsys.readouterr().err
+    assert out.read_text() == "mine\n"
+    assert main([*args, "--overwrite"]) == 0
+    assert out.read_text() != "mine\n"
+    # into the run folder: a file of the command's own kind, never one of the run's results
+    inside = simulation_run / "run.xyz"
+    assert main(["export", str(simulation_run), "--format", "extxyz", "--out", str(inside)]) == 0
+    inside.unlink()

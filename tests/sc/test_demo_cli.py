@@ -5,6 +5,7 @@ import json
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from skygas._version import __version__
 from skygas.cli import _COMMAND_MODULES
@@ -31,6 +32,10 @@ def test_run_demo_writes_figures_and_provenance(tmp_path):
     assert record["parameters"]["n_bits"] == 512
     for name in record["figures"].values():
         assert (tmp_path / name).stat().st_size > 1000
+        with Image.open(tmp_path / name) as png:  # provenance in the PNG's text chunks
+            assert png.text["seed"] == "5" and png.text["skygas_version"] == __version__
+            assert png.text["config_hash"] == record["config_hash"]
+            assert json.loads(png.text["config_json"])["n_bits"] == 512
     names = [row["name"] for row in summary["comparison"]]
     assert names == ["delay isolator (k=1)", "shuffle buffer (D=32)"]
     telegraph = {row["name"]: row["telegraph"]["scc"] for row in summary["comparison"]}

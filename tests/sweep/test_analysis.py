@@ -40,6 +40,11 @@ def fake_store(path, grid, rho_of):
     return path
 
 
+def table_rows(path):
+    """The lines of a CSV file without its leading ``# key: value`` provenance block."""
+    return [line for line in path.read_text().splitlines() if not line.startswith("#")]
+
+
 def test_current_fit_recovers_three_halves(tmp_path):
     # ρ = 1/(1 + x^(-3/2)), x = J/1e11, is the paper's law with c_A = c_B = 1 and has
     # ρ/(1 − ρ) = x^(3/2) exactly
@@ -64,7 +69,7 @@ def test_current_fit_recovers_three_halves(tmp_path):
         str(tmp_path / "figs" / name) for name in ("reshuffler.png", "reshuffler_details.png")
     ]
     # one row per point, ρ the replica mean of the two replicas (±0.01 around the law)
-    rows = (tmp_path / "figs" / "points.csv").read_text().splitlines()
+    rows = table_rows(tmp_path / "figs" / "points.csv")
     assert len(rows) == 1 + 5 * 2
     header = rows[0].split(",")
     first = dict(zip(header, rows[1].split(","), strict=True))
@@ -117,7 +122,7 @@ def test_stores_over_different_points_are_fitted_together(tmp_path, capsys):
     assert fits["beta"]["exponent"] == pytest.approx(1.5, abs=1e-9)
     assert fits["beta"]["n_points"] == 7
     assert main(["plot", str(a), str(b), "--out", str(tmp_path / "figs")]) == 0
-    rows = (tmp_path / "figs" / "points.csv").read_text().splitlines()
+    rows = table_rows(tmp_path / "figs" / "points.csv")
     assert len(rows) == 1 + 7  # the points no store holds are left out
     capsys.readouterr()
     # a point done in both stores, or stores over different fields: one line, nothing drawn
@@ -131,3 +136,38 @@ def test_stores_over_different_points_are_fitted_together(tmp_path, capsys):
         err = capsys.readouterr().err
         assert expected in err and len(err.strip().splitlines()) == 1
         assert not (tmp_path / "bad").exists()
+
+
+def test_plot_outputs_record_the_store_seed_version_and_fingerprint(tmp_path):
+    from PIL import Image
+
+    path = fake_store(
+        tmp_path / "j.zarr",
+        {"current_density": [1e11, 2e11, 3e11], "signal.p": [0.62]},
+        lambda c: 1 / (1 + (c.current_density / 1e11) ** -1.5),
+    )
+    ds = open_sweep(path)
+    out = tmp_path / "figs"
+    assert main(["plot", str(path), "--out", str(out)]) == 0
+    expected = {
+        "skygas_version": ds.attrs["skygas_version"],
+        "seed": "1",
+        "config_hash": ds.attrs["fingerprint"],
+    }
+    fits = json.loads((out / "fits.json").read_text())["provenance"]
+    assert {k: fits[k] for k in expected} == expected
+    assert fits["command"] == "plot" and fits["command_line"].startswith("skygas plot ")
+    with Image.open(out / "reshuffler.png") as png:
+        assert {k: png.text[k] for k in expected} == expected
+        assert png.text["command_line"] == fits["command_line"]
+    comments = [
+        line[2:].split(": ", 1)
+        for line in (out / "points.csv").read_text().splitlines()
+        if line.startswith("# ")
+    ]
+    assert {k: v for k, v in comments if k in expected} == expected
+    assert not [p.name for p in out.iterdir() if ".partial" in p.name]
+    # a store's report goes beside it (nothing is written into a store), refreshed each time
+    for _ in range(2):
+        assert main(["report", str(path)]) == 0
+    assert (tmp_path / "j-report.html").exists() and not (path / "report.html").exists()

@@ -29,9 +29,18 @@ def _positive(name: str, value, allowed: str):
         raise InputError(name, value, allowed)
 
 
+def _check_out(args) -> None:
+    """Refuse, before any work, an ``--out`` over the run's files or into a store."""
+    from skygas.outputs.movie import FORMATS
+    from skygas.outputs.out_paths import check_file_out
+    from skygas.outputs.records import find_result_file
+
+    result = find_result_file(args.run)
+    check_file_out(args.out, [args.run, result], kinds=tuple(FORMATS), overwrite=args.overwrite)
+
+
 def _animate(args) -> int:
     from skygas.outputs.movie import check_movie_path
-    from skygas.outputs.records import find_result_file
 
     # every argument is checked before the run is read
     path = check_movie_path(args.out)
@@ -41,7 +50,7 @@ def _animate(args) -> int:
     _positive("--fps", args.fps, "an integer >= 1 (frames per second)")
     if args.width < 160:
         raise InputError("--width", args.width, "a width of at least 160 pixels")
-    find_result_file(args.run)
+    _check_out(args)  # the run is there, and the movie goes over none of its files
 
     from skygas.outputs.movie import render_movie
     from skygas.outputs.records import load_run

@@ -12,13 +12,25 @@ from skygas.core.errors import InputError
 FORMATS = ("gsd", "extxyz")
 
 
-def _export(args) -> int:
+#: the suffixes of export files (the only files written into a run folder)
+KINDS = (".gsd", ".xyz", ".extxyz")
+
+
+def _check_out(args) -> None:
+    """Refuse, before any work, an ``--out`` over the run's files or into a store."""
+    from skygas.outputs.out_paths import check_file_out
     from skygas.outputs.records import find_result_file
 
     out = Path(args.out)
+    result = find_result_file(args.run)
+    check_file_out(out, [args.run, result], kinds=KINDS, overwrite=args.overwrite)
     if not out.parent.is_dir():
         raise InputError("--out", str(out), "a file in an existing directory")
-    find_result_file(args.run)
+
+
+def _export(args) -> int:
+    _check_out(args)  # before any work
+    out = Path(args.out)
     from skygas.outputs.export import export_run
     from skygas.outputs.records import load_run
 
@@ -38,5 +50,9 @@ def register(subparsers) -> None:
         choices=FORMATS,
         help="gsd (HOOMD, OVITO) or extxyz (OVITO, ASE, VMD)",
     )
-    p.add_argument("--out", required=True, help="output file")
+    p.add_argument(
+        "--out",
+        required=True,
+        help="output file (.gsd, .xyz; never one of the run's files, never in a sweep store)",
+    )
     p.set_defaults(func=_export)

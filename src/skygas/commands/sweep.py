@@ -40,6 +40,13 @@ def _sweep(args) -> int:
     return 0
 
 
+def _check_plot_out(args) -> None:
+    """Refuse, before the folder is created or locked, an ``--out`` in a store or a run folder."""
+    from skygas.outputs.out_paths import check_folder_out
+
+    check_folder_out(args.out, args.store)
+
+
 def _plot(args) -> int:
     from pathlib import Path
 
@@ -104,6 +111,10 @@ def register(subparsers) -> None:
         help="zarr store written by `skygas sweep`; several stores over the same "
         "swept fields but different points are drawn and fitted together",
     )
-    q.add_argument("--out", required=True, help="directory for the PNG figures and fits.json")
+    q.add_argument(
+        "--out",
+        required=True,
+        help="directory for the PNG figures and fits.json (beside the store, never inside it)",
+    )
     q.add_argument("--json", action="store_true", help="print the fits as one JSON object")
-    q.set_defaults(func=_plot)
+    q.set_defaults(func=_plot, check_out=_check_plot_out)

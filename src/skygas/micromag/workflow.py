@@ -117,7 +117,8 @@ class FitResult:
         }
         # The CSV files are plain tables (a header row, then numbers) that any CSV reader
         # takes; the skygas version and the parameters they were made with are in fit.json,
-        # written with them, and in fit.png's text chunks.
+        # written with them, and in fit.png's text chunks (with the hash of the parameters as
+        # config_hash, and the command line).
         rows = ["track,frame,time_s,x_m,y_m,radius_m,charge,dissipation"]
         for t in self.tracks:
             rows += [
@@ -134,10 +135,15 @@ class FitResult:
             rows = [",".join(table.COLUMNS)]
             rows += [",".join(repr(v) for v in row.values()) for row in table.rows()]
             _write_text(paths[f"{law}_table"], rows)
+        from skygas.runs.provenance import provenance
+
+        parameters_json = json.dumps(self.parameters, default=str)
+        # a fit draws no random numbers: its seed is "none"; its configuration is its parameters
         record = {
-            "skygas_version": __version__,
-            "parameters_json": json.dumps(self.parameters, default=str),
+            **provenance(seed=None, config_json=parameters_json),
+            "parameters_json": parameters_json,
         }
+        del record["config_json"]  # the same text as parameters_json
         write_figure(
             paths["plot"],
             lambda tmp: export.plot_fits(
@@ -170,7 +176,12 @@ class FitResult:
             material_path.unlink()
         write_json(
             paths["json"],
-            {**self.as_record(), "files": sorted(path.name for path in paths.values())},
+            {
+                **self.as_record(),
+                "config_hash": record["config_hash"],
+                "command_line": record["command_line"],
+                "files": sorted(path.name for path in paths.values()),
+            },
         )
         return paths
 

@@ -12,21 +12,31 @@ GSD: ``configuration.box`` = [Lx, Ly, 0, 0, 0, 0] nm, ``dimensions`` 2, ``step``
 index; ``particles.diameter`` the skyrmion diameter [nm]; ``particles.typeid`` the colour group
 of the movie (input bit, ...), named in ``particles.types``. Per-frame log entries:
 ``skygas/time_s`` (time [s]), ``skygas/length_unit_m`` (1e-9: one length unit is one
-nanometre), ``particles/skygas_id`` (the skyrmion id of each particle).
+nanometre), ``particles/skygas_id`` (the skyrmion id of each particle). The first frame's log
+holds the provenance, ``skygas/provenance_json``: the record of
+:meth:`~skygas.outputs.records.RunRecord.provenance` (the run's skygas version, seed,
+configuration and its hash, the command line) as UTF-8 JSON bytes (``uint8``; read it with
+``json.loads(bytes(frame.log["skygas/provenance_json"]))``; later frames return the first
+frame's value, as GSD does for any entry a frame leaves out).
 
 Extended XYZ: the comment line of each frame states ``Lattice``, ``Origin``,
 ``Properties=species:S:1:pos:R:3:id:I:1``, ``Time`` (s), ``time_unit=s``,
-``length_unit=nm`` and ``pbc="F F F"``.
+``length_unit=nm``, ``pbc="F F F"`` and the provenance: ``skygas_version``, ``seed``,
+``config_hash`` (the run manifest's) and ``skygas_command`` (the command line, quoted).
+
+Both files are written through a temporary file (:func:`~skygas.runs.run_driver.write_atomic`):
+a failed export leaves nothing behind.
 """
 
 from __future__ import annotations
 
-import os
+import json
 from pathlib import Path
 
 import numpy as np
 
 from skygas.core.errors import InputError
+from skygas.runs.run_driver import write_atomic
 
 FORMATS = ("gsd", "extxyz")
 
@@ -46,14 +56,19 @@ def _species(record) -> list[str]:
 
 def export_gsd(record, path: str | Path) -> Path:
     """Write ``record``'s frames to a GSD file at ``path`` (see the module docstring)."""
-    import gsd.hoomd
-
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
     lx, ly = _box_nm(record)
     d_nm = record.skyrmion_diameter * 1e9
     frames = record.frames
     types = _species(record)
+    provenance = json.dumps(record.provenance(), sort_keys=True).encode("utf-8")
+    return write_atomic(
+        path, lambda tmp: _write_gsd(tmp, record, frames, types, lx, ly, d_nm, provenance)
+    )
+
+
+def _write_gsd(tmp: Path, record, frames, types, lx, ly, d_nm, provenance: bytes) -> None:
+    import gsd.hoomd
+
     with gsd.hoomd.open(tmp, "w") as traj:
         for f in range(frames.n_frames):
             ids, xy = frames.frame(f)
@@ -72,32 +87,35 @@ def export_gsd(record, path: str | Path) -> Path:
             frame.log["skygas/time_s"] = np.array([frames.time[f]])
             frame.log["skygas/length_unit_m"] = np.array([1e-9])
             frame.log["particles/skygas_id"] = ids.astype(np.int64)
+            if f == 0:
+                frame.log["skygas/provenance_json"] = np.frombuffer(provenance, dtype=np.uint8)
             traj.append(frame)
-    os.replace(tmp, path)
-    return path
 
 
 def export_extxyz(record, path: str | Path) -> Path:
     """Write ``record``'s frames to an extended-XYZ file at ``path``."""
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
     lx, ly = _box_nm(record)
     frames = record.frames
     species = np.array(_species(record))
+    prov = record.provenance()
+    command = prov["command_line"].replace('"', "'").replace("\\", "/")
     header = (
         f'Lattice="{lx:.6g} 0 0 0 {ly:.6g} 0 0 0 1" Origin="{-lx / 2:.6g} {-ly / 2:.6g} '
         f'-0.5" Properties=species:S:1:pos:R:3:id:I:1 time_unit=s length_unit=nm '
-        f'pbc="F F F"'
+        f'pbc="F F F" skygas_version={prov["skygas_version"]} seed={prov["seed"]} '
+        f'config_hash={prov["config_hash"]} skygas_command="{command}"'
     )
-    with open(tmp, "w") as out:
-        for f in range(frames.n_frames):
-            ids, xy = frames.frame(f)
-            names = species[record.group_of(ids, xy[:, 0], xy[:, 1])]
-            out.write(f"{len(ids)}\n{header} Time={frames.time[f]:.9e} Frame={f}\n")
-            for name, (x, y), i in zip(names, xy * 1e9, ids, strict=True):
-                out.write(f"{name} {x:.6f} {y:.6f} 0 {i}\n")
-    os.replace(tmp, path)
-    return path
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "w") as out:
+            for f in range(frames.n_frames):
+                ids, xy = frames.frame(f)
+                names = species[record.group_of(ids, xy[:, 0], xy[:, 1])]
+                out.write(f"{len(ids)}\n{header} Time={frames.time[f]:.9e} Frame={f}\n")
+                for name, (x, y), i in zip(names, xy * 1e9, ids, strict=True):
+                    out.write(f"{name} {x:.6f} {y:.6f} 0 {i}\n")
+
+    return write_atomic(path, write)
 
 
 def export_run(record, fmt: str, path: str | Path) -> Path:

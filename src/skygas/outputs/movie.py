@@ -16,7 +16,6 @@ few seconds on one core.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -311,15 +310,19 @@ def render_movie(
         end=end,
         max_frames=max_frames or MAX_FRAMES[suffix],
     )
-    tmp = path.with_name(f".{path.stem}.tmp{suffix}")
     images = frame_images(record, indices, width_px)
     first = next(images)
     size = (first.shape[1], first.shape[0])
-    if suffix == ".mp4":
-        _write_mp4(tmp, first, images, size, fps)
-    else:
-        _write_gif(tmp, first, images, fps)
-    os.replace(tmp, path)
+
+    def write(tmp: Path) -> None:  # a failed movie leaves no file behind
+        if suffix == ".mp4":
+            _write_mp4(tmp, first, images, size, fps)
+        else:
+            _write_gif(tmp, first, images, fps)
+
+    from skygas.runs.run_driver import write_atomic
+
+    write_atomic(path, write)
     t = record.frames.time
     return MovieInfo(
         path,

@@ -56,6 +56,26 @@ class RunRecord:
     background_fn: Callable | None = field(default=None, repr=False)
     #: builds the run's energy landscape (a LandscapeField), for runs that have one
     landscape_fn: Callable | None = field(default=None, repr=False)
+    #: the configuration exactly as the result file holds it (its hash is the manifest's)
+    config_json: str | None = field(default=None, repr=False)
+
+    def provenance(self) -> dict[str, str]:
+        """The provenance record of a file made from this run.
+
+        Returns
+        -------
+        dict of str to str
+            The run's skygas version, seed and configuration (with its hash), and the command
+            that makes the file (:func:`skygas.runs.provenance.provenance`).
+        """
+        from skygas.runs.provenance import provenance
+
+        return provenance(
+            seed=self.seed,
+            config_json=self.config_json or json.dumps(self.config),
+            skygas_version=self.version,
+            source=str(self.path),
+        )
 
     @property
     def directory(self) -> Path:
@@ -137,6 +157,7 @@ def load_run(path: str | Path) -> RunRecord:
             "a result file written by skygas simulate, reshuffle or neuron --animate",
         )
     record.summary = summary
+    record.config_json = str(ds.attrs["config_json"]) if "config_json" in ds.attrs else None
     return record
 
 

@@ -18,7 +18,6 @@ import html
 import io
 import json
 import math
-import os
 from pathlib import Path
 
 import numpy as np
@@ -145,10 +144,9 @@ def _jsonable(value):
 
 
 def _write(text: str, path: Path) -> Path:
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-    return path
+    from skygas.runs.run_driver import write_atomic
+
+    return write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def check_report_path(path: str | Path) -> Path:

@@ -160,15 +160,24 @@ def reshuffler_demo(
     bx.axhline(0, color="grey", lw=0.5)
     bx.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out / "sc_reshuffler.png")
-    record = {
-        "skygas_version": __version__,
-        "seed": seed,
+    from skygas.runs.provenance import provenance
+    from skygas.runs.run_driver import write_figure, write_json
+
+    parameters = {
         "n_bits": n_bits,
         "trials": trials,
         "telegraph_correlation_bits": correlation_bits,
+    }
+    prov = provenance(seed=seed, config_json=json.dumps(parameters, sort_keys=True))
+    write_figure(out / "sc_reshuffler.png", lambda tmp: fig.savefig(tmp), prov)
+    record = {
+        "skygas_version": __version__,
+        "seed": seed,
+        **parameters,
+        "config_hash": prov["config_hash"],
+        "command_line": prov["command_line"],
         "squaring": squaring,
         "comparison": rows,
     }
-    (out / "sc_reshuffler.json").write_text(json.dumps(record, indent=2, default=float))
+    write_json(out / "sc_reshuffler.json", record)
     return record

@@ -1,7 +1,9 @@
 r"""Demonstrations of what a decorrelator buys a stochastic circuit (``skygas sc demo``).
 
 Three experiments, each a function returning plain data, and :func:`run_demo` which runs them,
-draws the figures and writes ``sc_demo.json`` (parameters, seed, package version, results):
+draws the figures and writes ``sc_demo.json`` (parameters, seed, package version, the hash of
+the parameters as ``config_hash``, the command line, results); each PNG carries the same record
+in its text chunks (:func:`~skygas.runs.run_driver.write_figure`):
 
 1. :func:`squaring_curve` -- the paper's AND-gate figure: :math:`x \wedge x` gives :math:`p`,
    :math:`x \wedge d(x)` after a decorrelator :math:`d` gives :math:`p^2`.
@@ -27,6 +29,8 @@ from skygas._version import __version__
 from skygas.core import validate as v
 from skygas.core.errors import InputError
 from skygas.core.resources import require_memory
+from skygas.runs.provenance import provenance
+from skygas.runs.run_driver import write_figure, write_json
 from skygas.sc.bitstreams import bernoulli_stream, telegraph_stream
 from skygas.sc.decorrelators import Decorrelator, DelayIsolator, Regenerator, ShuffleBuffer
 from skygas.sc.metrics import binomial_std, p_value, scc
@@ -347,25 +351,30 @@ def run_demo(
         "error_vs_length": "sc_error_vs_length.png",
         "decorrelators": "sc_decorrelators.png",
     }
-    _plot_squaring(squaring, out / figures["squaring"])
-    _plot_error(errors, out / figures["error_vs_length"])
-    _plot_comparison(rows, out / figures["decorrelators"])
+    parameters = {
+        "n_bits": n_bits,
+        "p": prob,
+        "telegraph_correlation_bits": tau,
+        "squaring_p_grid": p_grid.tolist(),
+        "error_lengths": lengths,
+        "decorrelators": [d.describe() for d in items],
+    }
+    record = provenance(seed=seed, config_json=json.dumps(parameters, sort_keys=True, default=str))
+    write_figure(out / figures["squaring"], lambda tmp: _plot_squaring(squaring, tmp), record)
+    write_figure(out / figures["error_vs_length"], lambda tmp: _plot_error(errors, tmp), record)
+    write_figure(out / figures["decorrelators"], lambda tmp: _plot_comparison(rows, tmp), record)
 
     summary = {
         "skygas_version": __version__,
         "seed": seed,
-        "parameters": {
-            "n_bits": n_bits,
-            "p": prob,
-            "telegraph_correlation_bits": tau,
-            "squaring_p_grid": p_grid.tolist(),
-            "error_lengths": lengths,
-            "decorrelators": [d.describe() for d in items],
-        },
+        "config_hash": record["config_hash"],
+        "command": record["command"],
+        "command_line": record["command_line"],
+        "parameters": parameters,
         "figures": figures,
         "squaring": squaring,
         "error_vs_length": errors,
         "comparison": rows,
     }
-    (out / "sc_demo.json").write_text(json.dumps(summary, indent=2))
+    write_json(out / "sc_demo.json", summary)
     return summary

@@ -11,6 +11,11 @@
 - ``fits.json``: every fitted constant and exponent with its uncertainty; ``points.csv``: one
   row per point (:func:`~skygas.sweep.analysis.point_table`).
 
+Every file records where it comes from (:func:`sweep_provenance`: the store's skygas version,
+root seed and fingerprint, the command line): the PNGs in their text chunks, ``fits.json`` in
+its ``provenance`` entry, ``points.csv`` in a leading ``# key: value`` block. All are written
+through a temporary file.
+
 Both ρ figures draw the paper's fit law and the free-exponent fit ρ/(1 − ρ) ∝ x^e.
 """
 
@@ -276,15 +281,76 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
     return path
 
 
-def write_point_table(ds: xr.Dataset, path: Path) -> Path:
-    """``points.csv``: one row per point with at least one run done."""
+def sweep_provenance(ds: xr.Dataset) -> dict[str, str]:
+    """The provenance record of the files made from a sweep store (or stores drawn together).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        What :func:`open_sweep` or :func:`open_sweeps` returns.
+
+    Returns
+    -------
+    dict of str to str
+        The store's skygas version, root seed (a list for several stores), its fingerprint as
+        ``config_hash``, its sweep file and base configuration as ``config_json``, and the
+        command line (:func:`skygas.runs.provenance.provenance`).
+    """
+    from skygas.runs.provenance import provenance
+    from skygas.runs.run_driver import fingerprint
+
+    config = json.dumps(
+        {
+            "sweep_file": ds.attrs.get("sweep_file", ds.attrs.get("sweep_text", "")),
+            "base_config_json": ds.attrs.get("base_config_json"),
+        },
+        sort_keys=True,
+    )
+    seed = ds.attrs.get("root_seed")
+    seed = json.dumps(np.asarray(seed).tolist()) if seed is not None else None
+    stores = ds.attrs.get("stores")
+    return provenance(
+        seed=seed,
+        config_json=config,
+        config_hash=ds.attrs.get("fingerprint") or fingerprint(config),
+        skygas_version=ds.attrs.get("skygas_version"),
+        source=json.dumps(list(stores)) if stores is not None else None,
+    )
+
+
+def write_point_table(ds: xr.Dataset, path: Path, record: dict[str, str] | None = None) -> Path:
+    """``points.csv``: one row per point with at least one run done.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The sweep.
+    path : Path
+        The CSV file (written through a temporary file).
+    record : dict of str to str, optional
+        The provenance, written first as ``# key: value`` lines (default:
+        :func:`sweep_provenance`).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    from skygas.runs.provenance import csv_header
+    from skygas.runs.run_driver import write_atomic
+
     table = point_table(ds)
     rows = [row for row in table if row["replicas"] > 0]
-    with open(path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(table[0]))
-        writer.writeheader()
-        writer.writerows({k: f"{v:.6g}" for k, v in row.items()} for row in rows)
-    return path
+    header = csv_header(record if record is not None else sweep_provenance(ds))
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "w", newline="") as f:
+            f.write(header)
+            writer = csv.DictWriter(f, fieldnames=list(table[0]))
+            writer.writeheader()
+            writer.writerows({k: f"{v:.6g}" for k, v in row.items()} for row in rows)
+
+    return write_atomic(path, write)
 
 
 def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
@@ -302,43 +368,36 @@ def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
     dict
         The fits, per swept field, and the paths written.
     """
+    from skygas.runs.run_driver import write_figure, write_json
+
     ds = store if isinstance(store, xr.Dataset) else open_sweep(store)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     dims = ds["done"].dims
-    result: dict = {"figures": []}
-    if CURRENT in dims:
-        result["current"] = fit_current_scaling(_grid_only(ds, (CURRENT, P_VALUE)))
-        result["figures"].append(
-            str(plot_current_figure(ds, out / "reshuffler.png", result["current"]))
-        )
-        if "p_out_low" in ds:
-            result["figures"].append(
-                str(
-                    plot_details(
-                        _grid_only(ds, (CURRENT, P_VALUE)), CURRENT, out / "reshuffler_details.png"
-                    )
-                )
-            )
-    if CHAMBER in dims:
-        result["chamber"] = fit_chamber_scaling(_grid_only(ds, (CHAMBER,)))
-        result["figures"].append(
-            str(plot_chamber_figure(ds, out / "chamber_size.png", result["chamber"]))
-        )
-        if "p_out_low" in ds:
-            result["figures"].append(
-                str(
-                    plot_details(
-                        _grid_only(ds, (CHAMBER,)), CHAMBER, out / "chamber_size_details.png"
-                    )
-                )
-            )
-    if not result["figures"]:
+    if CURRENT not in dims and CHAMBER not in dims:
         raise InputError(
             "STORE",
             str(store),
             "a grid sweep over current_density (and signal.p) or device.chamber_diameter",
         )
-    (out / "fits.json").write_text(json.dumps(result, indent=2))
-    write_point_table(ds, out / "points.csv")
+    out.mkdir(parents=True, exist_ok=True)
+    record = sweep_provenance(ds)
+    result: dict = {"figures": []}
+
+    def figure(name: str, draw) -> None:
+        result["figures"].append(str(write_figure(out / name, draw, record)))
+
+    if CURRENT in dims:
+        grid = _grid_only(ds, (CURRENT, P_VALUE))
+        result["current"] = fit_current_scaling(grid)
+        figure("reshuffler.png", lambda tmp: plot_current_figure(ds, tmp, result["current"]))
+        if "p_out_low" in ds:
+            figure("reshuffler_details.png", lambda tmp: plot_details(grid, CURRENT, tmp))
+    if CHAMBER in dims:
+        grid = _grid_only(ds, (CHAMBER,))
+        result["chamber"] = fit_chamber_scaling(grid)
+        figure("chamber_size.png", lambda tmp: plot_chamber_figure(ds, tmp, result["chamber"]))
+        if "p_out_low" in ds:
+            figure("chamber_size_details.png", lambda tmp: plot_details(grid, CHAMBER, tmp))
+    write_json(out / "fits.json", {**result, "provenance": record})
+    write_point_table(ds, out / "points.csv", record)
     return result
