@@ -400,3 +400,158 @@ def test_the_reading_commands_take_overwrite():
     commands = dict(_subparsers(cli.build_parser()))
     for name in ("export", "animate", "report", "plot"):
         assert "--overwrite" in commands[name].format_help(), name
+
+
+# -- readers fail cleanly (issue: nothing lost) --
+def _npz_bytes(**arrays) -> bytes:
+    import io
+
+    import numpy as np
+
+    buffer = io.BytesIO()
+    np.savez(buffer, **arrays)
+    return buffer.getvalue()
+
+
+def _netcdf_bytes(tmp_path: Path) -> bytes:
+    """A netCDF file that no skygas command wrote."""
+    import numpy as np
+    import xarray as xr
+
+    file = tmp_path / "foreign-source.nc"
+    xr.Dataset({"a": ("t", np.arange(200.0))}).to_netcdf(file)
+    data = file.read_bytes()
+    file.unlink()
+    return data
+
+
+def _reader_files(tmp_path: Path) -> dict[str, bytes]:
+    """The files the reader cases find in their working folder."""
+    import numpy as np
+
+    short = _replace_line(CHAMBER, "duration", "duration = 5e-9")
+    netcdf = _netcdf_bytes(tmp_path)
+    ovf = (ROOT / "src/skygas/data/ovf/disk-tilted-edges.ovf").read_bytes()
+    checkpoint = _npz_bytes(fingerprint=np.array("x"), sha256=np.array("0" * 64), a=np.ones(50))
+    stopped = _manifest("simulate", finished=False).replace('"x"', "null").encode()
+    return {
+        "binary.toml": b"\xff\xfe\x00seed = 1\n",
+        "bool.toml": _replace_line(CHAMBER, "temperature", "temperature = true").encode(),
+        "string.toml": _replace_line(CHAMBER, "temperature", 'temperature = "300"').encode(),
+        "no-duration.toml": "\n".join(
+            line for line in CHAMBER.splitlines() if not line.startswith("duration =")
+        ).encode(),
+        "three.toml": (
+            short.replace("random_count = 45", "positions = [[1e-7, 0.0, 0.0]]")
+        ).encode(),
+        "sparse.toml": _replace_line(short, "record_interval", "record_interval = 1e-8").encode(),
+        "pinned.toml": (
+            short + '\n[[potentials]]\nkind = "random_pinning"\ndensity = 1e40\n'
+            "sigma = 5e-9\ndepth_kT = 2.0\n"
+        ).encode(),
+        "garbage/manifest.json": stopped,
+        "garbage/checkpoint.npz": b"state\n",
+        "empty/manifest.json": stopped,
+        "empty/checkpoint.npz": b"",
+        "cut/manifest.json": stopped,
+        "cut/checkpoint.npz": checkpoint[: len(checkpoint) // 2],
+        "flipped/manifest.json": stopped,
+        "flipped/checkpoint.npz": checkpoint,  # its hash does not match its arrays
+        "nc-empty/trajectories.nc": b"",
+        "nc-cut/trajectories.nc": netcdf[: len(netcdf) // 3],
+        "nc-foreign/trajectories.nc": netcdf,
+        "nc-text/trajectories.nc": b"not a netCDF file\n",
+        "store-empty/zarr.json": b"{}",
+        "store-garbage/zarr.json": b"\x00\x01 not json",
+        "cut.ovf": ovf[:800],
+        "bits.csv": b"\xff\xfe\x01\x00",
+        "bits.toml": b'[signal]\nkind = "file"\npath = "bits.csv"\n',
+    }
+
+
+_SIMULATE = [sys.executable, "-m", "skygas.cli", "simulate"]
+_RESUME = ["simulate", str(EXAMPLES / "closed-chamber.toml"), "--resume", "--out"]
+
+# (arguments, text the error line must contain, more text it must contain)
+READER_CASES = {
+    "binary toml": (["simulate", "binary.toml", "--out", "OUT"], "config = 'binary.toml'", "UTF-8"),
+    "true as a number": (
+        ["simulate", "bool.toml", "--out", "OUT"],
+        "temperature = True",
+        "a number",
+    ),
+    "string as a number": (
+        ["simulate", "string.toml", "--out", "OUT"],
+        "temperature = '300'",
+        "without quotes",
+    ),
+    "field required": (
+        ["simulate", "no-duration.toml", "--out", "OUT"],
+        "duration",
+        "a value (this field is required)",
+    ),
+    "three numbers for a point": (
+        ["simulate", "three.toml", "--out", "OUT"],
+        "skyrmions.positions.0",
+        "two entries",
+    ),
+    "record interval beyond the run": (
+        ["simulate", "sparse.toml", "--out", "OUT"],
+        "record_interval = 1e-08",
+        "no frame would be recorded",
+    ),
+    "pinning density overflow": (
+        ["simulate", "pinned.toml", "--out", "OUT"],
+        "potentials.0.density = 1e+40",
+        "fits in memory",
+    ),
+    "checkpoint not an archive": ([*_RESUME, "garbage"], "checkpoint.npz", "--overwrite"),
+    "checkpoint empty": ([*_RESUME, "empty"], "the file is empty", "--overwrite"),
+    "checkpoint truncated": ([*_RESUME, "cut"], "truncated", "--overwrite"),
+    "checkpoint bit flipped": ([*_RESUME, "flipped"], "do not match the hash", "--overwrite"),
+    "netcdf empty": (["analyze", "nc-empty"], "nc-empty/trajectories.nc", "empty"),
+    "netcdf truncated": (["report", "nc-cut", "--out", "OUT.html"], "nc-cut", "truncated"),
+    "netcdf of another program": (
+        ["export", "nc-foreign", "--format", "extxyz", "--out", "OUT.xyz"],
+        "nc-foreign",
+        "not a skygas run",
+    ),
+    "netcdf that is text": (["animate", "nc-text", "--out", "OUT.gif"], "nc-text", "not a netCDF"),
+    "store without arrays": (
+        ["plot", "store-empty", "--out", "OUT"],
+        "STORE = 'store-empty'",
+        "not a sweep store",
+    ),
+    "store of garbage": (["plot", "store-garbage", "--out", "OUT"], "store-garbage", "sweep store"),
+    "ovf truncated": (["micromag", "inspect", "cut.ovf"], "cut.ovf", "truncated"),
+    "bit file not text": (["reshuffle", "bits.toml", "--out", "OUT"], "bits.csv", "UTF-8"),
+    "out empty": (["reshuffle", "--out", ""], "--out = '.'", "current folder"),
+    "out not text": (
+        ["reshuffle", "--out", os.fsdecode(b"\xff\xfeab")],
+        "--out = '\\udcff\\udcfeab'",
+        "not UTF-8",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(READER_CASES))
+def test_a_reader_refuses_a_bad_file_in_one_line_and_writes_nothing(name, tmp_path):
+    args, expected, also = READER_CASES[name]
+    for relative, data in _reader_files(tmp_path).items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_bytes(data)
+    before = _snapshot(tmp_path)
+    proc = _run(args, tmp_path, {"PYTHONWARNINGS": "default"})
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: "), lines[0]
+    assert expected in lines[0] and also in lines[0], lines[0]
+    for leak in ("Traceback", "Input should", "pydantic", "Value error", "Field required"):
+        assert leak not in proc.stderr
+    after = _snapshot(tmp_path)
+    if "--resume" in args:  # the run's manifest is rewritten before its checkpoint is read
+        after = {k: v for k, v in after.items() if not k.endswith("manifest.json")}
+        before = {k: v for k, v in before.items() if not k.endswith("manifest.json")}
+    assert after == before  # nothing created, written, changed or removed
+    assert proc.stdout == ""

@@ -206,7 +206,25 @@ def _check_output_folder(out: Path) -> Path | None:
     """Refuse an ``--out`` that is an existing file; return the first folder it will create.
 
     The first folder of ``out`` that does not exist yet (what this command will create), or None.
+    An empty ``--out`` (the current folder) and a name that cannot be written as UTF-8 text (bytes
+    of another encoding on the command line) are refused too.
     """
+    if str(out) in ("", "."):
+        raise InputError(
+            "--out",
+            str(out),
+            "a folder name (an empty --out, or '.', would write into the current folder)",
+            "name the folder for the results, e.g. --out results",
+        )
+    try:
+        str(out).encode("utf-8")
+    except UnicodeEncodeError as err:
+        raise InputError(
+            "--out",
+            str(out),
+            f"a folder name that is valid text (character {err.start} is a byte that is not UTF-8)",
+            "choose a name of plain letters, digits, '-' and '_'",
+        ) from None
     if out.exists() and not out.is_dir():
         raise InputError(
             "--out", str(out), "a folder (this is an existing file)", "choose another --out"

@@ -20,11 +20,20 @@ the other way round.
 from __future__ import annotations
 
 import tomllib
+import types
+import typing
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Annotated, Any
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    model_validator,
+)
 from pydantic_core import ErrorDetails
 
 from skygas.core.errors import InputError, require
@@ -64,10 +73,77 @@ PositiveFloat = Annotated[float, Field(gt=0)]
 Length = Annotated[float, Field(gt=0, description="metres"), AfterValidator(_metres)]
 
 
+def _numeric(annotation: Any) -> bool:
+    """True if ``annotation`` takes only numbers (``float``, ``int``, optional or annotated)."""
+    if typing.get_origin(annotation) is Annotated:
+        return _numeric(typing.get_args(annotation)[0])
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        members = [a for a in typing.get_args(annotation) if a is not type(None)]
+        return bool(members) and all(_numeric(a) for a in members)
+    return annotation in (float, int)
+
+
+class _NotANumber:
+    """What a number's place held when it was true/false or a string: refused with its reason.
+
+    pydantic fails on it at the right place (a number is expected), and :func:`to_input_error`
+    reports the value that was given and ``reason``.
+    """
+
+    def __init__(self, value: Any):
+        self.value = value
+        kind = "true or false" if isinstance(value, bool) else "a string: write it without quotes"
+        self.reason = f"a number (this is {kind})"
+
+    def __repr__(self) -> str:
+        return repr(self.value)
+
+
+def _refuse_non_numbers(value: Any, annotation: Any) -> Any:
+    """``value``, with true/false or a string where ``annotation`` wants a number marked.
+
+    pydantic would take ``true`` as 1 and ``"300"`` as 300; a configuration means neither. Such a
+    value is replaced by a :class:`_NotANumber`, which pydantic then refuses at its place. Lists,
+    tuples and tables of numbers are looked into.
+    """
+    if typing.get_origin(annotation) is Annotated:
+        annotation = typing.get_args(annotation)[0]
+    if isinstance(value, (bool, str)) and _numeric(annotation):
+        return _NotANumber(value)
+    origin, args = typing.get_origin(annotation), typing.get_args(annotation)
+    if origin in (tuple, list) and isinstance(value, (list, tuple)) and args:
+        if origin is list or (len(args) == 2 and args[1] is Ellipsis):
+            items = [_refuse_non_numbers(item, args[0]) for item in value]
+        else:
+            items = [
+                _refuse_non_numbers(item, args[i]) if i < len(args) else item
+                for i, item in enumerate(value)
+            ]
+        return type(value)(items)
+    if origin is dict and isinstance(value, dict) and len(args) == 2:
+        return {key: _refuse_non_numbers(item, args[1]) for key, item in value.items()}
+    return value
+
+
 class StrictModel(BaseModel):
-    """A configuration section: unknown fields and non-finite numbers are refused."""
+    """A configuration section: unknown fields, non-finite numbers and non-numbers are refused.
+
+    A number's field refuses ``true``/``false`` and strings (pydantic alone would read
+    ``temperature = true`` as 1 K), in every section, on plain and constrained numbers alike.
+    """
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _numbers_are_numbers(cls, data: Any) -> Any:
+        if not isinstance(data, dict):
+            return data
+        fields = cls.model_fields
+        return {
+            key: _refuse_non_numbers(value, fields[key].annotation) if key in fields else value
+            for key, value in data.items()
+        }
 
 
 class ChamberSize(StrictModel):
@@ -80,7 +156,7 @@ class ChamberSize(StrictModel):
 
 #: pydantic's error types, in skygas's words (``{gt}`` etc. are the error's context)
 _ALLOWED = {
-    "missing": "this required field to be given",
+    "missing": "a value (this field is required)",
     "extra_forbidden": "no such field (check the spelling)",
     "finite_number": "a finite number (not inf or nan)",
     "greater_than": "a number > {gt}",
@@ -95,13 +171,34 @@ _ALLOWED = {
     "bool_parsing": "true or false",
     "string_type": "a string",
     "too_short": "at least {min_length} entries",
+    "too_long": "at most {max_length} entries",
+    "bool_type": "true or false",
+    "tuple_type": "a list",
+    "list_type": "a list",
+    "dict_type": "a table",
+    "model_type": "a table",
+    "model_attributes_type": "a table",
+    "literal_error": "one of {expected}",
+    "enum": "one of {expected}",
+    "string_pattern_mismatch": "text matching {pattern}",
+    "string_too_short": "text of at least {min_length} characters",
+    "string_too_long": "text of at most {max_length} characters",
+    "multiple_of": "a multiple of {multiple_of}",
 }
+
+#: how many entries a tuple holds, in words (``Point2``: "two numbers")
+_COUNT = {1: "one", 2: "two", 3: "three", 4: "four"}
 
 #: pydantic's error types for a tagged union whose tag is unknown or missing
 _TAG_ERRORS = ("union_tag_invalid", "union_tag_not_found")
 
 
 def _allowed(error: ErrorDetails) -> str:
+    ctx = error.get("ctx", {})
+    if error["type"] == "too_long" and ctx.get("field_type") == "Tuple":
+        count = ctx.get("max_length")
+        words = _COUNT.get(count, str(count)) if isinstance(count, int) else str(count)
+        return f"{words} entries (this has {ctx.get('actual_length')})"
     template = _ALLOWED.get(error["type"])
     if template is not None:
         try:
@@ -109,7 +206,7 @@ def _allowed(error: ErrorDetails) -> str:
         except (KeyError, IndexError):
             pass
     msg = error["msg"]
-    for prefix in ("Value error, ", "Input should be "):
+    for prefix in ("Value error, ", "Assertion failed, ", "Input should be "):
         msg = msg.removeprefix(prefix)
     return msg
 
@@ -155,6 +252,12 @@ def to_input_error(err: ValidationError, source: str = "", prefix: str = "") -> 
     parts = [p for i, p in enumerate(first["loc"]) if not _is_tag(first["loc"], i)]
     value = first.get("input") if first["type"] != "missing" else "(missing)"
     allowed = _allowed(first)
+    if isinstance(value, _NotANumber):  # true/false or a string in a number's place
+        value, allowed = value.value, value.reason
+    if first["type"] == "missing" and parts and isinstance(parts[-1], int):
+        # a tuple one entry short (``center = [1e-7]``): the tuple is the field
+        allowed = f"more entries (entry {parts.pop()} is missing)"
+        value = first.get("input")
     if first["type"] in _TAG_ERRORS:
         parts.append(first.get("ctx", {}).get("discriminator", "kind").strip("'"))
         value = first.get("ctx", {}).get("tag", "(missing)")
@@ -174,7 +277,27 @@ def read_toml(path: str | Path, field: str = "config") -> dict:
     if not path.is_file():
         raise InputError(field, str(path), "an existing TOML file")
     try:
-        return tomllib.loads(path.read_text())
+        text = path.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise InputError(
+            field,
+            str(path),
+            f"a TOML text file (this is binary or not UTF-8: byte {err.start} cannot be read)",
+            "give the configuration file, saved as UTF-8 text",
+        ) from None
+    except OSError as err:
+        raise InputError(
+            field, str(path), f"a readable TOML file ({err.strerror})", "check the file"
+        ) from None
+    if "\x00" in text:
+        raise InputError(
+            field,
+            str(path),
+            "a TOML text file (this one holds NUL bytes: it is binary)",
+            "give the configuration file",
+        )
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise InputError(field, str(path), f"valid TOML ({err})") from None
 

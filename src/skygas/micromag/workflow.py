@@ -273,7 +273,9 @@ def fit_trajectories(
     points = [p for t in tracks for p in t.points]
     measured_q = float(np.median([p.charge for p in points])) if points else math.nan
     measured_d = float(np.median([p.dissipation for p in points])) if points else math.nan
-    measured_r = float(np.nanmedian([p.radius for p in points])) if points else math.nan
+    radii = np.array([p.radius for p in points], dtype=float)
+    radii = radii[np.isfinite(radii)]  # no radius found: NaN, without numpy's warning
+    measured_r = float(np.median(radii)) if radii.size else math.nan
     q = measured_q if charge is None else charge
     dis = measured_d if dissipation is None else dissipation
     diameter = 2.0 * measured_r if skyrmion_diameter is None else skyrmion_diameter

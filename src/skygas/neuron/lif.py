@@ -231,11 +231,15 @@ def lif_rate(
     """Deterministic LIF firing rate [Hz] at mean input ``rate`` [Hz] (array).
 
     One spike per release plus the climb from ``reset`` to ``threshold`` (at least ``refractory``).
+    An infinite ``tau`` (no leak) climbs in ``(threshold - reset) / rate``.
     """
     rate = np.asarray(rate, float)
     drive = rate * tau
     out = np.zeros_like(drive)
     ok = drive > threshold
-    climb = tau * np.log((drive[ok] - reset) / (drive[ok] - threshold))
+    if np.isinf(tau):  # no leak (a fit of a run too short to see one): the climb's limit
+        climb = (threshold - reset) / rate[ok]
+    else:
+        climb = tau * np.log((drive[ok] - reset) / (drive[ok] - threshold))
     out[ok] = 1.0 / (release + np.maximum(refractory, climb))
     return out

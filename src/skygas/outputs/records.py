@@ -135,27 +135,75 @@ def find_result_file(path: str | Path) -> Path:
     return p
 
 
-def load_run(path: str | Path) -> RunRecord:
-    """Read the run at ``path`` (directory or result file); see the module docstring."""
+#: what to do about a result file that cannot be read
+_REDO = "give a run folder skygas wrote, or run the simulation again to write it anew"
+
+
+def _not_readable(file: Path, why: str) -> InputError:
+    return InputError("RUN", str(file), f"a skygas result file (this one is {why})", _REDO)
+
+
+def _open_result(file: Path):
+    """The dataset of a result file, loaded; an :class:`InputError` if it cannot be read."""
     import xarray as xr
 
+    try:
+        with open(file, "rb") as handle:
+            head = handle.read(8)
+    except OSError as err:
+        raise _not_readable(file, f"unreadable: {err.strerror}") from None
+    if not head:
+        raise _not_readable(file, "empty")
+    if not (head.startswith(b"CDF") or head.startswith(b"\x89HDF")):
+        raise _not_readable(file, "not a netCDF file")
+    try:
+        with xr.open_dataset(file) as ds:
+            return ds.load()
+    except (OSError, ValueError, RuntimeError, KeyError, IndexError, TypeError) as err:
+        why = getattr(err, "strerror", None) or str(err) or type(err).__name__
+        raise _not_readable(file, f"truncated or damaged: {why}") from None
+
+
+def load_run(path: str | Path) -> RunRecord:
+    """Read the run at ``path`` (directory or result file); see the module docstring.
+
+    A result file that is empty, truncated, damaged or not one that skygas wrote, and a
+    ``summary.json`` beside it that is not JSON, are refused with one :class:`InputError`.
+    """
     file = find_result_file(path)
-    with xr.open_dataset(file) as ds:
-        ds = ds.load()
+    ds = _open_result(file)
     summary_file = file.parent / "summary.json"
-    summary = json.loads(summary_file.read_text()) if summary_file.exists() else None
+    try:
+        summary = json.loads(summary_file.read_text()) if summary_file.exists() else None
+    except (OSError, ValueError) as err:
+        raise InputError(
+            "RUN",
+            str(summary_file),
+            f"the run's summary as JSON (this one is unreadable: {err})",
+            _REDO,
+        ) from None
     if "snapshot_count" in ds:
-        record = _reshuffler_record(ds, file)
+        build = _reshuffler_record
     elif ds.attrs.get("skygas_run_kind") == "neuron":
-        record = _neuron_record(ds, file)
+        build = _neuron_record
     elif "x" in ds and "config_json" in ds.attrs:
-        record = _simulation_record(ds, file)
+        build = _simulation_record
     else:
         raise InputError(
             "RUN",
             str(file),
-            "a result file written by skygas simulate, reshuffle or neuron --animate",
+            "a result file written by skygas simulate, reshuffle or neuron --animate "
+            "(this netCDF file is not a skygas run)",
+            _REDO,
         )
+    try:
+        record = build(ds, file)
+    except InputError:
+        raise
+    except (KeyError, ValueError, TypeError, IndexError) as err:
+        # ValueError includes a configuration that no longer validates (pydantic's error)
+        why = f"{type(err).__name__}: {str(err).splitlines()[0] if str(err) else ''}"
+        raise _not_readable(file, f"damaged or incomplete: {why}") from None
     record.summary = summary
     record.config_json = str(ds.attrs["config_json"]) if "config_json" in ds.attrs else None
     return record

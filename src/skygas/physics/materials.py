@@ -31,7 +31,6 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 from pydantic import (
-    BaseModel,
     ConfigDict,
     Field,
     ValidationError,
@@ -40,7 +39,7 @@ from pydantic import (
 )
 
 from skygas.core import units
-from skygas.core.config_types import PositiveFloat
+from skygas.core.config_types import PositiveFloat, StrictModel, to_input_error
 from skygas.core.errors import InputError
 
 #: The film thickness [m] of a material that does not name its own (the paper's 2 nm).
@@ -60,7 +59,7 @@ def _strictly_increasing(values: tuple[float, ...], name: str) -> None:
         raise ValueError(f"{name} must be strictly increasing")
 
 
-class ForceTableSpec(BaseModel):
+class ForceTableSpec(StrictModel):
     """A tabulated repulsive force law in physical units (a calibrated model's pair or wall law).
 
     Attributes
@@ -107,7 +106,7 @@ class ForceTableSpec(BaseModel):
         return self
 
 
-class StrayFieldSpec(BaseModel):
+class StrayFieldSpec(StrictModel):
     """The isolated skyrmion's radial profile, for its energy in the film's edge stray field.
 
     Attributes
@@ -157,7 +156,7 @@ class StrayFieldSpec(BaseModel):
         return self
 
 
-class Material(BaseModel):
+class Material(StrictModel):
     """A magnetic film and its fitted particle-model laws (SI units).
 
     Attributes
@@ -204,7 +203,7 @@ class Material(BaseModel):
         law (docs/physics.md §2).
     """
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=True)
 
     name: str = "custom"
     saturation_magnetization: PositiveFloat
@@ -287,11 +286,7 @@ def material_from_mapping(data: dict, field: str = "material") -> Material:
     try:
         return Material(**data)
     except ValidationError as err:
-        first = err.errors()[0]
-        loc = ".".join(str(p) for p in first["loc"])
-        raise InputError(
-            f"{field}.{loc}" if loc else field, first.get("input"), first["msg"]
-        ) from None
+        raise to_input_error(err, prefix=field) from None
 
 
 def load_material(source: str | Path | dict | Material) -> Material:

@@ -278,6 +278,17 @@ class SimulationConfig(MaterialFields, OperationsField):
     geometry: GeometrySpec = ChamberGeometry(closed=True)
     skyrmions: SkyrmionsSpec
 
+    @field_validator("record_interval")
+    @classmethod
+    def _a_frame_within_the_run(cls, value: float, info: ValidationInfo) -> float:
+        duration = info.data.get("duration")
+        if duration is not None and value > duration:
+            raise ValueError(
+                f"a record interval at most the duration ({duration:g} s): no frame would be "
+                "recorded; shorten record_interval or lengthen duration"
+            )
+        return value
+
     def build(self, *, time_step: float | None = None, brownian_substeps: int = 1):
         """A ready :class:`~skygas.engine.Simulation` with the initial skyrmions placed.
 

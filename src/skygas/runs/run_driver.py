@@ -38,6 +38,7 @@ import os
 import signal
 import threading
 import time
+import zipfile
 from collections.abc import Callable
 from contextlib import contextmanager
 from pathlib import Path
@@ -256,8 +257,28 @@ def from_json_array(array: np.ndarray) -> Any:
 
 
 # -- checkpoints --------------------------------------------------------------------------------
+#: the checkpoint's array that holds the hash of the others
+_HASH_KEY = "sha256"
+
+
+def _arrays_hash(arrays: dict[str, Any]) -> str:
+    """A sha256 over the arrays' names, dtypes, shapes and bytes, in key order (hex digits)."""
+    digest = hashlib.sha256()
+    for key in sorted(arrays):
+        if key == _HASH_KEY:
+            continue
+        array = np.ascontiguousarray(np.asarray(arrays[key]))
+        digest.update(f"{key}|{array.dtype.str}|{array.shape}|".encode())
+        digest.update(array.tobytes())
+    return digest.hexdigest()
+
+
 def save_checkpoint(job: Job, path: Path) -> None:
-    """Save the job's state with its configuration, seed and version, atomically."""
+    """Save the job's state with its configuration, seed and version, atomically.
+
+    One more array, ``sha256``, holds a hash of all the others (:func:`_arrays_hash`), which
+    :func:`load_checkpoint` checks: a file damaged since is refused rather than resumed from.
+    """
     config = job.config_json()
     # Any values: typed as arrays, mypy would match the ``**`` below against savez's bool
     # ``allow_pickle`` (the keys are array names; the assertion rules out a clash)
@@ -268,32 +289,70 @@ def save_checkpoint(job: Job, path: Path) -> None:
         "seed": np.array(job.seed()),
         "skygas_version": np.array(__version__),
     }
-    clash = set(meta) & set(state)
+    clash = set(meta) & set(state) | ({_HASH_KEY} & set(state))
     assert not clash, f"job state uses reserved checkpoint keys {clash}"
-    write_atomic(path, lambda tmp: np.savez(tmp, **meta, **state))
+    arrays = {**meta, **state}
+    arrays[_HASH_KEY] = np.array(_arrays_hash(arrays))
+    write_atomic(path, lambda tmp: np.savez(tmp, **arrays))
+
+
+def _damaged(path: Path, why: str) -> InputError:
+    return InputError(
+        "--resume",
+        str(path),
+        f"a checkpoint skygas wrote and nothing changed since (this one is {why})",
+        "run with --overwrite to start again",
+    )
+
+
+def _unreadable(path: Path, err: Exception) -> str:
+    """Why the checkpoint at ``path`` could not be read, in a few words."""
+    try:
+        with open(path, "rb") as file:
+            head = file.read(4)
+    except OSError as cause:
+        return f"unreadable: {cause.strerror}"
+    if not head:
+        return "unreadable: the file is empty"
+    if not head.startswith(b"PK"):
+        return "unreadable: not a checkpoint (no npz archive)"
+    return f"unreadable: truncated or damaged ({err})"
 
 
 def load_checkpoint(job: Job, path: Path) -> None:
     """Restore a checkpoint written by :func:`save_checkpoint` for the same configuration.
 
-    Refuse one written by another configuration (:class:`InputError`).
+    Refuse one written by another configuration, and one that cannot be read or whose hash
+    does not match its arrays (truncated, emptied, a bit flipped), with one
+    :class:`InputError` each.
     """
-    with np.load(path, allow_pickle=False) as data:
-        if str(data["fingerprint"]) != fingerprint(job.config_json()):
-            raise InputError(
-                "--resume",
-                str(path),
-                "a checkpoint written by the same configuration and options "
-                "(this one belongs to another run: use another --out, or delete it "
-                "to start again)",
-            )
-        job.load_state_dict(
-            {
-                k: data[k]
-                for k in data.files
-                if k not in ("fingerprint", "config_json", "seed", "skygas_version")
-            }
+    try:
+        # opened here: numpy leaves a file it opened itself open when it is not an archive
+        with open(path, "rb") as file, np.load(file, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    except (zipfile.BadZipFile, ValueError, EOFError, OSError, KeyError) as err:
+        raise _damaged(path, _unreadable(path, err)) from None
+    if _HASH_KEY in arrays and str(arrays.pop(_HASH_KEY)) != _arrays_hash(arrays):
+        raise _damaged(path, "damaged: its arrays do not match the hash written with them")
+    if "fingerprint" not in arrays:
+        raise _damaged(path, "damaged: it has no configuration fingerprint")
+    if str(arrays["fingerprint"]) != fingerprint(job.config_json()):
+        raise InputError(
+            "--resume",
+            str(path),
+            "a checkpoint written by the same configuration and options "
+            "(this one belongs to another run: use another --out, or delete it "
+            "to start again)",
         )
+    state = {
+        k: v
+        for k, v in arrays.items()
+        if k not in ("fingerprint", "config_json", "seed", "skygas_version")
+    }
+    try:
+        job.load_state_dict(state)
+    except KeyError as err:
+        raise _damaged(path, f"damaged: the array {err} is missing") from None
 
 
 # -- signals ----------------------------------------------------------------------------------

@@ -202,8 +202,15 @@ def read_bits(path: str | Path) -> np.ndarray:
     if suffix == ".npy":
         try:
             array = np.load(path, allow_pickle=False)
-        except (ValueError, OSError) as err:
-            raise InputError("path", str(path), f"a readable .npy file ({err})") from None
+        except (ValueError, OSError, EOFError) as err:
+            why = str(err) or "the file is empty"
+            raise InputError(
+                "path",
+                str(path),
+                f"a readable .npy file of 0/1 bits (this one is empty, truncated or damaged: "
+                f"{why})",
+                "write the bits again, e.g. with numpy.save",
+            ) from None
         try:
             return as_bits(
                 np.ravel(array) if array.ndim == 2 and 1 in array.shape else array, "path"
@@ -213,7 +220,16 @@ def read_bits(path: str | Path) -> np.ndarray:
     if suffix not in _TEXT_SUFFIXES:
         raise InputError("path", str(path), "a file ending in .npy, .csv or .txt")
     bits: list[bool] = []
-    for line_number, line in enumerate(path.read_text().splitlines(), start=1):
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise InputError(
+            "path",
+            str(path),
+            f"a text file of 0/1 bits (this one is binary or not UTF-8: byte {err.start})",
+            "give a .csv or .txt file of 0 and 1, or a .npy array",
+        ) from None
+    for line_number, line in enumerate(text.splitlines(), start=1):
         if line.lstrip().startswith("#"):
             continue
         for token in line.replace(",", " ").split():

@@ -33,6 +33,7 @@ from __future__ import annotations
 import asyncio
 import json
 import time
+import warnings
 from pathlib import Path
 from typing import Any, cast
 
@@ -260,29 +261,49 @@ def open_sweep(path: str | Path) -> xr.Dataset:
             if path.name.endswith(CREATING)
             else None,
         )
-    raw = xr.open_zarr(path, consolidated=False, decode_times=False).load()
-    if "summary" in raw:  # layout 2: unpack the per-run arrays
-        ds = raw.drop_vars(["summary", "running_curves"])
-        for packed, dim, names in (
-            ("summary", "quantity", "quantities"),
-            ("running_curves", "curve", "curves"),
-        ):
-            for k, name in enumerate(raw[packed].attrs[names]):
-                part = raw[packed].variable[{dim: k}]
-                ds[name] = (
-                    part.dims,
-                    part.values,
-                    {"units": "s"} if name == "running_time" else {},
-                )
-    else:  # layout 1 (one array per quantity), written by earlier versions
-        ds = raw
-    seconds = ds["finished_at"].values
-    stamps = np.where(
-        np.isnan(seconds),
-        np.datetime64("NaT", "ns"),
-        (np.nan_to_num(seconds) * 1e9).astype(np.int64).astype("datetime64[ns]"),
-    )
-    ds["finished_at"] = (ds["finished_at"].dims, stamps)
+    try:
+        with warnings.catch_warnings():  # zarr's and xarray's notes on the format, not the user's
+            warnings.simplefilter("ignore")
+            raw = xr.open_zarr(path, consolidated=False, decode_times=False).load()
+            if "summary" in raw:  # layout 2: unpack the per-run arrays
+                ds = raw.drop_vars(["summary", "running_curves"])
+                for packed, dim, names in (
+                    ("summary", "quantity", "quantities"),
+                    ("running_curves", "curve", "curves"),
+                ):
+                    for k, name in enumerate(raw[packed].attrs[names]):
+                        part = raw[packed].variable[{dim: k}]
+                        ds[name] = (
+                            part.dims,
+                            part.values,
+                            {"units": "s"} if name == "running_time" else {},
+                        )
+            else:  # layout 1 (one array per quantity), written by earlier versions
+                ds = raw
+            seconds = ds["finished_at"].values
+            stamps = np.where(
+                np.isnan(seconds),
+                np.datetime64("NaT", "ns"),
+                (np.nan_to_num(seconds) * 1e9).astype(np.int64).astype("datetime64[ns]"),
+            )
+            ds["finished_at"] = (ds["finished_at"].dims, stamps)
+    except (
+        OSError,
+        ValueError,
+        KeyError,
+        IndexError,
+        TypeError,
+        AttributeError,
+        RuntimeError,
+    ) as err:
+        why = str(err).splitlines()[0] if str(err) else type(err).__name__
+        raise InputError(
+            "STORE",
+            str(path),
+            f"a sweep store written by `skygas sweep` (this one is damaged or not a sweep "
+            f"store: {why})",
+            "give the folder that `skygas sweep --out` wrote, or run the sweep again",
+        ) from None
     return ds
 
 

@@ -76,7 +76,10 @@ class LandscapeField:
                 self._samples.append(term.sample(SampleContext(gx, gy, kt, seq, inside)))
             except InputError as err:  # a term's field, named as in the configuration
                 raise InputError(
-                    f"potentials.{index}.{err.field}", err.value, err.allowed
+                    f"potentials.{index}.{err.field.removeprefix(term.kind + '.')}",
+                    err.value,
+                    err.allowed,
+                    err.hint,
                 ) from None
         self.enabled = [True] * len(self.terms)
         self.nodes = np.zeros((grid.ny, grid.nx, 4))

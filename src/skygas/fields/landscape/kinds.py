@@ -14,7 +14,9 @@ film's edge stray field, made from the device's outline) fourth-order ones.
 from __future__ import annotations
 
 import hashlib
+import io
 import math
+import zipfile
 from pathlib import Path
 from typing import Annotated, ClassVar, Literal, NamedTuple
 
@@ -30,6 +32,7 @@ from pydantic import (
 from skygas.core import units
 from skygas.core.config_types import StrictModel, register_union_tags
 from skygas.core.memo import Memo
+from skygas.core.resources import require_memory
 
 # The edge stray-field energy per film, spacing and parameters (see skygas.core.memo): a sweep's
 # runs of one device share it (two FFT convolutions, ~1 s for the paper's chamber).
@@ -262,7 +265,16 @@ class RandomPinning(_Kind):
         x0, x1 = float(ctx.x.min()), float(ctx.x.max())
         y0, y1 = float(ctx.y.min()), float(ctx.y.max())
         area_m2 = (x1 - x0) * (y1 - y0) / units.M_TO_NM**2
-        count = rng.poisson(self.density * area_m2)
+        expected = self.density * area_m2
+        # each well: its centre (2 floats) and depth, before any Poisson draw that would overflow
+        require_memory(
+            "random_pinning.density",
+            self.density,
+            (expected + 6 * math.sqrt(expected) + 1) * 3 * 8,
+            f"about {expected:.3g} pinning wells over this {area_m2:.3g} m² area",
+            "use a density in wells per m² (e.g. 1e14 for one per 100 nm square)",
+        )
+        count = rng.poisson(expected)
         centres = rng.uniform((x0, y0), (x1, y1), size=(count, 2))
         if self.depth_kT is not None:
             mean = _energy(None, self.depth_kT, ctx.kt, "depth")
@@ -362,7 +374,7 @@ def read_grid(path: str, array: str | None = None) -> tuple[np.ndarray, bool]:
     suffix = file.suffix.lower()
     try:
         if suffix in (".npy", ".npz"):
-            data = np.load(file, allow_pickle=False)
+            data = np.load(io.BytesIO(file.read_bytes()), allow_pickle=False)
             if suffix == ".npz":
                 names = list(data.files)
                 name = array or (names[0] if len(names) == 1 else None)
@@ -381,8 +393,10 @@ def read_grid(path: str, array: str | None = None) -> tuple[np.ndarray, bool]:
             if values.size and values.max() > 1:
                 values = values / 255.0
             values, image = values[::-1], True  # image rows run top to bottom
-    except (OSError, SyntaxError, TypeError) as err:  # numpy's and Pillow's read errors
-        raise ValueError(f"a readable .npy, .npz or image file ({err})") from None
+    except (OSError, SyntaxError, TypeError, EOFError, KeyError, zipfile.BadZipFile) as err:
+        # numpy's and Pillow's read errors: an empty, truncated or damaged file
+        why = str(err) or ("the file is empty" if isinstance(err, EOFError) else type(err).__name__)
+        raise ValueError(f"a readable .npy, .npz or image file ({why})") from None
     if values.ndim != 2 or min(values.shape) < 4:
         raise ValueError(
             f"a 2-D array of at least 4×4 samples, rows along y (the file holds "
