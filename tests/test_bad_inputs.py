@@ -525,7 +525,7 @@ READER_CASES = {
     "store of garbage": (["plot", "store-garbage", "--out", "OUT"], "store-garbage", "sweep store"),
     "ovf truncated": (["micromag", "inspect", "cut.ovf"], "cut.ovf", "truncated"),
     "bit file not text": (["reshuffle", "bits.toml", "--out", "OUT"], "bits.csv", "UTF-8"),
-    "out empty": (["reshuffle", "--out", ""], "--out = '.'", "current folder"),
+    "out empty": (["reshuffle", "--out", ""], "--out = ''", "current folder"),
     "out not text": (
         ["reshuffle", "--out", os.fsdecode(b"\xff\xfeab")],
         "--out = '\\udcff\\udcfeab'",

@@ -202,19 +202,20 @@ def _output_folder(args: argparse.Namespace) -> Path | None:
     return Path(out)
 
 
-def _check_output_folder(out: Path) -> Path | None:
+def _check_output_folder(out: Path, given: str) -> Path | None:
     """Refuse an ``--out`` that is an existing file; return the first folder it will create.
 
     The first folder of ``out`` that does not exist yet (what this command will create), or None.
-    An empty ``--out`` (the current folder) and a name that cannot be written as UTF-8 text (bytes
-    of another encoding on the command line) are refused too.
+    An empty ``--out`` (``given``, as typed: it would mean the current folder without saying
+    so; ``--out .`` says so and is accepted) and a name that cannot be written as UTF-8 text
+    (bytes of another encoding on the command line) are refused too.
     """
-    if str(out) in ("", "."):
+    if not given.strip():
         raise InputError(
             "--out",
-            str(out),
-            "a folder name (an empty --out, or '.', would write into the current folder)",
-            "name the folder for the results, e.g. --out results",
+            given,
+            "a folder name (an empty --out would write into the current folder)",
+            "name the folder for the results, e.g. --out results (or --out . on purpose)",
         )
     try:
         str(out).encode("utf-8")
@@ -309,7 +310,7 @@ def main(argv: list[str] | None = None) -> int:
         if check_out is not None:
             check_out(args)
         if out is not None:
-            created = _check_output_folder(out)
+            created = _check_output_folder(out, str(args.out))
         # one run per folder: held from the first look at the folder to the last file written
         lock = (
             folder_lock.hold(out, command_name(args), beside=args.command in _OWN_OUT_RULES)

@@ -173,7 +173,8 @@ class _Started:
 
 
 def _without_wall_times(data: dict) -> dict:
-    return {k: v for k, v in data.items() if "wall_time" not in k}
+    """``data`` without its measured times (wall times, a current solve's seconds)."""
+    return {k: v for k, v in data.items() if "wall_time" not in k and not k.endswith("seconds")}
 
 
 def _summary(path: Path) -> dict:

@@ -42,6 +42,12 @@ def set_command(command: str | None, argv: list[str] | None) -> None:
     _context.update(command=command, argv=argv, written=False)
 
 
+def current_argv() -> list[str] | None:
+    """The arguments of the command-line command now running (``None`` from Python)."""
+    argv = _context["argv"]
+    return None if argv is None else list(argv)
+
+
 def current_command(default: str) -> str:
     """The running command-line command, or ``default`` (a job's name) from Python."""
     return _context["command"] or default

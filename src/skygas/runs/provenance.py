@@ -25,7 +25,7 @@ SHORT_KEYS = ("skygas_version", "seed", "config_hash", "command", "command_line"
 
 def command_line() -> str:
     """The running command line as typed (``"skygas plot s.zarr --out f"``); ``""`` from Python."""
-    argv = manifest._context.get("argv")
+    argv = manifest.current_argv()
     return "skygas " + shlex.join(argv) if argv else ""
 
 

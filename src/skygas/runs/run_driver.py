@@ -536,9 +536,9 @@ def _run_in_folder(
     ckpt = out / CHECKPOINT
     config_hash = fingerprint(job.config_json())
     started = time.time()
-    manifest.write(out, command, config_hash, started_at=started)
-    if resume_from is not None:
+    if resume_from is not None:  # read (and checked) before anything in the folder changes
         load_checkpoint(job, resume_from)
+    manifest.write(out, command, config_hash, started_at=started)
     last_save = time.perf_counter()
     try:
         with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
