@@ -89,3 +89,28 @@ def test_resume_from_a_checkpoint_is_bit_identical_and_keeps_every_counter():
         np.testing.assert_array_equal(ta[var].values, tb[var].values, err_msg=var)
     for key, column in alone.annihilations.arrays().items():
         np.testing.assert_array_equal(column, resumed.annihilations.arrays()[key])
+
+
+def test_add_random_places_skyrmions_apart_from_each_other_the_present_and_the_walls():
+
+    def build():
+        return Simulation(disk(600e-9), "S2", temperature=300.0, seed=4)
+
+    sim = build()
+    d = sim.thiele.skyrmion_diameter
+    first = sim.add_random(10, 1.5)
+    second = sim.add_random(10, 1.5)
+    assert list(first) == list(range(10)) and list(second) == list(range(10, 20))
+    _, pos = sim.positions()
+    gaps = np.hypot(*(pos[:, None] - pos[None]).transpose(2, 0, 1))
+    assert gaps[~np.eye(20, dtype=bool)].min() >= 1.5 * d * (1 - 1e-12)
+    walls = sim.outline.wall_distance_nm(pos[:, 0] * 1e9, pos[:, 1] * 1e9)
+    assert walls.min() >= 1.5 * d * 1e9 * (1 - 1e-12)
+    again = build()
+    again.add_random(10, 1.5)
+    again.add_random(10, 1.5)
+    np.testing.assert_array_equal(again.positions()[1], pos)  # reproducible from the seed
+    with pytest.raises(InputError, match="fewer skyrmions"):
+        build().add_random(10_000, 1.5)
+    with pytest.raises(InputError, match="count"):
+        build().add_random(-1)

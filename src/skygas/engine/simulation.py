@@ -558,6 +558,57 @@ class Simulation:
             self.validate_positions(p)
         return self.store.insert(p)
 
+    def add_random(
+        self, count: int, min_separation: float = 1.0, seed: int | None = None
+    ) -> np.ndarray:
+        """Insert ``count`` skyrmions at random, uniformly over the outline; returns their ids.
+
+        Parameters
+        ----------
+        count : int
+            How many to insert.
+        min_separation : float
+            Their least distance, in skyrmion diameters, from each other, from the skyrmions
+            already present and from the walls.
+        seed : int, optional
+            The placement's seed (default: one drawn from the simulation's seed and the number
+            of skyrmions created so far, so that a run is reproducible).
+
+        Raises
+        ------
+        InputError
+            If ``count`` is not a non-negative integer, or the skyrmions do not fit.
+        """
+        from skygas.physics.geometry import random_positions
+
+        require(
+            isinstance(count, (int, np.integer)) and count >= 0,
+            "count",
+            count,
+            "an integer >= 0",
+        )
+        require(
+            np.isfinite(min_separation) and min_separation > 0,
+            "min_separation",
+            min_separation,
+            "a distance > 0 in skyrmion diameters",
+        )
+        if seed is None:
+            seed = int(
+                np.random.SeedSequence([self.seed, 0xADD, self.ids_issued]).generate_state(1)[0]
+            )
+        d = min_separation * self.thiele.skyrmion_diameter_internal
+        _, present = self.store.positions()
+        points = random_positions(
+            self.outline,
+            int(count),
+            d,
+            d,
+            np.random.default_rng(seed),
+            occupied=present * units.M_TO_NM,
+        )
+        return self.store.insert(points)
+
     def remove_skyrmions(self, ids, reason: str = "removed") -> None:
         """Remove the skyrmions with the given ids (unknown ids raise).
 

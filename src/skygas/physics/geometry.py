@@ -397,14 +397,18 @@ def random_positions(
     min_wall_distance_nm: float,
     rng: np.random.Generator,
     max_tries: int = 200_000,
+    occupied: np.ndarray | None = None,
 ) -> np.ndarray:
     """``count`` random points [nm] inside ``outline``, by random sequential addition.
 
-    The points are pairwise ≥ ``min_separation_nm`` apart and ≥ ``min_wall_distance_nm`` from walls.
+    The points are pairwise ≥ ``min_separation_nm`` apart, ≥ ``min_wall_distance_nm`` from walls
+    and as far from the ``occupied`` points [nm] (n, 2), if any, which are not returned.
     Raises :class:`InputError` if the points do not fit (more than ``max_tries`` tries).
     """
     x0, y0, x1, y1 = outline.bounds_nm
-    points = np.empty((0, 2))
+    held = 0 if occupied is None else len(occupied)
+    points = np.empty((0, 2)) if occupied is None else np.asarray(occupied, float).reshape(-1, 2)
+    count = count + held
     tries = 0
     while len(points) < count:
         batch = rng.uniform((x0, y0), (x1, y1), size=(256, 2))
@@ -424,6 +428,7 @@ def random_positions(
             raise InputError(
                 "skyrmions.count",
                 count,
-                f"fewer skyrmions: only {len(points)} fit at {min_separation_nm:.1f} nm separation",
+                f"fewer skyrmions: only {len(points) - held} fit at {min_separation_nm:.1f} nm "
+                "separation",
             )
-    return points
+    return points[held:]
