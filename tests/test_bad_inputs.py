@@ -555,3 +555,142 @@ def test_a_reader_refuses_a_bad_file_in_one_line_and_writes_nothing(name, tmp_pa
         before = {k: v for k, v in before.items() if not k.endswith("manifest.json")}
     assert after == before  # nothing created, written, changed or removed
     assert proc.stdout == ""
+
+
+# -- estimates before allocation (issue: nothing lost) --
+
+ESTIMATE_FILES = {
+    # 10 s of the 45-skyrmion chamber, a frame every ms: its steps, not its frames, are too many
+    "long.toml": _replace_line(
+        _replace_line(CHAMBER, "duration", "duration = 10.0"),
+        "record_interval",
+        "record_interval = 1e-3",
+    ),
+    "huge-grid.toml": (
+        "[sweep]\nreplicas = 1\n[base]\nduration = 1e-8\n[grid]\n"
+        "current_density = { start = 1e11, stop = 3e11, num = 300000 }\n"
+        '"signal.p" = { start = 0.2, stop = 0.8, num = 300000 }\n'
+    ),
+    "endless.toml": (
+        '[sweep]\nreplicas = 800\n[base]\nduration = 3e-2\n[grid]\n"signal.p" = [0.2, 0.5, 0.8]\n'
+    ),
+    "quick.toml": (EXAMPLES / "sweeps" / "quick-current.toml").read_text(),
+}
+
+#: the speed figure the estimates use in these tests: no calibration, the same on every machine
+ESTIMATE_ENV = {"SKYGAS_STEP_SECONDS": "2e-6"}
+
+ESTIMATE_CASES = {
+    "femtosecond nucleation interval": (
+        ["reshuffle", "--injection-interval", "1e-15", "--out", "OUT"],
+        "--injection-interval = 1e-15",
+        "injection events",
+    ),
+    "sweep of 9e10 runs": (["sweep", "huge-grid.toml", "--out", "S"], "grid", "9e+10 runs"),
+    "sweep over a day": (["sweep", "endless.toml", "--out", "S", "--serial"], "sweep", "--force"),
+    "simulation over a day": (["simulate", "long.toml", "--out", "OUT"], "duration", "--force"),
+    "reshuffler of 2e9 events": (
+        ["reshuffle", "--duration", "10", "--out", "OUT"],
+        "injection.interval = 5e-09",
+        "2e+09 injection events",
+    ),
+    "reservoir inputs": (
+        ["reservoir", "--n-inputs", "100000000000", "--out", "OUT"],
+        "--n-inputs",
+        "fits in memory",
+    ),
+    "scheduler with no answer": (
+        ["sweep", "quick.toml", "--out", "S", "--scheduler", "tcp://10.255.255.1:8786"],
+        "--scheduler = 'tcp://10.255.255.1:8786'",
+        "no answer",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(ESTIMATE_CASES))
+def test_an_estimate_beyond_the_machine_is_one_line(name, tmp_path):
+    args, field, expected = ESTIMATE_CASES[name]
+    for relative, text in ESTIMATE_FILES.items():
+        (tmp_path / relative).write_text(text)
+    before = _snapshot(tmp_path)
+    proc = subprocess.run(  # a refusal comes before any stepping: seconds, never minutes
+        [sys.executable, "-m", "skygas.cli", *args],
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONWARNINGS": "ignore", **ESTIMATE_ENV},
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith(f"skygas: error: {field}"), lines[0]
+    assert expected in lines[0], lines[0]
+    assert "Traceback" not in proc.stderr
+    assert _snapshot(tmp_path) == before
+    assert proc.stdout == ""
+
+
+def test_force_starts_a_long_run_and_announces_its_estimate(tmp_path):
+    (tmp_path / "long.toml").write_text(ESTIMATE_FILES["long.toml"])
+    env = {**os.environ, "PYTHONWARNINGS": "ignore", **ESTIMATE_ENV}
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "skygas.cli", "simulate", "long.toml", "--out", "OUT", "--force"],
+        cwd=tmp_path,
+        env=env,
+        stderr=subprocess.PIPE,
+        stdout=subprocess.DEVNULL,
+        text=True,
+    )
+    try:
+        assert proc.stderr is not None
+        first = proc.stderr.readline()
+        # 10 s / 0.1 ns steps (the default step divides the 1 ms record interval) at 2 µs each
+        assert first.startswith("skygas: estimate: "), first
+        assert "steps, about" in first and "on this machine" in first, first
+        assert proc.poll() is None  # started, not refused
+    finally:
+        proc.kill()
+        proc.wait(timeout=60)
+
+
+def test_the_estimator_against_a_counted_case(monkeypatch, capsys):
+    from skygas.core.errors import InputError
+    from skygas.core.estimates import Estimate, check, run_limits
+    from skygas.reshuffler.config import parse_reshuffler_config
+    from skygas.reshuffler.run import reshuffler_memory
+    from skygas.runs.config import parse_config
+    from skygas.runs.machine_speed import run_estimate, step_seconds
+    from skygas.runs.runner import simulation_memory
+
+    config = parse_config(
+        {
+            "duration": 1e-6,
+            "record_interval": 1e-8,
+            "geometry": {"kind": "chamber", "chamber_diameter": 1024e-9, "closed": True},
+            "skyrmions": {"random_count": 10},
+        }
+    )
+    assert simulation_memory(config, 10) == 24 * 101 * 10  # 101 frames of 10 (x, y, id)
+    reshuffler = parse_reshuffler_config(
+        {"duration": 1e-6, "injection": {"interval": 1e-8}, "output": {"snapshot_interval": 1e-7}}
+    )
+    assert reshuffler_memory(reshuffler, 100, 7) == {
+        "injection.interval": 20 * 100,  # a bit and a 19-byte log entry per event
+        "output.snapshot_interval": 24 * 11 * 7,  # 11 snapshots of 7 (id, x, y)
+    }
+    monkeypatch.setenv("SKYGAS_STEP_SECONDS", "2e-6")
+    assert step_seconds(45, 2e-6) == pytest.approx(2e-6)
+    estimate = run_estimate(1e9, 45, 1e6, runs=4, workers=2)
+    assert estimate.seconds == pytest.approx(1e9 * 4 / 2 * 2e-6)  # 4000 s
+    assert estimate.line() == (
+        "skygas: estimate: 4 runs of 1e+09 steps, about 1.1 h on this machine, 977 KiB"
+    )
+    day = Estimate(steps=1e11, memory=1e3, seconds=2e5)
+    with pytest.raises(InputError, match="--force"):
+        check(day, "duration", 1.0, "the run", "use a shorter duration")
+    with run_limits(force=True, announce=True):
+        check(day, "duration", 1.0, "the run", "use a shorter duration")
+    assert capsys.readouterr().err.startswith("skygas: estimate: 1e+11 steps, about 2.3 days")
+    with run_limits(force=True, announce=True), pytest.raises(InputError, match="memory"):
+        check(Estimate(1, 1e30, 1), "duration", 1.0, "the run", "use less")  # never forced

@@ -12,7 +12,12 @@ import argparse
 from pathlib import Path
 
 from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_run_options, named_by_flags, run_options
+from skygas.commands.run_options import (
+    add_run_options,
+    limits_from_flags,
+    named_by_flags,
+    run_options,
+)
 
 #: configuration fields set by an option, to name the option in an error
 _FLAGS = {
@@ -110,7 +115,7 @@ def _calibrate(args: argparse.Namespace) -> int:
     from skygas.calibration.material import load_micromagnetic_material
 
     options = run_options(args, progress=not args.json)
-    with named_by_flags(args, _FLAGS):
+    with named_by_flags(args, _FLAGS), limits_from_flags(args, announce=not args.json):
         material = load_micromagnetic_material(args.material, cell_size=args.cell_size)
         data = calibrate(material, args.out, workers=args.workers, **options, **_settings(args))
     if args.json:

@@ -10,7 +10,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_run_options, named_by_flags, run_options
+from skygas.commands.run_options import (
+    add_run_options,
+    limits_from_flags,
+    named_by_flags,
+    run_options,
+)
 from skygas.core.errors import InputError
 from skygas.outputs.flags import add_output_flags
 
@@ -23,14 +28,15 @@ def _neuron(args) -> int:
     with named_by_flags(args, {"seed": "seed", "duration": "duration"}):
         config = load_neuron_config(args.config, seed=args.seed, duration=args.duration)
     out = Path(args.out)
-    summary = run_neuron_to_files(
-        config,
-        out,
-        transfer=not args.no_transfer,
-        record_interval=movie_record_interval(args.animate),
-        **run_options(args, progress=not args.json),
-        then=lambda out: finish_outputs(out, animate=args.animate, report=not args.no_report),
-    )
+    with limits_from_flags(args, announce=not args.json):
+        summary = run_neuron_to_files(
+            config,
+            out,
+            transfer=not args.no_transfer,
+            record_interval=movie_record_interval(args.animate),
+            **run_options(args, progress=not args.json),
+            then=lambda out: finish_outputs(out, animate=args.animate, report=not args.no_report),
+        )
     lif = summary["lif_fit"]
     if args.json:
         print_json(summary)
@@ -74,8 +80,11 @@ def _saturation(args) -> int:
     if args.repetitions < 1:
         raise InputError("repetitions", args.repetitions, "an integer >= 1")
     out = Path(args.out)
-    with named_by_flags(
-        args, {name: name for name in ("repetitions", "seed", "relax_time", "temperature")}
+    with (
+        named_by_flags(
+            args, {name: name for name in ("repetitions", "seed", "relax_time", "temperature")}
+        ),
+        limits_from_flags(args, announce=not args.json),
     ):
         result = run_saturation_to_files(
             diameters,

@@ -12,7 +12,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_run_options, named_by_flags, run_options
+from skygas.commands.run_options import (
+    add_run_options,
+    limits_from_flags,
+    named_by_flags,
+    run_options,
+)
 
 #: command-line option -> the configuration's field it overrides (a dotted key)
 OVERRIDES = {
@@ -57,7 +62,8 @@ def _reservoir(args) -> int:
     from skygas.reservoir.files import run_reservoir
 
     overrides = {field: getattr(args, option) for option, field in OVERRIDES.items()}
-    with named_by_flags(args, OVERRIDES):  # a bad value names the option that set it
+    # a bad value names the option that set it
+    with named_by_flags(args, OVERRIDES), limits_from_flags(args, announce=not args.json):
         config = load_reservoir_config(args.config, **overrides)
         summary = run_reservoir(
             config,

@@ -8,7 +8,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_run_options, named_by_flags, run_options
+from skygas.commands.run_options import (
+    add_run_options,
+    limits_from_flags,
+    named_by_flags,
+    run_options,
+)
 from skygas.outputs.flags import add_output_flags
 from skygas.reshuffler.presets import PRESETS
 
@@ -63,7 +68,8 @@ def _reshuffle(args) -> int:
 
     overrides = {field: getattr(args, opt) for opt, field in OVERRIDES.items()}
     overrides.update(recording_overrides(args.animate))
-    with named_by_flags(args, OVERRIDES):  # the sanity checks name the option too
+    # the sanity checks and the estimates name the option too
+    with named_by_flags(args, OVERRIDES), limits_from_flags(args, announce=not args.json):
         config = load_reshuffler_config(args.config, preset=args.preset, overrides=overrides)
         result = run_reshuffler(
             config,

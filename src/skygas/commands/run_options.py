@@ -1,7 +1,9 @@
 """The options every long-running command shares.
 
 ``--resume``, ``--overwrite``, ``--strict``, ``--quiet``, ``--checkpoint-seconds``, handed to
-:func:`skygas.runs.run_driver.drive` and to the sanity checks (:mod:`skygas.runs.sanity`).
+:func:`skygas.runs.run_driver.drive` and to the sanity checks (:mod:`skygas.runs.sanity`), and
+``--force``, handed to the estimates every device checks before it allocates anything
+(:mod:`skygas.core.estimates`) through the context :func:`limits_from_flags`.
 """
 
 from __future__ import annotations
@@ -9,6 +11,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 
 from skygas.core.errors import InputError, require
+from skygas.core.estimates import run_limits
 
 
 def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True) -> None:
@@ -33,6 +36,7 @@ def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True
     )
     if quiet:
         parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_force_option(parser)
     parser.add_argument(
         "--checkpoint-seconds",
         type=float,
@@ -40,6 +44,38 @@ def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True
         metavar="S",
         help="wall time between periodic checkpoints [s] "
         f"(default {checkpoint_seconds:g}; 0: after every piece of the run)",
+    )
+
+
+def add_force_option(parser) -> None:
+    """Add ``--force``: start a run expected to take more than 24 hours."""
+    parser.add_argument(
+        "--force",
+        action="store_true",
+        help="start a run expected to take more than 24 hours on this machine (a run that "
+        "does not fit in memory is refused all the same)",
+    )
+
+
+def limits_from_flags(args, announce: bool = True):
+    """The limits of the runs a command builds (:func:`~skygas.core.estimates.run_limits`).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line: ``--force`` forces long runs; ``--quiet`` silences the
+        estimate line.
+    announce : bool
+        False when the command prints machine-readable output (``--json``).
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        A context to build and run the command's runs in.
+    """
+    return run_limits(
+        force=bool(getattr(args, "force", False)),
+        announce=announce and not getattr(args, "quiet", False),
     )
 
 

@@ -10,7 +10,7 @@ from importlib import resources
 from pathlib import Path
 
 from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_run_options, run_options
+from skygas.commands.run_options import add_run_options, limits_from_flags, run_options
 from skygas.outputs.flags import add_output_flags
 
 
@@ -19,7 +19,8 @@ def _simulate(args) -> int:
     from skygas.runs.runner import run_simulation
 
     config = load_config(args.config)
-    summary = run_simulation(config, args.out, **run_options(args), then=_outputs(args))
+    with limits_from_flags(args):
+        summary = run_simulation(config, args.out, **run_options(args), then=_outputs(args))
     _report(summary, args.out)
     return 0
 
@@ -54,9 +55,10 @@ def default_demo_config():
 def _demo(args) -> int:
     from skygas.runs.runner import run_simulation
 
-    summary = run_simulation(
-        default_demo_config(), args.out, **run_options(args), then=_outputs(args)
-    )
+    with limits_from_flags(args):
+        summary = run_simulation(
+            default_demo_config(), args.out, **run_options(args), then=_outputs(args)
+        )
     _report(summary, args.out)
     return 0
 

@@ -10,20 +10,23 @@ from __future__ import annotations
 import sys
 
 from skygas.commands.json_output import print_json
+from skygas.commands.run_options import add_force_option
 
 
 def _sweep(args) -> int:
+    from skygas.commands.run_options import limits_from_flags
     from skygas.sweep import load_sweep, run_sweep  # Dask and zarr load only when used
 
     sweep = load_sweep(args.sweep, args.set)  # every point is validated before anything runs
-    report = run_sweep(
-        sweep,
-        args.out,
-        scheduler=args.scheduler,
-        workers=args.workers,
-        serial=args.serial,
-        progress=not args.quiet,
-    )
+    with limits_from_flags(args):  # --force, and the estimate line unless --quiet
+        report = run_sweep(
+            sweep,
+            args.out,
+            scheduler=args.scheduler,
+            workers=args.workers,
+            serial=args.serial,
+            progress=not args.quiet,
+        )
     print(
         f"{len(report.computed)} runs computed, {report.skipped} already done, "
         f"{len(sweep.runs)} in all ({sweep.n_points} points × {sweep.replicas} replicas) "
@@ -94,6 +97,7 @@ def register(subparsers) -> None:
     )
     p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_force_option(p)
     p.add_argument(
         "--set",
         action="append",

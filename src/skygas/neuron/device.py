@@ -340,7 +340,25 @@ class NeuronDevice:
             record_interval=record_interval,
         )
         run.attach_operations(c.operations)
+        self._check_estimate(run, injector)
         return run
+
+    def _check_estimate(self, run: NeuronRun, injector) -> None:
+        """Refuse a run expected to take too long; announce a long one (core.estimates)."""
+        from skygas.core.estimates import check
+        from skygas.runs.machine_speed import run_estimate
+
+        frames = 0.0
+        if run.record_interval:
+            frames = run.duration / run.record_interval + 1
+        memory = 24.0 * frames * max(1.0, self.config.rule.threshold)
+        check(
+            run_estimate(run.total_steps, max(1.0, self.config.rule.threshold), memory),
+            "duration",
+            run.duration,
+            "the run",
+            "use a shorter duration",
+        )
 
 
 class NeuronRun(DeviceRun):

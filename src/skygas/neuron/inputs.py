@@ -113,6 +113,20 @@ def injection_schedule(inputs, duration: float, time_step: float, seed: int) -> 
         np.random.default_rng(s)
         for s in np.random.SeedSequence((seed, 0x696E70)).spawn(len(inputs))
     ]
+    from skygas.core.resources import require_memory
+
+    # all inputs together (each is checked alone too): times, draws and steps of every event
+    expected = sum(
+        s.mean_rate() * duration if s.kind in ("poisson", "regular") else duration / s.interval
+        for s in inputs
+    )
+    require_memory(  # one input alone is checked (naming its field) in event_times
+        "duration",
+        duration,
+        24.0 * expected if len(inputs) > 1 else 0.0,
+        f"the injection schedule of {expected:.3g} input events",
+        "use lower input rates or a shorter duration",
+    )
     steps = []
     for spec, rng in zip(inputs, rngs, strict=True):
         t = spec.event_times(duration, rng)

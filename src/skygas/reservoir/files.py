@@ -98,7 +98,10 @@ class ReservoirJob:
     ):
         self.config = config
         self.sweep = sweep
+        inputs = _held_inputs(config, sweep)
+        _check_estimate(config, inputs, config.time_step, announce=False)  # before any numerics
         self.device = device_for(config)  # validates everything before any run
+        _check_estimate(config, inputs, self.device.time_step)
         self.sim = self.device.simulation(config.seed)
         boolean, temporal = stream_specs(config)
         self.specs: list[StreamSpec] = [*boolean, *temporal]
@@ -249,6 +252,58 @@ class ReservoirJob:
         text = markdown_report(summary, sweep)
         write_atomic(out / "report.md", lambda tmp: tmp.write_text(text))
         return summary if sweep is None else {**summary, "sweep": sweep}
+
+
+def _held_inputs(config: ReservoirConfig, sweep: bool) -> tuple[int, float]:
+    """Inputs held in all (study, warm-ups, sweep) and their total hold time [s]."""
+    st = config.study
+    warm = st.warmup_inputs * max(1, st.workers)
+    n = st.n_inputs + warm
+    held = n * config.hold_time + (st.temporal_inputs + warm) * st.temporal_hold_time
+    n += st.temporal_inputs + warm
+    if sweep:
+        points = len(config.sweep.values) * config.sweep.replicas
+        n += points * (config.sweep.n_inputs + warm)
+        held += points * (config.sweep.n_inputs + warm) * config.hold_time
+    return n, held
+
+
+def _check_estimate(
+    config: ReservoirConfig, inputs: tuple[int, float], time_step: float | None, announce=True
+) -> None:
+    """Refuse a study that cannot fit or run (:mod:`skygas.core.estimates`); announce it.
+
+    Memory: the input bits (int64 per input contact) and the frames of one hold (a read every
+    ``sensors.sample_interval``). Steps: the total hold time over ``time_step`` (one step per
+    input, a lower bound, before the time step is known).
+    """
+    from skygas.core.estimates import check
+    from skygas.runs.machine_speed import optimistic_estimate, run_estimate
+
+    n, held = inputs
+    width = len(config.drive.input_contacts)
+    frames = max(config.hold_time, config.study.temporal_hold_time) / min(
+        config.sensors.sample_interval, config.study.temporal_sample_interval
+    )
+    memory = 8.0 * width * n + 24.0 * (frames + 1) * max(1, config.n_skyrmions)
+    steps = n if time_step is None else held / time_step
+    skyrmions = max(1, config.n_skyrmions)
+    workers = config.study.workers
+    estimate = (
+        optimistic_estimate(steps / workers, skyrmions, memory)
+        if time_step is None
+        else run_estimate(steps, skyrmions, memory, runs=1, workers=1)
+    )
+    if time_step is not None:  # the streams run on the study's workers
+        estimate = type(estimate)(estimate.steps, memory, estimate.seconds / workers)
+    check(
+        estimate,
+        "study.n_inputs",
+        config.study.n_inputs,
+        f"{n:.3g} held inputs",
+        "hold fewer inputs, or hold each for a shorter hold_time",
+        announce=announce,
+    )
 
 
 def run_reservoir(

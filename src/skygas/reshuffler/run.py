@@ -22,12 +22,15 @@ from collections.abc import Sequence
 import numpy as np
 
 from skygas.core.errors import require
+from skygas.core.estimates import check
+from skygas.core.resources import require_memory
 from skygas.engine import FrameBlock, Simulation
 from skygas.fields.current import solve_current
 from skygas.reshuffler.config import ReshufflerConfig
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
 from skygas.runs.device_run import DeviceRun
+from skygas.runs.machine_speed import optimistic_estimate, run_estimate
 from skygas.sc.signals import SignalSpec, as_bits, generate_bits
 
 #: Pieces of a run (each returns to Python once: progress, checkpoints, interruption).
@@ -49,6 +52,76 @@ def _seeds(seed: int) -> dict[str, int]:
         "signal": int(signal.generate_state(1, np.uint64)[0]),
         "noise": int(noise.generate_state(1, np.uint64)[0] >> np.uint64(1)),
     }
+
+
+#: Bytes kept per injection event: the input bit (bool) and the injection log (bool, two
+#: int64, two bool; :class:`~skygas.reshuffler.injection.InjectionLog`).
+BYTES_PER_EVENT = 1 + 1 + 8 + 8 + 1 + 1
+#: Bytes of a skyrmion in a snapshot: its id (int64) and position (two float64).
+BYTES_PER_SNAPSHOT_SKYRMION = 8 + 16
+
+
+#: Cost of a reshuffler step per skyrmion against the closed chamber's (drift field, injection,
+#: read-out): a 400 µs run of the default preset took 23 µs per step with ~70 skyrmions where
+#: the chamber's gas takes 2.2 µs per 45 (docs/runs.md, "Estimates before a run").
+STEP_COST_FACTOR = 5.0
+#: Skyrmions in a half-full 1024 nm chamber (the demonstration's gas).
+HALF_FULL_CHAMBER = 45.0
+
+
+def expected_population(config: ReshufflerConfig) -> float:
+    """Mean skyrmions in the device during a run (for its memory and expected time).
+
+    One enters per injection interval and stays for the time it takes to cross a chamber and
+    its conduits at the spin-drift speed ξJ, but the chambers hold a crowd: at least two
+    half-full chambers (:data:`HALF_FULL_CHAMBER` per 1024 nm), at most as many as fill both
+    (one per skyrmion diameter squared). A step costs as much as a closed chamber's with
+    :data:`STEP_COST_FACTOR` times as many.
+    """
+    device = config.device
+    speed = config.drift_coefficient() * config.current_density  # v_s [m/s]
+    present = (
+        (device.chamber_diameter + 2 * device.conduit_length) / speed / config.injection.interval
+    )
+    d_sk = config.thiele_parameters().skyrmion_diameter
+    crowd = 2 * HALF_FULL_CHAMBER * (device.chamber_diameter / 1024e-9) ** 2
+    full = 2.0 * (device.chamber_diameter / d_sk) ** 2
+    return min(max(present, crowd), max(full, crowd))
+
+
+def reshuffler_memory(config: ReshufflerConfig, n_events: float, skyrmions: float) -> dict:
+    """Bytes of a run's largest arrays, by the field that sets them.
+
+    Returns
+    -------
+    dict
+        ``"injection.interval"``: the input bits and the injection log of ``n_events`` events
+        (:data:`BYTES_PER_EVENT` each); ``"output.snapshot_interval"``: the snapshots of
+        ``skyrmions`` skyrmions (:data:`BYTES_PER_SNAPSHOT_SKYRMION` each), one per
+        snapshot interval and one at the start.
+    """
+    snapshots = math.floor(config.duration / config.output.snapshot_interval) + 1
+    return {
+        "injection.interval": BYTES_PER_EVENT * n_events,
+        "output.snapshot_interval": BYTES_PER_SNAPSHOT_SKYRMION * snapshots * skyrmions,
+    }
+
+
+def _check_memory(config: ReshufflerConfig, memory: dict, n_events: float) -> None:
+    require_memory(
+        "injection.interval",
+        config.injection.interval,
+        memory["injection.interval"],
+        f"the input bits and log of {n_events:.3g} injection events",
+        "use a longer injection interval or a shorter duration",
+    )
+    require_memory(
+        "output.snapshot_interval",
+        config.output.snapshot_interval,
+        memory["output.snapshot_interval"],
+        "the snapshots of all positions",
+        "take snapshots less often or run for a shorter duration",
+    )
 
 
 class ReshufflerRun(DeviceRun):
@@ -100,6 +173,22 @@ class ReshufflerRun(DeviceRun):
             path=config.signal.path,
         )
         interval = config.injection.interval
+        # estimates before anything is allocated (core.estimates): the steps are at least the
+        # injection events (the step divides the interval), the exact count follows below
+        lower_events = config.duration / interval
+        if bits is not None:
+            lower_events = max(lower_events, float(len(bits)))
+        population = expected_population(config)
+        memory = reshuffler_memory(config, lower_events, population)
+        _check_memory(config, memory, lower_events)
+        check(
+            optimistic_estimate(lower_events, STEP_COST_FACTOR * population, sum(memory.values())),
+            "duration",
+            config.duration,
+            "the run",
+            "use a shorter duration",
+            announce=False,
+        )
         n_events = int(math.floor(config.duration / interval + 1e-9))
         seeds = _seeds(config.seed)
         if bits is not None:
@@ -165,6 +254,13 @@ class ReshufflerRun(DeviceRun):
         sim.operations.append(injector)
         run = cls(config, geometry, sim, injector, current, chamber, n_events)
         run.attach_operations(config.operations)
+        check(
+            run_estimate(run.total_steps, STEP_COST_FACTOR * population, sum(memory.values())),
+            "duration",
+            config.duration,
+            "the run",
+            "use a shorter duration",
+        )
         return run
 
     # -- running ------------------------------------------------------------------------------

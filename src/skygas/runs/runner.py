@@ -17,9 +17,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from skygas.core.estimates import check
 from skygas.core.resources import require_memory, step_count
 from skygas.runs.config import SimulationConfig
 from skygas.runs.device_run import DeviceRun
+from skygas.runs.machine_speed import optimistic_estimate, run_estimate
 from skygas.runs.run_driver import (
     PiecewiseRunJob,
     drive,
@@ -33,6 +35,28 @@ from skygas.runs.run_driver import (
 PIECES = 100
 
 
+def simulation_memory(config: SimulationConfig, skyrmions: int) -> float:
+    """Bytes of the frames a simulation records.
+
+    One frame every ``record_interval`` and one at the start; per skyrmion its x and y
+    (float64) and its id (int64): 24 bytes.
+
+    Parameters
+    ----------
+    config : SimulationConfig
+        The run.
+    skyrmions : int
+        Skyrmions placed at the start (none are created later).
+
+    Returns
+    -------
+    float
+        24 × (duration / record_interval + 1) × max(1, skyrmions).
+    """
+    frames = config.duration / config.record_interval
+    return 24.0 * (frames + 1) * max(1, skyrmions)
+
+
 class SimulationRun(DeviceRun):
     """A configured simulation, cut into :data:`PIECES` pieces of equal length [steps].
 
@@ -43,16 +67,34 @@ class SimulationRun(DeviceRun):
     pieces = PIECES
 
     def __init__(self, config: SimulationConfig):
-        super().__init__(config, config.build())  # validates everything before any stepping
-        self.record_interval = config.record_interval
-        # recorded frames: per skyrmion, x and y (float64) and its id (int64)
-        frames = self.total_steps * self.sim.time_step / config.record_interval
+        # estimates before anything is built (core.estimates): the steps are at least the
+        # recorded frames (the default step divides the record interval), exact below
+        lower = step_count(config.duration, config.time_step or config.record_interval)
+        skyrmions = len(config.skyrmions.positions) + config.skyrmions.random_count
+        memory = simulation_memory(config, skyrmions)
         require_memory(
             "record_interval",
             config.record_interval,
-            24.0 * (frames + 1) * max(1, self.sim.count),
+            memory,
             "the recorded frames",
             "record less often, or run for a shorter duration",
+        )
+        check(
+            optimistic_estimate(lower, skyrmions, memory),
+            "duration",
+            config.duration,
+            "the run",
+            "use a shorter duration",
+            announce=False,
+        )
+        super().__init__(config, config.build())  # validates everything before any stepping
+        self.record_interval = config.record_interval
+        check(
+            run_estimate(self.total_steps, skyrmions, memory),
+            "duration",
+            config.duration,
+            "the run",
+            "use a shorter duration",
         )
         self.attach_operations(config.operations)
 

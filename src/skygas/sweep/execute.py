@@ -14,7 +14,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from skygas.core.errors import require
+from skygas.core.errors import InputError, require
+from skygas.core.estimates import Estimate, check
 from skygas.sweep.spec import Run, Sweep
 from skygas.sweep.store import SweepStore
 from skygas.sweep.worker import run_one
@@ -59,6 +60,88 @@ def start_local_cluster(workers: int):
             dashboard_address=":0",
             config=copy.deepcopy(dask.config.config),
         )
+
+
+#: How long [s] a scheduler named with ``--scheduler`` has to answer.
+CONNECT_TIMEOUT = 10.0
+
+
+def connect(address: str, timeout: float = CONNECT_TIMEOUT):
+    """A Dask client of the scheduler at ``address``, refused in one line if it does not answer.
+
+    Parameters
+    ----------
+    address : str
+        The scheduler's address (``tcp://10.0.0.5:8786``).
+    timeout : float
+        Seconds to wait for its answer.
+
+    Returns
+    -------
+    distributed.Client
+        The connected client.
+
+    Raises
+    ------
+    InputError
+        Naming ``--scheduler``, when the scheduler does not answer within ``timeout``.
+    """
+    from dask.distributed import Client
+
+    try:
+        return Client(address, timeout=f"{timeout:g}s")
+    except Exception as err:  # noqa: BLE001 - no answer, or not a Dask scheduler's
+        raise InputError(
+            "--scheduler",
+            address,
+            f"a Dask scheduler that answers (no answer from it within {timeout:g} s: "
+            f"{type(err).__name__})",
+            "start the scheduler at that address, or drop --scheduler to use a local cluster",
+        ) from None
+
+
+def check_sweep(runs: list[Run], workers: int) -> Estimate:
+    """Refuse a sweep that cannot fit or finish; announce a long one (:mod:`skygas.core.estimates`).
+
+    Each run is priced as :meth:`~skygas.reshuffler.run.ReshufflerRun.build` prices it before it
+    builds anything (its steps at least its injection events), and the runs are spread over
+    ``workers`` processes.
+
+    Parameters
+    ----------
+    runs : list of Run
+        The runs still to compute.
+    workers : int
+        Processes running them at once.
+
+    Returns
+    -------
+    Estimate
+        The whole sweep's estimate.
+    """
+    from skygas.reshuffler.run import STEP_COST_FACTOR, expected_population, reshuffler_memory
+    from skygas.runs.machine_speed import run_estimate
+
+    steps = seconds = memory = 0.0
+    for run in runs:
+        c = run.config
+        events = c.duration / c.injection.interval
+        population = expected_population(c)
+        memory_one = sum(reshuffler_memory(c, events, population).values())
+        one = run_estimate(events, STEP_COST_FACTOR * population, memory_one)
+        steps = max(steps, one.steps)
+        seconds += one.seconds
+        memory = max(memory, one.memory)
+    parallel = max(1, min(workers, len(runs)))
+    estimate = Estimate(steps, memory * parallel, seconds / parallel, runs=len(runs))
+    check(
+        estimate,
+        "sweep",
+        f"{len(runs)} runs",
+        f"{len(runs)} runs on {parallel} workers",
+        "sweep fewer points, replicas or a shorter base.duration",
+    )
+    return estimate
 
 
 def relative_cost(config) -> float:
@@ -115,17 +198,15 @@ def _dask(
     open_store: Callable[[], SweepStore],
     report: SweepReport,
     bar,
-    scheduler: str | None,
+    client,
     workers: int | None,
 ):
     from dask.distributed import Client, as_completed
 
     cluster = None
-    if scheduler is None:
+    if client is None:
         cluster = start_local_cluster(workers or os.cpu_count() or 1)
         client = Client(cluster)
-    else:
-        client = Client(scheduler)
     try:
         futures = {}
         # the costliest first: submitted first (an idle worker takes a task as soon as it
@@ -185,9 +266,17 @@ def run_sweep(
     start = time.perf_counter()
     # An existing store is opened (and checked against the sweep) before anything runs. A new
     # one is created once the runs are on their way (creating it costs ~0.4 s).
-    store = SweepStore(out, sweep) if SweepStore.exists(out) or serial else None
+    parallel = 1 if serial else workers or os.cpu_count() or 1
+    exists = SweepStore.exists(out)
+    if not exists:  # estimated before the store is created
+        check_sweep(list(sweep.runs), parallel)
+    store = SweepStore(out, sweep) if exists or serial else None
     pending = store.pending() if store is not None else list(sweep.runs)
+    if exists:
+        check_sweep(pending, parallel)
     report = SweepReport(Path(out), -1, skipped=len(sweep.runs) - len(pending))
+    # a named scheduler answers before anything starts (or is refused in one line)
+    client = connect(scheduler) if scheduler is not None and pending and not serial else None
     bar = _progress_bar(progress, len(sweep.runs), report.skipped)
     try:
         if not pending:
@@ -197,7 +286,7 @@ def run_sweep(
             assert store is not None  # opened or created above
             _serial(pending, store, report, bar)
         else:
-            _dask(pending, lambda: store or SweepStore(out, sweep), report, bar, scheduler, workers)
+            _dask(pending, lambda: store or SweepStore(out, sweep), report, bar, client, workers)
     finally:
         if bar is not None:
             bar.close()

@@ -45,6 +45,7 @@ import numpy as np
 from pydantic import BaseModel
 
 from skygas.core.errors import InputError, require
+from skygas.core.resources import require_memory
 from skygas.reshuffler.config import ReshufflerConfig, parse_reshuffler_config
 from skygas.reshuffler.device import ReshufflerGeometry
 from skygas.runs.config import read_toml, resolve_paths
@@ -55,6 +56,8 @@ _TOP_KEYS = {"sweep", "base", "grid", "points"}
 _LEAF_FIELDS = {"material"}
 # derived per run; sweeping it would defeat the seed derivation
 _RESERVED = {"seed"}
+#: Bytes a sweep holds per run before any runs: its validated configuration and record.
+BYTES_PER_RUN = 16 * 2**10
 
 
 @dataclass(frozen=True)
@@ -152,6 +155,13 @@ def _expand_range(key: str, spec: dict) -> list[float]:
     )
     assert isinstance(num, int)  # checked just above
     require(num >= 1, f"grid.{key}.num", num, "at least 1 value (the range is empty)")
+    require_memory(
+        f"grid.{key}.num",
+        num,
+        BYTES_PER_RUN * num,
+        f"a sweep of at least {num:.3g} runs",
+        "sweep fewer values",
+    )
     start, stop = spec.get("start"), spec.get("stop")
     for name, v in (("start", start), ("stop", stop)):
         require(
@@ -324,6 +334,14 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
     )
     layout = "grid" if has_grid else "list"
     fields, values = _grid(data["grid"]) if has_grid else _points(data["points"])
+    n_runs = replicas * (math.prod(len(v) for v in values) if has_grid else len(values[0]))
+    require_memory(  # before the points are expanded: the runs are counted from the grid
+        "grid" if has_grid else "points",
+        f"{n_runs:.3g} runs",
+        BYTES_PER_RUN * n_runs,
+        f"a sweep of {n_runs:.3g} runs ({replicas} replicas per point)",
+        "sweep fewer values or fewer replicas, or split the sweep",
+    )
 
     if layout == "grid":
         combos = list(itertools.product(*[list(enumerate(v)) for v in values]))

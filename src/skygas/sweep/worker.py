@@ -44,12 +44,15 @@ def run_one(config_json: str) -> dict:
     :data:`QUANTITIES` as floats and :data:`RUNNING` as float64 arrays (empty with fewer than 3
     aligned events).
     """
+    from skygas.core.estimates import run_limits
     from skygas.reshuffler.analysis import summarize
     from skygas.reshuffler.config import ReshufflerConfig
     from skygas.reshuffler.run import ReshufflerRun
 
     config = ReshufflerConfig.model_validate_json(config_json)
-    run = ReshufflerRun.build(config)
+    # the sweep checked every run's estimate before submitting it (sweep.execute)
+    with run_limits(force=True):
+        run = ReshufflerRun.build(config)
     run.advance()
     result = summarize(run, dataset=False)
     summary = dict(result.summary)

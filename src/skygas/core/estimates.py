@@ -1,0 +1,174 @@
+"""Estimates before a run: steps, runs, memory and expected time, checked before any work.
+
+Every device builds an :class:`Estimate` of what it is about to do before it allocates or steps
+anything, and hands it to :func:`check`:
+
+- memory above :func:`~skygas.core.resources.memory_limit` is refused (never forced: the machine
+  cannot hold it);
+- an expected time above :data:`MAX_SECONDS` is refused unless the run is *forced*
+  (``--force`` on the command line, :func:`run_limits` ``force=True`` from Python): long but
+  feasible runs start when asked for explicitly;
+- an expected time of at least :data:`ANNOUNCE_SECONDS` is announced in one line on stderr
+  (``skygas: estimate: 4.1e8 steps, about 25 min on this machine, 1.2 GiB``) when
+  announcements are on (the command line turns them on, except under ``--json`` or
+  ``--quiet``; library callers get none unless they ask).
+
+The force and announce switches are a context (:func:`run_limits`, a ``ContextVar``), so the
+builders' signatures do not change and every caller, command line or library, goes through the
+same checks. The expected time comes from a rate of steps measured on this machine
+(:mod:`skygas.runs.machine_speed`); this module only does the arithmetic.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass
+
+from skygas.core.errors import InputError
+from skygas.core.resources import format_bytes, require_memory
+
+#: Longest expected time [s] a run or sweep starts without being forced: 24 h.
+MAX_SECONDS = 24 * 3600.0
+#: Shortest expected time [s] that is announced on stderr.
+ANNOUNCE_SECONDS = 60.0
+
+
+@dataclass(frozen=True)
+class RunLimits:
+    """What :func:`check` does beyond refusing memory: force long runs, announce estimates."""
+
+    force: bool = False
+    announce: bool = False
+
+
+_limits: ContextVar[RunLimits] = ContextVar("skygas_run_limits", default=RunLimits())  # noqa: B039 - frozen
+_announced: set[str] = set()  # lines already printed (a study builds several equal runs)
+
+
+@contextmanager
+def run_limits(*, force: bool = False, announce: bool = False) -> Iterator[RunLimits]:
+    """Set how :func:`check` treats the runs built inside the ``with`` block.
+
+    Parameters
+    ----------
+    force : bool
+        Start runs expected to take longer than :data:`MAX_SECONDS` (memory is still refused).
+    announce : bool
+        Print the estimate of a run expected to take :data:`ANNOUNCE_SECONDS` or more on stderr.
+
+    Yields
+    ------
+    RunLimits
+        The limits in force inside the block.
+    """
+    limits = RunLimits(force=force, announce=announce)
+    token = _limits.set(limits)
+    try:
+        yield limits
+    finally:
+        _limits.reset(token)
+
+
+def current_limits() -> RunLimits:
+    """The :class:`RunLimits` in force (default: not forced, no announcement)."""
+    return _limits.get()
+
+
+def format_duration(seconds: float) -> str:
+    """A wall time in the largest fitting unit (``"25 min"``, ``"3.2 h"``, ``"41 days"``)."""
+    if not math.isfinite(seconds):
+        return "forever"
+    for unit, size, least in (
+        ("years", 365.25 * 86400, 2.0),
+        ("days", 86400.0, 2.0),
+        ("h", 3600.0, 1.0),
+    ):
+        if seconds >= least * size:
+            return f"{seconds / size:.2g} {unit}"
+    if seconds >= 60:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds:.2g} s"
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """What a run or sweep is about to do, before it does any of it.
+
+    Attributes
+    ----------
+    steps : float
+        Time steps of one run (a lower bound before the time step is known).
+    memory : float
+        Bytes of the largest arrays the job allocates (all runs of a sweep held at once).
+    seconds : float
+        Expected wall time on this machine [s] (all runs, spread over the workers).
+    runs : int
+        Number of runs (1 for a single run).
+    """
+
+    steps: float
+    memory: float
+    seconds: float
+    runs: int = 1
+
+    def line(self) -> str:
+        """The one-line announcement: ``skygas: estimate: 4.1e8 steps, about 25 min …``."""
+        runs = f"{self.runs} runs of " if self.runs != 1 else ""
+        return (
+            f"skygas: estimate: {runs}{self.steps:.2g} steps, about "
+            f"{format_duration(self.seconds)} on this machine, {format_bytes(self.memory)}"
+        )
+
+
+def check(
+    estimate: Estimate,
+    field: str,
+    value,
+    what: str,
+    hint: str,
+    *,
+    announce: bool = True,
+) -> None:
+    """Refuse ``estimate`` if it exceeds the machine; announce it if it is long.
+
+    Parameters
+    ----------
+    estimate : Estimate
+        What the job is about to do.
+    field, value
+        The configuration field to change (named in the refusal) and its value.
+    what : str
+        What the memory is for (``"the input bits of 2e10 injection events"``).
+    hint : str
+        What to change (``"use a longer injection interval"``).
+    announce : bool
+        Whether this call may print the estimate (False for an early check with a lower bound
+        of the steps, that a second, exact check follows).
+
+    Raises
+    ------
+    InputError
+        Memory above :func:`~skygas.core.resources.memory_limit` (always), or an expected time
+        above :data:`MAX_SECONDS` when not forced (:func:`run_limits`).
+    """
+    require_memory(field, value, estimate.memory, what, hint)
+    limits = current_limits()
+    if not (estimate.seconds <= MAX_SECONDS) and not limits.force:
+        raise InputError(
+            field,
+            value,
+            f"a job of at most {format_duration(MAX_SECONDS)} on this machine "
+            f"(this one: {estimate.steps:.3g} steps"
+            + (f" × {estimate.runs} runs" if estimate.runs != 1 else "")
+            + f", about {format_duration(estimate.seconds)})",
+            f"{hint}, or give --force to run it anyway",
+        )
+    if announce and limits.announce and estimate.seconds >= ANNOUNCE_SECONDS:
+        line = estimate.line()
+        if line not in _announced:
+            _announced.add(line)
+            print(line, file=sys.stderr, flush=True)

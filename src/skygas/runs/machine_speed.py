@@ -1,0 +1,183 @@
+"""How fast this machine steps a gas: the rate behind the expected times of the estimates.
+
+(:mod:`skygas.core.estimates`.)
+
+The engine's cost per Heun step grows linearly with the number of skyrmions N: about
+(:data:`OVERHEAD_SKYRMIONS` + N) × a constant (docs/performance.md: 4.5 µs at 100 skyrmions,
+42 µs at 1 000 on the measuring machine). One figure fixes the constant: the wall time of a step
+of the demonstration's gas (45 skyrmions in the paper's closed 1024 nm chamber),
+:func:`measured_step_seconds`, measured by running :data:`CALIBRATION_STEPS` steps once per
+process (~0.3 s with the kernels compiled; their first compilation on a new install is paid once)
+and kept on disk (``machine-speed.json`` in the set-up cache, :mod:`skygas.core.disk_cache`) for
+the same code on the same machine, so later processes pay nothing.
+
+It is measured only when it matters: :func:`run_estimate` first prices a run at
+:data:`REFERENCE_STEP_SECONDS` × :data:`SLOW_MARGIN` and measures only if that could reach
+:data:`~skygas.core.estimates.ANNOUNCE_SECONDS`. ``SKYGAS_STEP_SECONDS`` (seconds per step of
+the 45-skyrmion gas) replaces the measurement.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import time
+
+from skygas.core import disk_cache
+from skygas.core.estimates import ANNOUNCE_SECONDS, Estimate
+
+#: Skyrmions in the calibration gas (the demonstration's).
+CALIBRATION_SKYRMIONS = 45
+#: Steps timed (after a few untimed ones that load the kernels).
+CALIBRATION_STEPS = 3000
+#: The per-step cost that does not grow with N, in skyrmions' worth (docs/performance.md).
+OVERHEAD_SKYRMIONS = 8.0
+#: Seconds per step of the calibration gas on the measuring machine (docs/performance.md).
+REFERENCE_STEP_SECONDS = 2.2e-6
+#: How much slower than the reference a machine may be before a run is worth measuring.
+SLOW_MARGIN = 10.0
+#: How much faster than the reference a machine may be (the early checks price steps at that).
+FAST_MARGIN = 2.0
+
+_measured: float | None = None
+
+
+def _cache_file():
+    where = disk_cache.location()
+    return None if where is None else where / "machine-speed.json"
+
+
+def _key() -> str:
+    return f"{platform.node()}:{disk_cache.code_fingerprint()}"
+
+
+def _calibrate() -> float:
+    """Wall time [s] of one step of the calibration gas, timed here and now."""
+    import tomllib
+    from importlib import resources
+
+    from skygas.runs.config import parse_config
+
+    text = resources.files("skygas").joinpath("data/demo-closed-chamber.toml").read_text()
+    sim = parse_config(tomllib.loads(text), source="calibration gas: ").build()
+    dt = sim.time_step
+    sim.run(20 * dt)  # loads (or compiles) the kernel
+    started = time.perf_counter()
+    sim.run(CALIBRATION_STEPS * dt)
+    return (time.perf_counter() - started) / CALIBRATION_STEPS
+
+
+def measured_step_seconds() -> float:
+    """Seconds per step of the calibration gas on this machine.
+
+    ``SKYGAS_STEP_SECONDS`` if set; else the figure measured earlier in this process or kept on
+    disk for this code on this machine; else measured now (and kept).
+
+    Returns
+    -------
+    float
+        Wall time [s] of one Heun step of 45 skyrmions.
+    """
+    global _measured
+    given = os.environ.get("SKYGAS_STEP_SECONDS")
+    if given:
+        return float(given)
+    if _measured is not None:
+        return _measured
+    path = _cache_file()
+    key = _key()
+    try:
+        if path is not None:
+            _measured = float(json.loads(path.read_text())[key])
+            return _measured
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    _measured = _calibrate()
+    if path is not None:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = path.with_suffix(f".{os.getpid()}.tmp")
+            tmp.write_text(json.dumps({key: _measured}))
+            os.replace(tmp, path)
+        except OSError:
+            pass  # not kept: measured again by the next process
+    return _measured
+
+
+def step_seconds(skyrmions: float, per_calibration_step: float) -> float:
+    """Wall time [s] of one step of ``skyrmions`` skyrmions.
+
+    Parameters
+    ----------
+    skyrmions : float
+        Skyrmions in the device (a mean where it varies).
+    per_calibration_step : float
+        Seconds per step of the 45-skyrmion calibration gas.
+
+    Returns
+    -------
+    float
+        ``per_calibration_step`` × (8 + N) / (8 + 45).
+    """
+    return (
+        per_calibration_step
+        * (OVERHEAD_SKYRMIONS + max(0.0, skyrmions))
+        / (OVERHEAD_SKYRMIONS + CALIBRATION_SKYRMIONS)
+    )
+
+
+def run_estimate(
+    steps: float, skyrmions: float, memory: float, runs: int = 1, workers: int = 1
+) -> Estimate:
+    """The :class:`~skygas.core.estimates.Estimate` of ``runs`` runs of ``steps`` steps each.
+
+    Parameters
+    ----------
+    steps : float
+        Time steps of one run.
+    skyrmions : float
+        Mean skyrmions in the device during a run.
+    memory : float
+        Bytes of the largest arrays.
+    runs, workers : int
+        Number of runs and of processes running them at once.
+
+    Returns
+    -------
+    Estimate
+        With the expected wall time from :func:`measured_step_seconds`, measured only when
+        the run could last :data:`~skygas.core.estimates.ANNOUNCE_SECONDS` or more.
+    """
+    total = float(steps) * runs / max(1, min(workers, runs))
+    rough = total * step_seconds(skyrmions, REFERENCE_STEP_SECONDS)
+    if rough * SLOW_MARGIN < ANNOUNCE_SECONDS and not os.environ.get("SKYGAS_STEP_SECONDS"):
+        seconds = rough
+    else:
+        seconds = total * step_seconds(skyrmions, measured_step_seconds())
+    return Estimate(steps=float(steps), memory=float(memory), seconds=seconds, runs=runs)
+
+
+def optimistic_estimate(steps: float, skyrmions: float, memory: float) -> Estimate:
+    """An estimate that prices a run at the reference machine's speed, measuring nothing.
+
+    For the first check of a device, made before any numerics with a lower bound of its steps:
+    what it refuses would be refused by the exact check too (on a machine at most
+    :data:`FAST_MARGIN` times faster than the reference).
+
+    Parameters
+    ----------
+    steps : float
+        A lower bound of the time steps.
+    skyrmions : float
+        Mean skyrmions in the device.
+    memory : float
+        Bytes of the largest arrays.
+
+    Returns
+    -------
+    Estimate
+        Priced at :data:`REFERENCE_STEP_SECONDS` / :data:`FAST_MARGIN`.
+    """
+    seconds = float(steps) * step_seconds(skyrmions, REFERENCE_STEP_SECONDS / FAST_MARGIN)
+    return Estimate(steps=float(steps), memory=float(memory), seconds=seconds)
