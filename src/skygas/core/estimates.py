@@ -90,7 +90,7 @@ def format_duration(seconds: float) -> str:
         if seconds >= least * size:
             return f"{seconds / size:.2g} {unit}"
     if seconds >= 60:
-        return f"{seconds / 60:.0f} min"
+        return f"{seconds / 60:.2g} min"
     return f"{seconds:.2g} s"
 
 
