@@ -20,8 +20,10 @@ def _simulate(args) -> int:
 
     config = load_config(args.config)
     with limits_from_flags(args):
-        summary = run_simulation(config, args.out, **run_options(args), then=_outputs(args))
-    _report(summary, args.out)
+        summary = run_simulation(
+            config, args.out, **run_options(args, progress=not args.json), then=_outputs(args)
+        )
+    _report(summary, args.out, args.json)
     return 0
 
 
@@ -57,9 +59,12 @@ def _demo(args) -> int:
 
     with limits_from_flags(args):
         summary = run_simulation(
-            default_demo_config(), args.out, **run_options(args), then=_outputs(args)
+            default_demo_config(),
+            args.out,
+            **run_options(args, progress=not args.json),
+            then=_outputs(args),
         )
-    _report(summary, args.out)
+    _report(summary, args.out, args.json)
     return 0
 
 
@@ -73,10 +78,27 @@ def _outputs(args):
     return lambda out: finish_outputs(out, animate=args.animate, report=not args.no_report)
 
 
-def _report(summary: dict, out) -> None:
-    brief = {k: v for k, v in summary.items() if k != "config"}
-    print_json(brief)
-    print(f"results in {Path(out).resolve()}")
+def _report(summary: dict, out, as_json: bool) -> None:
+    """The run's summary: a few lines for a person, or one JSON object with ``--json``."""
+    if as_json:
+        print_json({k: v for k, v in summary.items() if k != "config"})
+        return
+    s = summary
+    lines = [
+        f"skygas simulate: {s['skyrmions_initial']} skyrmion(s), T = "
+        f"{s['config']['temperature']:g} K, seed {s['seed']}",
+        f"  simulated {s['simulated_time_s'] * 1e9:.4g} ns in {s['wall_time_s']:.1f} s "
+        f"({s['steps']} steps of {s['time_step_s'] * 1e12:.3g} ps)",
+        f"  {s['skyrmions_present']} present at the end, {s['exits']} left through a port, "
+        f"{s['wall_escapes']} wall escape(s)",
+    ]
+    for name, numbers in s.get("operations", {}).items():
+        shown = ", ".join(
+            f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in numbers.items()
+        )
+        lines.append(f"  operation {name}: {shown}")
+    lines.append(f"results in {Path(out).resolve()}")
+    print("\n".join(lines))
 
 
 def register(subparsers) -> None:
@@ -84,6 +106,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("simulate", help="run a simulation described by a TOML file")
     p.add_argument("config", help="TOML configuration (see examples/)")
     p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     add_run_options(p)
     add_output_flags(p)
     p.set_defaults(func=_simulate)
@@ -105,6 +128,7 @@ def register(subparsers) -> None:
 
     d = subparsers.add_parser("demo", help="run the default demonstration")
     d.add_argument("--out", default="demo-output", help="output directory")
+    d.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     add_run_options(d)
     add_output_flags(d)
     d.set_defaults(func=_demo)
