@@ -363,3 +363,18 @@ def test_neighbour_list_edits_at_nucleation_and_read_out_miss_no_pair():
     ids_b, pos_b = exact.sim.positions()
     assert np.array_equal(ids_a, ids_b)
     assert np.abs(pos_a - pos_b).max() < 1e-16  # metres: 1e-7 nm
+
+
+def test_a_run_too_short_to_read_out_shows_no_nan(tmp_path, capsys):
+    """Before any skyrmion is read out there is no correlation and no transit time: the
+    summary says so instead of printing nan."""
+    from skygas.cli import main
+
+    out = tmp_path / "short"
+    assert (
+        main(["reshuffle", "--duration", "5e-8", "--out", str(out), "--quiet", "--no-report"]) == 0
+    )
+    text = capsys.readouterr().out
+    assert "nan" not in text.lower()
+    assert "correlation: none yet (0 skyrmion(s) read out" in text
+    assert "no transit completed yet" in text

@@ -5,6 +5,7 @@ It prints a readable summary (or one JSON object).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from skygas.commands.json_output import print_json
@@ -35,16 +36,33 @@ OVERRIDES = {
 }
 
 
+def _known(value) -> bool:
+    """Whether a summary number is a number (not NaN, None or infinite)."""
+    return isinstance(value, (int, float)) and math.isfinite(value)
+
+
 def _format(summary: dict, out: Path) -> str:
+    """The summary for a person: numbers the run cannot support yet are said to be absent."""
     s = summary
+    correlation = (
+        f"  correlation ρ = {s['correlation']:.4f} (largest |ρ| over lags: "
+        f"{s['correlation_max_lag']:.4f} at lag {s['correlation_best_lag']}), "
+        f"SCC = {s['scc']:.4f}"
+        if _known(s["correlation"]) and _known(s["correlation_max_lag"]) and _known(s["scc"])
+        else f"  correlation: none yet ({s['n_detected']} skyrmion(s) read out: too few to "
+        "correlate the output with the input)"
+    )
+    transit = (
+        f"mean transit {s['mean_transit_s'] * 1e9:.1f} ns"
+        if _known(s["mean_transit_s"])
+        else "no transit completed yet"
+    )
     lines = [
         f"Skyrmion Reshuffler, J = {s['current_density_A_m2']:.3g} A/m², "
         f"chamber {s['chamber_diameter_m'] * 1e9:.0f} nm, T = {s['temperature_K']:g} K",
         f"  simulated {s['simulated_time_s'] * 1e6:.3g} µs in {s['wall_time_s']:.1f} s "
         f"(time step {s['time_step_s'] * 1e12:.3g} ps)",
-        f"  correlation ρ = {s['correlation']:.4f} (largest |ρ| over lags: "
-        f"{s['correlation_max_lag']:.4f} at lag {s['correlation_best_lag']}), "
-        f"SCC = {s['scc']:.4f}",
+        correlation,
         f"  p_in = {s['p_in']:.4f}, p_out = {s['p_out']:.4f} "
         f"(95 % interval {s['p_out_interval'][0]:.4f}–{s['p_out_interval'][1]:.4f})"
         if s["p_out_interval"]
@@ -52,8 +70,7 @@ def _format(summary: dict, out: Path) -> str:
         f"  skyrmions: {s['n_injected']} injected = {s['n_detected']} detected + "
         f"{s['n_present']} present + {s['n_annihilated']} annihilated; "
         f"{s['n_delayed']} delayed, {s['n_skipped']} skipped, {s['n_pending']} pending",
-        f"  largest occupancy {s['max_occupancy']} per chamber, mean transit "
-        f"{s['mean_transit_s'] * 1e9:.1f} ns",
+        f"  largest occupancy {s['max_occupancy']} per chamber, {transit}",
         f"  power {s['power_W'] * 1e6:.3g} µW, {s['energy_per_bit_J'] * 1e15:.3g} fJ per bit",
         f"results in {out.resolve()}",
     ]
