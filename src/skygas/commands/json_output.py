@@ -7,21 +7,11 @@ numbers), indented by two spaces. Nothing else goes to stdout, so ``skygas ... -
 from __future__ import annotations
 
 import json
-import math
 from typing import Any
 
+from skygas.core.json_values import plain
 
-def plain(value: Any) -> Any:
-    """``value`` with NaN and ±inf replaced by None and NumPy scalars by Python numbers."""
-    if isinstance(value, dict):
-        return {str(k): plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [plain(v) for v in value]
-    if hasattr(value, "item") and callable(value.item) and getattr(value, "ndim", 1) == 0:
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
+__all__ = ["plain", "print_json"]
 
 
 def print_json(data: Any) -> None:

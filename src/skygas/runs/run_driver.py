@@ -48,6 +48,7 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import InputError, RunInterrupted, WriteFailed
+from skygas.core.json_values import plain
 from skygas.runs import folder_lock
 
 CHECKPOINT = "checkpoint.npz"
@@ -236,8 +237,12 @@ def partial_path(path: Path) -> Path:
 
 
 def write_json(path: str | Path, data: Any, indent: int | None = 2) -> Path:
-    """Write ``data`` as JSON, atomically (non-JSON numbers are written as floats)."""
-    text = json.dumps(data, indent=indent, default=float)
+    """Write ``data`` as standard JSON, atomically.
+
+    NaN and ±inf, which JSON has no words for, are written ``null``
+    (:func:`skygas.core.json_values.plain`); other non-JSON numbers as floats.
+    """
+    text = json.dumps(plain(data), indent=indent, default=float, allow_nan=False)
     return write_atomic(path, lambda tmp: tmp.write_text(text))
 
 
