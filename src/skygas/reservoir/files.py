@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from pathlib import Path
 from typing import Any
@@ -311,12 +310,7 @@ def run_reservoir(
     out_dir: str | Path,
     *,
     sweep: bool = False,
-    progress: bool = True,
-    resume: bool = False,
-    checkpoint_seconds: float = 30.0,
-    overwrite: bool = False,
-    strict: bool = False,
-    then: Callable[[Path], Any] | None = None,
+    **drive_options: Any,
 ) -> dict:
     """Run the study of ``config`` (and its sweep) and write its files into ``out_dir``.
 
@@ -328,10 +322,12 @@ def run_reservoir(
         The output folder (see the module docstring for its files).
     sweep
         Also run the accuracy sweep ``config.sweep``.
-    progress, resume, checkpoint_seconds, overwrite, strict, then
-        As for :func:`~skygas.runs.run_driver.drive`: a finished folder is refused unless
-        ``overwrite``, an interrupted one unless ``resume`` (or ``overwrite``); ``then``
-        writes more once the results are there (the command's HTML report).
+    **drive_options
+        Those of :func:`~skygas.runs.run_driver.drive` (``progress``, ``resume``,
+        ``checkpoint_seconds``, ``overwrite``, ``strict``, ``then``): a finished folder is
+        refused unless ``overwrite``, an interrupted one unless ``resume`` (or
+        ``overwrite``); ``then`` writes more once the results are there (the command's HTML
+        report).
 
     Returns
     -------
@@ -340,13 +336,4 @@ def run_reservoir(
         ``"sweep"`` when it ran.
     """
     with ReservoirJob(config, sweep=sweep) as job:
-        return drive(
-            job,
-            out_dir,
-            resume=resume,
-            progress=progress,
-            checkpoint_seconds=checkpoint_seconds,
-            overwrite=overwrite,
-            strict=strict,
-            then=then,
-        )
+        return drive(job, out_dir, **drive_options)

@@ -9,7 +9,6 @@ its attributes), ``summary.json``, ``device.png``, ``running_correlation.png`` a
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -75,29 +74,18 @@ def run_reshuffler(
     config: ReshufflerConfig,
     out_dir: str | Path | None = None,
     *,
-    progress: bool = True,
-    resume: bool = False,
-    checkpoint_seconds: float = 60.0,
     figures: bool = True,
-    overwrite: bool = False,
-    strict: bool = False,
-    then: Callable[[Path], Any] | None = None,
+    **drive_options: Any,
 ) -> ReshufflerResult:
     """Run ``config``; with ``out_dir``, write the dataset, summary, figures (and checkpoints).
 
     Without ``out_dir`` the run is only analysed (nothing is written, nothing to resume).
+    ``drive_options`` are those of :func:`~skygas.runs.run_driver.drive`; a checkpoint is
+    saved every 60 s of wall time unless ``checkpoint_seconds`` says otherwise.
     """
     job = ReshufflerJob(config, figures)
     if out_dir is None:
         job.run.advance()
         return job.finish(None)
-    return drive(
-        job,
-        out_dir,
-        resume=resume,
-        progress=progress,
-        checkpoint_seconds=checkpoint_seconds,
-        overwrite=overwrite,
-        strict=strict,
-        then=then,
-    )
+    drive_options.setdefault("checkpoint_seconds", 60.0)
+    return drive(job, out_dir, **drive_options)

@@ -13,7 +13,6 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -163,25 +162,11 @@ class SimulationJob(PiecewiseRunJob):
 def run_simulation(
     config: SimulationConfig,
     out_dir: str | Path,
-    *,
-    progress: bool = True,
-    resume: bool = False,
-    checkpoint_seconds: float = 30.0,
-    overwrite: bool = False,
-    strict: bool = False,
-    then: Callable[[Path], Any] | None = None,
+    **drive_options: Any,
 ) -> dict:
     """Build, run and save the simulation described by ``config``; returns the summary.
 
-    The options are those of :func:`~skygas.runs.run_driver.drive`.
+    ``drive_options`` are those of :func:`~skygas.runs.run_driver.drive` (``resume``,
+    ``progress``, ``checkpoint_seconds``, ``overwrite``, ``strict``, ``then``).
     """
-    return drive(
-        SimulationJob(config),
-        out_dir,
-        resume=resume,
-        progress=progress,
-        checkpoint_seconds=checkpoint_seconds,
-        overwrite=overwrite,
-        strict=strict,
-        then=then,
-    )
+    return drive(SimulationJob(config), out_dir, **drive_options)
