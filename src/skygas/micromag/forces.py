@@ -69,6 +69,39 @@ def wall_law_magnitude(d, wall_law) -> np.ndarray:
     return np.exp(-np.polyval(np.asarray(wall_law, dtype=np.float64), np.asarray(d, float)))
 
 
+_SUBSCRIPTS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+_SUPERSCRIPTS = str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def law_coefficient_names(law: str, count: int) -> tuple[str, ...]:
+    """Names of a law's ``count`` coefficients, highest power first.
+
+    The pair law's are a₂, a₁, a₀; the wall polynomial's of degree n are bₙ, …, b₁, b₀.
+    """
+    letter = "a" if law == "pair" else "b"
+    return tuple(f"{letter}{str(k).translate(_SUBSCRIPTS)}" for k in range(count - 1, -1, -1))
+
+
+def law_formula(law: str, count: int) -> str:
+    """The functional form of a law with ``count`` coefficients (module docstring).
+
+    ``|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)]`` for the pair law, ``|F|(d) =
+    F₀·exp[−(b₂d² + b₁d + b₀)]`` for a wall polynomial of degree 2; d in skyrmion diameters.
+    """
+    names = law_coefficient_names(law, count)
+    terms = []
+    for name, power in zip(names, range(count - 1, -1, -1), strict=True):
+        terms.append(
+            name
+            if power == 0
+            else f"{name}d" + ("" if power == 1 else str(power).translate(_SUPERSCRIPTS))
+        )
+    poly = " + ".join(terms)
+    if law == "pair":
+        return f"|F|(d) = F₀·exp[−({poly})/(d + 1)]"
+    return f"|F|(d) = F₀·exp[−({poly})]"
+
+
 @dataclass(frozen=True)
 class LineBoundary:
     """A straight wall through ``point`` [m]; the film lies on the side of ``inward_normal``."""
@@ -195,6 +228,33 @@ class LawFit:
     covariance: list = field(default_factory=list, repr=False)
     note: str = ""
 
+    @property
+    def formula(self) -> str:
+        """The law's functional form, with its coefficients' names (d in skyrmion diameters)."""
+        return law_formula(self.law, len(self.coefficients))
+
+    @property
+    def coefficient_names(self) -> tuple[str, ...]:
+        """The coefficients' names, in the order of :attr:`coefficients` (all dimensionless)."""
+        return law_coefficient_names(self.law, len(self.coefficients))
+
+    def describe(self) -> str:
+        """The law with its named values: form, F₀ [N], each coefficient ± its 1σ uncertainty.
+
+        For example ``|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)], d in skyrmion diameters:
+        F₀ = 3.2e-12 N, a₂ = 0.52 ± 0.03, a₁ = 1.9 ± 0.1, a₀ = −0.4 ± 0.2 (dimensionless)``.
+        """
+        values = ", ".join(
+            f"{name} = {c:.5g} ± {u:.2g}" if math.isfinite(u) else f"{name} = {c:.5g}"
+            for name, c, u in zip(
+                self.coefficient_names, self.coefficients, self.uncertainties, strict=True
+            )
+        )
+        return (
+            f"{self.formula}, d in skyrmion diameters: F₀ = {self.force_scale:.4g} N, {values} "
+            "(dimensionless)"
+        )
+
     def magnitude(self, d) -> np.ndarray:
         """The fitted |F| [N] at distances d (diameters)."""
         shape = pair_law_magnitude if self.law == "pair" else wall_law_magnitude
@@ -204,6 +264,8 @@ class LawFit:
         """The fit as a JSON-able dict (``fit.json``), with the range the engine uses it over."""
         return {
             "law": self.law,
+            "formula": self.formula,
+            "coefficient_names": list(self.coefficient_names),
             "coefficients": list(self.coefficients),
             "uncertainties": list(self.uncertainties),
             "force_scale_N": self.force_scale,
