@@ -8,6 +8,7 @@ the report are the ones in calibration.json; none is drawn from anywhere else.
 from __future__ import annotations
 
 import json
+import textwrap
 import time
 from importlib import metadata
 from pathlib import Path
@@ -258,7 +259,12 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from skygas.physics.forces import paper_pair_force, paper_wall_force
+    from skygas.physics.forces import (
+        law_coefficient_names,
+        law_formula,
+        paper_pair_force,
+        paper_wall_force,
+    )
 
     law = cal.pair if which == "pair" else cal.wall
     energy = cal.pair_energy if which == "pair" else cal.wall_energy
@@ -299,8 +305,18 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
                 if which == "pair"
                 else paper_wall_force(x / d_sk, fit)
             )
+            values = ", ".join(
+                f"{name} = {c:.4g}"
+                for name, c in zip(law_coefficient_names(which, len(fit)), fit, strict=True)
+            )
             ax.semilogy(
-                x * 1e9, cal.force_scale * shape * 1e12, "r--", lw=1, label="paper's form fitted"
+                x * 1e9,
+                cal.force_scale * shape * 1e12,
+                "r--",
+                lw=1,
+                label=f"paper's form fitted: {law_formula(which, len(fit))},\n"
+                f"F₀ = {cal.force_scale * 1e12:.4g} pN, d in d_sk = {d_sk * 1e9:.3g} nm:\n"
+                + textwrap.fill(values, 60),
             )
         if paper is not None:
             p, pd, pf = paper

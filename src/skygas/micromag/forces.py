@@ -50,6 +50,7 @@ import numpy as np
 from scipy import optimize, signal
 
 from skygas.core.errors import InputError
+from skygas.physics.forces import law_coefficient_names, law_formula
 
 #: Smallest distance [d_sk] from which a fitted law must decrease (see the module docstring).
 DECREASING_FROM = 1.0
@@ -67,39 +68,6 @@ def pair_law_magnitude(d, pair_law) -> np.ndarray:
 def wall_law_magnitude(d, wall_law) -> np.ndarray:
     """exp[−polyval(b, d)] for ``wall_law`` b, highest power first (dimensionless)."""
     return np.exp(-np.polyval(np.asarray(wall_law, dtype=np.float64), np.asarray(d, float)))
-
-
-_SUBSCRIPTS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
-_SUPERSCRIPTS = str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹")
-
-
-def law_coefficient_names(law: str, count: int) -> tuple[str, ...]:
-    """Names of a law's ``count`` coefficients, highest power first.
-
-    The pair law's are a₂, a₁, a₀; the wall polynomial's of degree n are bₙ, …, b₁, b₀.
-    """
-    letter = "a" if law == "pair" else "b"
-    return tuple(f"{letter}{str(k).translate(_SUBSCRIPTS)}" for k in range(count - 1, -1, -1))
-
-
-def law_formula(law: str, count: int) -> str:
-    """The functional form of a law with ``count`` coefficients (module docstring).
-
-    ``|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)]`` for the pair law, ``|F|(d) =
-    F₀·exp[−(b₂d² + b₁d + b₀)]`` for a wall polynomial of degree 2; d in skyrmion diameters.
-    """
-    names = law_coefficient_names(law, count)
-    terms = []
-    for name, power in zip(names, range(count - 1, -1, -1), strict=True):
-        terms.append(
-            name
-            if power == 0
-            else f"{name}d" + ("" if power == 1 else str(power).translate(_SUPERSCRIPTS))
-        )
-    poly = " + ".join(terms)
-    if law == "pair":
-        return f"|F|(d) = F₀·exp[−({poly})/(d + 1)]"
-    return f"|F|(d) = F₀·exp[−({poly})]"
 
 
 @dataclass(frozen=True)
