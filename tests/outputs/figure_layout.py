@@ -2,8 +2,9 @@
 
 :func:`layout_faults` draws a figure and lists, in words, every text drawn over another text,
 outside the figure or over another panel; every inset that covers the data or labels of the
-panel it sits in; every labelled line with no point inside its panel (a reference drawn outside
-the axis); and every colour image with no colour bar for its colour scale.
+panel it sits in; every legend that covers its panel's data; every labelled line with no point
+inside its panel (a reference drawn outside the axis); and every colour image with no colour bar
+for its colour scale.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import Collection
+from matplotlib.collections import LineCollection, PathCollection
 from matplotlib.figure import Figure
 from matplotlib.image import AxesImage
 from matplotlib.lines import Line2D
@@ -94,6 +95,17 @@ def _inside(inner: Bbox, outer: Bbox) -> bool:
     )
 
 
+def _along(xy: np.ndarray, step: float = 4.0) -> np.ndarray:
+    """Points every ``step`` pixels along a drawn polyline (display coordinates)."""
+    out = [xy[:1]]
+    for a, b in zip(xy[:-1], xy[1:], strict=True):
+        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+            continue
+        n = int(min(np.hypot(*(b - a)) // step, 1000)) + 1
+        out.append(a + np.linspace(0, 1, n + 1)[1:, None] * (b - a))
+    return np.concatenate(out)
+
+
 def _data_points(ax: Axes) -> np.ndarray:
     """The display coordinates of the panel's own lines and markers (not its insets')."""
     points = []
@@ -101,11 +113,18 @@ def _data_points(ax: Axes) -> np.ndarray:
         if isinstance(artist, Line2D) and artist.get_visible():
             xy = artist.get_xydata()
             if len(xy):
-                points.append(artist.get_transform().transform(np.asarray(xy, float)))
-        elif isinstance(artist, Collection) and artist.get_visible():
+                xy = artist.get_transform().transform(np.asarray(xy, float))
+                if artist.get_linestyle() not in ("None", "", " ") and len(xy) > 1:
+                    xy = _along(xy)
+                points.append(xy)
+        elif isinstance(artist, PathCollection) and artist.get_visible():  # markers
             offsets = artist.get_offsets()
             if len(offsets):
                 points.append(artist.get_offset_transform().transform(offsets))
+        elif isinstance(artist, LineCollection) and artist.get_visible():  # error bars
+            for segment in artist.get_segments():
+                if len(segment):
+                    points.append(artist.get_transform().transform(np.asarray(segment, float)))
     points = [p[np.all(np.isfinite(p), axis=1)] for p in points]
     return np.concatenate(points) if points else np.empty((0, 2))
 
@@ -117,6 +136,7 @@ def layout_faults(fig: Figure) -> list[str]:
     - a text reaches outside the figure;
     - a text of one panel lies over another panel (a colour bar included);
     - an inset covers a text outside it, another panel, or a point of its parent's data;
+    - a legend covers a point of its panel's data (a line's vertex or a marker);
     - a line with a legend label has no point inside its panel (a reference off the axis);
     - an image coloured by a colour scale has no colour bar for that scale.
     """
@@ -167,6 +187,26 @@ def layout_faults(fig: Figure) -> list[str]:
             )
             if covered.any():
                 faults.append(f"an inset covers {int(covered.sum())} points of its panel's data")
+    for ax in axes:
+        legend = ax.get_legend()
+        if legend is not None and legend.get_visible():
+            points = _data_points(ax)
+            panel = ax.get_window_extent(renderer)
+            points = points[  # what is drawn: the points inside the panel
+                (points[:, 0] >= panel.x0)
+                & (points[:, 0] <= panel.x1)
+                & (points[:, 1] >= panel.y0)
+                & (points[:, 1] <= panel.y1)
+            ]
+            area = legend.get_window_extent(renderer).padded(-SLACK)
+            covered = (
+                (points[:, 0] > area.x0)
+                & (points[:, 0] < area.x1)
+                & (points[:, 1] > area.y0)
+                & (points[:, 1] < area.y1)
+            )
+            if covered.any():
+                faults.append(f"a legend covers {int(covered.sum())} points of its panel's data")
     for ax in axes:
         panel = ax.get_window_extent(renderer).padded(SLACK)
         for line in ax.get_lines():

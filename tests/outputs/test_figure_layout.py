@@ -118,6 +118,7 @@ def test_neuron_figures(faults, tmp_path):
         max_count=np.array([10.0, 40.0, 150.0]),
         max_count_error=np.array([0.5, 1.0, 2.0]),
         close_packing=np.array([14.0, 58.0, 230.0]),
+        parameters={"relax_time_s": 2e-9, "temperature_K": 300.0},
     )
     plot_saturation(saturation, tmp_path / "max_density.png")
     _none(faults, ["device.png", "count_trace.png", "transfer_curve.png", "max_density.png"])

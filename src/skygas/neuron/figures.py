@@ -114,7 +114,10 @@ def plot_trace(run, path: Path) -> Path:
         ax.axvline(s, color="k", lw=0.4, alpha=0.5)
     ax.set_xlabel("time (ns)")
     ax.set_ylabel("count (membrane potential)")
-    ax.legend(fontsize=7, loc="upper right")
+    # the threshold inside the axis, not on its frame; the legend above it, off the trace
+    top = max(float(np.max(tr["count"], initial=0)), run.controller.threshold)
+    ax.set_ylim(-0.05 * top - 0.5, 1.1 * top + 0.5)
+    ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.01), ncols=4, frameon=False)
     fig.tight_layout()
     fig.savefig(path)
     return path
@@ -137,16 +140,21 @@ def plot_transfer(curve: dict, path: Path, lif: dict | None = None) -> Path:
 
 
 def plot_saturation(result, path: Path) -> Path:
-    """The maximum-density figure to ``path``: saturation count against diameter."""
+    """The maximum-density figure to ``path``: saturation count against diameter.
+
+    The saturation counts carry their standard errors; the legend gives the protocol's
+    relaxation time and temperature.
+    """
     fig = Figure(figsize=(4.5, 3.5), dpi=110)
     ax = fig.add_subplot()
+    relax, temperature = result.parameters["relax_time_s"], result.parameters["temperature_K"]
     d = result.diameters * 1e9
     ax.errorbar(
         d,
         result.max_count,
         yerr=result.max_count_error,
         fmt="o-",
-        label="simulated saturation (2 ns, 300 K)",
+        label=f"simulated saturation ({relax * 1e9:g} ns, {temperature:g} K)",
     )
     ax.plot(d, result.close_packing, "--", label="hexagonal close packing")
     ax.set_yscale("log")

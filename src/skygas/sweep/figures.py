@@ -109,7 +109,7 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     stats = replica_mean(ds)
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(11, 4.2), dpi=110)
+    fig = Figure(figsize=(11, 5.4), dpi=110)
     left, right = fig.subplots(1, 2)
     j = ds[CURRENT].values
     p_values = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
@@ -152,7 +152,8 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     left.set_xscale("log")
     left.set_xlabel("current density J in the conduits (A/m²)")
     left.set_ylabel("correlation ρ (output vs input)")
-    left.legend(fontsize=8)
+    # below the axes: the fits' long labels inside would cover the points and curves
+    left.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncols=2)
     if p_values[0] is not None:
         p_run = p_values[int(np.argmin(np.abs(np.asarray(p_values, float) - RUNNING_P)))]
     for value in j:
@@ -173,7 +174,7 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     right.set_title(
         "running ρ" + (f", p = {p_run:g}" if p_values[0] is not None else ""), fontsize=9
     )
-    right.legend(fontsize=7)
+    right.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncols=2)
     fig.tight_layout()
     fig.savefig(path)
     return path
@@ -306,9 +307,14 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
         ax.set_xlabel(label)
         if log:
             ax.set_xscale("log")
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
-    fig.tight_layout()
+    # one legend above the panels for the series they share (inside, it would cover points)
+    handles, labels = ax_n.get_legend_handles_labels()
+    top = 1.0
+    if handles:
+        fig.legend(handles, labels, loc="upper center", ncols=len(labels), fontsize=8)
+        top = 0.95
+    ax_lag.legend(fontsize=7)
+    fig.tight_layout(rect=(0, 0, 1, top))
     fig.savefig(path)
     return path
 
