@@ -1,9 +1,10 @@
 """Every device's figures can be read: no text over another text, outside the figure or over
-another panel, no inset over data, no labelled line off its axis, no colour image without its
-colour bar (:func:`~tests.outputs.figure_layout.layout_faults`).
+another panel, no inset or legend over data, no labelled line off its axis, no colour image
+without its colour bar (:func:`~tests.outputs.figure_layout.layout_faults`).
 
-The figures come from the shortest runs (simulate, reshuffler, neuron, sc demo) or from small
-inputs to the figure functions (reservoir, sweep, micromag fit, neuron transfer and saturation).
+The figures come from the shortest runs (simulate, reshuffler, neuron, sc demo, sc reshuffler)
+or from small inputs to the figure functions (reservoir, sweep, micromag fit, neuron transfer
+and saturation). The calibration's figures need magnum.np and minutes: not drawn here.
 """
 
 from __future__ import annotations
@@ -237,6 +238,13 @@ def test_sc_demo_figures(faults, tmp_path):
 
     run_demo(tmp_path, n_bits=256)
     _none(faults, ["sc_and_squaring.png", "sc_error_vs_length.png", "sc_decorrelators.png"])
+
+
+def test_sc_reshuffler_figure(faults, tmp_path):
+    from skygas.reshuffler.decorrelator import reshuffler_demo
+
+    reshuffler_demo(tmp_path, n_bits=256, trials=1)
+    _none(faults, ["sc_reshuffler.png"])
 
 
 def test_micromag_fit_figure(faults, tmp_path):
