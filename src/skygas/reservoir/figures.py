@@ -155,7 +155,7 @@ def plot_accuracies(summary: dict, path: Path) -> Path:
     parity = t["parity_last_two"]
     low, high = accuracy_interval(parity["accuracy"], parity["n_test"])
     ax2.axhline(parity["accuracy"], color="tab:green", lw=1, label="parity of the last two inputs")
-    ax2.axhspan(low, high, color="tab:green", alpha=0.15, lw=0)
+    ax2.axhspan(float(low), float(high), color="tab:green", alpha=0.15, lw=0)
     ax2.set_xlabel("delay k (inputs)")
     ax2.set_ylabel("test accuracy")
     ax2.xaxis.set_major_locator(MaxNLocator(integer=True))
