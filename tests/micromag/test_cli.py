@@ -126,6 +126,7 @@ def test_fit_constrains_a_pair_law_that_grows_outside_the_data(tmp_path, capsys)
     assert main(["micromag", "fit", str(snaps), "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     assert "a₂ ≥ 0.01" in printed and "grows without bound" in printed
+    assert "the unconstrained fit (a₂, a₁, a₀) = (" in printed  # named, as the law itself
     assert "the data covered 1.20–" in printed
     fitted = load_material(out / "material.toml")
     assert fitted.pair_law[0] >= 0.01 and law_problem("pair", fitted.pair_law) is None

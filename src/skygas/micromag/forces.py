@@ -508,7 +508,7 @@ def _constrained_pair_fit(d, y, free: LawFit, reason: str, rejected: int) -> Law
     rms = float(np.sqrt(np.mean(residual(solution.x) ** 2)))
     note = (
         f"pair law fitted with a₂ ≥ {PAIR_A2_FLOOR} and decreasing from "
-        f"{DECREASING_FROM:g} d_sk on: the unconstrained fit {_rounded(free.coefficients)} "
+        f"{DECREASING_FROM:g} d_sk on: the unconstrained fit {_named('pair', free.coefficients)} "
         f"{reason} (outside the data, d = {free.distance_range[0]:.2f}–"
         f"{free.distance_range[1]:.2f} d_sk); rms ln-residual "
         f"{free.rms_log_residual:.3g} → {rms:.3g}"
@@ -558,6 +558,12 @@ def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = Tr
 
 def _rounded(coefficients) -> list[float]:
     return [float(f"{c:.4g}") for c in coefficients]
+
+
+def _named(law: str, coefficients) -> str:
+    """``(a₂, a₁, a₀) = (…)``: the coefficients with their names (4 significant digits)."""
+    names = ", ".join(law_coefficient_names(law, len(coefficients)))
+    return f"({names}) = ({', '.join(f'{c:.4g}' for c in coefficients)})"
 
 
 def _refusal(fit: LawFit, why: str, remedy: str) -> InputError:
