@@ -95,6 +95,16 @@ def _inside(inner: Bbox, outer: Bbox) -> bool:
     )
 
 
+def _within(points: np.ndarray, box: Bbox) -> np.ndarray:
+    """Which of the display points lie in ``box`` (edges included)."""
+    return (
+        (points[:, 0] >= box.x0)
+        & (points[:, 0] <= box.x1)
+        & (points[:, 1] >= box.y0)
+        & (points[:, 1] <= box.y1)
+    )
+
+
 def _along(xy: np.ndarray, step: float = 4.0) -> np.ndarray:
     """Points every ``step`` pixels along a drawn polyline (display coordinates)."""
     out = [xy[:1]]
@@ -177,34 +187,15 @@ def layout_faults(fig: Figure) -> list[str]:
                 if ax not in (inset, parent) and ax not in inset.child_axes:
                     if _overlap(area, ax.get_window_extent(renderer)):
                         faults.append("an inset covers another panel")
-            points = _data_points(parent)
-            inner = area.padded(-SLACK)
-            covered = (
-                (points[:, 0] > inner.x0)
-                & (points[:, 0] < inner.x1)
-                & (points[:, 1] > inner.y0)
-                & (points[:, 1] < inner.y1)
-            )
+            covered = _within(_data_points(parent), area.padded(-SLACK))
             if covered.any():
                 faults.append(f"an inset covers {int(covered.sum())} points of its panel's data")
     for ax in axes:
         legend = ax.get_legend()
         if legend is not None and legend.get_visible():
             points = _data_points(ax)
-            panel = ax.get_window_extent(renderer)
-            points = points[  # what is drawn: the points inside the panel
-                (points[:, 0] >= panel.x0)
-                & (points[:, 0] <= panel.x1)
-                & (points[:, 1] >= panel.y0)
-                & (points[:, 1] <= panel.y1)
-            ]
-            area = legend.get_window_extent(renderer).padded(-SLACK)
-            covered = (
-                (points[:, 0] > area.x0)
-                & (points[:, 0] < area.x1)
-                & (points[:, 1] > area.y0)
-                & (points[:, 1] < area.y1)
-            )
+            points = points[_within(points, ax.get_window_extent(renderer))]  # those drawn
+            covered = _within(points, legend.get_window_extent(renderer).padded(-SLACK))
             if covered.any():
                 faults.append(f"a legend covers {int(covered.sum())} points of its panel's data")
     for ax in axes:
@@ -214,12 +205,7 @@ def layout_faults(fig: Figure) -> list[str]:
                 continue
             xy = line.get_transform().transform(np.asarray(line.get_xydata(), float))
             xy = xy[np.all(np.isfinite(xy), axis=1)]
-            if len(xy) and not np.any(
-                (xy[:, 0] >= panel.x0)
-                & (xy[:, 0] <= panel.x1)
-                & (xy[:, 1] >= panel.y0)
-                & (xy[:, 1] <= panel.y1)
-            ):
+            if len(xy) and not np.any(_within(xy, panel)):
                 faults.append(f"the line {line.get_label()!r} lies outside its panel")
     barred = [
         (m.get_cmap().name, m.norm.vmin, m.norm.vmax)
