@@ -8,7 +8,6 @@ the report are the ones in calibration.json; none is drawn from anywhere else.
 from __future__ import annotations
 
 import json
-import textwrap
 import time
 from importlib import metadata
 from pathlib import Path
@@ -273,7 +272,7 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
     d_sk = cal.diameter
 
     def draw(tmp):
-        fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4))
+        fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 6))
         lo, hi = law.measured
         inside = law.distance <= hi
         ax.semilogy(
@@ -305,18 +304,22 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
                 if which == "pair"
                 else paper_wall_force(x / d_sk, fit)
             )
-            values = ", ".join(
+            values = [
                 f"{name} = {c:.4g}"
                 for name, c in zip(law_coefficient_names(which, len(fit)), fit, strict=True)
-            )
+            ]
             ax.semilogy(
                 x * 1e9,
                 cal.force_scale * shape * 1e12,
                 "r--",
                 lw=1,
-                label=f"paper's form fitted: {law_formula(which, len(fit))},\n"
-                f"F₀ = {cal.force_scale * 1e12:.4g} pN, d in d_sk = {d_sk * 1e9:.3g} nm:\n"
-                + textwrap.fill(values, 60),
+                label="\n".join(
+                    [
+                        f"paper's form fitted: {law_formula(which, len(fit))},",
+                        f"F₀ = {cal.force_scale * 1e12:.4g} pN, d in d_sk = {d_sk * 1e9:.3g} nm:",
+                        *(", ".join(values[k : k + 3]) for k in range(0, len(values), 3)),
+                    ]
+                ),
             )
         if paper is not None:
             p, pd, pf = paper
@@ -338,7 +341,8 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
             ylabel="|F| [pN]",
             title=f"{which} law",
         )
-        ax.legend(fontsize=7)
+        # below the axes: inside, the fitted law's form and values would cover the curves
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14))
         bx.plot(energy.distance * 1e9, energy.energy / (cal.force_scale * d_sk), "ko", ms=4)
         bx.set(
             xlabel="distance [nm]",
