@@ -14,6 +14,7 @@ of mass (:func:`drift_is_significant`).
 from __future__ import annotations
 
 import hashlib
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -218,7 +219,9 @@ def load_tracks(
     table = table.sort_values(["frame", "particle"]).reset_index(drop=True)
     first = int(table["frame"].min())
     n_frames = int(table["frame"].max()) - first + 1
-    drift_px = trackpy.compute_drift(table[list(REQUIRED_COLUMNS)].copy())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # trackpy's own pandas deprecations, not the user's
+        drift_px = trackpy.compute_drift(table[list(REQUIRED_COLUMNS)].copy())
     drift = np.zeros((n_frames, 2))
     where = drift_px.index.to_numpy(int) - first
     drift[where] = drift_px[["x", "y"]].to_numpy() * pixel_size
@@ -239,7 +242,9 @@ def load_tracks(
         and drift_is_significant(drift, d, duration, float(np.mean(raw.count)))
     )
     if subtract:
-        table = trackpy.subtract_drift(table.copy(), drift_px)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            table = trackpy.subtract_drift(table.copy(), drift_px)
         table = table.reset_index(drop=True)
     frames = _frames(table, pixel_size, frame_interval, first, n_frames) if subtract else raw
     return Tracks(
