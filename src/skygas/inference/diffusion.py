@@ -12,7 +12,8 @@ in two dimensions. D, σ² and ⟨v²⟩ come from a least-squares quadratic thr
 alone would take the drift for diffusion: in a gyrotropic gas on a landscape of 1.5 k_BT the
 MSD/4τ at the first lag already exceeds the free D by 12 %. The O(τ³) rest (the drift
 decorrelates as the skyrmion moves) leaves a bias of a few per cent where the drift is strong;
-docs/inference.md gives the measured one. Frames are correlated, so the standard errors come from **blocking**: the record is cut
+docs/inference.md gives the measured one. Frames are correlated, so the standard errors come
+from **blocking**: the record is cut
 into :data:`BLOCKS` contiguous blocks of time, D is fitted in each, and the error is the
 standard error of the mean of the block values, s/√blocks (valid when a block is much longer
 than the correlation time of the fitted displacements, a few frame lags).

@@ -80,7 +80,8 @@ def model_text_sections(result: Inference) -> tuple[dict, list[str], dict[str, s
         'Use it as --material FILE or material = "FILE" in any device.',
     ]
     comments = {
-        "pinning": "The pinning landscape as a random landscape of the inferred rms and correlation\n"
+        "pinning": "The pinning landscape as a random landscape of the inferred rms and\n"
+        "correlation "
         "length (deblurred by the kernel and localisation widths), for a device of any\n"
         "geometry: copy this table as a [[potentials]] table into a configuration. The\n"
         "measured map itself is landscape.nc (variable pinning).",
@@ -155,7 +156,7 @@ def report_html(result: Inference) -> str:
     # landscape and uncertainty
     g = result.landscape.grid
     fig = Figure(figsize=(9, 3.6))
-    ext = [g.x[0] * 1e6, g.x[-1] * 1e6, g.y[0] * 1e6, g.y[-1] * 1e6]
+    ext = (g.x[0] * 1e6, g.x[-1] * 1e6, g.y[0] * 1e6, g.y[-1] * 1e6)
     for k, (data, title) in enumerate(
         (
             (
@@ -237,6 +238,7 @@ def report_html(result: Inference) -> str:
     meta = "".join(f"<li>{html.escape(k)}: {html.escape(str(v))}</li>" for k, v in prov.items())
     return (
         "<!doctype html><html><head><meta charset='utf-8'><title>skygas infer</title></head><body>"
-        f"<h1>Inferred particle model</h1><table>{body}</table>{pics}<h2>Provenance</h2><ul>{meta}</ul>"
+        f"<h1>Inferred particle model</h1><table>{body}</table>{pics}"
+        f"<h2>Provenance</h2><ul>{meta}</ul>"
         "</body></html>"
     )

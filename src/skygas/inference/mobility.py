@@ -91,4 +91,6 @@ def hall_angle(frames: Frames, landscape: LandscapeMap) -> HallAngle:
     total = float(np.sum(norm)) * dt
     p = float(np.sum(along)) / total if total > 0 else float("nan")
     q = float(np.sum(across)) / total if total > 0 else float("nan")
-    return HallAngle(angle_of(np.ones(len(e), bool)), blocked(per_block), p, q, int(len(e)))
+    return HallAngle(
+        angle_of(np.ones(len(e), bool)), blocked(np.array(per_block)), p, q, int(len(e))
+    )

@@ -53,7 +53,7 @@ def _polygon_csv(path: Path) -> Outline:
             "--outline", str(path), f"a CSV of x,y vertices in metres ({type(err).__name__})"
         ) from None
     require(
-        len(xy) >= 3 and np.all(np.isfinite(xy)),
+        bool(len(xy) >= 3 and np.all(np.isfinite(xy))),
         "--outline",
         str(path),
         "at least three finite x,y vertices in metres",

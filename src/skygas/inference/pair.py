@@ -94,12 +94,15 @@ def simulate(
 ) -> Frames:
     """The model's positions over ``frames`` frames after 200 frames of relaxation."""
     from skygas.engine import Simulation
+    from skygas.physics.materials import material_from_mapping
 
-    probe = Simulation(outline, material, temperature=temperature, landscape=landscape)
+    model = material_from_mapping(material, field="inferred material")
+
+    probe = Simulation(outline, model, temperature=temperature, landscape=landscape)
     steps = int(np.ceil(frame_interval / probe.suggested_time_step() - 1e-9))
     sim = Simulation(
         outline,
-        material,
+        model,
         temperature=temperature,
         seed=seed,
         landscape=landscape,

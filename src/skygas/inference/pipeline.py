@@ -9,7 +9,8 @@ The steps, each in its own module of :mod:`skygas.inference`:
    (:mod:`~skygas.inference.landscape`);
 4. the wall potential W(d) from the density against the distance to the outline
    (:mod:`~skygas.inference.wall`); the pinning is U − W(d);
-5. the Hall angle from the displacements in the landscape's force (:mod:`~skygas.inference.mobility`),
+5. the Hall angle from the displacements in the landscape's force
+   (:mod:`~skygas.inference.mobility`),
    and with D the Thiele parameters (:mod:`~skygas.inference.model`);
 6. the pair potential by iterative Boltzmann inversion with skygas simulations of the whole model
    (:mod:`~skygas.inference.pair`), whose last run is also the consistency check: its

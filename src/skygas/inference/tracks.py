@@ -114,7 +114,7 @@ def check_table(table, source: str):
     table = table.loc[np.isfinite(table["x"]) & np.isfinite(table["y"])]
     frame = table["frame"].to_numpy()
     require(
-        len(frame) > 0 and np.all(frame == np.round(frame)) and frame.min() >= 0,
+        bool(len(frame) > 0 and np.all(frame == np.round(frame)) and frame.min() >= 0),
         "tracks.frame",
         source,
         "whole frame numbers >= 0 and at least one finite position",
