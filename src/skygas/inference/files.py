@@ -82,7 +82,7 @@ def model_text_sections(result: Inference) -> tuple[dict, list[str], dict[str, s
     comments = {
         "pinning": "The pinning landscape as a random landscape of the inferred rms and\n"
         "correlation "
-        "length (deblurred by the kernel and localisation widths), for a device of any\n"
+        "length (deblurred by the inferred map, whose smoothed density matches the movie), for any\n"
         "geometry: copy this table as a [[potentials]] table into a configuration. The\n"
         "measured map itself is landscape.nc (variable pinning).",
         "inference": "What the data measured (SI; angle in rad).",

@@ -29,6 +29,7 @@ from skygas.analysis import pair_correlation
 from skygas.analysis.frames import Frames
 from skygas.core import units
 from skygas.core.units import M_TO_NM
+from skygas.inference.landscape import LandscapeMap, smoothed_density
 from skygas.inference.laws import fit_exp_quadratic, force_table
 from skygas.physics.geometry import Outline
 
@@ -53,6 +54,7 @@ class IBIResult:
     simulated: list = field(default_factory=list)
     chi2: list = field(default_factory=list)
     coefs: list = field(default_factory=list)
+    density_rms: list = field(default_factory=list)
     last_frames: Frames | None = None
 
     @property
@@ -126,38 +128,53 @@ def iterate(
     frames: Frames,
     outline: Outline,
     material: dict,
-    landscape: list,
     temperature: float,
+    landscape: LandscapeMap,
+    pinning: np.ndarray,
+    sigma: float,
+    folder: Path,
     *,
     r_max: float,
     iterations: int = ITERATIONS,
     sim_frames: int = 2000,
     seed: int = 0,
     progress=None,
-) -> tuple[IBIResult, dict]:
-    """Run IBI; returns the iterations and the material with the final ``pair_table``."""
+) -> tuple[IBIResult, dict, np.ndarray]:
+    """Run IBI on the pair potential and the pinning landscape together.
+
+    Returns the iterations, the material with the final ``pair_table`` (none if the data fix
+    fewer than three distances) and the final pinning [k_BT] on the landscape's grid.
+    """
     kt = units.BOLTZMANN * temperature
+    grid = landscape.grid
     measured = pair_correlation(frames, outline, r_max, BINS, max_frames=2000)
     fixed = fixed_bins(measured.g, measured.error, measured.pairs)
     result = IBIResult(measured.r, measured.g, measured.error, fixed)
-    if fixed.sum() < 3:
-        return result, material
+    rho_meas = smoothed_density(grid.bins(frames.x, frames.y), grid, landscape.bandwidth)
+    update = landscape.well_sampled & (rho_meas > 0)
+    pinning = np.where(landscape.well_sampled, np.nan_to_num(pinning), 0.0)
     r_nm = measured.r * M_TO_NM
-    v = -np.log(measured.g)
-    skyrmions = max(2, int(round(float(np.mean(frames.count)))))
+    v = -np.log(np.where(measured.g > 0, measured.g, np.nan))
+    skyrmions = max(1, int(round(float(np.mean(frames.count)))))
     d_sk = 2 * material["skyrmion_radius"]
-    closest = float(measured.r[fixed].min())
+    closest = float(measured.r[fixed].min()) if fixed.any() else d_sk
     separation = max(0.5, 0.9 * closest / d_sk)
+    pad = int(np.ceil(0.5 * max(len(grid.x), len(grid.y))))
+    rng = np.random.default_rng([seed, 0x1B1])
     for n in range(iterations):
-        coef = fit_exp_quadratic(r_nm[fixed], v[fixed], np.full(fixed.sum(), 0.1))
-        if coef is None:
-            break
-        table = force_table(coef, r_nm[fixed][0], 5 * r_nm[fixed][-1], kt, 1 / M_TO_NM)
-        current = {**material, "pair_table": table}
+        current = dict(material)
+        coef = None
+        if fixed.sum() >= 3:
+            coef = fit_exp_quadratic(r_nm[fixed], v[fixed], np.full(fixed.sum(), 0.1))
+        if coef is not None:
+            current["pair_table"] = force_table(
+                coef, r_nm[fixed][0], 5 * r_nm[fixed][-1], kt, 1 / M_TO_NM
+            )
+        potential = pinning_grid_file(folder, pinning, grid.x, grid.y, pad, f"pinning_{n}")
         sim = simulate(
             outline,
             current,
-            landscape,
+            [potential],
             temperature,
             frames.frame_interval(),
             skyrmions,
@@ -165,33 +182,54 @@ def iterate(
             seed + n,
             separation,
         )
-        g_sim = pair_correlation(sim, outline, r_max, BINS, max_frames=2000)
+        # the model's positions seen as the movie sees them: the same localisation error
+        seen = Frames(
+            sim.time,
+            sim.count,
+            sim.ids,
+            sim.x + rng.normal(0, sigma, len(sim.x)),
+            sim.y + rng.normal(0, sigma, len(sim.y)),
+        )
+        rho_sim = smoothed_density(grid.bins(seen.x, seen.y), grid, landscape.bandwidth)
+        g_sim = pair_correlation(seen, outline, r_max, BINS, max_frames=2000)
         with np.errstate(divide="ignore", invalid="ignore"):
             sigma2 = measured.error**2 + g_sim.error**2
-            chi2 = float(np.mean((g_sim.g[fixed] - measured.g[fixed]) ** 2 / sigma2[fixed]))
+            chi2 = (
+                float(np.mean((g_sim.g[fixed] - measured.g[fixed]) ** 2 / sigma2[fixed]))
+                if fixed.any()
+                else float("nan")
+            )
+            ratio = np.log(rho_sim / rho_meas)
+        ok = update & np.isfinite(ratio)
+        shift = ratio[ok] - np.mean(ratio[ok]) if ok.any() else np.zeros(0)
         result.potentials.append(v.copy())
         result.simulated.append((g_sim.g, g_sim.error))
         result.chi2.append(chi2)
         result.coefs.append(coef)
+        result.density_rms.append(float(np.sqrt(np.mean(shift**2))) if len(shift) else None)
         result.last_frames = sim
-        material = current
+        if coef is not None:
+            material = current
         if progress is not None:
-            progress(f"IBI iteration {n + 1}: chi2 = {chi2:.2f}")
-        if chi2 <= CHI2_GOAL:
-            break
-        ok = fixed & (g_sim.g > 0)
-        v[ok] = v[ok] + np.log(g_sim.g[ok] / measured.g[ok])
-    return result, material
+            progress(
+                f"IBI iteration {n + 1}: g(r) chi2 = {chi2:.2f}, density mismatch rms "
+                f"{result.density_rms[-1] or 0:.3f} k_BT"
+            )
+        if n + 1 < iterations:
+            pinning[ok] += shift
+            good = fixed & (g_sim.g > 0)
+            v[good] = v[good] + np.log(g_sim.g[good] / measured.g[good])
+    return result, material, pinning
 
 
 def pinning_grid_file(
-    folder: Path, u_kt: np.ndarray, x: np.ndarray, y: np.ndarray, pad: int
+    folder: Path, u_kt: np.ndarray, x: np.ndarray, y: np.ndarray, pad: int, name: str
 ) -> dict:
     """Save U [k_BT] (NaN → 0), padded by ``pad`` nodes of edge values, as a ``grid`` potential."""
     values = np.nan_to_num(u_kt, nan=0.0)
     values = np.pad(values, pad, mode="edge")
     h = float(x[1] - x[0])
-    path = Path(folder) / "pinning_kT.npy"
+    path = Path(folder) / f"{name}.npy"
     np.save(path, values)
     return {
         "kind": "grid",

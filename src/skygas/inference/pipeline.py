@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -160,13 +161,74 @@ def infer(
     if wprof.coef is not None:
         w_nodes = np.where(node_d < wprof.bulk_from, potential(wprof.coef, node_d * 1e9), 0.0)
     pinning = lmap.u - w_nodes
-    interior = lmap.well_sampled & (node_d >= wprof.bulk_from)
+    say("Hall angle and drift-free D: displacements against the landscape's force")
+    hall = mobility.fit_mobility(frames, mobility.total_force(frames, lmap), d.sigma)
+    thiele = model.thiele_fields(hall.diffusion, hall.angle, hall.error, base, temperature)
+    wall_table = None
+    if wprof.coef is not None and wprof.sampled_range is not None:
+        lo = wprof.sampled_range[0] * 1e9
+        wall_table = force_table(wprof.coef, lo, wprof.bulk_from * 1e9, kt, 1e-9)
+    name = "inferred"
+    material = model.model_material(name, base, thiele, None, wall_table)
+
+    say("pair potential: iterative Boltzmann inversion with skygas simulations")
+    n_sim = ibi_frames or min(frames.n_frames, 2000)
+    with pair.scratch_folder() as scratch:
+        folder = Path(scratch)
+        r_max = min(
+            0.5 * min(grid.x[-1] - grid.x[0], grid.y[-1] - grid.y[0]), 12 * base.skyrmion_radius * 2
+        )
+        ibi, material, pinning = pair.iterate(
+            frames,
+            shape,
+            material,
+            temperature,
+            lmap,
+            pinning,
+            d.sigma,
+            folder,
+            r_max=r_max,
+            iterations=max(ibi_iterations, 1),
+            sim_frames=n_sim,
+            seed=seed,
+            progress=say,
+        )
+        pad = int(math.ceil(0.5 * max(len(grid.x), len(grid.y))))
+        grid_potential = pair.pinning_grid_file(folder, pinning, grid.x, grid.y, pad, "final")
+        if ibi.coef is not None and "pair_table" in material:
+            say("Hall angle and drift-free D again, with the pair forces")
+            cutoff = float(material["pair_table"]["distance"][-1])
+            hall = mobility.fit_mobility(
+                frames, mobility.total_force(frames, lmap, ibi.coef, cutoff), d.sigma
+            )
+            thiele = model.thiele_fields(hall.diffusion, hall.angle, hall.error, base, temperature)
+            material = {**material, **thiele}
+        say("consistency check: a skygas run of the final model")
+        d_sk = 2 * material["skyrmion_radius"]
+        closest = ibi.fixed_range[0] if ibi.fixed_range else d_sk
+        model_frames = pair.simulate(
+            shape,
+            material,
+            [grid_potential],
+            temperature,
+            frames.frame_interval(),
+            max(1, int(round(float(np.mean(frames.count))))),
+            n_sim,
+            seed + 1000,
+            max(0.5, 0.9 * closest / d_sk),
+        )
+
+    say("landscape statistics and dwell times")
+    # the interior: well sampled and beyond the wall's reach (where the fitted W < 0.1 k_BT)
+    reach = wprof.bulk_from
+    if wprof.coef is not None:
+        dd = np.linspace(0, wprof.bulk_from, 200)
+        weak = np.flatnonzero(potential(wprof.coef, dd * 1e9) < 0.1)
+        reach = float(dd[weak[0]]) if len(weak) else wprof.bulk_from
+    interior = lmap.well_sampled & (node_d >= reach)
     if interior.any():
-        pinning = pinning - np.nanmean(pinning[interior])
+        pinning = np.where(lmap.well_sampled, pinning - np.nanmean(pinning[interior]), np.nan)
     rms, xi = land.correlation_length(np.nan_to_num(pinning), interior, grid.h)
-    blur = math.hypot(lmap.bandwidth, d.sigma)
-    xi_true = math.sqrt(max(xi**2 - 2 * blur**2, 0.0)) if math.isfinite(xi) else float("nan")
-    rms_true = rms * math.sqrt(xi**2 / xi_true**2) if xi_true > 0 else float("nan")
     radius = max(lmap.bandwidth, 0.5 * xi) if math.isfinite(xi) else lmap.bandwidth
     wells = []
     for x0, y0, depth in land.deepest_wells(pinning, interior, grid, radius):
@@ -182,49 +244,15 @@ def infer(
             }
         )
 
-    say("Hall angle: displacements against the landscape's force")
-    hall = mobility.hall_angle(frames, lmap)
-    thiele = model.thiele_fields(d.diffusion_constant, hall.angle, hall.error, base, temperature)
-    wall_table = None
-    if wprof.coef is not None and wprof.sampled_range is not None:
-        lo = wprof.sampled_range[0] * 1e9
-        wall_table = force_table(wprof.coef, lo, wprof.bulk_from * 1e9, kt, 1e-9)
-    name = "inferred"
-    material = model.model_material(name, base, thiele, None, wall_table)
-
-    say("pair potential: iterative Boltzmann inversion with skygas simulations")
-    n_sim = ibi_frames or min(frames.n_frames, 2000)
-    with pair.scratch_folder() as folder:
-        pad = int(math.ceil(0.5 * max(len(grid.x), len(grid.y))))
-        grid_potential = pair.pinning_grid_file(
-            folder, np.where(lmap.well_sampled, pinning, 0.0), grid.x, grid.y, pad
-        )
-        r_max = min(
-            0.5 * min(grid.x[-1] - grid.x[0], grid.y[-1] - grid.y[0]), 12 * base.skyrmion_radius * 2
-        )
-        ibi, material = pair.iterate(
-            frames,
-            shape,
-            material,
-            [grid_potential],
-            temperature,
-            r_max=r_max,
-            iterations=ibi_iterations,
-            sim_frames=n_sim,
-            seed=seed,
-            progress=say,
-        )
-
-    say("consistency check: MSD of the model against the measured one")
     lags = np.array([lag for lag in CHECK_LAGS if lag < frames.n_frames // 4])
     measured = mean_squared_displacement(frames, lags, fit_lags=lags[:1])
     ratio = measured.msd / (4 * measured.lag_time)
     ratio_err = measured.msd_error / (4 * measured.lag_time)
     model_ratio = None
     check = None
-    if ibi.last_frames is not None:
-        sim_lags = lags[lags < ibi.last_frames.n_frames // 4]
-        sm = mean_squared_displacement(ibi.last_frames, sim_lags, fit_lags=sim_lags[:1])
+    if model_frames.n_frames > 8:
+        sim_lags = lags[lags < model_frames.n_frames // 4]
+        sm = mean_squared_displacement(model_frames, sim_lags, fit_lags=sim_lags[:1])
         model_ratio = np.full(len(lags), np.nan)
         model_ratio[: len(sim_lags)] = sm.msd / (4 * sm.lag_time)
         # the measured MSD carries 4σ² of localisation error; the model's does not
@@ -261,6 +289,12 @@ def infer(
             "seed": seed,
         },
         **d.as_dict(),
+        "diffusion_constant": hall.diffusion,
+        "diffusion_constant_error": hall.diffusion_error,
+        "diffusion_constant_method": "MSD of the displacements minus the drift dt·M·F of the "
+        "inferred forces (landscape, walls, pairs), MSD = 4σ² + 4Dτ over lags 1-4, blocked errors",
+        "diffusion_constant_msd_fit": d.diffusion_constant,
+        "diffusion_constant_msd_fit_error": d.error,
         **hall.as_dict(),
         "landscape": {
             "kernel_width_m": lmap.bandwidth,
@@ -273,8 +307,7 @@ def infer(
             "film_area_m2": float(np.sum(grid.inside) * grid.h**2),
             "pinning_rms_kT": rms,
             "pinning_correlation_length_m": xi,
-            "pinning_rms_deblurred_kT": rms_true,
-            "pinning_correlation_length_deblurred_m": xi_true,
+            "interior_from_wall_m": reach,
             "deepest_wells": wells,
         },
         "wall": {
@@ -306,12 +339,12 @@ def infer(
         },
         "consistency_check": check,
         "model": {
-            "free_diffusion_m2_s": d.diffusion_constant,
+            "free_diffusion_m2_s": hall.diffusion,
             "hall_angle_rad": hall.angle,
             "pinning_as_disorder": {
                 "kind": "disorder",
-                "rms_kT": rms_true if math.isfinite(rms_true) else rms,
-                "correlation_length": xi_true if math.isfinite(xi_true) and xi_true > 0 else xi,
+                "rms_kT": rms,
+                "correlation_length": xi,
             },
         },
     }
