@@ -80,11 +80,10 @@ def model_text_sections(result: Inference) -> tuple[dict, list[str], dict[str, s
         'Use it as --material FILE or material = "FILE" in any device.',
     ]
     comments = {
-        "pinning": "The pinning landscape as a random landscape of the inferred rms and\n"
-        "correlation "
-        "length (deblurred by the inferred map, whose smoothed density matches the movie), for any\n"
-        "geometry: copy this table as a [[potentials]] table into a configuration. The\n"
-        "measured map itself is landscape.nc (variable pinning).",
+        "pinning": "The pinning landscape as a random landscape of the rms and correlation\n"
+        "length of the inferred map (the map whose model density matches the movie's), for\n"
+        "a device of any geometry: copy this table as a [[potentials]] table into a\n"
+        "configuration. The map itself is landscape.nc (variable pinning).",
         "inference": "What the data measured (SI; angle in rad).",
     }
     return sections, header, comments

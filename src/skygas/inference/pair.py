@@ -8,6 +8,16 @@ g(r) the same way, and corrects
 
     V_{n+1}(r) = V_n(r) + k_BT ln(g_n(r) / g_measured(r))
 
+and, at the same time, the pinning landscape (the one-body Boltzmann inversion is exact only for
+independent skyrmions: in a crowded gas the neighbours flatten the density, and the kernel and
+the localisation error smooth it):
+
+    U_{n+1}(x, y) = U_n(x, y) + ½ k_BT ln(ρ_n(x, y) / ρ_measured(x, y))
+
+on the well-sampled nodes, with ρ_n estimated from the simulation's positions plus the movie's
+localisation error with the movie's kernel, so that both densities are seen alike (damped by
+:data:`LANDSCAPE_DAMPING`).
+
 over the distances the data fix, until χ² = mean((g_n − g)²/(σ_n² + σ²)) is at most
 :data:`CHI2_GOAL` or :data:`ITERATIONS` are done. The law handed to the engine is the smooth fit
 of V (:mod:`skygas.inference.laws`), so each simulation runs the force −dV/dr of a smooth V.
@@ -40,6 +50,11 @@ CHI2_GOAL = 1.5
 MIN_PAIRS = 20
 #: Bins of g(r).
 BINS = 40
+#: Frames of each simulation.
+SIM_FRAMES = 2000
+#: The landscape's correction is damped by this factor (each simulation's density is noisy:
+#: a full step would pile its noise into the map).
+LANDSCAPE_DAMPING = 0.5
 
 
 @dataclass
@@ -216,7 +231,7 @@ def iterate(
                 f"{result.density_rms[-1] or 0:.3f} k_BT"
             )
         if n + 1 < iterations:
-            pinning[ok] += shift
+            pinning[ok] += LANDSCAPE_DAMPING * shift
             good = fixed & (g_sim.g > 0)
             v[good] = v[good] + np.log(g_sim.g[good] / measured.g[good])
     return result, material, pinning

@@ -111,7 +111,7 @@ def infer(
     subtract_drift : {"auto", "yes", "no"}
         See :func:`skygas.inference.tracks.load_tracks`.
     ibi_iterations, ibi_frames : int
-        IBI iterations at most, and frames per simulation (default the movie's, at most 2000).
+        IBI iterations at most, and frames per simulation (default :data:`pair.SIM_FRAMES`).
     seed : int
         Seeds the bootstrap and the simulations.
     progress : callable, optional
@@ -163,7 +163,7 @@ def infer(
     pinning = lmap.u - w_nodes
     say("Hall angle and drift-free D: displacements against the landscape's force")
     hall = mobility.fit_mobility(frames, mobility.total_force(frames, lmap), d.sigma)
-    thiele = model.thiele_fields(hall.diffusion, hall.angle, hall.error, base, temperature)
+    thiele = model.thiele_fields(d.diffusion_constant, hall.angle, hall.error, base, temperature)
     wall_table = None
     if wprof.coef is not None and wprof.sampled_range is not None:
         lo = wprof.sampled_range[0] * 1e9
@@ -172,7 +172,7 @@ def infer(
     material = model.model_material(name, base, thiele, None, wall_table)
 
     say("pair potential: iterative Boltzmann inversion with skygas simulations")
-    n_sim = ibi_frames or min(frames.n_frames, 2000)
+    n_sim = ibi_frames or pair.SIM_FRAMES
     with pair.scratch_folder() as scratch:
         folder = Path(scratch)
         r_max = min(
@@ -201,7 +201,9 @@ def infer(
             hall = mobility.fit_mobility(
                 frames, mobility.total_force(frames, lmap, ibi.coef, cutoff), d.sigma
             )
-            thiele = model.thiele_fields(hall.diffusion, hall.angle, hall.error, base, temperature)
+            thiele = model.thiele_fields(
+                d.diffusion_constant, hall.angle, hall.error, base, temperature
+            )
             material = {**material, **thiele}
         say("consistency check: a skygas run of the final model")
         d_sk = 2 * material["skyrmion_radius"]
@@ -289,12 +291,13 @@ def infer(
             "seed": seed,
         },
         **d.as_dict(),
-        "diffusion_constant": hall.diffusion,
-        "diffusion_constant_error": hall.diffusion_error,
-        "diffusion_constant_method": "MSD of the displacements minus the drift dt·M·F of the "
-        "inferred forces (landscape, walls, pairs), MSD = 4σ² + 4Dτ over lags 1-4, blocked errors",
-        "diffusion_constant_msd_fit": d.diffusion_constant,
-        "diffusion_constant_msd_fit_error": d.error,
+        "diffusion_constant_method": "MSD = 4σ² + 4Dτ + cτ² fitted over frame lags 1-3, "
+        "errors by blocking over 16 blocks of time",
+        "diffusion_constant_drift_corrected": hall.diffusion,
+        "diffusion_constant_drift_corrected_error": hall.diffusion_error,
+        "diffusion_constant_drift_corrected_method": "MSD of the displacements minus the drift "
+        "dt·M·F of the inferred forces (landscape, walls, pairs), MSD = 4σ² + 4Dτ over lags 1-4; "
+        "a diagnostic: it is only as good as the inferred force map",
         **hall.as_dict(),
         "landscape": {
             "kernel_width_m": lmap.bandwidth,
@@ -339,7 +342,7 @@ def infer(
         },
         "consistency_check": check,
         "model": {
-            "free_diffusion_m2_s": hall.diffusion,
+            "free_diffusion_m2_s": d.diffusion_constant,
             "hall_angle_rad": hall.angle,
             "pinning_as_disorder": {
                 "kind": "disorder",
