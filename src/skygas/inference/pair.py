@@ -16,7 +16,9 @@ the localisation error smooth it):
 
 on the well-sampled nodes, with ρ_n estimated from the simulation's positions plus the movie's
 localisation error with the movie's kernel, so that both densities are seen alike (damped by
-:data:`LANDSCAPE_DAMPING`).
+:data:`LANDSCAPE_DAMPING`, and only where the mismatch exceeds :data:`SIGNIFICANCE` times the
+combined standard error of the two maps: the bootstrap error of the movie's, scaled by the
+ratio of the samples for the model's).
 
 over the distances the data fix, until χ² = mean((g_n − g)²/(σ_n² + σ²)) is at most
 :data:`CHI2_GOAL` or :data:`ITERATIONS` are done. The law handed to the engine is the smooth fit
@@ -55,6 +57,8 @@ SIM_FRAMES = 2000
 #: The landscape's correction is damped by this factor (each simulation's density is noisy:
 #: a full step would pile its noise into the map).
 LANDSCAPE_DAMPING = 0.5
+#: ... and applied only where the mismatch exceeds this many combined standard errors.
+SIGNIFICANCE = 2.0
 
 
 @dataclass
@@ -217,6 +221,10 @@ def iterate(
             ratio = np.log(rho_sim / rho_meas)
         ok = update & np.isfinite(ratio)
         shift = ratio[ok] - np.mean(ratio[ok]) if ok.any() else np.zeros(0)
+        # the model's density is as noisy as its sample is small: correct only where the
+        # mismatch exceeds twice the combined standard error of both maps
+        noise = landscape.error[ok] * np.sqrt(1 + len(frames.x) / max(len(sim.x), 1))
+        significant = np.abs(shift) > SIGNIFICANCE * noise
         result.potentials.append(v.copy())
         result.simulated.append((g_sim.g, g_sim.error))
         result.chi2.append(chi2)
@@ -231,7 +239,7 @@ def iterate(
                 f"{result.density_rms[-1] or 0:.3f} k_BT"
             )
         if n + 1 < iterations:
-            pinning[ok] += LANDSCAPE_DAMPING * shift
+            pinning[ok] += LANDSCAPE_DAMPING * np.where(significant, shift, 0.0)
             good = fixed & (g_sim.g > 0)
             v[good] = v[good] + np.log(g_sim.g[good] / measured.g[good])
     return result, material, pinning
