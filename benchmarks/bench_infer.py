@@ -14,9 +14,7 @@ import argparse
 import statistics
 import time
 
-from skygas.inference import infer
 from skygas.inference.synthetic import simulated_tracks
-from skygas.physics.geometry import rectangle
 
 
 def main() -> None:
@@ -27,18 +25,12 @@ def main() -> None:
     args = p.parse_args()
     side = 2e-6
     gas = simulated_tracks(skyrmions=args.skyrmions, frames=args.frames, width=side, height=side)
-    outline = rectangle(side, side, center=(side / 2, side / 2))
     times = []
     for _ in range(args.rounds):
         marks = []
         start = time.perf_counter()
-        result = infer(
-            gas.tracks,
-            pixel_size=gas.pixel_size,
-            frame_interval=gas.frame_interval,
-            outline=outline,
-            temperature=gas.temperature,
-            progress=lambda line, m=marks, s=start: m.append((time.perf_counter() - s, line)),
+        result = gas.infer(
+            progress=lambda line, m=marks, s=start: m.append((time.perf_counter() - s, line))
         )
         times.append(time.perf_counter() - start)
     print(f"{args.skyrmions} skyrmions × {args.frames} frames: {len(gas.tracks)} positions")

@@ -26,25 +26,15 @@ from scipy.integrate import quad
 from scipy.interpolate import RegularGridInterpolator
 
 from skygas.core import units
-from skygas.inference import infer
 from skygas.inference.laws import force
 from skygas.inference.synthetic import simulated_tracks
 from skygas.physics.forces import paper_pair_force, paper_wall_force
-from skygas.physics.geometry import rectangle
 
 
 def row(frames: int, skyrmions: int, ibi: int, seed: int) -> dict:
     gas = simulated_tracks(skyrmions=skyrmions, frames=frames, seed=seed)
-    outline = rectangle(gas.width, gas.height, center=(gas.width / 2, gas.height / 2))
-    res = infer(
-        gas.tracks,
-        pixel_size=gas.pixel_size,
-        frame_interval=gas.frame_interval,
-        outline=outline,
-        temperature=gas.temperature,
-        ibi_iterations=ibi,
-        seed=seed,
-    )
+    outline = gas.outline
+    res = gas.infer(ibi_iterations=ibi, seed=seed)
     s = res.summary
     t = gas.thiele
     d_true = t.diffusion_constant(gas.temperature)

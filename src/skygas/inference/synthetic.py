@@ -43,6 +43,26 @@ class SyntheticGas:
     disorder: dict
     localisation_error: float
 
+    @property
+    def outline(self):
+        """The chamber as an :class:`~skygas.physics.geometry.Outline`."""
+        from skygas.physics.geometry import rectangle
+
+        return rectangle(self.width, self.height, center=(self.width / 2, self.height / 2))
+
+    def infer(self, **options):
+        """:func:`skygas.inference.infer` of these tracks, with their scales and outline."""
+        from skygas.inference.pipeline import infer
+
+        return infer(
+            self.tracks,
+            pixel_size=self.pixel_size,
+            frame_interval=self.frame_interval,
+            outline=self.outline,
+            temperature=self.temperature,
+            **options,
+        )
+
 
 def simulated_tracks(
     *,
