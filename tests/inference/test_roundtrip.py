@@ -34,7 +34,5 @@ def test_a_dilute_gas_gives_back_its_d_and_its_landscape():
     area = result.landscape.well_sampled & (wall_distance(gas.outline, gx, gy) >= 150e-9)
     assert area.sum() > 1000
     r = np.corrcoef(result.pinning[area], true_u[area])[0, 1]
-    print(
-        f"D {s['diffusion_constant']:.4g} ± {s['diffusion_constant_error']:.2g} (true {d_true:.4g}), landscape correlation {r:.3f}"
-    )
     assert r > 0.7
+    assert r > 0.35
