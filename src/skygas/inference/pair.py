@@ -119,9 +119,8 @@ def simulate(
 
     model = material_from_mapping(material, field="inferred material")
 
-    # the step is set by the laws (a landscape without the edge stray field does not enter
-    # it), so a probe without the landscape, which is quick to build, gives it
-    probe = Simulation(outline, model, temperature=temperature)
+    # the suggested step of the whole model (laws and landscape), shortened to divide a frame
+    probe = Simulation(outline, model, temperature=temperature, landscape=landscape)
     steps = int(np.ceil(frame_interval / probe.suggested_time_step() - 1e-9))
     sim = Simulation(
         outline,
