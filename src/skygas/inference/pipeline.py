@@ -328,6 +328,10 @@ def infer(
             "g_measured": [float(v) for v in ibi.g],
             "g_measured_error": [float(v) if np.isfinite(v) else None for v in ibi.g_error],
             "range_fixed_by_data_m": ibi.fixed_range,
+            "law_in_model": "pair_table from IBI"
+            if "pair_table" in material
+            else f"the base material's ({base.name}) paper law: the data fix fewer than 3 "
+            "distances",
             "iterations": [
                 {
                     "chi2": c,
