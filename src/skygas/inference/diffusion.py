@@ -91,6 +91,14 @@ def time_blocks(n_frames: int, blocks: int) -> list[np.ndarray]:
     return [np.arange(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True) if b > a]
 
 
+def block_of_frame(n_frames: int, blocks: int) -> np.ndarray:
+    """The block of :func:`time_blocks` each frame 0 … n_frames − 1 falls in."""
+    out = np.zeros(n_frames, int)
+    for k, frames in enumerate(time_blocks(n_frames, blocks)):
+        out[frames] = k
+    return out
+
+
 def blocked(values: np.ndarray) -> float:
     """Standard error of the mean of per-block values (independent blocks)."""
     values = np.asarray(values, float)

@@ -35,7 +35,7 @@ import numpy as np
 from scipy import ndimage
 
 from skygas.analysis.frames import Frames
-from skygas.inference.diffusion import time_blocks
+from skygas.inference.diffusion import block_of_frame
 from skygas.physics.geometry import Outline
 
 #: Blocks of time held out in the cross-validation of the kernel width.
@@ -106,28 +106,27 @@ def smoothed_density(counts: np.ndarray, grid: Grid, bandwidth: float) -> np.nda
     return rho / total if total > 0 else rho
 
 
+def _binned_by_block(frames: Frames, grid: Grid, blocks: int) -> np.ndarray:
+    """Counts (blocks, ny, nx) of the positions of each contiguous block of time."""
+    entry_block = block_of_frame(frames.n_frames, blocks)[frames.frame_of_entry]
+    n = int(entry_block.max()) + 1 if len(entry_block) else 0
+    return np.array(
+        [grid.bins(frames.x[entry_block == k], frames.y[entry_block == k]) for k in range(n)]
+    )
+
+
 def choose_bandwidth(
     frames: Frames, grid: Grid, candidates: np.ndarray
 ) -> tuple[float, np.ndarray]:
     """The kernel width [m] of highest held-out log-likelihood, and the score of each candidate."""
-    blocks = time_blocks(frames.n_frames, CV_BLOCKS)
-    frame = frames.frame_of_entry
-    block_of = np.zeros(frames.n_frames, int)
-    for k, b in enumerate(blocks):
-        block_of[b] = k
-    entry_block = block_of[frame]
-    per_block = [
-        grid.bins(frames.x[entry_block == k], frames.y[entry_block == k])
-        for k in range(len(blocks))
-    ]
+    per_block = list(_binned_by_block(frames, grid, CV_BLOCKS))
     total = np.sum(per_block, axis=0)
     area = float(np.sum(grid.inside)) * grid.h**2
     scores = np.zeros(len(candidates))
     for c, b in enumerate(candidates):
         score, n = 0.0, 0
-        for k in range(len(blocks)):
-            rho = smoothed_density(total - per_block[k], grid, b)
-            held = per_block[k]
+        for held in per_block:
+            rho = smoothed_density(total - held, grid, b)
             floor = DENSITY_FLOOR / area
             score += float(np.sum(held * np.log(np.maximum(rho, floor))))
             n += int(held.sum())
@@ -188,21 +187,11 @@ def boltzmann_inversion(
     film = grid.inside > 0
     u = _energy(smoothed_density(grid.bins(frames.x, frames.y), grid, bandwidth), film)
     # bootstrap over blocks of time
-    blocks = time_blocks(frames.n_frames, BOOT_BLOCKS)
-    block_of = np.zeros(frames.n_frames, int)
-    for k, b in enumerate(blocks):
-        block_of[b] = k
-    entry_block = block_of[frames.frame_of_entry]
-    per_block = np.array(
-        [
-            grid.bins(frames.x[entry_block == k], frames.y[entry_block == k])
-            for k in range(len(blocks))
-        ]
-    )
+    per_block = _binned_by_block(frames, grid, BOOT_BLOCKS)
     rng = np.random.default_rng([seed, 0xB007])
     replicas = np.empty((BOOT_REPLICAS, *u.shape))
     for r in range(BOOT_REPLICAS):
-        pick = rng.integers(0, len(blocks), len(blocks))
+        pick = rng.integers(0, len(per_block), len(per_block))
         replicas[r] = _energy(smoothed_density(per_block[pick].sum(axis=0), grid, bandwidth), film)
     # the constant of each replica is arbitrary: align it to U over the nodes both sample
     finite = np.isfinite(replicas) & np.isfinite(u)[None]

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from skygas.analysis.frames import Frames
-from skygas.inference.diffusion import blocked, time_blocks
+from skygas.inference.diffusion import block_of_frame, blocked, time_blocks
 
 #: Blocks of time for the errors.
 BLOCKS = 16
@@ -125,9 +125,7 @@ def residual_diffusion(
     sx, sy = ex.copy(), ey.copy()
     cur = np.arange(len(ex))
     blocks = time_blocks(frames.n_frames, BLOCKS)
-    block_of = np.zeros(frames.n_frames, int)
-    for k, blk in enumerate(blocks):
-        block_of[blk] = k
+    block_of = block_of_frame(frames.n_frames, BLOCKS)
     sums = np.zeros((len(blocks), RESIDUAL_LAGS))
     counts = np.zeros((len(blocks), RESIDUAL_LAGS))
     for lag in range(1, RESIDUAL_LAGS + 1):
