@@ -131,6 +131,7 @@ def _fmt(value, error=None, scale=1.0, unit="") -> str:
 def report_html(result: Inference) -> str:
     """One self-contained HTML page: headline numbers and the figures."""
     from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
 
     s = result.summary
     figs = []
@@ -148,6 +149,7 @@ def report_html(result: Inference) -> str:
         ax.plot(result.msd_lag_time, result.model_msd_over_4tau, "s--", label="model (skygas run)")
     ax.axhline(s["diffusion_constant"], color="k", lw=0.8, label="D (short-lag fit)")
     ax.set_xscale("log")
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("lag τ [s]")
     ax.set_ylabel("MSD/4τ [m²/s]")
     ax.legend(fontsize=7)

@@ -30,15 +30,18 @@ def fit_exp_quadratic(r: np.ndarray, v: np.ndarray, err: np.ndarray) -> np.ndarr
     """(c₀, c₁, c₂) of ln V = c₀ + c₁ r + c₂ r² (r in the units given), or None if unfittable.
 
     Weights 1/σ(ln V)² = (V/σ_V)²; points with V ≤ :data:`FIT_FLOOR` or no finite error are
-    left out; a line (c₂ = 0) when only three points remain.
+    left out; a line (c₂ = 0) when fewer than five points remain or the quadratic curves
+    upwards (c₂ > 0, a V that would grow again beyond the data).
     """
     r, v, err = (np.asarray(a, float) for a in (r, v, err))
     ok = np.isfinite(v) & np.isfinite(err) & (v > FIT_FLOOR) & (err > 0)
     if ok.sum() < 3:
         return None
     w = v[ok] / err[ok]
-    degree = 2 if ok.sum() >= 5 else 1
-    coef = np.polyfit(r[ok], np.log(v[ok]), degree, w=w)
+    coef = np.polyfit(r[ok], np.log(v[ok]), 2, w=w) if ok.sum() >= 5 else None
+    if coef is None or coef[0] > 0:
+        # a line when ln V curves upwards: V would grow again beyond the data
+        coef = np.polyfit(r[ok], np.log(v[ok]), 1, w=w)
     return np.concatenate([np.zeros(3 - len(coef)), coef])[::-1]
 
 
