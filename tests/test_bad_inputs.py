@@ -694,3 +694,69 @@ def test_the_estimator_against_a_counted_case(monkeypatch, capsys):
     assert capsys.readouterr().err.startswith("skygas: estimate: 1e+11 steps, about 2.3 days")
     with run_limits(force=True, announce=True), pytest.raises(InputError, match="memory"):
         check(Estimate(1, 1e30, 1), "duration", 1.0, "the run", "use less")  # never forced
+
+
+# --- skygas infer: tracks in trackpy's format ------------------------------------------------
+_OUTLINE_CSV = "x,y\n0,0\n1e-6,0\n1e-6,1e-6\n0,1e-6\n"
+_GOOD_ROWS = "".join(f"{f},{p},{20 + p + 0.1 * f},{30 + p}\n" for f in range(40) for p in range(3))
+INFER_FILES = {
+    "outline.csv": _OUTLINE_CSV,
+    "tracks.csv": "frame,particle,x,y\n" + _GOOD_ROWS,
+    "noframe.csv": "particle,x,y\n0,1,2\n1,2,3\n",
+    "single.csv": "frame,particle,x,y\n0,0,10,10\n0,1,20,20\n",
+    "outside.csv": "frame,particle,x,y\n"
+    + "".join(f"{f},{p},{500 + p},{30}\n" for f in range(40) for p in range(3)),
+}
+_INFER = ["infer", "--frame-interval", "5e-9", "--outline", "outline.csv", "--temperature", "300"]
+INFER_CASES = {
+    "no frame column": (
+        [*_INFER, "noframe.csv", "--pixel-size", "1e-8", "--out", "OUT"],
+        "tracks.frame",
+    ),
+    "pixels without a pixel size": ([*_INFER, "tracks.csv", "--out", "OUT"], "--pixel-size"),
+    "a single frame": (
+        [*_INFER, "single.csv", "--pixel-size", "1e-8", "--out", "OUT"],
+        "at least two frames",
+    ),
+    "tracks outside the outline": (
+        [*_INFER, "outside.csv", "--pixel-size", "1e-8", "--out", "OUT"],
+        "outside it",
+    ),
+    "no such tracks file": (
+        [*_INFER, "none.csv", "--pixel-size", "1e-8", "--out", "OUT"],
+        "tracks",
+    ),
+    "a zero temperature": (
+        [
+            "infer",
+            "tracks.csv",
+            "--pixel-size",
+            "1e-8",
+            "--frame-interval",
+            "5e-9",
+            "--outline",
+            "outline.csv",
+            "--temperature",
+            "0",
+            "--out",
+            "OUT",
+        ],
+        "--temperature",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(INFER_CASES))
+def test_infer_refuses_bad_tracks_in_one_line_and_writes_nothing(name, tmp_path):
+    args, expected = INFER_CASES[name]
+    for relative, text in INFER_FILES.items():
+        (tmp_path / relative).write_text(text)
+    before = _snapshot(tmp_path)
+    proc = _run(args, tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: "), lines[0]
+    assert expected in lines[0], lines[0]
+    assert "Traceback" not in proc.stderr
+    assert _snapshot(tmp_path) == before

@@ -47,6 +47,7 @@ _COMMAND_MODULES = [
     "skygas.commands.sc",
     "skygas.commands.micromag",
     "skygas.commands.calibrate",
+    "skygas.commands.infer",
 ]
 
 #: exit status of a failure the user can fix (argparse's own, for the same kind of mistake)
@@ -89,6 +90,8 @@ EXAMPLES = {
     "micromag samples": "skygas micromag samples",
     "reservoir": "skygas reservoir --out out/reservoir --json",
     "calibrate": "skygas calibrate S2 --out out/cal",
+    "infer": "skygas infer tracks.csv --pixel-size 10e-9 --frame-interval 5e-9 --outline "
+    "outline.csv --temperature 300 --out out/infer",
 }
 
 # A number as a flag's value: argparse's own pattern (``^-\d+$|^-\d*\.\d+$``) has no exponent

@@ -1,0 +1,162 @@
+"""The diffusion constant from tracks: MSD with the localisation error as intercept, blocked errors.
+
+A tracked position is the true one plus a static localisation error of variance σ² per
+coordinate, and a skyrmion in a landscape also moves deterministically, at the velocity
+v = M·(−∇U) of the local force (for a skyrmion mostly along the equipotentials: the gyrotropic
+part of the mobility M), so over the first frame lags of a record
+
+    MSD(τ) = 4 σ² + 4 D τ + ⟨v²⟩ τ² + O(τ³)
+
+in two dimensions. D, σ² and ⟨v²⟩ come from a least-squares quadratic through the MSD at lags
+1 … :data:`FIT_LAGS` (:func:`skygas.analysis.mean_squared_displacement` computes the MSD). A line
+alone would take the drift for diffusion: in a gyrotropic gas on a landscape of 1.5 k_BT the
+MSD/4τ at the first lag already exceeds the free D by 12 %. The O(τ³) rest (the drift
+decorrelates as the skyrmion moves) leaves a bias of a few per cent where the drift is strong;
+docs/inference.md gives the measured one. Frames are correlated, so the standard errors come
+from **blocking**: the record is cut
+into :data:`BLOCKS` contiguous blocks of time, D is fitted in each, and the error is the
+standard error of the mean of the block values, s/√blocks (valid when a block is much longer
+than the correlation time of the fitted displacements, a few frame lags).
+
+Each skyrmion's own D uses the ensemble's σ² as intercept (one track is too short to fix both).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from skygas.analysis import mean_squared_displacement
+from skygas.analysis.frames import Frames
+
+#: Frame lags 1 … FIT_LAGS fit D and σ².
+FIT_LAGS = 3
+#: Contiguous blocks of time for the blocking standard errors.
+BLOCKS = 16
+#: A skyrmion needs this many displacements at lag 1 for its own D.
+MIN_TRACK = 20
+
+
+@dataclass(frozen=True)
+class Diffusion:
+    """D [m²/s] ± ``error``; σ [m] the localisation error per coordinate ± ``sigma_error``.
+
+    ``lag_time`` [s] and ``msd`` [m²] the fitted points; ``per_skyrmion`` (ids, D [m²/s]) of the
+    skyrmions tracked long enough; ``blocks`` the number of blocks of the errors.
+    """
+
+    diffusion_constant: float
+    error: float
+    sigma: float
+    sigma_error: float
+    lag_time: np.ndarray
+    msd: np.ndarray
+    per_skyrmion_ids: np.ndarray
+    per_skyrmion: np.ndarray
+    blocks: int
+
+    def as_dict(self) -> dict:
+        """JSON-able, SI units in the keys."""
+        d = self.per_skyrmion
+        return {
+            "diffusion_constant": self.diffusion_constant,
+            "diffusion_constant_error": self.error,
+            "localisation_error_m": self.sigma,
+            "localisation_error_error_m": self.sigma_error,
+            "fit_lag_times_s": self.lag_time.tolist(),
+            "fit_msd_m2": self.msd.tolist(),
+            "error_blocks": self.blocks,
+            "per_skyrmion": {
+                "particle": self.per_skyrmion_ids.tolist(),
+                "diffusion_constant": d.tolist(),
+                "median": float(np.median(d)) if len(d) else None,
+                "quartiles": np.percentile(d, [25, 75]).tolist() if len(d) else None,
+            },
+        }
+
+
+def fit_line(tau: np.ndarray, msd: np.ndarray) -> tuple[float, float]:
+    """(D [m²/s], σ² [m²]) of MSD = 4σ² + 4Dτ + cτ² (least squares; a line with two lags)."""
+    if len(tau) < 3:
+        slope, intercept = np.polyfit(tau, msd, 1)
+    else:
+        _, slope, intercept = np.polyfit(tau, msd, 2)
+    return float(slope / 4.0), float(intercept / 4.0)
+
+
+def time_blocks(n_frames: int, blocks: int) -> list[np.ndarray]:
+    """``blocks`` contiguous, nearly equal runs of frame indices covering 0 … n_frames − 1."""
+    edges = np.linspace(0, n_frames, blocks + 1).round().astype(int)
+    return [np.arange(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True) if b > a]
+
+
+def block_of_frame(n_frames: int, blocks: int) -> np.ndarray:
+    """The block of :func:`time_blocks` each frame 0 … n_frames − 1 falls in."""
+    out = np.zeros(n_frames, int)
+    for k, frames in enumerate(time_blocks(n_frames, blocks)):
+        out[frames] = k
+    return out
+
+
+def blocked(values: np.ndarray) -> float:
+    """Standard error of the mean of per-block values (independent blocks)."""
+    values = np.asarray(values, float)
+    values = values[np.isfinite(values)]
+    if len(values) < 2:
+        return float("nan")
+    return float(np.std(values, ddof=1) / np.sqrt(len(values)))
+
+
+def _fit(frames: Frames, lags: np.ndarray) -> tuple[float, float, np.ndarray, np.ndarray]:
+    msd = mean_squared_displacement(frames, lags, fit_lags=lags)
+    d, s2 = fit_line(msd.lag_time, msd.msd)
+    return d, s2, msd.lag_time, msd.msd
+
+
+def estimate_diffusion(
+    frames: Frames, *, fit_lags: int = FIT_LAGS, blocks: int = BLOCKS
+) -> Diffusion:
+    """D and σ from the short-lag MSD of ``frames``, with blocked standard errors.
+
+    Raises ValueError if the record has fewer frames than ``fit_lags + 1``.
+    """
+    lags = np.arange(1, min(fit_lags, frames.n_frames - 1) + 1)
+    if len(lags) < 2:
+        raise ValueError("at least three frames are needed to fit D and the localisation error")
+    d, s2, tau, msd = _fit(frames, lags)
+    parts = [b for b in time_blocks(frames.n_frames, blocks) if len(b) > 2 * lags[-1]]
+    per_block = (
+        np.array([_fit(frames.select(b), lags)[:2] for b in parts]) if parts else np.empty((0, 2))
+    )
+    d_err = blocked(per_block[:, 0]) if len(per_block) else float("nan")
+    s2_err = blocked(per_block[:, 1]) if len(per_block) else float("nan")
+    sigma = float(np.sqrt(max(s2, 0.0)))
+    sigma_err = float(s2_err / (2 * sigma)) if sigma > 0 else float(np.sqrt(max(s2_err, 0.0)))
+    ids, per = per_skyrmion_diffusion(frames, lags, s2)
+    return Diffusion(d, d_err, sigma, sigma_err, tau, msd, ids, per, len(per_block))
+
+
+def per_skyrmion_diffusion(
+    frames: Frames, lags: np.ndarray, sigma2: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each long-enough skyrmion's D [m²/s], the ensemble's σ² [m²] as the MSD's intercept.
+
+    MSD_i(τ) − 4σ² = 4 D_i τ + c_i τ² by least squares over ``lags`` (through the origin with
+    two lags).
+    """
+    dt = frames.frame_interval()
+    ids, group = np.unique(frames.ids, return_inverse=True)
+    sums = np.zeros((len(ids), len(lags)))
+    counts = np.zeros((len(ids), len(lags)))
+    for k, lag in enumerate(lags):
+        a, b = frames.pairs_at_lag(int(lag))
+        r2 = (frames.x[b] - frames.x[a]) ** 2 + (frames.y[b] - frames.y[a]) ** 2
+        sums[:, k] = np.bincount(group[a], weights=r2, minlength=len(ids))
+        counts[:, k] = np.bincount(group[a], minlength=len(ids))
+    keep = counts[:, 0] >= MIN_TRACK
+    msd = sums[keep] / np.maximum(counts[keep], 1)
+    tau = lags * dt
+    design = np.column_stack([4 * tau, tau**2]) if len(tau) >= 3 else (4 * tau)[:, None]
+    coef = np.linalg.lstsq(design, (msd - 4 * sigma2).T, rcond=None)[0]
+    return ids[keep], coef[0]

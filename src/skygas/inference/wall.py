@@ -1,0 +1,113 @@
+"""The wall potential from the density against the distance to the outline.
+
+Positions are binned by their distance d to the outline's boundary (shapely); each bin's density
+is its share of positions over the area of the band of the film at that distance (the exact
+area between the outline shrunk by d₁ and by d₂), so the geometry does not enter. Then
+
+    W(d) = −k_BT ln(ρ(d) / ρ_bulk),
+
+with ρ_bulk the density over the distances beyond :data:`BULK_FRACTION` of the film's inradius
+(the pinning averages out along the boundary, W → 0 there). Errors are blocked over contiguous
+blocks of time. The wall law for the engine is the force −dW/dd of a smooth fit
+(:mod:`skygas.inference.laws`) over the distances the data sample: bins with at least
+:data:`MIN_COUNT` positions and W known within :data:`MAX_ERROR` k_BT.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from skygas.analysis.frames import Frames
+from skygas.core.units import M_TO_NM
+from skygas.inference.diffusion import blocked, time_blocks
+from skygas.inference.laws import fit_exp_quadratic
+from skygas.physics.geometry import Outline
+
+#: The bulk starts at this fraction of the film's inradius from the boundary.
+BULK_FRACTION = 0.5
+#: A bin counts as sampled with at least this many positions ...
+MIN_COUNT = 50
+#: ... and W known within this standard error [k_BT].
+MAX_ERROR = 0.25
+#: Blocks of time for the errors.
+BLOCKS = 16
+
+
+@dataclass(frozen=True)
+class WallProfile:
+    """W(d) [k_BT] ± ``error`` at bin centres ``d`` [m]; ``sampled`` bins; the fit ``coef``.
+
+    ``coef`` (c₀, c₁, c₂) of ln W = c₀ + c₁ d + c₂ d², d in nm (None if it cannot be fitted);
+    ``bulk_from`` [m] where the bulk starts.
+    """
+
+    d: np.ndarray
+    w: np.ndarray
+    error: np.ndarray
+    counts: np.ndarray
+    sampled: np.ndarray
+    coef: np.ndarray | None
+    bulk_from: float
+
+    @property
+    def sampled_range(self) -> tuple[float, float] | None:
+        """(first, last) sampled distance [m], or None."""
+        if not self.sampled.any():
+            return None
+        d = self.d[self.sampled]
+        return float(d.min()), float(d.max())
+
+
+def wall_distance(outline: Outline, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Distance [m] of each point to the outline's boundary (negative outside)."""
+    d = np.asarray(outline.wall_distance_nm(np.asarray(x) * M_TO_NM, np.asarray(y) * M_TO_NM))
+    inside = outline.contains_nm(np.asarray(x) * M_TO_NM, np.asarray(y) * M_TO_NM)
+    return np.where(inside, d, -d) / M_TO_NM
+
+
+def inradius(outline: Outline) -> float:
+    """The largest distance [m] from the boundary inside the outline (to 1 % of it)."""
+    import shapely
+
+    region = outline.region
+    lo, hi = 0.0, max(region.bounds[2] - region.bounds[0], region.bounds[3] - region.bounds[1])
+    for _ in range(20):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if not shapely.is_empty(region.buffer(-mid)) else (lo, mid)
+    return lo / M_TO_NM
+
+
+def wall_profile(frames: Frames, outline: Outline, bin_width: float) -> WallProfile:
+    """W(d) of the tracks in ``outline``, binned by ``bin_width`` [m], with blocked errors."""
+    reach = inradius(outline)
+    edges = np.arange(0.0, reach + bin_width, bin_width)
+    edges_nm = edges * M_TO_NM
+    region = outline.region
+    shrunk = np.array([region.buffer(-e).area if e > 0 else region.area for e in edges_nm])
+    band_area = -np.diff(shrunk)  # nm²
+    d = wall_distance(outline, frames.x, frames.y)
+    bulk_from = BULK_FRACTION * reach
+    bulk = edges[:-1] >= bulk_from
+
+    def profile(sel):
+        counts = np.histogram(np.clip(d[sel], 0, None), edges)[0].astype(float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho = counts / band_area
+            rho_bulk = counts[bulk].sum() / band_area[bulk].sum()
+            return -np.log(rho / rho_bulk), counts
+
+    w, counts = profile(np.ones(len(d), bool))
+    frame = frames.frame_of_entry
+    per_block = []
+    for b in time_blocks(frames.n_frames, BLOCKS):
+        per_block.append(profile((frame >= b[0]) & (frame <= b[-1]))[0])
+    per_block_arr = np.array(per_block)
+    error = np.array(
+        [blocked(per_block_arr[:, k]) if np.isfinite(w[k]) else np.inf for k in range(len(w))]
+    )
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    sampled = (counts >= MIN_COUNT) & np.isfinite(w) & (error <= MAX_ERROR) & ~bulk
+    coef = fit_exp_quadratic(centres[sampled] * M_TO_NM, w[sampled], error[sampled])
+    return WallProfile(centres, w, error, counts, sampled, coef, bulk_from)
