@@ -1,4 +1,4 @@
-"""Study files on the analytic device (:mod:`skygas.optimize.analytic`): trials cost microseconds."""
+"""Study files on the analytic device (:mod:`skygas.optimize.analytic`): cheap trials."""
 
 from __future__ import annotations
 

@@ -63,8 +63,9 @@ def _print_best(study, best: dict) -> None:
             f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
             for k, v in entry["params"].items()
         )
+        means = entry["objectives"]
         values = ", ".join(
-            f"{o.name} = {format_number(entry['objectives'][o.name]['mean'], entry['objectives'][o.name]['error'])}"
+            f"{o.name} = {format_number(means[o.name]['mean'], means[o.name]['error'])}"
             for o in study.objectives
         )
         again = entry.get("reevaluated")

@@ -1,12 +1,12 @@
 """``skygas report RUN_DIR_OR_STORE [--out report.html]``: one self-contained HTML report.
 
 Of a run or a sweep store (see :mod:`skygas.outputs.report`), or of a study folder of
-``skygas optimize`` (whose tables and figures are redrawn too, :mod:`skygas.optimize.results`). A run's report goes by default
-into its run folder (``RUN/report.html``, refreshed each time: everything in it is made from the
-run's results); a sweep store's beside the store (``out/sweep.zarr`` →
-``out/sweep-report.html``), since nothing is written into a store. An ``--out`` that is one of
-the inputs, a run's result or a file in a store is refused; another existing file is replaced
-only with ``--overwrite`` (:mod:`skygas.outputs.out_paths`).
+``skygas optimize`` (whose tables and figures are redrawn too, :mod:`skygas.optimize.results`).
+A run's report goes by default into its run folder (``RUN/report.html``, refreshed each
+time: everything in it is made from the run's results); a sweep store's beside the store
+(``out/sweep.zarr`` → ``out/sweep-report.html``), since nothing is written into a store. An
+``--out`` that is one of the inputs, a run's result or a file in a store is refused; another
+existing file is replaced only with ``--overwrite`` (:mod:`skygas.outputs.out_paths`).
 """
 
 from __future__ import annotations
@@ -40,10 +40,9 @@ def default_out(source: Path) -> Path:
 
 def _inputs(source: Path) -> list[Path]:
     """The paths the report reads: the source and, for a run, its result file."""
+    from skygas.optimize.execute import is_study_folder
     from skygas.outputs.out_paths import is_store
     from skygas.outputs.report import SUMMARY_FILES
-
-    from skygas.optimize.execute import is_study_folder
 
     summary_only = source.is_dir() and any((source / n).exists() for n in SUMMARY_FILES)
     if is_store(source) or is_study_folder(source):

@@ -162,7 +162,7 @@ def open_optuna(out: Path, study: Study, *, sampler: bool = True):
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     storage = JournalStorage(JournalFileBackend(str(out / JOURNAL)))
-    directions = [o.direction for o in study.objectives]
+    directions: list[Any] = [o.direction for o in study.objectives]
     existing = len(storage.get_all_studies())
     n_trials = 0
     if existing:
@@ -583,7 +583,7 @@ def check_study(study: Study, trials: int, workers: int) -> None:
     ]
     # the dearer of the two extreme corners stands for every run of the study
     runs_per_corner = trials * study.replicas // max(1, len(corners))
-    runs = [Run((0,), 0, 0, c) for c in corners for _ in range(max(1, runs_per_corner))]
+    runs = [Run((0,), 0, 0, c) for c in corners for _ in range(max(1, runs_per_corner))]  # type: ignore[arg-type]
     check_sweep(runs, workers)
 
 

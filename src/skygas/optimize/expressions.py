@@ -89,6 +89,7 @@ def _check(node: ast.AST, field: str, text: str, names: Collection[str]) -> set[
 
 def _evaluate(node: ast.AST, values: Mapping[str, float]) -> float:
     if isinstance(node, ast.Constant):
+        assert isinstance(node.value, (int, float))  # checked at parse
         return float(node.value)
     if isinstance(node, ast.Name):
         return float(values[node.id])

@@ -218,11 +218,12 @@ def _figures(out: Path, record: dict, provenance: dict[str, str]) -> dict[str, s
             return
         axes = np.ravel(drawn)
         figure = axes[0].figure
-        figure.set_size_inches(max(6.0, 3.2 * len(axes)), 4.2)
-        with warnings.catch_warnings():  # a colour bar's axes: laid out as well as it can
-            warnings.simplefilter("ignore")
-            figure.tight_layout()
-        write_figure(out / name, lambda tmp: figure.savefig(tmp, dpi=110), provenance)
+        figure.set_size_inches(max(6.4, 3.6 * len(axes) + 1.0), 4.4)
+        write_figure(
+            out / name,
+            lambda tmp: figure.savefig(tmp, dpi=100, bbox_inches="tight"),
+            provenance,
+        )
         plt.close(figure)
         notes[name] = "written"
 

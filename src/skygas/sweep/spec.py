@@ -270,7 +270,7 @@ def _points(data: list) -> tuple[list[str], list[list[Any]]]:
 def base_config(
     data: dict, head: str, base_dir: Path | None, default: dict, device: str = "reshuffler"
 ) -> dict:
-    """The base configuration of a sweep or study file: ``[HEAD] config = "file.toml"`` or ``[base]``.
+    """The base configuration of a sweep or study file: ``[HEAD] config = FILE`` or ``[base]``.
 
     File names in it are made relative to the file's folder ``base_dir``; a seed is refused
     (each run's seed is derived from the file's root seed).
@@ -301,7 +301,9 @@ def base_config(
     return base
 
 
-def point_config(base: dict, overrides: dict[str, Any], what: str = "sweep point") -> ReshufflerConfig:
+def point_config(
+    base: dict, overrides: dict[str, Any], what: str = "sweep point"
+) -> ReshufflerConfig:
     """The validated configuration of one point: ``base`` with the dotted ``overrides`` set.
 
     With the checks :meth:`~skygas.reshuffler.run.ReshufflerRun.build` makes first (the
