@@ -46,7 +46,7 @@ from pydantic import BaseModel
 
 from skygas.core.errors import InputError, require
 from skygas.core.resources import require_memory
-from skygas.reshuffler.config import ReshufflerConfig, parse_reshuffler_config
+from skygas.reshuffler.config import ReshufflerConfig, check_time_step, parse_reshuffler_config
 from skygas.reshuffler.device import ReshufflerGeometry
 from skygas.runs.config import read_toml, resolve_paths
 
@@ -308,11 +308,13 @@ def point_config(
 
     With the checks :meth:`~skygas.reshuffler.run.ReshufflerRun.build` makes first (the
     geometry against the skyrmion's size), without solving anything; an error names the point
-    (``what (current_density = 1e11, …): field = value: …``).
+    (``what (current_density = 1e11, …): field = value: …``), and the time step against the
+    injection interval.
     """
     label = ", ".join(f"{f} = {v!r}" for f, v in overrides.items())
     config = parse_reshuffler_config(dict(base), f"{what} ({label}): ", overrides)
     try:
+        check_time_step(config)
         thiele = config.thiele_parameters()
         d = config.device
         ReshufflerGeometry(
