@@ -61,6 +61,8 @@ class Device:
     model: Callable[[], type[BaseModel]]
     build: Callable[[dict, dict[str, Any], str], BaseModel]
     default_base: dict
+    #: seeds are taken modulo this (the reservoir derives its streams' seeds as 1000·seed + k)
+    seed_limit: int = 2**63
 
     def field_exists(self, dotted: str) -> bool:
         """Whether ``dotted`` is a field of the device's configuration."""
@@ -141,7 +143,14 @@ DEVICES: dict[str, Device] = {
         "reshuffler", RESHUFFLER_QUANTITIES, _reshuffler_model, _reshuffler, {"preset": "default"}
     ),
     "neuron": Device("neuron", NEURON_QUANTITIES, _neuron_model, _neuron, {}),
-    "reservoir": Device("reservoir", RESERVOIR_QUANTITIES, _reservoir_model, _reservoir, {}),
+    "reservoir": Device(
+        "reservoir",
+        RESERVOIR_QUANTITIES,
+        _reservoir_model,
+        _reservoir,
+        {},
+        seed_limit=(2**63 - 1) // 1000 - 1000,
+    ),
     "analytic": Device("analytic", ANALYTIC_QUANTITIES, _analytic_model, _analytic, {}),
 }
 

@@ -40,7 +40,9 @@ validated as a run's would be.
 
 Seeds: run ``r`` of trial ``k`` has seed ``SeedSequence([seed, k, 0]).spawn(replicas)[r]``
 (re-evaluation runs ``SeedSequence([seed, k, 1])``), its 63-bit state word as in a sweep
-(:func:`skygas.sweep.spec.derive_seeds`): a trial's runs depend only on the study and its number.
+(:func:`skygas.sweep.spec.derive_seeds`; for the reservoir, modulo its
+:attr:`~skygas.optimize.devices.Device.seed_limit`): a trial's runs depend only on the study
+and its number.
 """
 
 from __future__ import annotations
@@ -175,7 +177,8 @@ class Study:
     def run_seeds(self, key: int, replicas: int, stage: int = 0) -> list[int]:
         """The seeds of the runs of trial ``key`` (``stage`` 1: its re-evaluation's)."""
         children = np.random.SeedSequence([self.seed, key, stage]).spawn(replicas)
-        return [int(c.generate_state(1, dtype=np.uint64)[0] >> np.uint64(1)) for c in children]
+        words = [int(c.generate_state(1, dtype=np.uint64)[0] >> np.uint64(1)) for c in children]
+        return [w % self.device.seed_limit for w in words]
 
     def describe(self) -> dict:
         """What defines the trials (the fingerprint's content; re-evaluation is not in it)."""
