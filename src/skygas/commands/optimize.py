@@ -11,7 +11,7 @@ from __future__ import annotations
 import sys
 
 from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_force_option
+from skygas.commands.run_options import add_dask_options, add_force_option
 
 
 def _optimize(args) -> int:
@@ -110,19 +110,7 @@ def register(subparsers) -> None:
     p.add_argument(
         "--seed", type=int, default=None, help="root seed (default: [study] seed, else 0)"
     )
-    p.add_argument(
-        "--scheduler",
-        default=None,
-        help="address of a running Dask scheduler (default: a local cluster)",
-    )
-    p.add_argument(
-        "--workers",
-        type=int,
-        default=None,
-        help="worker processes of the local cluster (default: one per core)",
-    )
-    p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_dask_options(p)
     p.add_argument("--json", action="store_true", help="print the results as one JSON object")
     add_force_option(p)
     p.set_defaults(func=_optimize)
