@@ -164,3 +164,20 @@ def test_trials_run_several_at_once_on_dask(write_study, tmp_path):
     # two trials were asked before either was told: their runs overlapped in time
     spans = [(t.datetime_start, t.datetime_complete) for t in trials]
     assert any(a[0] < b[1] and b[0] < a[1] for i, a in enumerate(spans) for b in spans[i + 1 :])
+
+
+def test_skygas_report_redraws_a_study_folder(write_study, tmp_path, capsys):
+    from skygas import cli
+
+    out = tmp_path / "out"
+    run_study(load_study(write_study()), out, 6, serial=True, progress=False)
+    assert not (out / "report.html").exists()  # run_study only runs; results are written after
+    assert cli.main(["report", str(out)]) == 0
+    assert "study's tables and figures" in capsys.readouterr().out
+    for name in ("trials.csv", "best.json", "report.html", "history.png"):
+        assert (out / name).exists(), name
+    rows = [r for r in (out / "trials.csv").read_text().splitlines() if not r.startswith("#")]
+    assert len(rows) == 1 + 6
+    assert rows[0].startswith("number,state,x,y,f,f_error")
+    assert cli.main(["report", str(out), "--out", str(tmp_path / "copy.html")]) == 0
+    assert (tmp_path / "copy.html").read_text() == (out / "report.html").read_text()
