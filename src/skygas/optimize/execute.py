@@ -305,8 +305,12 @@ class _Dask:
             future.release()
 
     def close(self) -> None:
+        import logging
+
         self.client.close()
         if self.cluster is not None:
+            # a worker slow to exit on a loaded machine is killed, as it should be: not news
+            logging.getLogger("distributed.nanny").setLevel(logging.ERROR)
             self.cluster.close()
 
 
@@ -569,21 +573,19 @@ def check_study(study: Study, trials: int, workers: int) -> None:
     """Refuse a study that cannot fit or finish; announce a long one (reshuffler trials).
 
     Each reshuffler run is priced as a sweep prices its runs
-    (:func:`skygas.sweep.execute.check_sweep`), at the corners of the space.
+    (:func:`skygas.sweep.execute.check_sweep`), half at the space's lowest corner (every
+    parameter at its low end or first choice), half at its highest.
     """
     if study.device.name != "reshuffler":
         return
     from skygas.sweep.execute import check_sweep
     from skygas.sweep.spec import Run
 
-    ends = [p.ends() for p in study.parameters]
-    corners = [
-        study.config(dict(zip([p.field for p in study.parameters], c, strict=True)))
-        for c in zip(*[(e[0], e[-1]) for e in ends], strict=True)
-    ]
-    # the dearer of the two extreme corners stands for every run of the study
-    runs_per_corner = trials * study.replicas // max(1, len(corners))
-    runs = [Run((0,), 0, 0, c) for c in corners for _ in range(max(1, runs_per_corner))]  # type: ignore[arg-type]
+    low = study.config({p.field: p.ends()[0] for p in study.parameters})
+    high = study.config({p.field: p.ends()[-1] for p in study.parameters})
+    # half of the runs priced at the space's lowest corner, half at its highest
+    half = max(1, trials * study.replicas // 2)
+    runs = [Run((0,), 0, 0, c) for c in (low, high) for _ in range(half)]  # type: ignore[arg-type]
     check_sweep(runs, workers)
 
 
