@@ -181,3 +181,16 @@ def test_skygas_report_redraws_a_study_folder(write_study, tmp_path, capsys):
     assert rows[0].startswith("number,state,x,y,f,f_error")
     assert cli.main(["report", str(out), "--out", str(tmp_path / "copy.html")]) == 0
     assert (tmp_path / "copy.html").read_text() == (out / "report.html").read_text()
+
+
+def test_a_half_written_last_journal_line_is_dropped_and_the_study_goes_on(write_study, tmp_path):
+    study = load_study(write_study())
+    out = tmp_path / "out"
+    run_study(study, out, 5, serial=True, progress=False)
+    before = _params(out, study)
+    journal = out / "journal.log"
+    journal.write_bytes(journal.read_bytes() + b'{"op_code": 5, "worker_id": "x", "tri')
+    run_study(study, out, 8, serial=True, progress=False)
+    after = _params(out, study)
+    assert after[:5] == before
+    assert [t[1] for t in after] == ["COMPLETE"] * 8

@@ -154,6 +154,19 @@ def make_sampler(study: Study, n_existing: int):
         return optuna.samplers.RandomSampler(seed=seed)
 
 
+def repair_journal(path: Path) -> None:
+    """Drop a last line that a killed client left half-written (never acknowledged).
+
+    optuna reads such a line as the end of the journal but would append the next line to it.
+    """
+    if not path.exists():
+        return
+    with path.open("rb+") as f:
+        data = f.read()
+        if data and not data.endswith(b"\n"):
+            f.truncate(data.rfind(b"\n") + 1)
+
+
 def open_optuna(out: Path, study: Study, *, sampler: bool = True):
     """The optuna study in ``out``'s journal (created when new)."""
     import optuna
@@ -161,6 +174,7 @@ def open_optuna(out: Path, study: Study, *, sampler: bool = True):
     from optuna.storages.journal import JournalFileBackend
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
+    repair_journal(out / JOURNAL)
     storage = JournalStorage(JournalFileBackend(str(out / JOURNAL)))
     directions: list[Any] = [o.direction for o in study.objectives]
     existing = len(storage.get_all_studies())
