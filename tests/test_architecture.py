@@ -38,7 +38,9 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("devices", frozenset({"reshuffler", "neuron", "reservoir"})),
     (
         "studies and tools",
-        frozenset({"sweep", "micromag", "calibration", "analysis", "outputs", "inference"}),
+        frozenset(
+            {"sweep", "optimize", "micromag", "calibration", "analysis", "outputs", "inference"}
+        ),
     ),
     ("the command line", frozenset({"commands", "cli"})),
     ("the public API", frozenset({""})),

@@ -760,3 +760,69 @@ def test_infer_refuses_bad_tracks_in_one_line_and_writes_nothing(name, tmp_path)
     assert expected in lines[0], lines[0]
     assert "Traceback" not in proc.stderr
     assert _snapshot(tmp_path) == before
+
+
+# -- skygas optimize ----------------------------------------------------------------------------
+STUDY = """[study]
+device = "analytic"
+seed = 1
+{study}
+[space]
+{space}
+[[objectives]]
+expression = "{objective}"
+"""
+GOOD_SPACE = "x = { low = -1.0, high = 1.0 }"
+OPTIMIZE_FILES = {
+    "unknown-field.toml": STUDY.format(
+        study="", space="w = { low = 0.0, high = 1.0 }", objective="f"
+    ),
+    "empty-range.toml": STUDY.format(
+        study="", space="x = { low = 1.0, high = 1.0 }", objective="f"
+    ),
+    "log-through-0.toml": STUDY.format(
+        study="", space="x = { low = -1.0, high = 1.0, log = true }", objective="f"
+    ),
+    "no-such-objective.toml": STUDY.format(study="", space=GOOD_SPACE, objective="rho"),
+    "unsafe-objective.toml": STUDY.format(
+        study="", space=GOOD_SPACE, objective="__import__('os').getcwd()"
+    ),
+    "contradictory.toml": STUDY.format(
+        study='constraints = ["x + y < 0.1", "x+y > 0.5"]', space=GOOD_SPACE, objective="f"
+    ),
+    "unknown-device.toml": STUDY.replace('"analytic"', '"toaster"').format(
+        study="", space=GOOD_SPACE, objective="f"
+    ),
+    "good.toml": STUDY.format(study="", space=GOOD_SPACE, objective="f"),
+    # a study folder made from another study file
+    "other/study.json": json.dumps({"kind": "skygas optimize study", "fingerprint": "0" * 20}),
+    "other/journal.log": "",
+}
+OPTIMIZE_CASES = {
+    "unknown field": ("unknown-field.toml", "space.w"),
+    "empty range": ("empty-range.toml", "the range is empty"),
+    "log range through 0": ("log-through-0.toml", "low > 0 for a log range"),
+    "objective not in the summary": ("no-such-objective.toml", "'rho' is not one of them"),
+    "objective that is not arithmetic": ("unsafe-objective.toml", "an arithmetic expression"),
+    "contradictory constraints": ("contradictory.toml", "contradict each other"),
+    "unknown device": ("unknown-device.toml", "study.device = 'toaster'"),
+    "folder of another study": ("good.toml", "a study folder made from this study file"),
+}
+
+
+@pytest.mark.parametrize("name", list(OPTIMIZE_CASES))
+def test_a_bad_study_is_one_line_and_writes_nothing(name, tmp_path):
+    study, expected = OPTIMIZE_CASES[name]
+    for relative, text in OPTIMIZE_FILES.items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_text(text)
+    out = "other" if name == "folder of another study" else "OUT"
+    before = _snapshot(tmp_path)
+    proc = _run(["optimize", study, "--out", out, "--trials", "2", "--serial"], tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: "), lines[0]
+    assert expected in lines[0], lines[0]
+    assert _snapshot(tmp_path) == before
+    assert proc.stdout == ""

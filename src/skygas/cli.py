@@ -40,6 +40,7 @@ _COMMAND_MODULES = [
     "skygas.commands.neuron",
     "skygas.commands.reservoir",
     "skygas.commands.sweep",
+    "skygas.commands.optimize",
     "skygas.commands.animate",
     "skygas.commands.report",
     "skygas.commands.export",
@@ -63,8 +64,12 @@ _FILE_OUT_COMMANDS = {"animate", "export", "report"}
 #: :mod:`skygas.outputs.out_paths`)
 _READING_COMMANDS = {"animate", "export", "report"}
 
-#: commands whose ``--out`` keeps its own record instead of a manifest (a sweep store resumes)
-_OWN_OUT_RULES = {"sweep"}
+#: commands whose ``--out`` keeps its own record instead of a manifest (a sweep store and a
+#: study folder resume)
+_OWN_OUT_RULES = {"sweep", "optimize"}
+
+#: commands whose lock file lies beside their ``--out`` (a sweep store is renamed into place)
+_LOCK_BESIDE = {"sweep"}
 
 #: one example per command, shown at the end of its ``--help``
 EXAMPLES = {
@@ -78,6 +83,8 @@ EXAMPLES = {
     "--out out/saturation",
     "sweep": "skygas sweep examples/sweeps/quick-current.toml --out out/sweep.zarr --workers 2",
     "plot": "skygas plot out/sweep.zarr --out out/sweep-figures",
+    "optimize": "skygas optimize examples/optimize/reshuffler-rate.toml --out out/opt "
+    "--workers 2 --trials 40",
     "animate": "skygas animate out/reshuffler --out out/reshuffler/movie.mp4 --window 0:2e-6",
     "report": "skygas report out/reshuffler",
     "export": "skygas export out/chamber --format extxyz --out out/chamber.xyz",
@@ -316,7 +323,7 @@ def main(argv: list[str] | None = None) -> int:
             created = _check_output_folder(out, str(args.out))
         # one run per folder: held from the first look at the folder to the last file written
         lock = (
-            folder_lock.hold(out, command_name(args), beside=args.command in _OWN_OUT_RULES)
+            folder_lock.hold(out, command_name(args), beside=args.command in _LOCK_BESIDE)
             if out is not None
             else nullcontext()
         )

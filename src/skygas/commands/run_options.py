@@ -47,6 +47,23 @@ def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True
     )
 
 
+def add_dask_options(parser) -> None:
+    """Add ``--scheduler``, ``--workers``, ``--serial`` and ``--quiet`` (sweeps and studies)."""
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        help="address of a running Dask scheduler (default: a local cluster)",
+    )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="worker processes of the local cluster (default: one per core)",
+    )
+    parser.add_argument("--serial", action="store_true", help="run in this process, without Dask")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
 def add_force_option(parser) -> None:
     """Add ``--force``: start a run expected to take more than 24 hours."""
     parser.add_argument(

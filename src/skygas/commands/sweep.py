@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 
 from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_force_option
+from skygas.commands.run_options import add_dask_options, add_force_option
 
 
 def _sweep(args) -> int:
@@ -84,19 +84,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("sweep", help="run a reshuffler parameter sweep (Dask, resumable)")
     p.add_argument("sweep", help="sweep file (TOML; see docs/sweeps.md)")
     p.add_argument("--out", required=True, help="zarr store (created, or resumed if it exists)")
-    p.add_argument(
-        "--scheduler",
-        default=None,
-        help="address of a running Dask scheduler (default: a local cluster)",
-    )
-    p.add_argument(
-        "--workers",
-        type=int,
-        default=None,
-        help="worker processes of the local cluster (default: one per core)",
-    )
-    p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_dask_options(p)
     add_force_option(p)
     p.add_argument(
         "--set",

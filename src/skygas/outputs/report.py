@@ -133,6 +133,8 @@ class _Page:
 
 #: The page builder, for other reports (the calibration's).
 Page = _Page
+#: ``value ± error unit`` rounded to the error's precision, for other reports.
+format_number = _number
 
 
 def _jsonable(value):

@@ -18,6 +18,7 @@ noise scale n (noise temperature nT). Both default to 1; the ``paper-figures`` p
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any, Literal
 
@@ -34,6 +35,7 @@ from skygas.core.config_types import (
     read_toml,
     to_input_error,
 )
+from skygas.core.errors import require
 from skygas.fields.current import (
     DEFAULT_CELL_SIZE,
     DEFAULT_CONDUCTOR_THICKNESS,
@@ -190,3 +192,21 @@ def load_reshuffler_config(
             data["preset"] = preset
         source = f"{path.name}: "
     return parse_reshuffler_config(data, source, overrides)
+
+
+def check_time_step(config: ReshufflerConfig) -> None:
+    """Refuse a ``time_step`` that does not divide the injection interval a whole number of times.
+
+    Nucleations happen on steps; ``time_step = None`` (the suggested step, shortened to divide
+    the interval) always passes.
+    """
+    interval, time_step = config.injection.interval, config.time_step
+    if time_step is not None:
+        per_interval = interval / time_step
+        require(
+            abs(per_interval - round(per_interval)) < 1e-6 * per_interval,
+            "time_step",
+            time_step,
+            f"a step that divides the injection interval ({interval:g} s) a "
+            f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s",
+        )

@@ -21,12 +21,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from skygas.core.errors import require
 from skygas.core.estimates import check
 from skygas.core.resources import require_memory
 from skygas.engine import FrameBlock, Simulation
 from skygas.fields.current import solve_current
-from skygas.reshuffler.config import ReshufflerConfig
+from skygas.reshuffler.config import ReshufflerConfig, check_time_step
 from skygas.reshuffler.device import ReshufflerGeometry, drift_field_on_grid
 from skygas.reshuffler.injection import Injector
 from skygas.runs.device_run import DeviceRun
@@ -214,15 +213,7 @@ class ReshufflerRun(DeviceRun):
         )
         material = config.resolved_material()
         time_step = config.time_step
-        if time_step is not None:
-            per_interval = interval / time_step
-            require(
-                abs(per_interval - round(per_interval)) < 1e-6 * per_interval,
-                "time_step",
-                time_step,
-                f"a step that divides the injection interval ({interval:g} s) a "
-                f"whole number of times, e.g. {interval / math.ceil(per_interval):.6g} s",
-            )
+        check_time_step(config)
         # time_step None: the suggested step, shortened to divide the injection interval
         sim = Simulation(
             geometry.device_outline(),

@@ -46,7 +46,7 @@ from pydantic import BaseModel
 
 from skygas.core.errors import InputError, require
 from skygas.core.resources import require_memory
-from skygas.reshuffler.config import ReshufflerConfig, parse_reshuffler_config
+from skygas.reshuffler.config import ReshufflerConfig, check_time_step, parse_reshuffler_config
 from skygas.reshuffler.device import ReshufflerGeometry
 from skygas.runs.config import read_toml, resolve_paths
 
@@ -124,7 +124,12 @@ def dim_name(field: str) -> str:
     return field.replace(".", "_")
 
 
-def _field_exists(model: type[BaseModel], dotted: str) -> bool:
+def field_exists(model: type[BaseModel], dotted: str) -> bool:
+    """Whether the dotted field ``dotted`` (``"device.chamber_diameter"``) exists in ``model``.
+
+    ``potentials.<index>.<field>`` names a field of any potential kind; a table-valued field
+    such as ``material`` is a leaf (set as a whole, never descended into).
+    """
     head, _, rest = dotted.partition(".")
     info = model.model_fields.get(head)
     if info is None:
@@ -139,7 +144,10 @@ def _field_exists(model: type[BaseModel], dotted: str) -> bool:
         index, _, name = rest.partition(".")
         return index.isdigit() and any(name in kind.model_fields for kind in KINDS.values())
     sub = info.annotation
-    return isinstance(sub, type) and issubclass(sub, BaseModel) and _field_exists(sub, rest)
+    return isinstance(sub, type) and issubclass(sub, BaseModel) and field_exists(sub, rest)
+
+
+_field_exists = field_exists
 
 
 def _expand_range(key: str, spec: dict) -> list[float]:
@@ -187,7 +195,7 @@ def _check_field(key: str, where: str) -> None:
         "a configuration field other than seed (seeds are derived from [sweep] seed)",
     )
     require(
-        _field_exists(ReshufflerConfig, key),
+        field_exists(ReshufflerConfig, key),
         f"{where}.{key}",
         key,
         "a field of the reshuffler configuration (e.g. current_density, signal.p, "
@@ -259,6 +267,64 @@ def _points(data: list) -> tuple[list[str], list[list[Any]]]:
     return fields, values
 
 
+def base_config(
+    data: dict, head: str, base_dir: Path | None, default: dict, device: str = "reshuffler"
+) -> dict:
+    """The base configuration of a sweep or study file: ``[HEAD] config = FILE`` or ``[base]``.
+
+    File names in it are made relative to the file's folder ``base_dir``; a seed is refused
+    (each run's seed is derived from the file's root seed).
+    """
+    table = data.get(head, {})
+    if "config" in table:
+        require(
+            "base" not in data,
+            f"{head}.config",
+            table["config"],
+            f"either [{head}] config or a [base] table, not both",
+        )
+        path = Path(table["config"])
+        if not path.is_absolute() and base_dir is not None:
+            path = base_dir / path
+        base = resolve_paths(read_toml(path, f"{head}.config"), path.parent)
+    else:
+        base = data.get("base", default)
+        require(isinstance(base, dict), "base", base, f"a {device} configuration table")
+        if base_dir is not None:  # file names in [base] are relative to the sweep file
+            base = resolve_paths(base, base_dir)
+    require(
+        "seed" not in base,
+        "base.seed",
+        base.get("seed"),
+        f"no seed in [base]: runs get seeds derived from [{head}] seed",
+    )
+    return base
+
+
+def point_config(
+    base: dict, overrides: dict[str, Any], what: str = "sweep point"
+) -> ReshufflerConfig:
+    """The validated configuration of one point: ``base`` with the dotted ``overrides`` set.
+
+    With the checks :meth:`~skygas.reshuffler.run.ReshufflerRun.build` makes first (the
+    geometry against the skyrmion's size), without solving anything; an error names the point
+    (``what (current_density = 1e11, …): field = value: …``), and the time step against the
+    injection interval.
+    """
+    label = ", ".join(f"{f} = {v!r}" for f, v in overrides.items())
+    config = parse_reshuffler_config(dict(base), f"{what} ({label}): ", overrides)
+    try:
+        check_time_step(config)
+        thiele = config.thiele_parameters()
+        d = config.device
+        ReshufflerGeometry(
+            d.chamber_diameter, d.conduit_width, d.conduit_length, d.chamber_gap
+        ).validate(thiele.skyrmion_diameter)
+    except InputError as err:
+        raise InputError(f"{what} ({label}): {err.field}", err.value, err.allowed) from None
+    return config
+
+
 def derive_seeds(root_seed: int, n_points: int, replicas: int) -> np.ndarray:
     """``seeds[i, r]``: the 63-bit seed of replica ``r`` of point ``i`` (C order)."""
     seeds = np.empty((n_points, replicas), dtype=np.int64)
@@ -302,28 +368,7 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         "a whole number >= 0",
     )
 
-    if "config" in head:
-        require(
-            "base" not in data,
-            "sweep.config",
-            head["config"],
-            "either [sweep] config or a [base] table, not both",
-        )
-        path = Path(head["config"])
-        if not path.is_absolute() and base_dir is not None:
-            path = base_dir / path
-        base = resolve_paths(read_toml(path, "sweep.config"), path.parent)
-    else:
-        base = data.get("base", {"preset": "default"})
-        require(isinstance(base, dict), "base", base, "a reshuffler configuration table")
-        if base_dir is not None:  # file names in [base] are relative to the sweep file
-            base = resolve_paths(base, base_dir)
-    require(
-        "seed" not in base,
-        "base.seed",
-        base.get("seed"),
-        "no seed in [base]: runs get seeds derived from [sweep] seed",
-    )
+    base = base_config(data, "sweep", base_dir, {"preset": "default"})
 
     has_grid, has_points = "grid" in data, "points" in data
     require(
@@ -353,19 +398,7 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
     seeds = derive_seeds(root_seed, len(indexed), replicas)
     runs = []
     for flat, (index, point_values) in enumerate(indexed):
-        overrides = dict(zip(fields, point_values, strict=True))
-        label = ", ".join(f"{f} = {v!r}" for f, v in overrides.items())
-        config = parse_reshuffler_config(dict(base), f"sweep point ({label}): ", overrides)
-        try:  # the checks ReshufflerRun.build makes first, without solving anything
-            thiele = config.thiele_parameters()
-            d = config.device
-            ReshufflerGeometry(
-                d.chamber_diameter, d.conduit_width, d.conduit_length, d.chamber_gap
-            ).validate(thiele.skyrmion_diameter)
-        except InputError as err:
-            raise InputError(
-                f"sweep point ({label}): {err.field}", err.value, err.allowed
-            ) from None
+        config = point_config(base, dict(zip(fields, point_values, strict=True)))
         for r in range(replicas):
             runs.append(
                 Run(

@@ -1,0 +1,116 @@
+"""``skygas optimize STUDY.toml --out DIR``: search a device's design with optuna, on Dask.
+
+``skygas optimize STUDY.toml --out DIR [--workers N | --scheduler ADDRESS | --serial]
+[--trials K] [--seed S]`` runs the study until K trials have finished (resuming a study folder
+that holds fewer), re-evaluates its best candidates and writes trials.csv, best.json, the Pareto
+front, the figures and report.html into DIR (``docs/optimize.md``).
+"""
+
+from __future__ import annotations
+
+import sys
+
+from skygas.commands.json_output import print_json
+from skygas.commands.run_options import add_dask_options, add_force_option
+
+
+def _optimize(args) -> int:
+    import time
+
+    from skygas.commands.run_options import limits_from_flags
+    from skygas.optimize.execute import run_study
+    from skygas.optimize.results import write_results
+    from skygas.optimize.spec import load_study
+    from skygas.runs import manifest
+
+    started = time.time()
+    study = load_study(args.study, seed=args.seed)  # everything is checked before any run
+    with limits_from_flags(args):
+        report = run_study(
+            study,
+            args.out,
+            args.trials,
+            scheduler=args.scheduler,
+            workers=args.workers,
+            serial=args.serial,
+            progress=not args.quiet,
+        )
+    result = write_results(args.out)
+    manifest.write(
+        args.out, "optimize", study.fingerprint(), started_at=started, finished_at=time.time()
+    )
+    best = result["best"]
+    if args.json:
+        print_json({**result, "finished_now": report.finished_now, "already": report.already})
+    else:
+        print(
+            f"{report.finished_now} trials finished now, {report.already} already done"
+            + (f" ({report.recovered} interrupted trials asked again)" if report.recovered else "")
+            + (f", {report.reevaluated} re-evaluation runs" if report.reevaluated else "")
+            + f" in {report.wall_time_s:.1f} s; results in {report.out.resolve()}"
+        )
+        _print_best(study, best)
+    for number, error in report.failed:
+        print(f"skygas: trial {number} failed: {error}", file=sys.stderr)
+    return 0
+
+
+def _print_best(study, best: dict) -> None:
+    from skygas.outputs.report import format_number
+
+    def line(entry: dict) -> str:
+        params = ", ".join(
+            f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
+            for k, v in entry["params"].items()
+        )
+        means = entry["objectives"]
+        values = ", ".join(
+            f"{o.name} = {format_number(means[o.name]['mean'], means[o.name]['error'])}"
+            for o in study.objectives
+        )
+        again = entry.get("reevaluated")
+        if again:
+            values += (
+                " (re-evaluated: "
+                + ", ".join(
+                    f"{o.name} = {format_number(again[o.name]['mean'], again[o.name]['error'])}"
+                    for o in study.objectives
+                )
+                + ")"
+            )
+        return f"trial {entry['trial']}: {params}: {values}"
+
+    if "pareto_set" in best:
+        print(f"Pareto set: {len(best['pareto_set'])} trials")
+        for entry in best["pareto_set"]:
+            print("  " + line(entry))
+    elif best.get("best") is None:
+        print("no complete trial meets the constraints yet")
+    else:
+        print("best " + line(best["best"]))
+        if best.get("best_after_reevaluation"):
+            print("best after re-evaluation: " + line(best["best_after_reevaluation"]))
+
+
+def register(subparsers) -> None:
+    """Add ``skygas optimize`` to ``subparsers``."""
+    p = subparsers.add_parser(
+        "optimize", help="search a device's design with optuna (Dask, resumable)"
+    )
+    p.add_argument("study", help="study file (TOML; see docs/optimize.md)")
+    p.add_argument(
+        "--out", required=True, help="study folder (created, or resumed if it holds this study)"
+    )
+    p.add_argument(
+        "--trials",
+        type=int,
+        default=40,
+        help="finished trials in all (a resumed study runs only the missing ones)",
+    )
+    p.add_argument(
+        "--seed", type=int, default=None, help="root seed (default: [study] seed, else 0)"
+    )
+    add_dask_options(p)
+    p.add_argument("--json", action="store_true", help="print the results as one JSON object")
+    add_force_option(p)
+    p.set_defaults(func=_optimize)
