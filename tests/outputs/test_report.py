@@ -88,7 +88,7 @@ def test_report_is_self_contained_and_every_resource_decodes(reshuffler_report):
             json.loads(data)
     # the run's three figures, the MSD, g(r) and occupancy figures, the movie, the data
     assert kinds["image/png"] >= 6 and kinds["video/mp4"] == 1
-    assert kinds["application/json"] == 2
+    assert kinds["application/json"] == 3
     summary = json.loads(parser.json_blocks["summary"])
     observables = json.loads(parser.json_blocks["observables"].replace("<\\/", "</"))
     assert summary["seed"] == 0
@@ -99,7 +99,9 @@ def test_report_is_self_contained_and_every_resource_decodes(reshuffler_report):
     assert "hall_angle_rad" not in observables["velocity"]
     # provenance: version, seed and the full configuration
     assert f"skygas {__version__}" in text
-    assert '"current_density": 170000000000.0' in html.unescape(text)
+    configuration = json.loads(parser.json_blocks["configuration"])
+    assert configuration["current_density"] == 1.7e11 and configuration["seed"] == 0
+    assert "<td>current density</td><td class=n>1.7×10¹¹ A/m²</td>" in text
     assert "±" in text  # numbers come with their uncertainties
 
 
@@ -150,4 +152,7 @@ def test_report_of_a_sweep_store_holds_the_fits(tmp_path):
     assert sum(url.startswith("data:image/png") for _, url in parser.urls) == 2
     fits = json.loads(parser.json_blocks["fits"].replace("<\\/", "</"))
     assert fits["current"]["beta"]["exponent"] == pytest.approx(1.5, abs=1e-6)
-    assert "beta (ρ/(1−ρ) power law)" in html.unescape(text)
+    # the headline: the free exponent and the paper's fit, with their errors
+    assert "exponent of ρ/(1−ρ) ∝ Jᵝ</th><td class=n>1.500 ± 0.058 over 5 points" in text
+    assert "c_A = 1.000 ± 0.041, c_B = 1.000 ± 0.053" in text
+    assert fits["figures"] == ["reshuffler.png", "reshuffler_details.png"]  # no temporary path
