@@ -54,6 +54,9 @@ def reshuffler(s: dict) -> Results:
     detected = s.get("n_detected", 0)
     too_few = f"{detected} skyrmion(s) read out: too few to pair with the input"
     r.add("correlation", s.get("correlation"), s.get("correlation_error"), reason=too_few)
+    if not missing(s.get("correlation")) and missing(s.get("correlation_error")):
+        label_, value = r.rows[-1]
+        r.rows[-1] = (label_, f"{value} (too few read-outs for its error)")
     p_in = format_quantity("p_in", s.get("p_in"), digits=3)
     p_out = format_quantity("p_out", s.get("p_out"), digits=3)
     interval = s.get("p_out_interval")
@@ -116,7 +119,7 @@ def neuron(s: dict) -> Results:
     curve = s.get("transfer_curve")
     r2 = lif.get("transfer_r_squared")
     if curve is None:
-        r.rows.append(("transfer curve", none("not run (--no-transfer)")))
+        r.rows.append(("transfer curve", none("not run: --no-transfer")))
     else:
         text = format_value(r2, digits=3)
         points = len(curve.get("input_rate_Hz", []))
@@ -213,7 +216,15 @@ def saturation(s: dict) -> Results:
         if count is not None and (missing(e) or e == 0) and repetitions:
             count += f" (the same in all {repetitions} repetitions)"
         diameter = format_value(d, unit="m")
-        r.rows.append((f"N_sat in a {diameter} chamber", count or none("no trial finished")))
+        packing = format_value(cp, digits=3)
+        r.rows.append(
+            (
+                f"N_sat in a {diameter} chamber",
+                none("no trial finished")
+                if count is None
+                else count + (f"; close packing {packing}" if packing else ""),
+            )
+        )
         rows.append([diameter or "?", count or "none", format_value(cp, digits=3) or "none"])
     r.keys |= {"diameters_m", "max_count", "max_count_error", "close_packing_estimate"}
     r.keys |= {"trial_counts", "survivors_mean"}

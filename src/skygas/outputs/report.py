@@ -24,6 +24,7 @@ import html
 import io
 import json
 import math
+import re
 import shlex
 import time
 from pathlib import Path
@@ -340,14 +341,17 @@ def _made_by(page: _Page, directory: Path, version: str | None, seed: Any) -> di
         argv = "skygas " + shlex.join(argv)
     started = _when(found.get("started_at")) if found else None
     finished = _when(found.get("finished_at")) if found else None
-    parts = []
-    parts.append(f"Made by {argv}" if argv else "Made from Python (no command line recorded)")
+    made = (
+        f"Made by <code class=command>{html.escape(argv)}</code>"
+        if argv
+        else "Made from Python (no command line recorded)"
+    )
     if started:
-        parts.append(f"on {started}" + (f" (finished {finished[11:]})" if finished else ""))
-    parts.append(f"with skygas {version or '(version not recorded)'}")
+        made += f" on {started}" + (f" (finished {finished[11:]})" if finished else "")
+    made += f", with skygas {html.escape(str(version or '(version not recorded)'))}"
     if seed is not None:
-        parts.append(f"seed {seed}")
-    page.paragraph(" ".join(parts[:2]) + ", " + ", ".join(parts[2:]) + ".", cls="made")
+        made += f", seed {html.escape(str(seed))}"
+    page.raw(f"<p class=made>{made}.</p>")
     return found
 
 
@@ -435,6 +439,10 @@ def _numbers(page: _Page, summary: dict, skip: set[str]) -> None:
                 page.text_table(rows)
 
 
+#: a configuration key written as a value (``"hold_time"``, ``"drive.current_density"``)
+_KEY = re.compile(r"[a-z][a-z0-9]*(?:[_.][a-z0-9]+)*_[a-z0-9]+")
+
+
 def config_rows(config: dict) -> list[tuple[str, list[tuple[str, str, str]]]]:
     """The configuration as sections of (setting, value, key path) rows.
 
@@ -460,6 +468,8 @@ def config_rows(config: dict) -> list[tuple[str, list[tuple[str, str, str]]]]:
             text = "none"
         elif value is None:
             text = "automatic"
+        elif isinstance(value, str) and _KEY.fullmatch(value):
+            text = label(value)  # a value that names a setting (a sweep's parameter)
         else:
             q = quantity(path.rsplit(".", 1)[-1].split("[")[0])
             text = format_value(value, unit=q.unit, kind=q.kind) or "none"
@@ -498,8 +508,16 @@ def _configuration(page: _Page, config: dict | None, title: str = "Configuration
 
 
 def _provenance(page: _Page, rows: list[tuple[str, Any]]) -> None:
+    """Version, seed, hashes and files; a hash or file name as code (verbatim, not a number)."""
     page.heading("Provenance")
-    page.text_table([(k, v) for k, v in rows if v is not None])
+    verbatim = ("configuration hash", "result file", "stores")
+    page.table(
+        [
+            (k, f"<code>{_cell(v)}</code>" if k in verbatim else _cell(v))
+            for k, v in rows
+            if v is not None
+        ]
+    )
 
 
 # -- runs that keep no positions -----------------------------------------------------------------

@@ -355,8 +355,7 @@ def open_sweeps(paths) -> xr.Dataset:
     merged["done"] = merged["done"].fillna(0)
     merged.attrs["fields_json"] = parts[0].attrs.get("fields_json", "{}")
     merged.attrs["sweep_file"] = "\n".join(
-        f"# {path}\n{ds.attrs.get('sweep_file', '')}"
-        for path, ds in zip(paths, parts, strict=True)
+        f"# {path}\n{ds.attrs.get('sweep_file', '')}" for path, ds in zip(paths, parts, strict=True)
     )
     merged.attrs["root_seed"] = [ds.attrs.get("root_seed", ds.attrs.get("seed")) for ds in parts]
     merged.attrs["stores"] = [str(p) for p in paths]
