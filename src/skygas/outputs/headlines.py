@@ -394,3 +394,78 @@ def sc_demo(s: dict, reshuffler: dict | None = None) -> Results:
     r.notes += [f"Energy per bit of {', '.join(names)}: {src}." for src, names in sources.items()]
     r.keys |= {"parameters", "comparison", "error_vs_length", "squaring", "figures"}
     return r
+
+
+# -- a micromagnetic fit -----------------------------------------------------------------------
+def _law(fit: dict) -> str:
+    """A fitted law's coefficients with their names (when recorded) and errors, and F₀."""
+    names = fit.get("coefficient_names") or [
+        f"coefficient {k + 1}" for k in range(len(fit["coefficients"]))
+    ]
+    values = ", ".join(
+        f"{name} = {format_value(c, u, digits=4) or 'none'}"
+        for name, c, u in zip(names, fit["coefficients"], fit["uncertainties"], strict=True)
+    )
+    lo, hi = fit["distance_range"]
+    return (
+        f"{values}; F₀ = {format_value(fit['force_scale_N'], unit='N')}; {fit['n_points']} "
+        f"samples over d = {lo:.2f}–{hi:.2f} skyrmion diameters"
+    )
+
+
+def micromag_fit(s: dict) -> Results:
+    """The fitted pair and wall laws, or why a law is not fixed; the measured skyrmion.
+
+    Each law with its functional form and named coefficients ± errors (when recorded).
+    """
+    r = Results()
+    unfixed = s.get("unfixed_laws") or {}
+    for law in ("pair", "wall"):
+        fit = s.get(f"{law}_law")
+        if fit:
+            form = fit.get("formula")
+            name = f"{law} law" + (f" {form}" if form else " (coefficients, highest power first)")
+            r.rows.append((name, _law(fit)))
+        elif law in unfixed:
+            r.rows.append((f"{law} law", none(unfixed[law]["reason"])))
+    for law, table in (s.get("tables") or {}).items():
+        lo, hi = table["distance_range"]
+        r.rows.append(
+            (
+                f"{law} law tabulated",
+                f"{table['n_samples']} samples in {len(table['rows'])} bins over d = "
+                f"{lo:.2f}–{hi:.2f} skyrmion diameters",
+            )
+        )
+        r.tables.append(
+            (
+                f"The {law} law tabulated over the measured distances",
+                (
+                    ["distance (skyrmion diameters)", "|F| (median)", "|F|/F₀", "samples"],
+                    [
+                        [
+                            format_value(row["distance_diameters"], digits=3) or "none",
+                            format_value(row["force_N"], unit="N", digits=3) or "none",
+                            format_value(row["force_over_F0"], digits=3) or "none",
+                            str(row["n_samples"]),
+                        ]
+                        for row in table["rows"]
+                    ],
+                ),
+            )
+        )
+    thiele = s.get("thiele") or {}
+    for key, name in (
+        ("skyrmion_diameter_m", "skyrmion diameter d_sk"),
+        ("measured_charge", "topological charge Q (measured)"),
+        ("measured_dissipation", "dissipation 𝒟 (measured)"),
+    ):
+        text = format_quantity(key, thiele.get(key), digits=4)
+        if text is not None:
+            r.rows.append((name, text))
+    if s.get("no_material_toml"):
+        r.notes.append(f"No material.toml: {s['no_material_toml']}")
+    r.notes += [f"Warning: {w}" for w in s.get("warnings") or []]
+    r.keys |= {"pair_law", "wall_law", "unfixed_laws", "tables", "thiele", "tracks", "files"}
+    r.keys |= {"material_toml", "no_material_toml", "warnings", "parameters"}
+    return r

@@ -40,7 +40,13 @@ from skygas.outputs import headlines as H
 MOVIE_NAMES = ("movie.mp4", "movie.gif")
 #: the main result file of a command that keeps no positions, then the names older skygas
 #: versions gave it (still read)
-SUMMARY_FILES = ("summary.json", "reservoir.json", "saturation.json", "sc_demo.json")
+SUMMARY_FILES = (
+    "summary.json",
+    "reservoir.json",
+    "saturation.json",
+    "sc_demo.json",
+    "fit.json",
+)
 _STYLE = """
 body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;
 color:#222;line-height:1.4}
@@ -84,6 +90,8 @@ FIGURE_CAPTIONS: dict[str, str] = {
     "limit.",
     "sc_decorrelators.png": "The decorrelators compared: SCC, error of p², latency and energy "
     "per bit, on Bernoulli and telegraph inputs.",
+    "fit.png": "The force samples of each law against distance, the law tabulated (medians with "
+    "quartile bars) and the fitted curve.",
     "sc_reshuffler.png": "The skyrmion reshuffler as a decorrelator: AND-gate squaring, and "
     "beside two CMOS decorrelators.",
     "reshuffler.png": "ρ against the current density J, with the paper's fit and the free "
@@ -107,12 +115,14 @@ _KIND_BY_KEY = (
     ("diameters_m", "saturation"),
     ("boolean", "reservoir"),
     ("comparison", "sc demo"),
+    ("unfixed_laws", "micromag fit"),
     ("lif_fit", "neuron"),
     ("correlation", "reshuffle"),
     ("skyrmions_initial", "simulate"),
 )
 _KIND_BY_FILE = {"reservoir.json": "reservoir", "saturation.json": "saturation"}
 _KIND_BY_FILE["sc_demo.json"] = "sc demo"
+_KIND_BY_FILE["fit.json"] = "micromag fit"
 _TITLES = {
     "reshuffle": "Skyrmion Reshuffler",
     "neuron": "Skyrmion Neuron",
@@ -121,6 +131,7 @@ _TITLES = {
     "sc demo": "Stochastic computing demonstration",
     "simulate": "Skyrmion gas simulation",
     "demo": "Skyrmion gas simulation",
+    "micromag fit": "Force laws fitted to micromagnetic snapshots",
 }
 
 
@@ -553,6 +564,7 @@ def directory_report(directory: Path) -> str:
     version, seed = provenance.get("skygas_version"), provenance.get("seed")
     if kind == "saturation":
         seed = summary.get("seed", seed)
+    seed_text = "none (a fit draws no random numbers)" if kind == "micromag fit" else None
     page = _Page(f"{_TITLES.get(kind, 'skygas ' + kind)} — {directory.name}")
     found = _made_by(page, directory, version, seed)
     sweep = _extra_json(directory, "sweep.json") if kind == "reservoir" else None
@@ -573,6 +585,9 @@ def directory_report(directory: Path) -> str:
     elif kind == "neuron":
         results = H.neuron(summary)
         config = summary.get("config")
+    elif kind == "micromag fit":
+        results = H.micromag_fit(summary)
+        config = summary.get("parameters")
     else:
         results = H.Results()
         config = summary.get("config")
@@ -587,7 +602,7 @@ def directory_report(directory: Path) -> str:
         page,
         [
             ("skygas version of the run", version or "not recorded"),
-            ("seed", seed if seed is not None else "not recorded"),
+            ("seed", seed if seed is not None else seed_text or "not recorded"),
             ("configuration hash", (found or {}).get("config_hash")),
             ("result file", path.name),
         ],
