@@ -121,17 +121,15 @@ def neuron(s: dict) -> Results:
     if curve is None:
         r.rows.append(("transfer curve", none("not run: --no-transfer")))
     else:
-        text = format_value(r2, digits=3)
+        fit_text = format_value(r2, digits=3)
         points = len(curve.get("input_rate_Hz", []))
-        r.rows.append(
-            (
-                label("transfer_r_squared"),
-                none("undefined: the device fired at the same rate at every input rate")
-                if text is None
-                else f"{text} over {points} input rates"
-                + (" (the LIF predicts it worse than its mean)" if r2 < 0 else ""),
-            )
-        )
+        if fit_text is None:
+            fit_text = none("undefined: the device fired at the same rate at every input rate")
+        else:
+            fit_text += f" over {points} input rates"
+            if r2 is not None and r2 < 0:
+                fit_text += " (the LIF predicts it worse than its mean)"
+        r.rows.append((label("transfer_r_squared"), fit_text))
     matched = format_quantity("spike_match_fraction", lif.get("spike_match_fraction"), digits=3)
     r.rows.append((label("spike_match_fraction"), matched or none("the device did not spike")))
     for key in ("n_injected", "n_annihilated", "n_emitted", "max_count"):

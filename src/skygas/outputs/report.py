@@ -412,7 +412,7 @@ _NESTED = {"lif_fit": "LIF fit", "isi": "Inter-spike intervals", "operations": "
 
 
 def number_rows(
-    summary: dict, skip: set[str] = frozenset(), prefix: str = ""
+    summary: dict, skip: set[str] | frozenset[str] = frozenset(), prefix: str = ""
 ) -> list[tuple[str, str]]:
     """Every scalar of ``summary`` not in ``skip``, labelled, with its error, each label once.
 
