@@ -241,6 +241,7 @@ def _check_reads_as_a_summary(text: str) -> None:
 @pytest.fixture(scope="module")
 def command_reports(tmp_path_factory, reshuffler_report):
     """The report of every command that writes a folder, each from its shortest run."""
+    import skygas
     from skygas.cli import main
 
     root = tmp_path_factory.mktemp("commands")
@@ -252,10 +253,11 @@ def command_reports(tmp_path_factory, reshuffler_report):
         "saturation": ["saturation", "--diameters", "150e-9", "--repetitions", "2", "--quiet"],
         "reservoir": ["reservoir", root / "reservoir.toml", "--quiet"],
         "sc demo": ["sc", "demo", "--n-bits", "256"],
+        "micromag fit": ["micromag", "fit", Path(skygas.__file__).parent / "data" / "ovf" / "pair"],
     }
     reports = {"reshuffle": reshuffler_report}
     for name, argv in runs.items():
-        out = root / name.replace(" ", "")
+        out = root / name.replace(" ", "-")
         assert main([*map(str, argv), "--out", str(out)]) == 0, name
         assert (out / "summary.json").is_file(), name  # the main result of every command
         reports[name] = out / "report.html"
@@ -303,7 +305,16 @@ def _sweep_store(path: Path) -> Path:
     return path
 
 
-COMMANDS = ("reshuffle", "neuron", "saturation", "reservoir", "simulate", "sc demo", "sweep")
+COMMANDS = (
+    "reshuffle",
+    "neuron",
+    "saturation",
+    "reservoir",
+    "simulate",
+    "sc demo",
+    "micromag fit",
+    "sweep",
+)
 
 
 @pytest.mark.parametrize("command", COMMANDS)
@@ -336,6 +347,7 @@ def test_headlines_state_the_papers_quantities(command_reports):
     assert "XOR test accuracy" in headline("reservoir") and " ± " in headline("reservoir")
     assert "short-time D₀" in headline("simulate")
     assert "SCC of x and its copy" in headline("sc demo")
+    assert "pair law" in headline("micromag fit") and "F₀ = " in headline("micromag fit")
     assert "exponent of ρ/(1−ρ) ∝ Jᵝ" in headline("sweep")
     # the sweep file, as the store keeps it
     sweep = command_reports["sweep"].read_text()

@@ -5,11 +5,11 @@ import pytest
 
 from skygas.core.errors import InputError
 from skygas.reshuffler.correlation import (
-    pearson_error_by_index,
     occupancy,
     output_signal_from_events,
     p_out_vs_p_in,
     pearson_by_index,
+    pearson_error_by_index,
     pearson_vs_lag,
     running_correlation,
     scc_by_index,

@@ -223,10 +223,10 @@ class _Page:
         body = "".join(
             f"<tr><th>{_cell(k)}</th><td class=n>{_cell(v)}</td></tr>" for k, v in results.rows
         )
+        table = f"<table>{body}</table>" if body else ""
         notes = "".join(f"<p>{_cell(n)}</p>" for n in results.notes)
         self.parts.append(
-            f"<section class=headline id=headline><h2>Results</h2><table>{body}</table>"
-            f"{notes}</section>"
+            f"<section class=headline id=headline><h2>Results</h2>{table}{notes}</section>"
         )
 
     def image(self, png: bytes, caption: str) -> None:
@@ -319,11 +319,15 @@ def write_report(source: str | Path, out: str | Path, *, analysis: dict | None =
         return _write(sweep_report(source), out)
     from skygas.outputs.records import RESULT_FILES, load_run
 
-    if (
-        source.is_dir()
-        and not any((source / n).exists() for n in RESULT_FILES)
-        and summary_file(source) is not None
-    ):
+    found = summary_file(source) if source.is_dir() else None
+    if found is not None and not any((source / n).exists() for n in RESULT_FILES):
+        if _kind(source, found.name, {}) == "calibrate":
+            raise InputError(
+                "SOURCE",
+                str(source),
+                "a run folder or a sweep store (a calibration folder holds its own report.html, "
+                "written by skygas calibrate)",
+            )
         return _write(directory_report(source), out)  # a run that kept no positions
     return _write(run_report(load_run(source), analysis=analysis), out)
 
