@@ -694,3 +694,23 @@ def test_the_estimator_against_a_counted_case(monkeypatch, capsys):
     assert capsys.readouterr().err.startswith("skygas: estimate: 1e+11 steps, about 2.3 days")
     with run_limits(force=True, announce=True), pytest.raises(InputError, match="memory"):
         check(Estimate(1, 1e30, 1), "duration", 1.0, "the run", "use less")  # never forced
+
+
+# -- a calibration folder keeps the report skygas calibrate wrote (issue 30: reports) --
+def test_report_refuses_a_calibration_folder_and_leaves_it_unchanged(tmp_path):
+    files = {
+        "cal/manifest.json": _manifest("calibrate"),
+        "cal/summary.json": '{"skygas_version": "0"}\n',
+        "cal/model.toml": "name = 'x'\n",
+        "cal/report.html": "<html>the calibration's report</html>\n",
+    }
+    for relative, text in files.items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_text(text)
+    before = _snapshot(tmp_path)
+    proc = _run(["report", "cal"], tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2 and len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: SOURCE = 'cal': expected a run folder or a sweep")
+    assert "holds its own report.html" in lines[0]
+    assert _snapshot(tmp_path) == before
