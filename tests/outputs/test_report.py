@@ -14,10 +14,12 @@ from pathlib import Path
 
 import pytest
 
+from reservoir.test_cli import FAST as RESERVOIR
 from skygas._version import __version__
 from skygas.outputs.finish import finish_outputs
 
 from .browser import Chromium, find_chromium
+from .test_run_commands import CONFIG as SIMULATE
 
 ARTIFACTS = Path(
     os.environ.get("SKYGAS_TEST_ARTIFACTS", Path(__file__).resolve().parents[2] / "test-artifacts")
@@ -117,12 +119,17 @@ def test_report_of_a_simulation_without_movie(simulation_run, tmp_path):
     assert not any(url.startswith("data:video") for _, url in parser.urls)
 
 
-def test_report_loads_in_a_real_browser(reshuffler_report, tmp_path):
+def _browser(profile: Path) -> Chromium:
+    """A headless Chromium; the test is skipped without one (or without websockets)."""
     executable = find_chromium()
     if executable is None:
         pytest.skip("no Chromium installed (.ci/run installs Debian's chromium package)")
     pytest.importorskip("websockets")
-    browser = Chromium(executable, tmp_path / "profile")
+    return Chromium(executable, profile)
+
+
+def test_report_loads_in_a_real_browser(reshuffler_report, tmp_path):
+    browser = _browser(tmp_path / "profile")
     try:
         page = browser.load(reshuffler_report.resolve().as_uri())
     finally:
@@ -166,15 +173,6 @@ SNAKE_CASE = re.compile(r"\b[a-z][a-z0-9]*(?:_[a-z0-9]+)+\b")
 #: numbers as a program prints them: 4.4e-08, 1e+11, nan, inf, a caret power
 RAW_NUMBER = re.compile(r"\d[eE][+-]?\d|\bnan\b|\binf\b|\^", re.IGNORECASE)
 
-RESERVOIR = """
-hold_time = 2e-7
-[sensors]
-sample_interval = 2e-9
-[study]
-n_inputs = 24
-temporal_inputs = 24
-workers = 1
-"""
 SWEEP = """
 [sweep]
 seed = 1
@@ -245,8 +243,8 @@ def command_reports(tmp_path_factory, reshuffler_report):
     from skygas.cli import main
 
     root = tmp_path_factory.mktemp("commands")
-    (root / "run.toml").write_text(_SIMULATE)
-    (root / "reservoir.toml").write_text(RESERVOIR)
+    (root / "run.toml").write_text(SIMULATE)  # 12 ns, 10 skyrmions
+    (root / "reservoir.toml").write_text(RESERVOIR)  # 24 inputs
     runs = {
         "simulate": ["simulate", root / "run.toml", "--quiet"],
         "neuron": ["neuron", "--duration", "5e-8", "--no-transfer", "--quiet"],
@@ -265,22 +263,6 @@ def command_reports(tmp_path_factory, reshuffler_report):
     assert main(["plot", str(store), "--out", str(root / "figures")]) == 0
     reports["sweep"] = root / "figures" / "report.html"
     return reports
-
-
-_SIMULATE = """
-seed = 2
-duration = 12e-9
-record_interval = 1e-9
-[geometry]
-kind = "chamber"
-chamber_diameter = 1024e-9
-conduit_width = 100e-9
-conduit_length = 50e-9
-closed = true
-[skyrmions]
-random_count = 10
-min_separation = 1.5
-"""
 
 
 def _sweep_store(path: Path) -> Path:
@@ -355,11 +337,7 @@ def test_headlines_state_the_papers_quantities(command_reports):
 
 
 def test_every_report_reads_well_in_a_real_browser(command_reports, tmp_path):
-    executable = find_chromium()
-    if executable is None:
-        pytest.skip("no Chromium installed (.ci/run installs Debian's chromium package)")
-    pytest.importorskip("websockets")
-    browser = Chromium(executable, tmp_path / "profile")
+    browser = _browser(tmp_path / "profile")
     try:
         for command in COMMANDS:
             page = browser.load(command_reports[command].resolve().as_uri())
