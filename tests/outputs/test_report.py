@@ -313,6 +313,9 @@ def test_every_report_opens_with_its_results_and_reads_as_a_summary(command, com
         assert "<th>configuration key</th>" in text  # the configuration as a table
     if command not in ("reshuffle", "sweep"):  # made from the command line
         assert "Made by <code class=command>skygas " in text
+    # each quantity once: the labelled rows of the headline and the tables of numbers
+    labels = re.findall(r"<tr><th>([^<]*)</th><td class=n>", text)
+    assert len(labels) == len(set(labels)), [k for k in labels if labels.count(k) > 1]
     # captions say what a figure shows, never its file name
     assert not re.search(r"<figcaption>[^<]*\.png", text)
 
