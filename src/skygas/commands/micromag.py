@@ -159,6 +159,12 @@ def _fit(args: argparse.Namespace) -> int:
         table_bins=args.table_bins,
         strict=args.strict,
     )
+    if not args.no_report:  # beside the results, whatever is printed
+        from pathlib import Path
+
+        from skygas.outputs.report import write_report
+
+        write_report(args.out, Path(args.out) / "report.html")
     lengths = sorted((len(t) for t in result.tracks), reverse=True)
     print(
         f"{len(lengths)} track(s) of {', '.join(map(str, lengths))} frames "
@@ -185,11 +191,5 @@ def _fit(args: argparse.Namespace) -> int:
         )
     for warning in result.warnings:
         print(f"warning: {warning}")
-    if not args.no_report:
-        from pathlib import Path
-
-        from skygas.outputs.report import write_report
-
-        write_report(args.out, Path(args.out) / "report.html")
     print(f"results in {args.out}")
     return 0
