@@ -64,7 +64,7 @@ def main() -> None:
     )
     args = parser.parse_args()
     if args.source:
-        report(json.loads((Path(args.source) / "calibration.json").read_text()))
+        report(json.loads((Path(args.source) / "summary.json").read_text()))
         return
     from skygas.calibration import calibrate
     from skygas.calibration.material import load_micromagnetic_material

@@ -826,3 +826,23 @@ def test_a_bad_study_is_one_line_and_writes_nothing(name, tmp_path):
     assert expected in lines[0], lines[0]
     assert _snapshot(tmp_path) == before
     assert proc.stdout == ""
+
+
+# -- a calibration folder keeps the report skygas calibrate wrote --
+def test_report_refuses_a_calibration_folder_and_leaves_it_unchanged(tmp_path):
+    files = {
+        "cal/manifest.json": _manifest("calibrate"),
+        "cal/summary.json": '{"skygas_version": "0"}\n',
+        "cal/model.toml": "name = 'x'\n",
+        "cal/report.html": "<html>the calibration's report</html>\n",
+    }
+    for relative, text in files.items():
+        (tmp_path / relative).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / relative).write_text(text)
+    before = _snapshot(tmp_path)
+    proc = _run(["report", "cal"], tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2 and len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: SOURCE = 'cal': expected a run folder or a sweep")
+    assert "holds its own report.html" in lines[0]
+    assert _snapshot(tmp_path) == before

@@ -31,7 +31,7 @@ def calibrated(tmp_path_factory):
 def test_writes_the_model_report_and_numbers(calibrated):
     for name in (
         "model.toml",
-        "calibration.json",
+        "summary.json",
         "report.html",
         "profile.png",
         "pair.png",
@@ -42,7 +42,7 @@ def test_writes_the_model_report_and_numbers(calibrated):
     ):
         assert (calibrated / name).is_file(), name
     material = load_material(calibrated / "model.toml")
-    data = json.loads((calibrated / "calibration.json").read_text())
+    data = json.loads((calibrated / "summary.json").read_text())
     iso = data["isolated"]
     assert material.skyrmion_radius == iso["radius"] and material.film_thickness == 2e-9
     assert material.pair_table is not None and material.wall_table is not None
@@ -50,11 +50,15 @@ def test_writes_the_model_report_and_numbers(calibrated):
     assert abs(iso["charge"] + 1) < 1e-3 and iso["gyrocoupling"] > 0
     report = (calibrated / "report.html").read_text()
     assert f"{iso['radius'] * 1e9:.2f} nm" in report
+    assert "<section class=headline id=headline>" in report  # the summary sentences first
+    # the calibration's own report is never replaced by `skygas report`'s
+    assert cli.main(["report", str(calibrated)]) == 2
+    assert (calibrated / "report.html").read_text() == report
     assert data["skygas_version"] and data["provenance"]["magnumnp_version"]
 
 
 def test_pair_energy_decreases_to_zero_and_the_edge_repels(calibrated):
-    data = json.loads((calibrated / "calibration.json").read_text())
+    data = json.loads((calibrated / "summary.json").read_text())
     pair, wall = data["pair"], data["wall_short_range"]
     e = np.array(pair["energy_J"])
     assert np.all(np.diff(e) < 0) and e[-1] < 0.02 * e[0]
@@ -68,7 +72,7 @@ def test_pair_energy_decreases_to_zero_and_the_edge_repels(calibrated):
 
 
 def test_validation_compares_a_run_that_moved_a_diameter(calibrated):
-    v = json.loads((calibrated / "calibration.json").read_text())["validation"]
+    v = json.loads((calibrated / "summary.json").read_text())["validation"]
     assert v["skyrmions"] == 3 and min(v["path_length_d_sk"]) >= 1.0
     error = np.array(v["error_d_sk"])
     assert error[0] == 0.0 and np.all(np.isfinite(error))
@@ -136,8 +140,8 @@ def test_interrupted_and_resumed_gives_the_same_bits(tmp_path):
     assert process.wait(timeout=120) == 130, process.stderr.read()
     assert checkpoint.exists() and not (broken / "model.toml").exists()
     assert cli.main(["calibrate", *args, "--out", str(broken), "--resume"]) == 0
-    a = json.loads((straight / "calibration.json").read_text())
-    b = json.loads((broken / "calibration.json").read_text())
+    a = json.loads((straight / "summary.json").read_text())
+    b = json.loads((broken / "summary.json").read_text())
     for key in ("pair", "wall_short_range"):
         assert a[key]["energy_J"] == b[key]["energy_J"]
         assert a[key]["table_force_N"] == b[key]["table_force_N"]

@@ -86,7 +86,7 @@ def test_fit_from_ovf_snapshots(tmp_path, capsys):
     )
     np.testing.assert_allclose(fitted.pair_law, material.pair_law, rtol=0.1)
     assert fitted.skyrmion_radius == pytest.approx(radius, rel=0.01)
-    record = json.loads((out / "fit.json").read_text())
+    record = json.loads((out / "summary.json").read_text())
     assert record["thiele"]["measured_charge"] == pytest.approx(-1.0, abs=1e-3)
     assert record["skygas_version"]
     assert (out / "fit.png").exists() and (out / "forces.csv").exists()
@@ -160,7 +160,7 @@ def test_fit_writes_what_the_data_fix_when_the_far_field_is_not_fixed(
     narrow_pair, tmp_path, capsys
 ):
     """Exit 0 with one warning; the tracks, the forces and the law tabulated over the measured
-    range (within 2 % of the true law); no material.toml, and fit.json says why."""
+    range (within 2 % of the true law); no material.toml, and summary.json says why."""
     material, snaps = narrow_pair
     out = tmp_path / "fit"
     assert main(["micromag", "fit", str(snaps), "--out", str(out)]) == 0
@@ -206,7 +206,7 @@ def test_fit_writes_what_the_data_fix_when_the_far_field_is_not_fixed(
     )
     np.testing.assert_allclose(table["force_N"], true, rtol=0.02)
 
-    record = json.loads((out / "fit.json").read_text())
+    record = json.loads((out / "summary.json").read_text())
     assert record["pair_law"] is None and record["material_toml"] is None
     assert "no material.toml" in record["no_material_toml"]
     assert "grows without bound" in record["unfixed_laws"]["pair"]["reason"]

@@ -13,7 +13,8 @@ from pathlib import Path
 
 CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "chrome")
 
-# Run inside the page once it has loaded: decode every image, wait for the video's metadata.
+# Run inside the page once it has loaded: decode every image, wait for the video's metadata, read
+# the visible text and the headline block.
 PAGE_CHECK = """
 (async () => {
   const images = await Promise.all([...document.images].map(async (img) => {
@@ -33,7 +34,14 @@ PAGE_CHECK = """
     duration = video.duration;
     videoError = video.error ? video.error.code : null;
   }
-  return {images, duration, videoError, title: document.title};
+  // the text a reader sees, but for verbatim code and files (configuration keys, the command
+  // line, a sweep file), and the headline block
+  const body = document.body.cloneNode(true);
+  body.querySelectorAll('code, pre, script, style').forEach((e) => e.remove());
+  const headline = document.querySelector('#headline');
+  return {images, duration, videoError, title: document.title, text: body.textContent,
+          headline: headline ? headline.innerText : null,
+          headlineRows: headline ? headline.querySelectorAll('tr').length : 0};
 })()
 """
 
@@ -140,6 +148,7 @@ class Chromium:
     def load(self, url: str) -> dict:
         """Open ``url``, wait for its load event, run :data:`PAGE_CHECK`; returns its result
         with the page's ``errors`` and a PNG ``screenshot`` (bytes)."""
+        self.events = []  # this page's events only (an earlier page's load event is not its own)
         self.call("Page.navigate", {"url": url}, session=True)
         self.wait_for("Page.loadEventFired")
         result = self.call(

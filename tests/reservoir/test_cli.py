@@ -71,7 +71,7 @@ def test_short_run_writes_json_figures_and_report(tmp_path, capsys):
     assert list(summary["accuracy"])[0] == "XOR" and len(summary["accuracy"]) == 16
     assert summary["energy_per_operation_J"] > 0
     assert summary["device"]["seed"] == 0 and summary["device"]["skygas_version"]
-    for name in ("reservoir.json", "occupation.png", "accuracy.png", "report.md", "report.html"):
+    for name in ("summary.json", "occupation.png", "accuracy.png", "report.md", "report.html"):
         assert (tmp_path / "out" / name).is_file()
     # a finished study is never overwritten, nor continued by a sweep; resumed, it has
     # nothing to do

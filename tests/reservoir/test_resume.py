@@ -45,7 +45,7 @@ def _results(out):
     return {name: _numbers(json.loads((out / name).read_text())) for name in RESULTS}
 
 
-RESULTS = ("reservoir.json", "sweep.json")
+RESULTS = ("summary.json", "sweep.json")
 
 
 def _stopping(config, at: int, how: str) -> ReservoirJob:
@@ -99,7 +99,7 @@ def test_an_interrupted_study_and_sweep_resume_to_the_same_numbers(tmp_path):
     assert _numbers(resumed) == _numbers(whole)
     # the same study as the in-memory one, whose streams run in one go
     study, _ = run_study(config)
-    assert _numbers(study) == _results(out)["reservoir.json"]
+    assert _numbers(study) == _results(out)["summary.json"]
     for name in ("occupation.png", "accuracy.png", "sweep.png", "report.md"):
         assert (out / name).is_file()
 
@@ -150,5 +150,5 @@ def test_ctrl_c_reaches_the_workers_too_and_still_leaves_a_checkpoint(tmp_path):
     err = proc.stderr.read()
     assert code == 130, err
     assert "interrupted by SIGINT" in err and "--resume" in err and "Traceback" not in err
-    assert (out / CHECKPOINT).exists() and not (out / "reservoir.json").exists()
+    assert (out / CHECKPOINT).exists() and not (out / "summary.json").exists()
     assert _group_ends(proc.pid, seconds=10), "worker processes left behind"

@@ -158,9 +158,9 @@ def test_saturation_resumes_exactly(tmp_path, monkeypatch, capsys):
     assert "--resume" in capsys.readouterr().err
     monkeypatch.setattr(SaturationProtocol, "run_trial", original)
     assert main([*argv, "--out", str(out), "--resume"]) == 0
-    ref = json.loads((tmp_path / "ref" / "saturation.json").read_text())
+    ref = json.loads((tmp_path / "ref" / "summary.json").read_text())
     assert ref["seed"] == 0 and "skygas_version" in ref
-    assert json.loads((out / "saturation.json").read_text()) == ref
+    assert json.loads((out / "summary.json").read_text()) == ref
 
 
 QUICK_TOML = """\

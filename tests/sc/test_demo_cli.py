@@ -27,7 +27,7 @@ def test_run_demo_writes_figures_and_provenance(tmp_path):
     summary = run_demo(
         tmp_path, seed=5, n_bits=512, decorrelators=[DelayIsolator(1), ShuffleBuffer(32)]
     )
-    record = json.loads((tmp_path / "sc_demo.json").read_text())
+    record = json.loads((tmp_path / "summary.json").read_text())
     assert record["skygas_version"] == __version__ and record["seed"] == 5
     assert record["parameters"]["n_bits"] == 512
     for name in record["figures"].values():
@@ -54,7 +54,8 @@ def test_cli_is_registered_and_runs_the_demo(tmp_path):
     out = tmp_path / "demo"
     args = _parser().parse_args(["sc", "demo", "--out", str(out), "--seed", "3", "--n-bits", "256"])
     assert args.func(args) == 0
-    assert json.loads((out / "sc_demo.json").read_text())["seed"] == 3
+    assert json.loads((out / "summary.json").read_text())["seed"] == 3
+    assert (out / "report.html").stat().st_size > 10_000
     bad = _parser().parse_args(["sc", "demo", "--out", str(out), "--n-bits", "10"])
     with pytest.raises(InputError) as err:
         bad.func(bad)

@@ -30,6 +30,7 @@ import numpy as np
 
 from skygas.analysis.frames import Frames
 from skygas.analysis.jackknife import jackknife_error
+from skygas.core.quantities import format_value
 
 
 @dataclass(frozen=True)
@@ -74,6 +75,11 @@ SHORT_LAGS = 4
 #: Largest relative change of MSD(τ)/4τ across a fit range that still counts as flat (linear
 #: MSD), when the change is also significant (beyond 3 standard errors).
 FLATNESS = 0.2
+
+
+def _seconds(t: float) -> str:
+    """A time [s] as a reader writes it (``40 ns``): :func:`skygas.core.quantities.format_value`."""
+    return format_value(t, unit="s", digits=3) or "?"
 
 
 def default_lags(n_frames: int, count: int = 16) -> np.ndarray:
@@ -272,9 +278,10 @@ def diffusion_estimate(
         else:
             short_reason = (
                 f"MSD(τ)/4τ changes by {100 * change:+.0f} % between lags of "
-                f"{tau[short][0]:.3g} s and {tau[short][-1]:.3g} s: the frames are too far apart "
-                "to resolve free diffusion (walls, pinning or neighbours act within one frame); "
-                f"record more often than every {dt:.3g} s"
+                f"{_seconds(tau[short][0])} and {_seconds(tau[short][-1])}: the frames are too far "
+                "apart to resolve free diffusion (walls, pinning or neighbours act within one "
+                "frame); "
+                f"record more often than every {_seconds(dt)}"
             )
 
     enough = msd.n_pairs >= min_pairs
@@ -297,8 +304,8 @@ def diffusion_estimate(
         else:
             long_reason = (
                 f"MSD(τ)/4τ still changes by {100 * change:+.0f} % over the longest lags "
-                f"({tau[long][0]:.3g} s to {tau[long][-1]:.3g} s): no plateau (a confined gas's "
-                "MSD saturates, and a slow one has not reached its long-time regime)"
+                f"({_seconds(tau[long][0])} to {_seconds(tau[long][-1])}): no plateau (a confined "
+                "gas's MSD saturates, and a slow one has not reached its long-time regime)"
             )
     return DiffusionEstimate(
         msd,

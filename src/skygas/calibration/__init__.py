@@ -2,7 +2,7 @@
 
 :func:`calibrate` runs magnum.np (:mod:`skygas.calibration.solver`) for the material's isolated
 skyrmion, its pair and edge interactions and a many-skyrmion validation run, and writes the
-particle model (``model.toml``), every number (``calibration.json``) and a report. See
+particle model (``model.toml``), every number (``summary.json``) and a report. See
 ``docs/calibration.md``.
 """
 
@@ -69,7 +69,7 @@ def calibrate(
     Returns
     -------
     dict
-        The contents of ``out/calibration.json``.
+        The contents of ``out/summary.json``.
 
     Raises
     ------

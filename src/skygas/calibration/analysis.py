@@ -2,7 +2,7 @@
 
 :func:`analyse` turns the solves of a :class:`~skygas.calibration.pipeline.CalibrationJob`
 into a :class:`Calibration`: what :mod:`skygas.calibration.results` writes (model.toml,
-calibration.json, the figures and the report). Energies are in J, lengths in m, forces in N;
+summary.json, the figures and the report). Energies are in J, lengths in m, forces in N;
 "d_sk" is the isolated skyrmion's measured diameter and F₀ = A_ex t_F/d_sk.
 """
 

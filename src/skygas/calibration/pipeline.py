@@ -37,7 +37,7 @@ if TYPE_CHECKING:
 SNAPSHOTS_PER_PIECE = 5
 
 #: the files whose presence means a finished calibration
-RESULT_FILES: tuple[str, ...] = ("model.toml", "calibration.json", "report.html")
+RESULT_FILES: tuple[str, ...] = ("model.toml", "summary.json", "report.html")
 
 
 class CalibrationJob:
@@ -383,7 +383,7 @@ class CalibrationJob:
     def finish(self, out_dir: Path):
         """Stop the workers, then analyse the results and write the files into ``out_dir``.
 
-        Returns the data of ``calibration.json``.
+        Returns the data of ``summary.json``.
         """
         self.close()
         from skygas.calibration.results import write_results

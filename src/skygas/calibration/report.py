@@ -1,7 +1,7 @@
 """report.html of a calibration: a summary in sentences, the tables behind it, the figures.
 
 One self-contained file (figures embedded, no network), built from the numbers of
-calibration.json only.
+summary.json only.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from skygas._version import __version__
 from skygas.calibration.analysis import Calibration
 from skygas.calibration.results import FIGURES, _paper_laws
 from skygas.core.units import MU_0
+from skygas.outputs.headlines import Results
 from skygas.outputs.report import Page
 from skygas.runs.run_driver import write_atomic
 
@@ -219,11 +220,9 @@ def write_report(cal: Calibration, data: dict[str, Any], out: Path) -> Path:
     page = Page(f"skygas calibration — {m.name}")
     page.paragraph(
         f"Written by skygas {__version__}. The numbers below are those of "
-        "calibration.json; the particle model is model.toml."
+        "summary.json; the particle model is model.toml."
     )
-    page.heading("Summary")
-    for sentence in summary_sentences(cal, data):
-        page.paragraph(sentence)
+    page.headline(Results(notes=summary_sentences(cal, data)))
     page.heading("Use the model")
     page.pre(
         f'material = "{out.name}/model.toml"        # in any configuration\n'

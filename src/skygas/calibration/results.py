@@ -1,8 +1,8 @@
-"""A finished calibration's files: model.toml, calibration.json, figures, report.html.
+"""A finished calibration's files: model.toml, summary.json, figures, report.html.
 
 Every file records the skygas version, the material and the calibration's settings (in its
 body, or for a PNG in its text chunks); every file is written atomically. The numbers shown in
-the report are the ones in calibration.json; none is drawn from anywhere else.
+the report are the ones in summary.json; none is drawn from anywhere else.
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ def record(cal: Calibration) -> dict[str, str]:
 
 # -- numbers -------------------------------------------------------------------------------------
 def summary(cal: Calibration, job) -> dict[str, Any]:
-    """calibration.json: every number of the calibration (SI units; d_sk and F₀ where said)."""
+    """summary.json: every number of the calibration (SI units; d_sk and F₀ where said)."""
     iso = cal.isolated
     out = {
         "skygas_version": __version__,
@@ -418,7 +418,7 @@ def plot_validation(cal: Calibration, path: Path) -> Path:
 
 # -- everything ------------------------------------------------------------------------------------
 def write_results(job, out: Path) -> dict[str, Any]:
-    """Analyse ``job`` and write its files into ``out``; returns calibration.json's data."""
+    """Analyse ``job`` and write its files into ``out``; returns summary.json's data."""
     cal = analyse(job)
     data = summary(cal, job)
     plot_profile(cal, out / "profile.png")
@@ -427,7 +427,7 @@ def write_results(job, out: Path) -> dict[str, Any]:
     if cal.validation is not None:
         plot_validation(cal, out / "validation.png")
     _save_textures(job, out / "textures.npz")
-    write_json(out / "calibration.json", data)
+    write_json(out / "summary.json", data)
     write_model_file(cal, job, out / "model.toml")
     from skygas.calibration.report import write_report
 

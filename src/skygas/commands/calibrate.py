@@ -123,12 +123,12 @@ def _calibrate(args: argparse.Namespace) -> int:
     else:
         for line in lines(data):
             print(line)
-        print(f"results in {Path(args.out).resolve()}: model.toml, report.html, calibration.json")
+        print(f"results in {Path(args.out).resolve()}: model.toml, report.html, summary.json")
     return 0
 
 
 def brief(data: dict, out) -> dict:
-    """The JSON summary of a calibration (the numbers of calibration.json without arrays)."""
+    """The JSON summary of a calibration (the numbers of summary.json without arrays)."""
     iso = data["isolated"]
     out_data = {
         "model": str(Path(out) / "model.toml"),
@@ -155,7 +155,7 @@ def brief(data: dict, out) -> dict:
 
 
 def lines(data: dict) -> list[str]:
-    """Readable lines of a calibration's ``calibration.json`` data: skyrmion, laws, validation."""
+    """Readable lines of a calibration's ``summary.json`` data: skyrmion, laws, validation."""
     iso = data["isolated"]
     out = [
         f"isolated skyrmion: R = {iso['radius'] * 1e9:.2f} nm, Δ = "

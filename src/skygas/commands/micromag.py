@@ -39,7 +39,7 @@ def register(subparsers) -> None:
         "fit",
         help="fit the pair and/or wall law from a directory of snapshots",
         description="Detect and track skyrmions in OVF snapshots, extract F = Ĝ·ẋ, fit the "
-        "paper's laws and write fit.json, tracks.csv, forces.csv, the laws tabulated over the "
+        "paper's laws and write summary.json, tracks.csv, forces.csv, the laws tabulated over the "
         "measured range (pair_table.csv, wall_table.csv), fit.png and, when the data fix "
         "every law asked for, material.toml.",
     )
@@ -98,6 +98,7 @@ def register(subparsers) -> None:
         "outside their range, instead of writing the tracks, the forces and the "
         "tabulated law without material.toml",
     )
+    fit.add_argument("--no-report", action="store_true", help="do not write OUT/report.html")
     fit.set_defaults(func=_fit)
 
     samples = commands.add_parser(
@@ -157,6 +158,12 @@ def _fit(args: argparse.Namespace) -> int:
         table_bins=args.table_bins,
         strict=args.strict,
     )
+    if not args.no_report:  # beside the results, whatever is printed
+        from pathlib import Path
+
+        from skygas.outputs.report import write_report
+
+        write_report(args.out, Path(args.out) / "report.html")
     lengths = sorted((len(t) for t in result.tracks), reverse=True)
     print(
         f"{len(lengths)} track(s) of {', '.join(map(str, lengths))} frames "

@@ -15,6 +15,12 @@ def _demo(args: argparse.Namespace) -> int:
         from skygas.reshuffler.decorrelator import reshuffler_demo
 
         reshuffler_demo(args.out, seed=args.seed)
+    if not args.no_report:
+        from pathlib import Path
+
+        from skygas.outputs.report import write_report
+
+        write_report(args.out, Path(args.out) / "report.html")
     print(f"stochastic-computing demo written to {args.out}")
     return 0
 
@@ -36,4 +42,5 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="also run the skyrmion reshuffler device (about 5 s more)",
     )
+    demo.add_argument("--no-report", action="store_true", help="do not write OUT/report.html")
     demo.set_defaults(func=_demo)

@@ -229,7 +229,7 @@ class LawFit:
         return self.force_scale * shape(d, self.coefficients)
 
     def as_record(self) -> dict:
-        """The fit as a JSON-able dict (``fit.json``), with the range the engine uses it over."""
+        """The fit as a JSON-able dict (in ``summary.json``), with the engine's range of it."""
         return {
             "law": self.law,
             "formula": self.formula,

@@ -76,7 +76,7 @@ class FitResult:
         )
 
     def as_record(self) -> dict:
-        """The result as a JSON-able dict (``fit.json``)."""
+        """The result as a JSON-able dict (``summary.json``)."""
         return {
             "skygas_version": __version__,
             "pair_law": None if self.pair is None else self.pair.as_record(),
@@ -102,7 +102,7 @@ class FitResult:
     def write(self, out_dir: str | Path) -> dict[str, Path]:
         """Write the fit's files into ``out_dir``, each atomically.
 
-        ``fit.json``, ``tracks.csv``, ``forces.csv``, ``<law>_table.csv``, ``fit.png`` and (when
+        ``summary.json``, ``tracks.csv``, ``forces.csv``, ``<law>_table.csv``, ``fit.png`` and (when
         every requested law was fitted) ``material.toml``. A ``material.toml`` left in ``out_dir``
         by an earlier fit is removed when this fit has none, so that the folder never holds a preset
         the data no longer support.
@@ -110,13 +110,13 @@ class FitResult:
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         paths = {
-            "json": out / "fit.json",
+            "json": out / "summary.json",
             "tracks": out / "tracks.csv",
             "csv": out / "forces.csv",
             "plot": out / "fit.png",
         }
         # The CSV files are plain tables (a header row, then numbers) that any CSV reader
-        # takes; the skygas version and the parameters they were made with are in fit.json,
+        # takes; the skygas version and the parameters they were made with are in summary.json,
         # written with them, and in fit.png's text chunks (with the hash of the parameters as
         # config_hash, and the command line).
         rows = ["track,frame,time_s,x_m,y_m,radius_m,charge,dissipation"]

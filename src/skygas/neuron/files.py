@@ -7,7 +7,7 @@ trace, spikes, emissions, injections; with the configuration, the seed and the v
 ``transfer_curve.png`` and the transfer curve in the summary (its runs are pieces of the job
 too: they show progress and resume).
 
-:func:`run_saturation_to_files` (``skygas saturation``) writes ``saturation.json`` and
+:func:`run_saturation_to_files` (``skygas saturation``) writes ``summary.json`` and
 ``max_density.png``.
 
 Both keep ``checkpoint.npz`` while running; see :func:`skygas.runs.run_driver.drive`.
@@ -197,7 +197,7 @@ class SaturationJob:
     """
 
     work_unit = "runs"
-    result_files: tuple[str, ...] = ("saturation.json",)
+    result_files: tuple[str, ...] = ("summary.json",)
 
     def __init__(
         self, diameters, *, repetitions: int, seed: int, relax_time: float, temperature: float
@@ -244,12 +244,12 @@ class SaturationJob:
         return self.arguments["seed"]
 
     def finish(self, out: Path) -> SaturationResult:
-        """Write ``saturation.json`` and its figure."""
+        """Write ``summary.json`` and its figure."""
         from skygas.neuron.figures import plot_saturation
 
         result = self.protocol.result(self.survivors)
         write_json(
-            out / "saturation.json",
+            out / "summary.json",
             {"skygas_version": __version__, "seed": self.seed(), **result.summary()},
             indent=1,
         )

@@ -1,14 +1,20 @@
-"""One self-contained HTML report of a run or a sweep: open it anywhere, offline.
+"""One self-contained HTML report of a run or a sweep: open it anywhere, offline, mail it.
 
 Everything is inside the file: figures as PNG data URIs, the movie as an MP4 (or GIF) data URI,
 and the numbers as embedded JSON (with a download link). No script, style sheet, font or
 image is fetched from the network.
 
-A run's report holds its kind, provenance (skygas version, seed, the full configuration and
-the engine's parameters when recorded), the summary numbers, the observables of
-:func:`skygas.analysis.analyze` with their standard errors (MSD, D, velocity and Hall angle,
-g(r), occupancy) and their figures, every PNG figure of the run directory, and its movie. A
-sweep's report holds the sweep's provenance, its scaling fits and its figures.
+Every report reads from the top:
+
+1. what made it: the command line, the date and the skygas version, from the folder's manifest
+   (:mod:`skygas.runs.manifest`);
+2. **the headline**: the command's results, the paper's quantities with their errors and units
+   (:mod:`skygas.outputs.headlines`); a number a run cannot give reads ``none (why)``;
+3. the figures, each with a caption saying what it shows, and the movie;
+4. the result tables and every other number of the summary, labelled with units
+   (:mod:`skygas.core.quantities`), each once;
+5. the configuration as a table (setting, value with unit, and the configuration key);
+6. the provenance and the data (the summary as embedded JSON).
 """
 
 from __future__ import annotations
@@ -18,25 +24,129 @@ import html
 import io
 import json
 import math
+import re
+import shlex
+import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import InputError
+from skygas.core.quantities import format_quantity, format_value, label, missing, quantity
+from skygas.outputs import headlines as H
 
 MOVIE_NAMES = ("movie.mp4", "movie.gif")
+#: the main result file of a command that keeps no positions, then the names older skygas
+#: versions gave it (still read)
+SUMMARY_FILES = (
+    "summary.json",
+    "reservoir.json",
+    "saturation.json",
+    "sc_demo.json",
+    "fit.json",
+)
 _STYLE = """
 body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;
-color:#222}
+color:#222;line-height:1.4}
 h1{font-size:1.5em}h2{font-size:1.2em;border-bottom:1px solid #ccc;padding-bottom:.2em}
-table{border-collapse:collapse;font-size:.9em}td,th{border:1px solid #ddd;padding:.2em .6em;
-text-align:left}td.n{text-align:right;font-variant-numeric:tabular-nums}
-figure{display:inline-block;margin:.5em;vertical-align:top}figure img{max-width:100%;
-border:1px solid #eee}figcaption{font-size:.85em;color:#555}
+h3{font-size:1em}
+table{border-collapse:collapse;margin:.4em 0}td,th{border:1px solid #ddd;padding:.25em .6em;
+text-align:left;vertical-align:top}th{font-weight:600;background:#fafafa}
+td.n{font-variant-numeric:tabular-nums}
+section.headline{background:#f3f7fb;border:1px solid #c9d9ea;border-radius:6px;
+padding:.2em 1em 1em}section.headline table{font-size:1.05em}
+section.headline td,section.headline th{border-color:#c9d9ea;background:none}
+tr.section th{background:#eef2f5;font-size:.95em}code.key{color:#667;font-size:.85em}
+figure{display:inline-block;margin:.5em;vertical-align:top;max-width:100%}figure img{
+max-width:100%;border:1px solid #eee}figcaption{font-size:.9em;color:#444;max-width:36em}
 video,.movie{max-width:100%;max-height:80vh;border:1px solid #ccc}
-pre{background:#f6f6f6;padding:.6em;overflow:auto;max-height:30em;font-size:.8em}
+pre{background:#f6f6f6;padding:.6em;overflow:auto;max-height:30em;font-size:.9em}
+p.made{color:#444}
 """
+
+#: what each figure a command writes shows, by file name (then by command for shared names)
+FIGURE_CAPTIONS: dict[str, str] = {
+    "running_correlation.png": "Input–output correlation ρ of the bits read out so far, "
+    "against time.",
+    "occupancy.png": "Skyrmions present in each chamber against time, and the distribution of "
+    "transit times.",
+    "count_trace.png": "Skyrmions counted in the neuron's chamber against time, with the "
+    "threshold, the gate's openings and the output spikes.",
+    "transfer_curve.png": "Transfer curve: output spike rate against input rate, with the "
+    "prediction of the fitted LIF neuron.",
+    "max_density.png": "The most skyrmions that survive in a circular chamber, against its "
+    "diameter, with the close-packing estimate.",
+    "occupation.png": "Where the skyrmion's centre was while each input symbol was held.",
+    "accuracy.png": "Test accuracy of the 16 Boolean functions and of the temporal tasks, "
+    "chance marked.",
+    "sweep.png": "XOR and mean Boolean accuracy against the swept parameter (mean ± standard "
+    "deviation of the replicas).",
+    "trajectories.png": "The device's outline and the skyrmions' trajectories.",
+    "sc_and_squaring.png": "Squaring with an AND gate: the output p-value against p for "
+    "identical and for decorrelated inputs, on Bernoulli and telegraph inputs.",
+    "sc_error_vs_length.png": "RMS error of p² against the stream length N, with the binomial "
+    "limit.",
+    "sc_decorrelators.png": "The decorrelators compared: SCC, error of p², latency and energy "
+    "per bit, on Bernoulli and telegraph inputs.",
+    "fit.png": "The force samples of each law against distance, the law tabulated (medians with "
+    "quartile bars) and the fitted curve.",
+    "sc_reshuffler.png": "The skyrmion reshuffler as a decorrelator: AND-gate squaring, and "
+    "beside two CMOS decorrelators.",
+    "reshuffler.png": "ρ against the current density J, with the paper's fit and the free "
+    "power law, and the running ρ.",
+    "reshuffler_details.png": "p_out − p_in, the fullest chamber, the transit time and the lag "
+    "scan, against the current density.",
+    "chamber_size.png": "ρ against the chamber diameter L, with the paper's fit and the free "
+    "power law.",
+    "chamber_size_details.png": "p_out − p_in, the fullest chamber, the transit time and the "
+    "lag scan, against the chamber diameter.",
+}
+_DEVICE_CAPTIONS = {
+    "reshuffle": "The reshuffler: current density |j| in both chambers (colour), the walls, the "
+    "read-out lines and the first skyrmion trajectories.",
+    "neuron": "The neuron over its energy landscape, with the skyrmions' trajectories.",
+}
+
+#: the command that wrote a summary, told by a key only its summary has (a folder without a
+#: manifest)
+_KIND_BY_KEY = (
+    ("diameters_m", "saturation"),
+    ("boolean", "reservoir"),
+    ("comparison", "sc demo"),
+    ("unfixed_laws", "micromag fit"),
+    ("lif_fit", "neuron"),
+    ("correlation", "reshuffle"),
+    ("skyrmions_initial", "simulate"),
+)
+_KIND_BY_FILE = {"reservoir.json": "reservoir", "saturation.json": "saturation"}
+_KIND_BY_FILE["sc_demo.json"] = "sc demo"
+_KIND_BY_FILE["fit.json"] = "micromag fit"
+_TITLES = {
+    "reshuffle": "Skyrmion Reshuffler",
+    "neuron": "Skyrmion Neuron",
+    "saturation": "Maximum skyrmion density (saturation)",
+    "reservoir": "Brownian reservoir computing",
+    "sc demo": "Stochastic computing demonstration",
+    "simulate": "Skyrmion gas simulation",
+    "demo": "Skyrmion gas simulation",
+    "micromag fit": "Force laws fitted to micromagnetic snapshots",
+}
+
+
+def caption(name: str, kind: str | None = None) -> str:
+    """What the figure ``name`` of a ``kind`` run shows (:data:`FIGURE_CAPTIONS`)."""
+    if name == "device.png" and kind in _DEVICE_CAPTIONS:
+        return _DEVICE_CAPTIONS[kind]
+    if name in FIGURE_CAPTIONS:
+        return FIGURE_CAPTIONS[name]
+    return H_words(Path(name).stem).capitalize() + "."
+
+
+def H_words(name: str) -> str:
+    """A file stem or key as words (underscores and hyphens as spaces)."""
+    return name.replace("_", " ").replace("-", " ")
 
 
 def _data_uri(mime: str, data: bytes) -> str:
@@ -52,40 +162,72 @@ def _figure_png(fig) -> bytes:
 
 
 def _number(value, error=None, unit: str = "") -> str:
-    """``value ± error unit`` with the value rounded to the error's precision."""
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "n/a"
-    if not isinstance(value, (int, float)) or isinstance(value, bool):
-        return html.escape(str(value))
-    if error is None or not math.isfinite(error) or error <= 0:
-        return f"{value:.4g} {unit}".strip()
-    digits = max(0, 1 - math.floor(math.log10(error)))
-    exponent = math.floor(math.log10(abs(value))) if value else 0
-    if abs(exponent) >= 4:
-        scale = 10.0**exponent
-        d = max(0, digits + exponent)
-        return f"({value / scale:.{d}f} ± {error / scale:.{d}f})×10^{exponent} {unit}".strip()
-    return f"{value:.{digits}f} ± {error:.{digits}f} {unit}".strip()
+    """``value ± error unit`` as :func:`skygas.core.quantities.format_value` writes it; "n/a"."""
+    text = format_value(value, error, unit)
+    return "n/a" if text is None else text
+
+
+def _cell(text: Any) -> str:
+    return html.escape(str(text))
 
 
 class _Page:
-    """The HTML document, built section by section."""
+    """The HTML document, built section by section.
+
+    Table values are HTML (escape text with :func:`html.escape`); labels are text.
+    """
 
     def __init__(self, title: str):
         self.title = title
         self.parts: list[str] = []
+        #: the labels of the rows shown so far (:meth:`text_table` shows each label once)
+        self.seen: set[str] = set()
 
     def heading(self, text: str) -> None:
         self.parts.append(f"<h2>{html.escape(text)}</h2>")
 
-    def paragraph(self, text: str) -> None:
-        self.parts.append(f"<p>{html.escape(text)}</p>")
+    def subheading(self, text: str) -> None:
+        self.parts.append(f"<h3>{html.escape(text)}</h3>")
+
+    def paragraph(self, text: str, cls: str = "") -> None:
+        attr = f" class={cls}" if cls else ""
+        self.parts.append(f"<p{attr}>{html.escape(text)}</p>")
+
+    def raw(self, markup: str) -> None:
+        self.parts.append(markup)
 
     def table(self, rows) -> None:
         body = "".join(
             f"<tr><th>{html.escape(str(k))}</th><td class=n>{v}</td></tr>" for k, v in rows
         )
         self.parts.append(f"<table>{body}</table>")
+
+    def text_table(self, rows) -> None:
+        """Rows of (label, value), both text; a label shown before (here or above) is left out."""
+        rows = [(k, v) for k, v in rows if k not in self.seen]
+        self.seen |= {k for k, _ in rows}
+        if rows:
+            self.table([(k, _cell(v)) for k, v in rows])
+
+    def grid(self, header: list[str], rows: list[list[str]]) -> None:
+        """A table of text cells with a header row."""
+        head = "".join(f"<th>{_cell(h)}</th>" for h in header)
+        body = "".join(
+            "<tr>" + "".join(f"<td class=n>{_cell(c)}</td>" for c in row) + "</tr>" for row in rows
+        )
+        self.parts.append(f"<table><tr>{head}</tr>{body}</table>")
+
+    def headline(self, results: H.Results) -> None:
+        """The headline block: the command's results first, in a box."""
+        self.seen |= {k for k, _ in results.rows}
+        body = "".join(
+            f"<tr><th>{_cell(k)}</th><td class=n>{_cell(v)}</td></tr>" for k, v in results.rows
+        )
+        table = f"<table>{body}</table>" if body else ""
+        notes = "".join(f"<p>{_cell(n)}</p>" for n in results.notes)
+        self.parts.append(
+            f"<section class=headline id=headline><h2>Results</h2>{table}{notes}</section>"
+        )
 
     def image(self, png: bytes, caption: str) -> None:
         self.parts.append(
@@ -108,7 +250,10 @@ class _Page:
         self.parts.append(f'<img class="movie" src="{uri}" alt="{html.escape(alt)}">')
 
     def json_block(self, name: str, data) -> None:
-        text = json.dumps(data, indent=1, default=_jsonable)
+        from skygas.core.json_values import plain
+
+        # standard JSON: NaN and infinities written null, as in every JSON file of skygas
+        text = json.dumps(plain(data), indent=1, default=_jsonable)
         inline = text.replace("</", "<\\/")  # no "</script>" inside the block
         self.parts.append(
             f'<script type="application/json" id="{name}">{inline}'
@@ -161,6 +306,11 @@ def check_report_path(path: str | Path) -> Path:
     return path
 
 
+def summary_file(directory: Path) -> Path | None:
+    """The main result file (``summary.json``, or an older name) of a run folder, or None."""
+    return next((directory / n for n in SUMMARY_FILES if (directory / n).is_file()), None)
+
+
 def write_report(source: str | Path, out: str | Path, *, analysis: dict | None = None) -> Path:
     """Write the report of the run or sweep store at ``source`` to ``out`` (.html)."""
     out = check_report_path(out)
@@ -171,13 +321,62 @@ def write_report(source: str | Path, out: str | Path, *, analysis: dict | None =
         return _write(sweep_report(source), out)
     from skygas.outputs.records import RESULT_FILES, load_run
 
-    if (
-        source.is_dir()
-        and not any((source / n).exists() for n in RESULT_FILES)
-        and any((source / n).exists() for n in SUMMARY_FILES)
-    ):
+    found = summary_file(source) if source.is_dir() else None
+    if found is not None and not any((source / n).exists() for n in RESULT_FILES):
+        if _kind(source, found.name, {}) == "calibrate":
+            raise InputError(
+                "SOURCE",
+                str(source),
+                "a run folder or a sweep store (a calibration folder holds its own report.html, "
+                "written by skygas calibrate)",
+            )
         return _write(directory_report(source), out)  # a run that kept no positions
     return _write(run_report(load_run(source), analysis=analysis), out)
+
+
+# -- the parts every report shares --------------------------------------------------------------
+def _when(stamp: str | None) -> str | None:
+    """``2026-11-26T08:59:28Z`` as ``2026-11-26 08:59 UTC``."""
+    if not stamp:
+        return None
+    return stamp.replace("T", " ")[:16] + " UTC"
+
+
+def _made_by(page: _Page, directory: Path, version: str | None, seed: Any) -> dict | None:
+    """The paragraph saying which command made the results, when, with which version and seed.
+
+    From the folder's manifest; while the command is still writing it (``sc demo``), from the
+    running command line.
+    """
+    from skygas.runs import manifest
+
+    found = manifest.read(directory)
+    argv = None if found is None else found.get("command_line")
+    if argv is None and found is None:
+        argv = manifest.current_argv()
+    if isinstance(argv, list):
+        argv = "skygas " + shlex.join(argv)
+    started = _when(found.get("started_at")) if found else None
+    finished = _when(found.get("finished_at")) if found else None
+    made = (
+        f"Made by <code class=command>{html.escape(argv)}</code>"
+        if argv
+        else "Made from Python (no command line recorded)"
+    )
+    if started:
+        made += f" on {started}" + (f" (finished {finished[11:]})" if finished else "")
+    made += f", with skygas {html.escape(str(version or '(version not recorded)'))}"
+    if seed is not None:
+        made += f", seed {html.escape(str(seed))}"
+    page.raw(f"<p class=made>{made}.</p>")
+    return found
+
+
+def _report_line(page: _Page, source: Path) -> None:
+    page.paragraph(
+        f"Report written by skygas {__version__} on "
+        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from {source}."
+    )
 
 
 def _movie(page: _Page, directory: Path) -> None:
@@ -187,47 +386,242 @@ def _movie(page: _Page, directory: Path) -> None:
         page.movie(movie)
 
 
-def _figures(page: _Page, directory: Path) -> None:
+def _figures(page: _Page, directory: Path, kind: str | None) -> None:
     figures = sorted(directory.glob("*.png"))
     if figures:
         page.heading("Figures")
         for path in figures:
-            page.image(path.read_bytes(), path.name)
+            page.image(path.read_bytes(), caption(path.name, kind))
 
 
-#: the summary files of runs that keep no positions, in the order a directory is searched
-SUMMARY_FILES = ("summary.json", "reservoir.json", "saturation.json")
+def _results(page: _Page, results: H.Results) -> None:
+    page.headline(results)
+
+
+def _tables(page: _Page, results: H.Results) -> None:
+    for title, (header, rows) in results.tables:
+        page.heading(title)
+        page.grid(header, rows)
+
+
+def _error_of(summary: dict, key: str) -> Any:
+    """The standard error recorded beside ``key``: ``x_error``, or ``x_error_s`` for ``x_s``."""
+    error = summary.get(f"{key}_error")
+    if error is None and "_" in key:
+        stem, unit = key.rsplit("_", 1)
+        error = summary.get(f"{stem}_error_{unit}")
+    return None if missing(error) or isinstance(error, bool) else error
+
+
+#: nested parts of a summary shown as their own tables, by key
+_NESTED = {"lif_fit": "LIF fit", "isi": "Inter-spike intervals", "operations": "Operations"}
+
+
+def number_rows(
+    summary: dict, skip: set[str] | frozenset[str] = frozenset(), prefix: str = ""
+) -> list[tuple[str, str]]:
+    """Every scalar of ``summary`` not in ``skip``, labelled, with its error, each label once.
+
+    ``prefix``: the key of ``summary`` inside its parent (``"isi"``), for the labels of
+    :data:`~skygas.core.quantities.QUANTITIES` given with it (``"isi.mean_s"``).
+    """
+    rows: list[tuple[str, str]] = []
+    seen: set[str] = set()
+    for key, value in summary.items():
+        path = f"{prefix}.{key}" if prefix else key
+        if key in skip or path in skip or "_error" in key or isinstance(value, (dict, list)):
+            continue
+        if key in ("config", "command", "command_line", "config_hash"):
+            continue
+        name = label(path)
+        if name in seen:
+            continue
+        seen.add(name)
+        text = format_quantity(path, value, _error_of(summary, key))
+        rows.append((name, H.none("undefined for this run") if text is None else text))
+    return rows
+
+
+def _numbers(page: _Page, summary: dict, skip: set[str]) -> None:
+    rows = number_rows(summary, skip)
+    if rows:
+        page.heading("Every number of the summary")
+        page.text_table(rows)
+    for key, title in _NESTED.items():
+        part = summary.get(key)
+        if isinstance(part, dict) and part and key not in skip:
+            rows = [(k, v) for k, v in number_rows(part, skip, key) if k not in page.seen]
+            if rows:
+                page.subheading(title)
+                page.text_table(rows)
+
+
+#: a configuration key written as a value (``"hold_time"``, ``"drive.current_density"``)
+_KEY = re.compile(r"[a-z][a-z0-9]*(?:[_.][a-z0-9]+)*_[a-z0-9]+")
+
+
+def config_rows(config: dict) -> list[tuple[str, list[tuple[str, str, str]]]]:
+    """The configuration as sections of (setting, value, key path) rows.
+
+    Top-level values first (section "general"), then one section per table; nested tables
+    and lists of tables flattened into their section with their key path.
+    """
+    sections: dict[str, list[tuple[str, str, str]]] = {"general": []}
+
+    def add(section: str, path: str, value: Any, prefix: str = "") -> None:
+        last = path.rsplit(".", 1)[-1].split("[")[0]
+        if isinstance(value, dict):
+            if not value:
+                return
+            for k, v in value.items():
+                add(section, f"{path}.{k}", v, prefix)
+            return
+        if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            for i, item in enumerate(value):
+                for k, v in item.items():
+                    add(section, f"{path}[{i}].{k}", v, f"{H_words(last)} {i + 1}: ")
+            return
+        if isinstance(value, list) and not value:
+            text = "none"
+        elif value is None:
+            text = "automatic"
+        elif isinstance(value, str) and _KEY.fullmatch(value):
+            text = label(value)  # a value that names a setting (a sweep's parameter)
+        else:
+            q = quantity(path.rsplit(".", 1)[-1].split("[")[0])
+            text = format_value(value, unit=q.unit, kind=q.kind) or "none"
+        sections.setdefault(section, []).append((prefix + label(last), text, path))
+
+    for key, value in config.items():
+        if isinstance(value, dict) or (
+            isinstance(value, list) and value and all(isinstance(v, dict) for v in value)
+        ):
+            add(key, key, value)
+        else:
+            add("general", key, value)
+    return [(name, rows) for name, rows in sections.items() if rows]
+
+
+def _configuration(page: _Page, config: dict | None, title: str = "Configuration") -> None:
+    """The configuration as a readable table; a config without values says so."""
+    page.heading(title)
+    sections = config_rows(config or {})
+    if not sections:
+        page.paragraph("The run recorded no configuration.")
+        return
+    body = []
+    for name, rows in sections:
+        body.append(f"<tr class=section><th colspan=3>{_cell(H_words(name))}</th></tr>")
+        body += [
+            f"<tr><td>{_cell(k)}</td><td class=n>{_cell(v)}</td>"
+            f"<td><code class=key>{_cell(path)}</code></td></tr>"
+            for k, v, path in rows
+        ]
+    page.raw(
+        "<table class=config><tr><th>setting</th><th>value</th><th>configuration key</th></tr>"
+        + "".join(body)
+        + "</table>"
+    )
+
+
+def _provenance(page: _Page, rows: list[tuple[str, Any]]) -> None:
+    """Version, seed, hashes and files; a hash or file name as code (verbatim, not a number)."""
+    page.heading("Provenance")
+    verbatim = ("configuration hash", "result file", "stores")
+    page.table(
+        [
+            (k, f"<code>{_cell(v)}</code>" if k in verbatim else _cell(v))
+            for k, v in rows
+            if v is not None
+        ]
+    )
+
+
+# -- runs that keep no positions -----------------------------------------------------------------
+def _kind(directory: Path, name: str, summary: dict) -> str:
+    from skygas.runs import manifest
+
+    found = manifest.read(directory) or {}
+    if found.get("command"):
+        return str(found["command"])
+    if name in _KIND_BY_FILE:
+        return _KIND_BY_FILE[name]
+    return next((kind for key, kind in _KIND_BY_KEY if key in summary), "run")
+
+
+def _extra_json(directory: Path, name: str) -> dict | None:
+    try:
+        return json.loads((directory / name).read_text())
+    except (OSError, ValueError):
+        return None
 
 
 def directory_report(directory: Path) -> str:
-    """The report of a run directory that holds a summary and figures but no positions.
+    """The report of a run folder that holds a summary and figures but no positions.
 
-    Such as a neuron run without ``--animate``, a reservoir study, a saturation curve.
+    A neuron run without ``--animate``, a reservoir study, a saturation curve, the
+    stochastic-computing demo.
     """
-    name = next(n for n in SUMMARY_FILES if (directory / n).exists())
-    summary = json.loads((directory / name).read_text())
+    path = summary_file(directory)
+    assert path is not None, "a folder without summary.json"
+    summary = json.loads(path.read_text())
+    kind = _kind(directory, path.name, summary)
     provenance = summary.get("device", summary)  # the reservoir keeps it with its device
-    page = _Page(f"skygas run — {directory.name}")
-    page.paragraph(f"Report written by skygas {__version__} from {directory / name}.")
-    page.heading("Provenance")
-    page.table(
-        [
-            ("skygas version of the run", provenance.get("skygas_version", "?")),
-            ("seed", provenance.get("seed", "?")),
-        ]
-    )
+    version, seed = provenance.get("skygas_version"), provenance.get("seed")
+    if kind == "saturation":
+        seed = summary.get("seed", seed)
+    seed_text = "none (a fit draws no random numbers)" if kind == "micromag fit" else None
+    page = _Page(f"{_TITLES.get(kind, 'skygas ' + kind)} — {directory.name}")
+    found = _made_by(page, directory, version, seed)
+    sweep = _extra_json(directory, "sweep.json") if kind == "reservoir" else None
+    if kind == "reservoir":
+        results = H.reservoir(summary)
+        if sweep:
+            results.tables.append(H.reservoir_sweep(sweep))
+        config = (summary.get("device") or {}).get("config")
+    elif kind == "saturation":
+        results = H.saturation(summary)
+        config = summary.get("parameters")
+    elif kind == "sc demo":
+        results = H.sc_demo(summary, _extra_json(directory, "sc_reshuffler.json"))
+        # the decorrelators are the rows of the results' table
+        config = {
+            k: v for k, v in (summary.get("parameters") or {}).items() if k != "decorrelators"
+        }
+    elif kind == "neuron":
+        results = H.neuron(summary)
+        config = summary.get("config")
+    elif kind == "micromag fit":
+        results = H.micromag_fit(summary)
+        config = summary.get("parameters")
+    else:
+        results = H.Results()
+        config = summary.get("config")
+    _results(page, results)
     _movie(page, directory)
-    page.heading("Summary")
-    page.table(_summary_rows(summary))
-    _figures(page, directory)
-    page.heading("Configuration")
-    page.pre(json.dumps(summary.get("config", {}), indent=2))
+    _figures(page, directory, kind)
+    _tables(page, results)
+    skip = results.keys | {"device", "parameters", "skygas_version", "seed"}
+    _numbers(page, summary, skip)
+    _configuration(page, config)
+    _provenance(
+        page,
+        [
+            ("skygas version of the run", version or "not recorded"),
+            ("seed", seed if seed is not None else seed_text or "not recorded"),
+            ("configuration hash", (found or {}).get("config_hash")),
+            ("result file", path.name),
+        ],
+    )
+    _report_line(page, path)
     page.heading("Data")
     page.json_block("summary", summary)
+    if config:
+        page.json_block("configuration", config)
     return page.html()
 
 
-# -- runs -----------------------------------------------------------------------------------
+# -- runs ---------------------------------------------------------------------------------------
 def run_report(record, *, analysis: dict | None = None) -> str:
     """The HTML text of a run's report.
 
@@ -238,71 +632,73 @@ def run_report(record, *, analysis: dict | None = None) -> str:
 
     if analysis is None:
         analysis = analyze(record, maps=False)
-    page = _Page(f"skygas {record.kind} run — {record.directory.name}")
-    page.paragraph(f"Report written by skygas {__version__} from {record.path.name}.")
-    page.heading("Provenance")
-    page.table(
+    summary = record.summary or {}
+    kind = record.kind
+    page = _Page(f"{_TITLES.get(kind, 'skygas ' + kind)} — {record.directory.name}")
+    found = _made_by(page, record.directory, record.version, record.seed)
+    if kind == "reshuffle":
+        results = H.reshuffler(summary)
+    elif kind == "neuron":
+        results = H.neuron(summary)
+        H.diffusion_rows(results, analysis)
+    else:
+        results = H.simulation(summary, analysis)
+    _results(page, results)
+    _movie(page, record.directory)
+    page.heading("Figures")
+    _figures_inline(page, record.directory, kind)
+    page.heading("Observables of the recorded positions")
+    page.text_table(_observable_rows(analysis))
+    for png, text in _analysis_figures(analysis):
+        page.image(png, text)
+    _tables(page, results)
+    _numbers(page, summary, results.keys | {"skygas_version", "seed"})
+    _configuration(page, record.config)
+    frames = record.frames
+    _provenance(
+        page,
         [
-            ("run kind", record.kind),
             ("skygas version of the run", record.version),
             ("seed", record.seed),
-            ("result file", html.escape(str(record.path))),
-            ("frames recorded", record.frames.n_frames),
+            ("configuration hash", (found or {}).get("config_hash")),
+            ("result file", record.path.name),
+            ("frames recorded", frames.n_frames),
             (
-                "time span",
-                _number(float(record.frames.time[-1]), unit="s")
-                if record.frames.n_frames
-                else "n/a",
+                "time span of the frames",
+                format_value(float(frames.time[-1]), unit="s") if frames.n_frames else None,
             ),
-        ]
+        ],
     )
-    _movie(page, record.directory)
-    page.heading("Summary")
-    if record.summary:
-        page.table(_summary_rows(record.summary))
-    page.heading("Observables")
-    page.table(_observable_rows(analysis))
-    for png, caption in _analysis_figures(analysis):
-        page.image(png, caption)
-    _figures(page, record.directory)
-    page.heading("Configuration")
-    page.pre(json.dumps(record.config, indent=2))
+    _report_line(page, record.path)
     page.heading("Data")
-    page.json_block("summary", record.summary or {})
+    page.json_block("summary", summary)
+    page.json_block("configuration", record.config)
     page.json_block("observables", analysis)
     return page.html()
 
 
-def _summary_rows(summary: dict):
-    """Scalar summary entries; ``x`` with a sibling ``x_error`` shows as x ± error."""
-    rows = []
-    for key, value in summary.items():
-        if key.endswith("_error") or key in ("config",) or isinstance(value, (dict, list)):
-            continue
-        error = summary.get(f"{key}_error")
-        if error is None and key.endswith("_s"):
-            error = summary.get(f"{key[:-2]}_error_s")
-        rows.append((key, _number(value, error if isinstance(error, float) else None)))
-    interval = summary.get("p_out_interval")
-    if interval:
-        rows.append(("p_out 95 % interval", f"{interval[0]:.4f} – {interval[1]:.4f}"))
-    return rows
+def _figures_inline(page: _Page, directory: Path, kind: str) -> None:
+    for path in sorted(directory.glob("*.png")):
+        page.image(path.read_bytes(), caption(path.name, kind))
 
 
 def _observable_rows(a: dict):
-    rows = [("frames analysed", a.get("frames")), ("skyrmion entries", a.get("entries"))]
+    rows = [
+        ("frames analysed", format_value(a.get("frames"), kind="count") or "none"),
+        ("skyrmion entries", format_value(a.get("entries"), kind="count") or "none"),
+    ]
     diffusion = a.get("diffusion")
     if diffusion:
         removed = " (drift removed)" if diffusion.get("drift_subtracted") else ""
-        for key, label in (("short_time", "short-time D₀"), ("long_time", "long-time D_eff")):
+        for key, name in (("short_time", "short-time D₀"), ("long_time", "long-time D_eff")):
             value = diffusion.get(f"{key}_diffusion_m2_s")
             if value is not None:
-                error = diffusion[f"{key}_diffusion_error_m2_s"]
-                rows.append((f"{label}{removed}", _number(value, error, "m²/s")))
+                error = diffusion.get(f"{key}_diffusion_error_m2_s")
+                rows.append((f"{name}{removed}", _number(value, error, "m²/s")))
             elif diffusion.get(f"{key}_reason"):
-                rows.append((f"{label}", f"none: {diffusion[f'{key}_reason']}"))
+                rows.append((name, H.none(diffusion[f"{key}_reason"])))
         if diffusion.get("reason"):
-            rows.append(("diffusion constant", f"none: {diffusion['reason']}"))
+            rows.append(("diffusion constant", H.none(diffusion["reason"])))
         if a.get("free_diffusion_constant_m2_s"):
             rows.append(
                 (
@@ -315,12 +711,12 @@ def _observable_rows(a: dict):
         rows.append(
             (
                 "mean velocity (vx, vy)",
-                f"{_number(v['velocity_m_s'][0], v['velocity_error_m_s'][0])}, "
-                f"{_number(v['velocity_m_s'][1], v['velocity_error_m_s'][1])} m/s",
+                f"{_number(v['velocity_m_s'][0], v['velocity_error_m_s'][0], 'm/s')}, "
+                f"{_number(v['velocity_m_s'][1], v['velocity_error_m_s'][1], 'm/s')}",
             )
         )
         if v.get("hall_angle_reason"):
-            rows.append(("Hall angle", f"none: {v['hall_angle_reason']}"))
+            rows.append(("Hall angle", H.none(v["hall_angle_reason"])))
         if "hall_angle_rad" in v:
             rows.append(
                 (
@@ -379,7 +775,7 @@ def _analysis_figures(a: dict):
         yield (
             _figure_png(fig),
             "MSD(τ)/4τ against the lag (± jackknife error): flat where the motion is "
-            "diffusive; the constants drawn are those it supports",
+            "diffusive; the constants drawn are those it supports.",
         )
     g = a.get("pair_correlation")
     if g:
@@ -391,7 +787,7 @@ def _analysis_figures(a: dict):
         ax.set_xlabel("r (nm)")
         ax.set_ylabel("g(r)")
         fig.tight_layout()
-        yield _figure_png(fig), "pair correlation g(r), normalised for the confinement"
+        yield _figure_png(fig), "Pair correlation g(r), normalised for the confinement."
     occ = a.get("occupancy")
     if occ and len(occ.get("time_s", [])) > 1:
         fig = Figure(figsize=(4.6, 3.4), dpi=100)
@@ -405,14 +801,41 @@ def _analysis_figures(a: dict):
         ax.set_ylabel("skyrmions present")
         ax.legend(fontsize=8)
         fig.tight_layout()
-        yield _figure_png(fig), "occupancy"
+        yield _figure_png(fig), "Skyrmions present against time (all, and per chamber)."
 
 
 # -- sweeps -----------------------------------------------------------------------------------
+def _sweep_made(page: _Page, ds) -> None:
+    """What the sweep varies and when its runs were made (the store's sessions)."""
+    try:
+        fields = json.loads(ds.attrs.get("fields_json", "{}"))
+    except (TypeError, ValueError):
+        fields = {}
+    swept = [label(str(fields.get(d, d))) for d in ds["done"].dims if d != "replica"]
+    try:
+        sessions = json.loads(ds.attrs.get("sessions_json", "[]"))
+    except (TypeError, ValueError):
+        sessions = []
+    dates = [
+        time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(s["started"]))
+        for s in sessions
+        if isinstance(s, dict) and "started" in s
+    ]
+    when = ""
+    if dates:
+        when = f", run in {len(dates)} session(s) from {dates[0]}"
+        when += f" to {dates[-1]}" if len(dates) > 1 else ""
+    page.paragraph(
+        f"A sweep of {', '.join(swept)}{when}, with skygas "
+        f"{ds.attrs.get('skygas_version', '(version not recorded)')}.",
+        cls="made",
+    )
+
+
 def sweep_report(store: Path | list[Path]) -> str:
     """The HTML text of a sweep store's report (or of several stores drawn together).
 
-    Provenance, scaling fits and figures.
+    The fits first, then the figures, the sweep file, the base configuration and provenance.
     """
     import tempfile
 
@@ -420,45 +843,38 @@ def sweep_report(store: Path | list[Path]) -> str:
 
     stores = store if isinstance(store, list) else [store]
     ds = open_sweeps(stores)
-    page = _Page(f"skygas sweep — {' + '.join(s.name for s in stores)}")
-    page.paragraph(
-        f"Report written by skygas {__version__} from {', '.join(str(s) for s in stores)}."
-    )
-    page.heading("Provenance")
+    page = _Page(f"Parameter sweep — {' + '.join(s.name for s in stores)}")
+    _sweep_made(page, ds)
     done = ds["done"].values
-    page.table(
-        [
-            ("skygas version of the sweep", ds.attrs.get("skygas_version", "?")),
-            ("root seed", ds.attrs.get("root_seed", ds.attrs.get("seed", "?"))),
-            ("runs done", f"{int(np.sum(done))} of {done.size}"),
-            ("swept dimensions", ", ".join(map(str, ds["done"].dims))),
-        ]
-    )
     with tempfile.TemporaryDirectory() as tmp:
         try:
             fits = plot_sweep(ds, tmp)
         except InputError as err:
             fits = {"figures": [], "note": str(err)}
-        page.heading("Scaling fits")
-        for key, name in (("current", "beta"), ("chamber", "gamma")):
-            if key in fits:
-                f = fits[key][name]
-                page.table(
-                    [
-                        (
-                            f"{name} (ρ/(1−ρ) power law)",
-                            _number(f["exponent"], f.get("exponent_error")),
-                        ),
-                        ("points", f.get("n_points")),
-                    ]
-                )
-        if "note" in fits:
-            page.paragraph(fits["note"])
-        page.heading("Figures")
-        for path in fits["figures"]:
-            page.image(Path(path).read_bytes(), Path(path).name)
+        figures = [(Path(p).name, Path(p).read_bytes()) for p in fits["figures"]]
+    fits["figures"] = [name for name, _ in figures]  # names: the temporary folder is gone
+    _results(page, H.sweep(fits))
+    page.heading("Figures")
+    for name, png in figures:
+        page.image(png, caption(name))
     page.heading("Sweep file")
-    page.pre(str(ds.attrs.get("sweep_text", ds.attrs.get("sweep_toml", ""))))
+    page.pre(str(ds.attrs.get("sweep_file", "")) or "(not recorded)")
+    try:
+        base = json.loads(ds.attrs.get("base_config_json", "{}"))
+    except (TypeError, ValueError):
+        base = {}
+    _configuration(page, base, "Base configuration (before the swept values)")
+    seeds = ds.attrs.get("root_seed", ds.attrs.get("seed"))
+    _provenance(
+        page,
+        [
+            ("skygas version of the sweep", ds.attrs.get("skygas_version", "not recorded")),
+            ("root seed", ", ".join(map(str, seeds)) if isinstance(seeds, list) else seeds),
+            ("runs done", f"{int(np.sum(done))} of {done.size}"),
+            ("stores", ", ".join(str(s) for s in stores)),
+        ],
+    )
+    _report_line(page, stores[0])
     page.heading("Data")
     page.json_block("fits", fits)
     return page.html()

@@ -3,7 +3,7 @@
 :func:`run_reservoir` runs the study of a configuration and, with ``sweep=True``, its accuracy
 sweep, and writes into ``out_dir``:
 
-- ``reservoir.json``: the study's summary (:func:`~skygas.reservoir.study.study_summary`: every
+- ``summary.json``: the study's summary (:func:`~skygas.reservoir.study.study_summary`: every
   score and parameter, the seed and the version);
 - ``occupation.png`` and ``accuracy.png``: where the skyrmion is while each input is held, and
   the accuracies;
@@ -56,7 +56,7 @@ from skygas.runs.run_driver import (
 )
 
 #: The study's summary: its presence means a finished study.
-SUMMARY = "reservoir.json"
+SUMMARY = "summary.json"
 #: Engine steps (times skyrmions) a stream holds per piece: about a second of one core.
 PIECE_STEPS = 3_000_000
 
@@ -332,7 +332,7 @@ def run_reservoir(
     Returns
     -------
     dict
-        The study's summary (what ``reservoir.json`` holds), with the sweep's record under
+        The study's summary (what ``summary.json`` holds), with the sweep's record under
         ``"sweep"`` when it ran.
     """
     with ReservoirJob(config, sweep=sweep) as job:

@@ -76,7 +76,7 @@ def study_summary(
     scores: dict,
     wall_seconds: float,
 ) -> dict:
-    """The JSON-able record of a study (what ``reservoir.json`` holds).
+    """The JSON-able record of a study (what ``summary.json`` holds).
 
     Parameters
     ----------

@@ -88,6 +88,7 @@ def summarize(run, *, dataset: bool = True) -> ReshufflerResult:
 
     summary = {
         "correlation": rho,
+        "correlation_error": corr.pearson_error_by_index(b, c) if n_pairs >= 2 else float("nan"),
         "correlation_max_lag": lag.best_rho if lag else float("nan"),
         "correlation_best_lag": lag.best_lag if lag else 0,
         "scc": scc,

@@ -1,7 +1,7 @@
 r"""Demonstrations of what a decorrelator buys a stochastic circuit (``skygas sc demo``).
 
 Three experiments, each a function returning plain data, and :func:`run_demo` which runs them,
-draws the figures and writes ``sc_demo.json`` (parameters, seed, package version, the hash of
+draws the figures and writes ``summary.json`` (parameters, seed, package version, the hash of
 the parameters as ``config_hash``, the command line, results); each PNG carries the same record
 in its text chunks (:func:`~skygas.runs.run_driver.write_figure`):
 
@@ -295,7 +295,7 @@ def run_demo(
     correlation_bits: float = 16.0,
     decorrelators: Sequence[Decorrelator] | None = None,
 ) -> dict[str, Any]:
-    """Run all demonstrations, write three PNG figures and ``sc_demo.json`` into ``out_dir``.
+    """Run all demonstrations, write three PNG figures and ``summary.json`` into ``out_dir``.
 
     Parameters
     ----------
@@ -315,7 +315,7 @@ def run_demo(
     Returns
     -------
     dict
-        The dictionary written to ``sc_demo.json``.
+        The dictionary written to ``summary.json``.
     """
     if decorrelators is None:
         decorrelators = default_decorrelators()
@@ -377,5 +377,5 @@ def run_demo(
         "error_vs_length": errors,
         "comparison": rows,
     }
-    write_json(out / "sc_demo.json", summary)
+    write_json(out / "summary.json", summary)
     return summary

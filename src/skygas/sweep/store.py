@@ -315,7 +315,8 @@ def open_sweeps(paths) -> xr.Dataset:
     currents. A point done in two stores is refused (the stores would disagree on its runs).
 
     One path: :func:`open_sweep`. The attributes keep each store's sweep file
-    (``sweep_text``, one after the other) and its root seed (``root_seed``, listed).
+    (``sweep_file``, one after the other, each under a ``# STORE`` line) and its root seed
+    (``root_seed``, listed).
     """
     paths = [Path(p) for p in ([paths] if isinstance(paths, (str, Path)) else paths)]
     if len(paths) == 1:
@@ -353,9 +354,8 @@ def open_sweeps(paths) -> xr.Dataset:
     merged = xr.merge(masked, join="outer", compat="no_conflicts", combine_attrs="drop_conflicts")
     merged["done"] = merged["done"].fillna(0)
     merged.attrs["fields_json"] = parts[0].attrs.get("fields_json", "{}")
-    merged.attrs["sweep_text"] = "\n".join(
-        f"# {path}\n{ds.attrs.get('sweep_text', ds.attrs.get('sweep_toml', ''))}"
-        for path, ds in zip(paths, parts, strict=True)
+    merged.attrs["sweep_file"] = "\n".join(
+        f"# {path}\n{ds.attrs.get('sweep_file', '')}" for path, ds in zip(paths, parts, strict=True)
     )
     merged.attrs["root_seed"] = [ds.attrs.get("root_seed", ds.attrs.get("seed")) for ds in parts]
     merged.attrs["stores"] = [str(p) for p in paths]
