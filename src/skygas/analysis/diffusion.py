@@ -24,7 +24,7 @@ A burn-in [s] drops the first frames (a run that starts from random placement re
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -51,6 +51,39 @@ class MSDResult:
     diffusion_error: float
     fit_lags: np.ndarray
     drift_subtracted: bool
+    #: Each skyrmion's share of the sums per lag, (skyrmions, lags, 4): count, Σdx, Σdy, Σ|d|²
+    #: (for jackknife errors of any statistic of the curve, :meth:`ratio_change`).
+    per_skyrmion_sums: np.ndarray | None = field(default=None, repr=False, compare=False)
+
+    def ratio_change(self, first: int, last: int) -> tuple[float, float]:
+        """Relative change of MSD(τ)/4τ from lag index ``first`` to ``last``, and its error.
+
+        The change c = R(τ_last)/R(τ_first) − 1 of R = MSD/4τ, with its delete-one-skyrmion
+        jackknife standard error. The lags share time origins and paths, so their MSDs are
+        strongly correlated: the error of the change is much smaller than the two lags' errors
+        added in quadrature, and a steady rise or fall is resolved that the per-lag error bars
+        would hide.
+        """
+        tau = self.lag_time[[first, last]]
+
+        def change(total):
+            n = np.maximum(total[..., [first, last], 0], 1)
+            value = total[..., [first, last], 3] / n
+            if self.drift_subtracted:
+                value = (
+                    value
+                    - (total[..., [first, last], 1] ** 2 + total[..., [first, last], 2] ** 2) / n**2
+                )
+            ratio = value / tau
+            return ratio[..., 1] / ratio[..., 0] - 1.0
+
+        if self.per_skyrmion_sums is None:
+            raise ValueError("this MSD was computed without its per-skyrmion sums")
+        sums = self.per_skyrmion_sums
+        # a left-out skyrmion may have been the only one at a lag: its sample is NaN, and so
+        # is the error (then the change counts as resolved, the cautious side)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return float(change(sums.sum(axis=0))), float(jackknife_error(sums, change))
 
     def as_dict(self) -> dict:
         """The result as a JSON-able dict, SI units in the keys (what ``skygas analyze`` prints)."""
@@ -163,6 +196,7 @@ def mean_squared_displacement(
         float(jackknife_error(sums, d_of)),
         lags[in_fit],
         subtract_drift,
+        sums,
     )
 
 
@@ -206,16 +240,18 @@ class DiffusionEstimate:
         }
 
 
-def _flat(values: np.ndarray, errors: np.ndarray) -> tuple[bool, float]:
-    """Whether ``values`` (MSD/4τ over a fit range) stay flat, and their relative change.
+def _flat(msd: MSDResult, where: np.ndarray) -> tuple[bool, float]:
+    """Whether MSD(τ)/4τ stays flat over the lags ``where`` selects, and its relative change.
 
-    Flat unless the change from the first to the last exceeds :data:`FLATNESS` and three
-    standard errors.
+    Flat unless the change from the first to the last of those lags exceeds :data:`FLATNESS`
+    and three of its standard errors (the jackknife error of the change itself,
+    :meth:`MSDResult.ratio_change`, which knows that neighbouring lags are correlated).
     """
-    first, last = float(values[0]), float(values[-1])
-    change = (last - first) / first if first > 0 else float("inf")
-    sigma = float(np.hypot(errors[0], errors[-1]))
-    significant = abs(last - first) > 3 * sigma
+    index = np.flatnonzero(where)
+    change, error = msd.ratio_change(int(index[0]), int(index[-1]))
+    if not np.isfinite(change):
+        return False, change
+    significant = not np.isfinite(error) or abs(change) > 3 * error  # NaN: cannot tell
     return not (abs(change) > FLATNESS and significant), change
 
 
@@ -272,17 +308,24 @@ def diffusion_estimate(
     if short.sum() < 2:
         short_reason = "the record is too short for the first frame lags"
     else:
-        flat, change = _flat(ratio[short], ratio_error[short])
+        flat, change = _flat(msd, short)
         if flat:
             short_time = (msd.diffusion_constant, msd.diffusion_error)
         else:
-            short_reason = (
-                f"MSD(τ)/4τ changes by {100 * change:+.0f} % between lags of "
-                f"{_seconds(tau[short][0])} and {_seconds(tau[short][-1])}: the frames are too far "
-                "apart to resolve free diffusion (walls, pinning or neighbours act within one "
-                "frame); "
-                f"record more often than every {_seconds(dt)}"
-            )
+            span = f"between lags of {_seconds(tau[short][0])} and {_seconds(tau[short][-1])}"
+            if change > 0:
+                # a rise is not a resolution problem: the motion is faster than diffusive there
+                short_reason = (
+                    f"MSD(τ)/4τ rises by {100 * change:+.0f} % {span}: the motion is not "
+                    "diffusive over these lags (a drift, or a gas still relaxing from where it "
+                    "started: leave out the start with a burn-in)"
+                )
+            else:
+                short_reason = (
+                    f"MSD(τ)/4τ changes by {100 * change:+.0f} % {span}: the frames are too far "
+                    "apart to resolve free diffusion (walls, pinning or neighbours act within one "
+                    f"frame); record more often than every {_seconds(dt)}"
+                )
 
     enough = msd.n_pairs >= min_pairs
     top = tau[enough].max() if enough.any() else 0.0
@@ -294,7 +337,7 @@ def diffusion_estimate(
             "the record is too short: its longest well-sampled lag is less than ten frame intervals"
         )
     else:
-        flat, change = _flat(ratio[long], ratio_error[long])
+        flat, change = _flat(msd, long)
         if flat:
             weights = 1.0 / np.maximum(ratio_error[long], 1e-300) ** 2
             value = float(np.sum(weights * ratio[long]) / np.sum(weights))
