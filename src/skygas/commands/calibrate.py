@@ -87,7 +87,7 @@ def register(subparsers) -> None:
         "about 20 s per process to compile, a C compiler needed)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    add_run_options(p, checkpoint_seconds=60.0)
+    add_run_options(p)
     p.set_defaults(func=_calibrate)
 
 

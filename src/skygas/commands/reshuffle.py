@@ -115,7 +115,7 @@ def register(subparsers) -> None:
         help="start from a preset (the config file's values override it)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object, no progress bar")
-    add_run_options(p, checkpoint_seconds=60.0)
+    add_run_options(p)
     add_output_flags(p)
     p.add_argument("--current-density", type=float, help="J in the conduits [A/m²]")
     p.add_argument("--chamber-diameter", type=float, help="chamber diameter [m]")
