@@ -4,18 +4,25 @@ from __future__ import annotations
 
 import argparse
 
+from skygas.commands.json_output import add_json_option
+
 
 def _demo(args: argparse.Namespace) -> int:
     from skygas.commands.run_options import named_by_flags
     from skygas.sc.demo import run_demo
 
     with named_by_flags(args, {"n_bits": "n_bits", "seed": "seed"}):
-        run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
+        summary = run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
     if args.reshuffler:
         from skygas.reshuffler.decorrelator import reshuffler_demo
 
-        reshuffler_demo(args.out, seed=args.seed)
-    print(f"stochastic-computing demo written to {args.out}")
+        summary = {**summary, "reshuffler": reshuffler_demo(args.out, seed=args.seed)}
+    if args.json:
+        from skygas.commands.json_output import print_json
+
+        print_json(summary)
+    else:
+        print(f"stochastic-computing demo written to {args.out}")
     return 0
 
 
@@ -36,4 +43,5 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="also run the skyrmion reshuffler device (about 5 s more)",
     )
+    add_json_option(demo, "every curve and number of the demo")
     demo.set_defaults(func=_demo)
