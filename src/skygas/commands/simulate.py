@@ -1,4 +1,4 @@
-"""``skygas simulate CONFIG.toml --out DIR`` and ``skygas check-timestep CONFIG.toml``.
+"""``skygas simulate CONFIG.toml --out DIR``: a simulation described by a TOML file.
 
 The handlers import the simulation when they run: building the command line (every ``skygas``
 call, ``--help`` included) then imports no numerics.
@@ -25,23 +25,6 @@ def _simulate(args) -> int:
         )
     _report(summary, args.out, args.json)
     return 0
-
-
-def _check_timestep(args) -> int:
-    from skygas.runs.config import load_config
-    from skygas.runs.timestep import check_config_time_step
-
-    report = check_config_time_step(
-        load_config(args.config),
-        duration=args.duration,
-        time_step=args.time_step,
-        tolerance_diameters=args.tolerance,
-    )
-    if args.json:
-        print_json(report.as_dict())
-    else:
-        print(report.summary())
-    return 0 if report.passed else 1
 
 
 def default_demo_config():
@@ -92,7 +75,7 @@ def _report(summary: dict, out, as_json: bool) -> None:
 
 
 def register(subparsers) -> None:
-    """Add ``skygas simulate`` and ``skygas check-timestep`` to ``subparsers``."""
+    """Add ``skygas simulate`` to ``subparsers``."""
     p = subparsers.add_parser("simulate", help="run a simulation described by a TOML file")
     p.add_argument("config", help="TOML configuration (see examples/)")
     p.add_argument("--out", required=True, help="output directory")
@@ -100,18 +83,3 @@ def register(subparsers) -> None:
     add_run_options(p)
     add_output_flags(p)
     p.set_defaults(func=_simulate)
-
-    c = subparsers.add_parser(
-        "check-timestep", help="compare a configuration's time step with its half"
-    )
-    c.add_argument("config", help="TOML configuration")
-    c.add_argument("--time-step", type=float, default=None, help="step to check [s]")
-    c.add_argument("--duration", type=float, default=2e-9, help="compared duration [s]")
-    c.add_argument(
-        "--tolerance",
-        type=float,
-        default=0.01,
-        help="largest accepted difference [skyrmion diameters]",
-    )
-    add_json_option(c, "the report")
-    c.set_defaults(func=_check_timestep)
