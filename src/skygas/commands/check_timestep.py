@@ -44,8 +44,19 @@ MARKERS = {
         "transfer",
         "release_current_density",
     },
-    "reservoir": {"chamber", "drive", "sensors", "readout", "study", "n_skyrmions", "hold_time"},
+    "reservoir": {
+        "chamber",
+        "drive",
+        "sensors",
+        "readout",
+        "study",
+        "sweep",
+        "n_skyrmions",
+        "hold_time",
+    },
 }
+#: the tables of a sweep file (``skygas sweep``), whose ``[sweep]`` is not the reservoir's
+SWEEP_FILE = {"base", "grid"}
 
 #: least distance of the skyrmions placed in a device, from each other and from the walls
 #: [skyrmion diameters] (the reservoir's own placement)
@@ -61,6 +72,13 @@ def detect_device(data: dict, source: str) -> str:
         If no device's tables, or several devices', are in ``data``.
     """
     keys = set(data)
+    if keys & SWEEP_FILE:
+        raise InputError(
+            "config",
+            source,
+            "a device's configuration (this is a sweep file, with [base] and [grid])",
+            "check the sweep's base configuration in a file of its own",
+        )
     found = [device for device, marks in MARKERS.items() if keys & marks]
     if len(found) == 1:
         return found[0]
