@@ -694,3 +694,57 @@ def test_the_estimator_against_a_counted_case(monkeypatch, capsys):
     assert capsys.readouterr().err.startswith("skygas: estimate: 1e+11 steps, about 2.3 days")
     with run_limits(force=True, announce=True), pytest.raises(InputError, match="memory"):
         check(Estimate(1, 1e30, 1), "duration", 1.0, "the run", "use less")  # never forced
+
+
+# -- the command line's options: check-timestep on every device, demo (issue 30) --
+
+TIMESTEP_FILES = {
+    "both.toml": "[device]\nchamber_diameter = 1024e-9\n",  # the neuron's or the reshuffler's?
+    "sweep.toml": (EXAMPLES / "sweeps" / "quick-current.toml").read_text(),
+}
+
+TIMESTEP_CASES = {
+    "check-timestep of no device": (["check-timestep"], "config = None"),
+    "check-timestep of an ambiguous file": (
+        ["check-timestep", "both.toml"],
+        "config = 'both.toml': expected tables that say which device it is",
+    ),
+    "check-timestep of a sweep file": (["check-timestep", "sweep.toml"], "this is a sweep file"),
+    "check-timestep preset of a neuron": (
+        ["check-timestep", "--device", "neuron", "--preset", "paper"],
+        "--preset = 'paper'",
+    ),
+    "check-timestep simulate without a file": (
+        ["check-timestep", "--device", "simulate"],
+        "a simulation's TOML file",
+    ),
+    "check-timestep zero duration": (
+        ["check-timestep", "--device", "reservoir", "--duration", "0"],
+        "--duration = 0.0",
+    ),
+    "check-timestep negative tolerance": (
+        ["check-timestep", "--device", "reservoir", "--tolerance", "-1"],
+        "--tolerance = -1.0",
+    ),
+    "demo negative checkpoint interval": (
+        ["demo", "--checkpoint-seconds", "-1", "--out", "OUT"],
+        "--checkpoint-seconds = -1.0",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(TIMESTEP_CASES))
+def test_check_timestep_and_demo_refuse_in_one_line(name, tmp_path):
+    args, expected = TIMESTEP_CASES[name]
+    for relative, text in TIMESTEP_FILES.items():
+        (tmp_path / relative).write_text(text)
+    before = _snapshot(tmp_path)
+    proc = _run(args, tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: "), lines[0]
+    assert expected in lines[0], lines[0]
+    assert "Traceback" not in proc.stderr
+    assert _snapshot(tmp_path) == before
+    assert proc.stdout == ""

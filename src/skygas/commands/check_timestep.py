@@ -85,9 +85,8 @@ def detect_device(data: dict, source: str) -> str:
     what = (
         f"tables of only one device (it has those of {', '.join(found)})"
         if found
-        else "tables that say which device it is (none of "
-        + ", ".join(sorted(set().union(*MARKERS.values())))
-        + ")"
+        else "tables that say which device it is, such as [skyrmions] (simulate), [signal] "
+        "(reshuffle), [gate] (neuron) or [drive] (reservoir)"
     )
     raise InputError("config", source, what, f"name the device: --device {'|'.join(DEVICES)}")
 
