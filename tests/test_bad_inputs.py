@@ -701,6 +701,7 @@ def test_the_estimator_against_a_counted_case(monkeypatch, capsys):
 TIMESTEP_FILES = {
     "both.toml": "[device]\nchamber_diameter = 1024e-9\n",  # the neuron's or the reshuffler's?
     "sweep.toml": (EXAMPLES / "sweeps" / "quick-current.toml").read_text(),
+    "chamber.toml": CHAMBER,
 }
 
 TIMESTEP_CASES = {
@@ -725,6 +726,10 @@ TIMESTEP_CASES = {
     "check-timestep negative tolerance": (
         ["check-timestep", "--device", "reservoir", "--tolerance", "-1"],
         "--tolerance = -1.0",
+    ),
+    "simulate zero duration flag": (
+        ["simulate", "chamber.toml", "--duration", "0", "--out", "OUT"],
+        "--duration = 0.0",
     ),
     "demo negative checkpoint interval": (
         ["demo", "--checkpoint-seconds", "-1", "--out", "OUT"],

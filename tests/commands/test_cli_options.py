@@ -146,3 +146,12 @@ def _tour_command_lines() -> list[str]:
 def test_the_documented_command_lines_parse(line):
     words = shlex.split(line.replace("$SAMPLES", "samples"))[1:]
     build_parser().parse_args(words)  # argparse exits (SystemExit) on an unknown option
+
+
+def test_simulate_takes_seed_and_duration_as_the_device_commands_do(tmp_path, capsys):
+    config = ROOT / "examples" / "closed-chamber.toml"
+    argv = ["simulate", str(config), "--seed", "5", "--duration", "3e-9", "--json", "--no-report"]
+    assert main([*argv, "--out", str(tmp_path / "run")]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["seed"] == 5
+    assert summary["simulated_time_s"] == pytest.approx(3e-9)

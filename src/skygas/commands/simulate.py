@@ -10,7 +10,12 @@ from importlib import resources
 from pathlib import Path
 
 from skygas.commands.json_output import add_json_option, print_json
-from skygas.commands.run_options import add_run_options, limits_from_flags, run_options
+from skygas.commands.run_options import (
+    add_run_options,
+    limits_from_flags,
+    named_by_flags,
+    run_options,
+)
 from skygas.outputs.flags import add_output_flags
 
 
@@ -18,8 +23,9 @@ def _simulate(args) -> int:
     from skygas.runs.config import load_config
     from skygas.runs.runner import run_simulation
 
-    config = load_config(args.config)
-    with limits_from_flags(args):
+    with named_by_flags(args, {"seed": "seed", "duration": "duration"}):
+        config = load_config(args.config, seed=args.seed, duration=args.duration)
+    with limits_from_flags(args, announce=not args.json):
         summary = run_simulation(
             config, args.out, **run_options(args, progress=not args.json), then=_outputs(args)
         )
@@ -80,6 +86,10 @@ def register(subparsers) -> None:
     p.add_argument("config", help="TOML configuration (see examples/)")
     p.add_argument("--out", required=True, help="output directory")
     add_json_option(p)
+    p.add_argument("--seed", type=int, help="random seed (default: the configuration's)")
+    p.add_argument(
+        "--duration", type=float, help="simulated time [s] (default: the configuration's)"
+    )
     add_run_options(p)
     add_output_flags(p)
     p.set_defaults(func=_simulate)
