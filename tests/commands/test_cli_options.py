@@ -49,6 +49,10 @@ def test_every_option_of_every_command_has_a_help_line():
         for option, action in _options(parser).items()
         if action.help is None or not str(action.help).strip()
     ]
+    for parser in COMMANDS.values():  # and every sub-command its line in its parent's list
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                missing += [c.dest for c in action._choices_actions if not (c.help or "").strip()]
     assert missing == []
     assert len(COMMANDS) > 20  # the walk reaches the sub-commands (sc demo, micromag fit, ...)
 

@@ -99,14 +99,14 @@ def load_device_config(device: str | None, path: str | None, preset: str | None)
     tuple
         ``(device, config)``: the device (detected from the file when ``device`` is None).
     """
-    if path is None and device is None:
-        raise InputError(
-            "config",
-            None,
-            "a TOML configuration, or --device for a device's defaults",
-            "give a configuration file, or e.g. --device reshuffle",
-        )
     if device is None:
+        if path is None:
+            raise InputError(
+                "config",
+                None,
+                "a TOML configuration, or --device for a device's defaults",
+                "give a configuration file, or e.g. --device reshuffle",
+            )
         from skygas.core.config_types import read_toml
 
         device = detect_device(read_toml(path), str(path))
