@@ -739,17 +739,9 @@ TIMESTEP_CASES = {
 
 
 @pytest.mark.parametrize("name", list(TIMESTEP_CASES))
-def test_check_timestep_and_demo_refuse_in_one_line(name, tmp_path):
-    args, expected = TIMESTEP_CASES[name]
+def test_check_timestep_and_demo_refuse_in_one_line(name, tmp_path, monkeypatch):
+    """The catalogue's test (one line, exit 2, nothing written) on the cases above."""
+    monkeypatch.setitem(CASES, name, TIMESTEP_CASES[name])
     for relative, text in TIMESTEP_FILES.items():
-        (tmp_path / relative).write_text(text)
-    before = _snapshot(tmp_path)
-    proc = _run(args, tmp_path)
-    lines = proc.stderr.strip().splitlines()
-    assert proc.returncode == 2, proc.stderr
-    assert len(lines) == 1, proc.stderr
-    assert lines[0].startswith("skygas: error: "), lines[0]
-    assert expected in lines[0], lines[0]
-    assert "Traceback" not in proc.stderr
-    assert _snapshot(tmp_path) == before
-    assert proc.stdout == ""
+        monkeypatch.setitem(FILES, relative, text)
+    test_bad_input_exits_2_with_one_line_and_writes_nothing(name, tmp_path)
