@@ -119,3 +119,14 @@ def test_the_demo_passes_strict(tmp_path, capsys):
     assert "warning" not in captured.err
     summary = json.loads(captured.out)
     assert summary["simulated_time_s"] == pytest.approx(100e-6)
+
+
+def test_a_refused_long_run_prints_its_refusal_and_no_estimate(
+    no_stepping, tmp_path, capsys, monkeypatch
+):
+    """The estimate of a long run is held back until the run is accepted."""
+    monkeypatch.setenv("SKYGAS_STEP_SECONDS", "1e-4")  # 9e5 steps: about 13 min, announced
+    argv = ["reshuffle", "--strict", "--current-density", "1e20", "--out", str(tmp_path / "r")]
+    assert main(argv) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("skygas: error: --current-density = 1e+20")

@@ -48,6 +48,7 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import InputError, RunInterrupted, WriteFailed
+from skygas.core.estimates import announce_pending
 from skygas.core.json_values import plain
 from skygas.runs import folder_lock
 from skygas.runs.checkpoint_interval import CHECKPOINT_SECONDS
@@ -546,6 +547,7 @@ def _run_in_folder(
     if resume_from is not None:  # read (and checked) before anything in the folder changes
         load_checkpoint(job, resume_from)
     manifest.write(out, command, config_hash, started_at=started)
+    announce_pending()  # the run is accepted: its estimate, if it is long, before the progress
     last_save = time.perf_counter()
     try:
         with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
