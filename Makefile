@@ -29,7 +29,7 @@ $(DOCS_STAMP): $(STAMP) pyproject.toml
 	touch $(DOCS_STAMP)
 
 demo: $(STAMP)
-	$(BIN)/skygas reshuffle --out $(DEMO_OUT) --overwrite
+	$(BIN)/skygas demo --out $(DEMO_OUT) --overwrite
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -n 2 -q

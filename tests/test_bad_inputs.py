@@ -846,3 +846,54 @@ def test_report_refuses_a_calibration_folder_and_leaves_it_unchanged(tmp_path):
     assert lines[0].startswith("skygas: error: SOURCE = 'cal': expected a run folder or a sweep")
     assert "holds its own report.html" in lines[0]
     assert _snapshot(tmp_path) == before
+
+
+# -- the command line's options: check-timestep on every device, demo (issue 30) --
+
+TIMESTEP_FILES = {
+    "both.toml": "[device]\nchamber_diameter = 1024e-9\n",  # the neuron's or the reshuffler's?
+    "sweep.toml": (EXAMPLES / "sweeps" / "quick-current.toml").read_text(),
+    "chamber.toml": CHAMBER,
+}
+
+TIMESTEP_CASES = {
+    "check-timestep of no device": (["check-timestep"], "config = None"),
+    "check-timestep of an ambiguous file": (
+        ["check-timestep", "both.toml"],
+        "config = 'both.toml': expected tables that say which device it is",
+    ),
+    "check-timestep of a sweep file": (["check-timestep", "sweep.toml"], "this is a sweep file"),
+    "check-timestep preset of a neuron": (
+        ["check-timestep", "--device", "neuron", "--preset", "paper"],
+        "--preset = 'paper'",
+    ),
+    "check-timestep simulate without a file": (
+        ["check-timestep", "--device", "simulate"],
+        "a simulation's TOML file",
+    ),
+    "check-timestep zero duration": (
+        ["check-timestep", "--device", "reservoir", "--duration", "0"],
+        "--duration = 0.0",
+    ),
+    "check-timestep negative tolerance": (
+        ["check-timestep", "--device", "reservoir", "--tolerance", "-1"],
+        "--tolerance = -1.0",
+    ),
+    "simulate zero duration flag": (
+        ["simulate", "chamber.toml", "--duration", "0", "--out", "OUT"],
+        "--duration = 0.0",
+    ),
+    "demo negative checkpoint interval": (
+        ["demo", "--checkpoint-seconds", "-1", "--out", "OUT"],
+        "--checkpoint-seconds = -1.0",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(TIMESTEP_CASES))
+def test_check_timestep_and_demo_refuse_in_one_line(name, tmp_path, monkeypatch):
+    """The catalogue's test (one line, exit 2, nothing written) on the cases above."""
+    monkeypatch.setitem(CASES, name, TIMESTEP_CASES[name])
+    for relative, text in TIMESTEP_FILES.items():
+        monkeypatch.setitem(FILES, relative, text)
+    test_bad_input_exits_2_with_one_line_and_writes_nothing(name, tmp_path)

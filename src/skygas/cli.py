@@ -36,6 +36,7 @@ from skygas.core.errors import InputError, RunFinished, RunInterrupted, WriteFai
 # Modules that add sub-commands; each defines ``register(subparsers)``.
 _COMMAND_MODULES = [
     "skygas.commands.simulate",
+    "skygas.commands.check_timestep",
     "skygas.commands.reshuffle",
     "skygas.commands.neuron",
     "skygas.commands.reservoir",
@@ -74,7 +75,7 @@ _LOCK_BESIDE = {"sweep"}
 #: one example per command, shown at the end of its ``--help``
 EXAMPLES = {
     "simulate": "skygas simulate examples/closed-chamber.toml --out out/chamber",
-    "check-timestep": "skygas check-timestep examples/closed-chamber.toml --json",
+    "check-timestep": "skygas check-timestep examples/neuron.toml",
     "demo": "skygas demo --out out/demo",
     "reshuffle": "skygas reshuffle --preset paper --duration 2e-6 --current-density 1.7e11 "
     "--out out/reshuffler",

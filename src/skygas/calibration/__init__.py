@@ -11,6 +11,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from skygas.runs.checkpoint_interval import CHECKPOINT_SECONDS
+
 __all__ = ["calibrate", "CalibrationConfig", "MicromagneticMaterial", "load_micromagnetic_material"]
 
 
@@ -35,7 +37,7 @@ def calibrate(
     overwrite: bool = False,
     progress: bool = True,
     strict: bool = False,
-    checkpoint_seconds: float = 60.0,
+    checkpoint_seconds: float = CHECKPOINT_SECONDS,
     **settings: Any,
 ) -> dict[str, Any]:
     """Calibrate ``material`` into the folder ``out``: its particle model, numbers and report.

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from skygas.commands.json_output import print_json
+from skygas.commands.json_output import add_json_option, print_json
 
 
 def _pm(value, error, scale=1.0) -> str:
@@ -70,7 +70,7 @@ def register(subparsers) -> None:
     """Add ``skygas analyze`` to ``subparsers``."""
     p = subparsers.add_parser("analyze", help="standard observables of a run (MSD, g(r), ...)")
     p.add_argument("run", help="run directory or result file")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(p, "every observable, with the maps and curves,")
     p.add_argument("--no-maps", action="store_true", help="leave out the density and velocity maps")
     p.add_argument(
         "--burn-in",

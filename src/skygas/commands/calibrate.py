@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from skygas.commands.json_output import print_json
+from skygas.commands.json_output import add_json_option, print_json
 from skygas.commands.run_options import (
     add_run_options,
     limits_from_flags,
@@ -86,8 +86,8 @@ def register(subparsers) -> None:
         help="compile magnum.np's field terms (torch.compile: faster per step, "
         "about 20 s per process to compile, a C compiler needed)",
     )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    add_run_options(p, checkpoint_seconds=60.0)
+    add_json_option(p, "the calibration's numbers")
+    add_run_options(p)
     p.set_defaults(func=_calibrate)
 
 

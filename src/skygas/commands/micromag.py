@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 
-from skygas.commands.json_output import print_json
+from skygas.commands.json_output import add_json_option, print_json
 
 
 def register(subparsers) -> None:
@@ -26,7 +26,7 @@ def register(subparsers) -> None:
         description="Detect the skyrmions of one OVF (or .npy) file.",
     )
     inspect.add_argument("file", help="OVF 1.0/2.0 file (text, binary 4/8) or .npy array")
-    inspect.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(inspect, "the skyrmions found")
     inspect.add_argument(
         "--cell-size", type=float, default=None, help="cell size [m], needed for .npy input only"
     )
@@ -99,6 +99,7 @@ def register(subparsers) -> None:
         "tabulated law without material.toml",
     )
     fit.add_argument("--no-report", action="store_true", help="do not write OUT/report.html")
+    add_json_option(fit, "the fits (what summary.json holds)")
     fit.set_defaults(func=_fit)
 
     samples = commands.add_parser(
@@ -106,13 +107,20 @@ def register(subparsers) -> None:
         help="print where the sample OVF files are and how to try them",
         description="The synthetic OVF samples shipped with skygas, for inspect and fit.",
     )
-    samples.set_defaults(func=lambda args: print(_samples_usage()))
+    samples.add_argument(
+        "--path",
+        action="store_true",
+        help="print only the samples' folder, for a shell variable: "
+        "SAMPLES=$(skygas micromag samples --path)",
+    )
+    samples.set_defaults(func=_samples)
 
 
-def _samples_usage() -> str:
-    from skygas.micromag.samples import usage
+def _samples(args: argparse.Namespace) -> int:
+    from skygas.micromag.samples import folder, usage
 
-    return usage()
+    print(folder() if args.path else usage())
+    return 0
 
 
 def _inspect(args: argparse.Namespace) -> int:
@@ -164,6 +172,9 @@ def _fit(args: argparse.Namespace) -> int:
         from skygas.outputs.report import write_report
 
         write_report(args.out, Path(args.out) / "report.html")
+    if args.json:
+        print_json(result.as_record())
+        return 0
     lengths = sorted((len(t) for t in result.tracks), reverse=True)
     print(
         f"{len(lengths)} track(s) of {', '.join(map(str, lengths))} frames "

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from skygas.commands.json_output import print_json
+from skygas.commands.json_output import add_json_option, print_json
 from skygas.commands.run_options import (
     add_run_options,
     limits_from_flags,
@@ -120,7 +120,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("neuron", help="run the Skyrmion Neuron")
     p.add_argument("config", nargs="?", default=None, help="TOML configuration")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(p)
     p.add_argument("--seed", type=int, help="random seed")
     p.add_argument("--duration", type=float, help="simulated time [s]")
     p.add_argument("--no-transfer", action="store_true", help="skip the transfer curve")
@@ -131,11 +131,18 @@ def register(subparsers) -> None:
     s = subparsers.add_parser("saturation", help="maximum number of skyrmions in circular chambers")
     s.add_argument("--diameters", nargs="+", required=True, help="chamber diameters [m]")
     s.add_argument("--out", required=True, help="output directory")
-    s.add_argument("--json", action="store_true", help="print one JSON object")
-    s.add_argument("--repetitions", type=int, default=10)
-    s.add_argument("--relax-time", type=float, default=2e-9, help="relaxation [s]")
-    s.add_argument("--temperature", type=float, default=300.0, help="[K]")
-    s.add_argument("--seed", type=int, default=0)
+    add_json_option(s)
+    s.add_argument(
+        "--repetitions",
+        type=int,
+        default=10,
+        help="random fillings averaged for each chamber and count",
+    )
+    s.add_argument(
+        "--relax-time", type=float, default=2e-9, help="relaxation time of each filling [s]"
+    )
+    s.add_argument("--temperature", type=float, default=300.0, help="temperature [K]")
+    s.add_argument("--seed", type=int, default=0, help="random seed")
     add_run_options(s)
     s.add_argument("--no-report", action="store_true", help="do not write OUT/report.html")
     s.set_defaults(func=_saturation)

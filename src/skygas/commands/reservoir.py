@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from skygas.commands.json_output import print_json
+from skygas.commands.json_output import add_json_option, print_json
 from skygas.commands.run_options import (
     add_run_options,
     limits_from_flags,
@@ -95,7 +95,7 @@ def register(subparsers) -> None:
     )
     p.add_argument("config", nargs="?", default=None, help="TOML configuration")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--json", action="store_true", help="print one JSON object, no progress bar")
+    add_json_option(p)
     add_run_options(p)
     p.add_argument(
         "--no-report",

@@ -12,10 +12,15 @@ from contextlib import contextmanager
 
 from skygas.core.errors import InputError, require
 from skygas.core.estimates import run_limits
+from skygas.runs.checkpoint_interval import CHECKPOINT_SECONDS
 
 
-def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True) -> None:
-    """Add the run driver's options to a sub-command's parser."""
+def add_run_options(parser, quiet: bool = True) -> None:
+    """Add the run driver's options to a sub-command's parser.
+
+    ``--checkpoint-seconds`` has the one default of every command,
+    :data:`~skygas.runs.checkpoint_interval.CHECKPOINT_SECONDS`.
+    """
     parser.add_argument(
         "--resume",
         action="store_true",
@@ -40,10 +45,10 @@ def add_run_options(parser, checkpoint_seconds: float = 30.0, quiet: bool = True
     parser.add_argument(
         "--checkpoint-seconds",
         type=float,
-        default=checkpoint_seconds,
+        default=CHECKPOINT_SECONDS,
         metavar="S",
         help="wall time between periodic checkpoints [s] "
-        f"(default {checkpoint_seconds:g}; 0: after every piece of the run)",
+        f"(default {CHECKPOINT_SECONDS:g}; 0: after every piece of the run)",
     )
 
 

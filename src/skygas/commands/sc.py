@@ -4,24 +4,31 @@ from __future__ import annotations
 
 import argparse
 
+from skygas.commands.json_output import add_json_option
+
 
 def _demo(args: argparse.Namespace) -> int:
     from skygas.commands.run_options import named_by_flags
     from skygas.sc.demo import run_demo
 
     with named_by_flags(args, {"n_bits": "n_bits", "seed": "seed"}):
-        run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
+        summary = run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
     if args.reshuffler:
         from skygas.reshuffler.decorrelator import reshuffler_demo
 
-        reshuffler_demo(args.out, seed=args.seed)
+        summary = {**summary, "reshuffler": reshuffler_demo(args.out, seed=args.seed)}
     if not args.no_report:
         from pathlib import Path
 
         from skygas.outputs.report import write_report
 
         write_report(args.out, Path(args.out) / "report.html")
-    print(f"stochastic-computing demo written to {args.out}")
+    if args.json:
+        from skygas.commands.json_output import print_json
+
+        print_json(summary)
+    else:
+        print(f"stochastic-computing demo written to {args.out}")
     return 0
 
 
@@ -43,4 +50,5 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="also run the skyrmion reshuffler device (about 5 s more)",
     )
     demo.add_argument("--no-report", action="store_true", help="do not write OUT/report.html")
+    add_json_option(demo, "every curve and number of the demo")
     demo.set_defaults(func=_demo)

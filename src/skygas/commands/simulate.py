@@ -1,4 +1,4 @@
-"""``skygas simulate CONFIG.toml --out DIR`` and ``skygas demo --out DIR``.
+"""``skygas simulate CONFIG.toml --out DIR``: a simulation described by a TOML file.
 
 The handlers import the simulation when they run: building the command line (every ``skygas``
 call, ``--help`` included) then imports no numerics.
@@ -9,8 +9,13 @@ from __future__ import annotations
 from importlib import resources
 from pathlib import Path
 
-from skygas.commands.json_output import print_json
-from skygas.commands.run_options import add_run_options, limits_from_flags, run_options
+from skygas.commands.json_output import add_json_option, print_json
+from skygas.commands.run_options import (
+    add_run_options,
+    limits_from_flags,
+    named_by_flags,
+    run_options,
+)
 from skygas.outputs.flags import add_output_flags
 
 
@@ -18,8 +23,9 @@ def _simulate(args) -> int:
     from skygas.runs.config import load_config
     from skygas.runs.runner import run_simulation
 
-    config = load_config(args.config)
-    with limits_from_flags(args):
+    with named_by_flags(args, {"seed": "seed", "duration": "duration"}):
+        config = load_config(args.config, seed=args.seed, duration=args.duration)
+    with limits_from_flags(args, announce=not args.json):
         summary = run_simulation(
             config, args.out, **run_options(args, progress=not args.json), then=_outputs(args)
         )
@@ -27,45 +33,18 @@ def _simulate(args) -> int:
     return 0
 
 
-def _check_timestep(args) -> int:
-    from skygas.runs.config import load_config
-    from skygas.runs.timestep import check_config_time_step
-
-    report = check_config_time_step(
-        load_config(args.config),
-        duration=args.duration,
-        time_step=args.time_step,
-        tolerance_diameters=args.tolerance,
-    )
-    if args.json:
-        print_json(report.as_dict())
-    else:
-        print(report.summary())
-    return 0 if report.passed else 1
-
-
 def default_demo_config():
-    """The closed-chamber demonstration configuration shipped with the package."""
+    """The closed-chamber configuration shipped with the package (45 skyrmions, 200 ns).
+
+    The same as ``examples/closed-chamber.toml``; the engine's speed on a machine is measured on
+    it (:mod:`skygas.runs.machine_speed`).
+    """
     import tomllib
 
     from skygas.runs.config import parse_config
 
     text = resources.files("skygas").joinpath("data/demo-closed-chamber.toml").read_text()
     return parse_config(tomllib.loads(text), source="demo config: ")
-
-
-def _demo(args) -> int:
-    from skygas.runs.runner import run_simulation
-
-    with limits_from_flags(args):
-        summary = run_simulation(
-            default_demo_config(),
-            args.out,
-            **run_options(args, progress=not args.json),
-            then=_outputs(args),
-        )
-    _report(summary, args.out, args.json)
-    return 0
 
 
 def _outputs(args):
@@ -102,33 +81,15 @@ def _report(summary: dict, out, as_json: bool) -> None:
 
 
 def register(subparsers) -> None:
-    """Add ``skygas simulate``, ``skygas check-timestep`` and ``skygas demo`` to ``subparsers``."""
+    """Add ``skygas simulate`` to ``subparsers``."""
     p = subparsers.add_parser("simulate", help="run a simulation described by a TOML file")
     p.add_argument("config", help="TOML configuration (see examples/)")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    add_json_option(p)
+    p.add_argument("--seed", type=int, help="random seed (default: the configuration's)")
+    p.add_argument(
+        "--duration", type=float, help="simulated time [s] (default: the configuration's)"
+    )
     add_run_options(p)
     add_output_flags(p)
     p.set_defaults(func=_simulate)
-
-    c = subparsers.add_parser(
-        "check-timestep", help="compare a configuration's time step with its half"
-    )
-    c.add_argument("config", help="TOML configuration")
-    c.add_argument("--time-step", type=float, default=None, help="step to check [s]")
-    c.add_argument("--duration", type=float, default=2e-9, help="compared duration [s]")
-    c.add_argument(
-        "--tolerance",
-        type=float,
-        default=0.01,
-        help="largest accepted difference [skyrmion diameters]",
-    )
-    c.add_argument("--json", action="store_true", help="print the report as JSON")
-    c.set_defaults(func=_check_timestep)
-
-    d = subparsers.add_parser("demo", help="run the default demonstration")
-    d.add_argument("--out", default="demo-output", help="output directory")
-    d.add_argument("--json", action="store_true", help="print the summary as one JSON object")
-    add_run_options(d)
-    add_output_flags(d)
-    d.set_defaults(func=_demo)

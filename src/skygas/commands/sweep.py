@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sys
 
-from skygas.commands.json_output import print_json
+from skygas.commands.json_output import add_json_option, print_json
 from skygas.commands.run_options import add_dask_options, add_force_option
 
 
@@ -18,20 +18,37 @@ def _sweep(args) -> int:
     from skygas.sweep import load_sweep, run_sweep  # Dask and zarr load only when used
 
     sweep = load_sweep(args.sweep, args.set)  # every point is validated before anything runs
-    with limits_from_flags(args):  # --force, and the estimate line unless --quiet
+    with limits_from_flags(args, announce=not args.json):  # --force; the estimate unless --quiet
         report = run_sweep(
             sweep,
             args.out,
             scheduler=args.scheduler,
             workers=args.workers,
             serial=args.serial,
-            progress=not args.quiet,
+            progress=not (args.quiet or args.json),
         )
-    print(
-        f"{len(report.computed)} runs computed, {report.skipped} already done, "
-        f"{len(sweep.runs)} in all ({sweep.n_points} points × {sweep.replicas} replicas) "
-        f"in {report.wall_time_s:.1f} s; results in {report.store.resolve()}"
-    )
+    if args.json:
+        print_json(
+            {
+                "store": str(report.store.resolve()),
+                "runs": len(sweep.runs),
+                "points": sweep.n_points,
+                "replicas": sweep.replicas,
+                "computed": len(report.computed),
+                "already_done": report.skipped,
+                "failed": [
+                    {"index": index, "replica": replica, "error": str(error)}
+                    for index, replica, error in report.failed
+                ],
+                "wall_time_s": report.wall_time_s,
+            }
+        )
+    else:
+        print(
+            f"{len(report.computed)} runs computed, {report.skipped} already done, "
+            f"{len(sweep.runs)} in all ({sweep.n_points} points × {sweep.replicas} replicas) "
+            f"in {report.wall_time_s:.1f} s; results in {report.store.resolve()}"
+        )
     for index, replica, error in report.failed:
         print(f"skygas: run {index} replica {replica} failed: {error}", file=sys.stderr)
     if report.failed:
@@ -85,6 +102,7 @@ def register(subparsers) -> None:
     p.add_argument("sweep", help="sweep file (TOML; see docs/sweeps.md)")
     p.add_argument("--out", required=True, help="zarr store (created, or resumed if it exists)")
     add_dask_options(p)
+    add_json_option(p, "what was computed")
     add_force_option(p)
     p.add_argument(
         "--set",
@@ -108,5 +126,5 @@ def register(subparsers) -> None:
         required=True,
         help="directory for the PNG figures and fits.json (beside the store, never inside it)",
     )
-    q.add_argument("--json", action="store_true", help="print the fits as one JSON object")
+    add_json_option(q, "the fits")
     q.set_defaults(func=_plot, check_out=_check_plot_out)

@@ -11,7 +11,10 @@ anything, and hands it to :func:`check`:
 - an expected time of at least :data:`ANNOUNCE_SECONDS` is announced in one line on stderr
   (``skygas: estimate: 4.1e8 steps, about 25 min on this machine, 1.2 GiB``) when
   announcements are on (the command line turns them on, except under ``--json`` or
-  ``--quiet``; library callers get none unless they ask).
+  ``--quiet``; library callers get none unless they ask). The line is held back until the run
+  is about to start (:func:`announce_pending`, called by the run driver once the sanity checks
+  and the output folder have accepted it, and at the end of the :func:`run_limits` block), so
+  a run refused before it starts prints its one error line and nothing else.
 
 The force and announce switches are a context (:func:`run_limits`, a ``ContextVar``), so the
 builders' signatures do not change and every caller, command line or library, goes through the
@@ -47,6 +50,7 @@ class RunLimits:
 
 _limits: ContextVar[RunLimits] = ContextVar("skygas_run_limits", default=RunLimits())  # noqa: B039 - frozen
 _announced: set[str] = set()  # lines already printed (a study builds several equal runs)
+_pending: list[str] = []  # lines waiting for the run to be accepted (announce_pending)
 
 
 @contextmanager
@@ -69,8 +73,19 @@ def run_limits(*, force: bool = False, announce: bool = False) -> Iterator[RunLi
     token = _limits.set(limits)
     try:
         yield limits
+    except BaseException:
+        _pending.clear()  # a refused run announces nothing
+        raise
+    else:
+        announce_pending()
     finally:
         _limits.reset(token)
+
+
+def announce_pending() -> None:
+    """Print the estimates :func:`check` held back: the run they describe is about to start."""
+    while _pending:
+        print(_pending.pop(0), file=sys.stderr, flush=True)
 
 
 def current_limits() -> RunLimits:
@@ -171,4 +186,4 @@ def check(
         line = estimate.line()
         if line not in _announced:
             _announced.add(line)
-            print(line, file=sys.stderr, flush=True)
+            _pending.append(line)

@@ -249,7 +249,9 @@ class NeuronDevice:
         )
 
     # -- building ------------------------------------------------------------------------------
-    def build(self, inputs=None, duration=None, seed=None, record_interval=None) -> NeuronRun:
+    def build(
+        self, inputs=None, duration=None, seed=None, record_interval=None, brownian_substeps=1
+    ) -> NeuronRun:
         """A ready :class:`NeuronRun`: simulation, gate, read element and operations.
 
         Parameters
@@ -263,6 +265,9 @@ class NeuronDevice:
             their own).
         record_interval
             Time [s] between recorded frames (``None``: none).
+        brownian_substeps
+            The engine's (:class:`~skygas.engine.Simulation`): 2 draws each step's noise as
+            two half steps, the time-step check's coarse run (:mod:`skygas.runs.timestep`).
         """
         c = self.config
         seed = c.seed if seed is None else seed
@@ -276,6 +281,7 @@ class NeuronDevice:
             time_step=c.time_step,
             seed=seed,
             thiele=self.thiele,
+            brownian_substeps=brownian_substeps,
             landscape=[*c.potentials, self.band],
             **c.forces.simulation_arguments(),
         )

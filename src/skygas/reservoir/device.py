@@ -144,8 +144,13 @@ class ReservoirDevice:
         self._initial_positions(probe, np.random.default_rng(0))  # do they fit?
 
     # -- parts ---------------------------------------------------------------------------------
-    def simulation(self, seed: int):
-        """A fresh engine run in the closed chamber (contacts are walls for skyrmions)."""
+    def simulation(self, seed: int, brownian_substeps: int = 1):
+        """A fresh engine run in the closed chamber (contacts are walls for skyrmions).
+
+        ``brownian_substeps`` is the engine's (:class:`~skygas.engine.Simulation`): 2 draws each
+        step's noise as two half steps, the time-step check's coarse run
+        (:mod:`skygas.runs.timestep`).
+        """
         from skygas.engine import Simulation
 
         c = self.config
@@ -157,6 +162,7 @@ class ReservoirDevice:
             seed=seed,
             film_thickness=c.film_thickness,
             thiele=c.thiele_parameters(),
+            brownian_substeps=brownian_substeps,
             landscape=c.potentials,
             **c.forces.simulation_arguments(),
         )

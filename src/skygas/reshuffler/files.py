@@ -80,12 +80,10 @@ def run_reshuffler(
     """Run ``config``; with ``out_dir``, write the dataset, summary, figures (and checkpoints).
 
     Without ``out_dir`` the run is only analysed (nothing is written, nothing to resume).
-    ``drive_options`` are those of :func:`~skygas.runs.run_driver.drive`; a checkpoint is
-    saved every 60 s of wall time unless ``checkpoint_seconds`` says otherwise.
+    ``drive_options`` are those of :func:`~skygas.runs.run_driver.drive`.
     """
     job = ReshufflerJob(config, figures)
     if out_dir is None:
         job.run.advance()
         return job.finish(None)
-    drive_options.setdefault("checkpoint_seconds", 60.0)
     return drive(job, out_dir, **drive_options)

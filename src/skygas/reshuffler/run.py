@@ -153,11 +153,15 @@ class ReshufflerRun(DeviceRun):
         self.snapshots: list[tuple[float, np.ndarray, np.ndarray]] = []
 
     @classmethod
-    def build(cls, config: ReshufflerConfig, bits=None) -> ReshufflerRun:
+    def build(
+        cls, config: ReshufflerConfig, bits=None, brownian_substeps: int = 1
+    ) -> ReshufflerRun:
         """Validate everything, solve the current and set up the engine (no stepping).
 
         ``bits`` (0/1 values) replaces the configured input signal; the run then lasts at least
-        as long as it takes to inject them.
+        as long as it takes to inject them. ``brownian_substeps`` is the engine's
+        (:class:`~skygas.engine.Simulation`): 2 draws each step's noise as two half steps, the
+        time-step check's coarse run (:mod:`skygas.runs.timestep`).
         """
         thiele = config.thiele_parameters()
         d = config.device
@@ -224,6 +228,7 @@ class ReshufflerRun(DeviceRun):
             seed=seeds["noise"],
             thiele=thiele,
             capacity=64,
+            brownian_substeps=brownian_substeps,
             landscape=config.potentials,
             **config.forces.simulation_arguments(),
         )

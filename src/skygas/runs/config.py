@@ -18,6 +18,7 @@ from skygas.core.config_types import (
     Length,
     PositiveFloat,
     StrictModel,
+    apply_overrides,
     read_toml,
     to_input_error,
 )
@@ -383,7 +384,12 @@ def parse_config(data: dict, source: str = "") -> SimulationConfig:
         raise to_input_error(err, source) from None
 
 
-def load_config(path: str | Path) -> SimulationConfig:
-    """Read and validate a TOML configuration file."""
+def load_config(path: str | Path, **overrides: Any) -> SimulationConfig:
+    """Read and validate a TOML configuration file, with overrides.
+
+    ``overrides`` take dotted keys (:func:`~skygas.core.config_types.apply_overrides`;
+    ``None`` leaves the file's value), e.g. ``seed=3`` or ``duration=1e-7``.
+    """
     path = Path(path)
-    return parse_config(resolve_paths(read_toml(path), path.parent), source=f"{path.name}: ")
+    data = apply_overrides(resolve_paths(read_toml(path), path.parent), overrides)
+    return parse_config(data, source=f"{path.name}: ")

@@ -48,8 +48,10 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import InputError, RunInterrupted, WriteFailed
+from skygas.core.estimates import announce_pending
 from skygas.core.json_values import plain
 from skygas.runs import folder_lock
+from skygas.runs.checkpoint_interval import CHECKPOINT_SECONDS
 
 CHECKPOINT = "checkpoint.npz"
 
@@ -485,7 +487,7 @@ def drive(
     *,
     resume: bool = False,
     progress: bool = True,
-    checkpoint_seconds: float = 30.0,
+    checkpoint_seconds: float = CHECKPOINT_SECONDS,
     overwrite: bool = False,
     strict: bool = False,
     then: Callable[[Path], Any] | None = None,
@@ -497,7 +499,8 @@ def drive(
     so are finished results (``job.result_files``) and another command's folder.
     ``overwrite``: replace the job's finished results (or its interrupted run, without
     ``resume``) instead of refusing them.
-    ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece).
+    ``checkpoint_seconds``: wall time [s] between periodic checkpoints (0: after every piece;
+    default :data:`~skygas.runs.checkpoint_interval.CHECKPOINT_SECONDS`).
     ``strict``: the sanity checks (:mod:`skygas.runs.sanity`) refuse the run (before it starts; wall
     escapes once its results are written) instead of warning.
     ``then``: what else to write once the results are there (a report, a movie): it belongs
@@ -544,6 +547,7 @@ def _run_in_folder(
     if resume_from is not None:  # read (and checked) before anything in the folder changes
         load_checkpoint(job, resume_from)
     manifest.write(out, command, config_hash, started_at=started)
+    announce_pending()  # the run is accepted: its estimate, if it is long, before the progress
     last_save = time.perf_counter()
     try:
         with _DeferredSignals() as signals, _progress_bar(job, progress) as update:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from skygas.core.errors import InputError, require
-from skygas.core.estimates import Estimate, check
+from skygas.core.estimates import Estimate, announce_pending, check
 from skygas.sweep.spec import Run, Sweep
 from skygas.sweep.store import SweepStore
 from skygas.sweep.worker import run_one
@@ -141,6 +141,7 @@ def check_sweep(runs: list[Run], workers: int) -> Estimate:
         f"{len(runs)} runs on {parallel} workers",
         "sweep fewer points, replicas or a shorter base.duration",
     )
+    announce_pending()  # the sweep is accepted: its estimate, if it is long, now
     return estimate
 
 
