@@ -36,7 +36,10 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("runs", frozenset({"runs"})),
     ("stochastic computing", frozenset({"sc"})),
     ("devices", frozenset({"reshuffler", "neuron", "reservoir"})),
-    ("studies and tools", frozenset({"sweep", "micromag", "calibration", "analysis", "outputs"})),
+    (
+        "studies and tools",
+        frozenset({"sweep", "micromag", "calibration", "analysis", "outputs", "movies"}),
+    ),
     ("the command line", frozenset({"commands", "cli"})),
     ("the public API", frozenset({""})),
 )

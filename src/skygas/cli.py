@@ -47,6 +47,7 @@ _COMMAND_MODULES = [
     "skygas.commands.sc",
     "skygas.commands.micromag",
     "skygas.commands.calibrate",
+    "skygas.commands.track",
 ]
 
 #: exit status of a failure the user can fix (argparse's own, for the same kind of mistake)
@@ -55,12 +56,12 @@ EXIT_INPUT = 2
 EXIT_INTERNAL = 70
 
 #: commands whose ``--out`` is a file, not a folder
-_FILE_OUT_COMMANDS = {"animate", "export", "report"}
+_FILE_OUT_COMMANDS = {"animate", "export", "report", "render"}
 
 #: commands that read a run or a sweep store: ``--overwrite`` lets them replace an existing
 #: ``--out`` file (never an input, a run's results or anything in a store;
 #: :mod:`skygas.outputs.out_paths`)
-_READING_COMMANDS = {"animate", "export", "report"}
+_READING_COMMANDS = {"animate", "export", "report", "render"}
 
 #: commands whose ``--out`` keeps its own record instead of a manifest (a sweep store resumes)
 _OWN_OUT_RULES = {"sweep"}
@@ -89,6 +90,8 @@ EXAMPLES = {
     "micromag samples": "skygas micromag samples",
     "reservoir": "skygas reservoir --out out/reservoir --json",
     "calibrate": "skygas calibrate S2 --out out/cal",
+    "track": "skygas track examples/tracking/chamber-movie.tif --out out/track",
+    "render": "skygas render out/chamber --out out/chamber.tif --pixel-size 14e-9",
 }
 
 # A number as a flag's value: argparse's own pattern (``^-\d+$|^-\d*\.\d+$``) has no exponent
