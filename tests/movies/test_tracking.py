@@ -252,3 +252,18 @@ def test_render_from_the_command_line_writes_the_movie_and_its_sidecars(tmp_path
     assert shapely.contains_xy(polygon.buffer(2e-11), j * 20e-9, i * 20e-9).all()
     again = skygas(*render)
     assert again.returncode == 2 and "--overwrite" in again.stderr
+
+
+def test_a_float_movie_of_any_scale_tracks_like_its_counts(gas, tmp_path):
+    """A Kerr difference image: signed floats of amplitude 10⁻⁵, tracked like its counts."""
+    import tifffile
+
+    from skygas.movies.track_run import track_movie
+
+    path, _ = _movie(gas, tmp_path, frames=20)
+    counts = tifffile.imread(path)
+    tifffile.imwrite(tmp_path / "kerr.tif", (counts - 150.0) * 1e-5, photometric="minisblack")
+    stack = track_movie(path, tmp_path / "a", progress=False).tracks.table
+    kerr = track_movie(tmp_path / "kerr.tif", tmp_path / "b", progress=False).tracks.table
+    assert len(kerr) == len(stack)
+    assert np.allclose(kerr[["x", "y"]], stack[["x", "y"]], atol=1e-6)

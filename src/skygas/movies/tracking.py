@@ -1,9 +1,10 @@
 """Locate skyrmions in every frame and link them into tracks, with trackpy.
 
-The features of each frame come from ``trackpy.locate`` (the frame made spots-bright, the
-settings of :mod:`skygas.movies.choices`), one frame after the other with a progress bar; the
-tracks from ``trackpy.link`` (its search range and memory). Optionally the drift of the whole
-picture (a microscope's stage) is removed: ``trackpy.compute_drift`` averages the frame-to-frame
+The features of each frame come from ``trackpy.locate`` (the frame made spots-bright with the
+film at 0, :func:`~skygas.movies.choices.spots_bright`; the settings of
+:mod:`skygas.movies.choices`), one frame after the other with a progress bar; the tracks from
+``trackpy.link`` (its search range and memory). Optionally the drift of the whole picture (a
+microscope's stage) is removed: ``trackpy.compute_drift`` averages the frame-to-frame
 displacement of all tracked skyrmions and ``trackpy.subtract_drift`` takes its running sum off
 the positions. This is off by default: in a closed device the skyrmions' mean position moves
 for real (its ensemble-averaged step is a random walk of size σ_step/√N per frame, bounded by
@@ -71,13 +72,16 @@ def locate_all(movie, choices, progress: bool = True):
     import trackpy
     from tqdm import tqdm
 
-    sign = -1.0 if choices.contrast == "dark" else 1.0
+    from skygas.movies.choices import spots_bright
+
     options = choices.locate_options()
     found = []
     for i in tqdm(
         range(movie.n_frames), unit="frame", desc="located", leave=False, disable=not progress
     ):
-        f = trackpy.locate(sign * movie.frame(i), engine="python", **options)
+        f = trackpy.locate(
+            spots_bright(movie.frame(i), choices.contrast), engine="python", **options
+        )
         f["frame"] = i
         found.append(f)
     return pd.concat(found, ignore_index=True)
