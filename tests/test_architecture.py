@@ -39,7 +39,16 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     (
         "studies and tools",
         frozenset(
-            {"sweep", "optimize", "micromag", "calibration", "analysis", "outputs", "inference"}
+            {
+                "sweep",
+                "optimize",
+                "micromag",
+                "calibration",
+                "analysis",
+                "outputs",
+                "inference",
+                "movies",
+            }
         ),
     ),
     ("the command line", frozenset({"commands", "cli"})),

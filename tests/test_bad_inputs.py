@@ -897,3 +897,65 @@ def test_check_timestep_and_demo_refuse_in_one_line(name, tmp_path, monkeypatch)
     for relative, text in TIMESTEP_FILES.items():
         monkeypatch.setitem(FILES, relative, text)
     test_bad_input_exits_2_with_one_line_and_writes_nothing(name, tmp_path)
+
+
+# -- movies in (skygas track, skygas render) --
+
+
+def _movie_files(tmp_path: Path) -> None:
+    """The movies the tracking cases find in their working folder."""
+    import numpy as np
+    import tifffile
+
+    rng = np.random.default_rng(0)
+    grey = rng.integers(0, 255, (3, 32, 32), dtype=np.uint8)
+    tifffile.imwrite(tmp_path / "good.tif", grey, photometric="minisblack")
+    tifffile.imwrite(tmp_path / "complex.tif", grey.astype(np.complex64), photometric="minisblack")
+    tifffile.imwrite(tmp_path / "rgb.tif", np.stack([grey] * 3, axis=-1), photometric="rgb")
+    tifffile.imwrite(tmp_path / "one.tif", grey[0])
+    (tmp_path / "empty").mkdir()
+    (tmp_path / "empty" / "notes.txt").write_text("no images here\n")
+    (tmp_path / "movie.avi").write_bytes(b"RIFF")
+
+
+MOVIE_CASES = {
+    "movie of complex pixels": (["track", "complex.tif", "--out", "OUT"], "complex64"),
+    "movie in colour": (["track", "rgb.tif", "--out", "OUT"], "grey-scale"),
+    "movie of one frame": (["track", "one.tif", "--out", "OUT"], "at least 2 frames"),
+    "movie folder empty": (["track", "empty", "--out", "OUT"], "holds none"),
+    "movie missing": (["track", "missing.tif", "--out", "OUT"], "MOVIE = 'missing.tif'"),
+    "movie of another kind": (["track", "movie.avi", "--out", "OUT"], "TIFF stack"),
+    "movie pixel size 0": (
+        ["track", "good.tif", "--out", "OUT", "--pixel-size", "0"],
+        "--pixel-size = 0.0",
+    ),
+    "movie pixel size negative": (
+        ["track", "good.tif", "--out", "OUT", "--pixel-size", "-1e-8"],
+        "--pixel-size = -1e-08",
+    ),
+    "movie frame interval 0": (
+        ["track", "good.tif", "--out", "OUT", "--frame-interval", "0"],
+        "--frame-interval = 0.0",
+    ),
+    "movie diameter even": (["track", "good.tif", "--out", "OUT", "--diameter", "6"], "odd"),
+    "render of a missing run": (
+        ["render", "no-run", "--out", "m.tif", "--pixel-size", "1e-8"],
+        "RUN = 'no-run'",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(MOVIE_CASES))
+def test_a_bad_movie_is_one_line_and_writes_nothing(name, tmp_path):
+    args, expected = MOVIE_CASES[name]
+    _movie_files(tmp_path)
+    before = _snapshot(tmp_path)
+    proc = _run(args, tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("skygas: error: "), lines[0]
+    assert expected in lines[0], lines[0]
+    assert "Traceback" not in proc.stderr
+    assert _snapshot(tmp_path) == before  # nothing created, written, changed or removed
+    assert proc.stdout == ""

@@ -50,6 +50,7 @@ _COMMAND_MODULES = [
     "skygas.commands.micromag",
     "skygas.commands.calibrate",
     "skygas.commands.infer",
+    "skygas.commands.track",
 ]
 
 #: exit status of a failure the user can fix (argparse's own, for the same kind of mistake)
@@ -58,12 +59,12 @@ EXIT_INPUT = 2
 EXIT_INTERNAL = 70
 
 #: commands whose ``--out`` is a file, not a folder
-_FILE_OUT_COMMANDS = {"animate", "export", "report"}
+_FILE_OUT_COMMANDS = {"animate", "export", "report", "render"}
 
 #: commands that read a run or a sweep store: ``--overwrite`` lets them replace an existing
 #: ``--out`` file (never an input, a run's results or anything in a store;
 #: :mod:`skygas.outputs.out_paths`)
-_READING_COMMANDS = {"animate", "export", "report"}
+_READING_COMMANDS = {"animate", "export", "report", "render"}
 
 #: commands whose ``--out`` keeps its own record instead of a manifest (a sweep store and a
 #: study folder resume)
@@ -98,8 +99,10 @@ EXAMPLES = {
     "micromag samples": "skygas micromag samples",
     "reservoir": "skygas reservoir --out out/reservoir --json",
     "calibrate": "skygas calibrate S2 --out out/cal",
-    "infer": "skygas infer tracks.csv --pixel-size 10e-9 --frame-interval 5e-9 --outline "
-    "outline.csv --temperature 300 --out out/infer",
+    "infer": "skygas infer out/track/tracks.csv --pixel-size 14e-9 --frame-interval 2e-9 "
+    "--outline examples/tracking/chamber-movie-outline.csv --temperature 300 --out out/infer",
+    "track": "skygas track examples/tracking/chamber-movie.tif --out out/track",
+    "render": "skygas render out/chamber --out out/chamber.tif --pixel-size 14e-9",
 }
 
 # A number as a flag's value: argparse's own pattern (``^-\d+$|^-\d*\.\d+$``) has no exponent

@@ -316,7 +316,7 @@ def render_movie(
 
     def write(tmp: Path) -> None:  # a failed movie leaves no file behind
         if suffix == ".mp4":
-            _write_mp4(tmp, first, images, size, fps)
+            write_mp4(tmp, first, images, size, fps)
         else:
             _write_gif(tmp, first, images, fps)
 
@@ -336,7 +336,14 @@ def render_movie(
     )
 
 
-def _write_mp4(path: Path, first, images, size, fps: int) -> None:
+def write_mp4(
+    path: Path, first, images, size, fps: int, *, preset: str = "ultrafast", crf: int = 28
+) -> None:
+    """Encode RGB frames (``first``, then the iterable ``images``) as H.264 MP4 at ``path``.
+
+    ``size`` (width, height) [px], whole multiples of 16; ``fps`` frames per second; the x264
+    ``preset`` and constant rate factor ``crf`` (higher: smaller and coarser).
+    """
     import imageio_ffmpeg
 
     # H.264 in yuv420p with the index at the front (+faststart): what browsers play inline.
@@ -351,7 +358,7 @@ def _write_mp4(path: Path, first, images, size, fps: int) -> None:
         macro_block_size=16,
         quality=None,
         ffmpeg_log_level="error",
-        output_params=["-preset", "ultrafast", "-crf", "28", "-movflags", "+faststart"],
+        output_params=["-preset", preset, "-crf", str(crf), "-movflags", "+faststart"],
     )
     writer.send(None)
     writer.send(np.ascontiguousarray(first))
