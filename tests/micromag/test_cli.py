@@ -73,7 +73,7 @@ def test_fit_from_ovf_snapshots(tmp_path, capsys):
     # the law is printed with its form and named coefficients, F₀ with its unit
     assert "|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)], d in skyrmion diameters" in printed
     assert all(f"{name} = " in printed for name in ("F₀", "a₂", "a₁", "a₀")) and " N, a₂" in printed
-    record = json.loads((out / "fit.json").read_text())["pair_law"]
+    record = json.loads((out / "summary.json").read_text())["pair_law"]
     assert record["coefficient_names"] == ["a₂", "a₁", "a₀"]
     assert record["formula"] == "|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)]"
     fitted = load_material(out / "material.toml")

@@ -12,6 +12,8 @@ import sys
 import time
 from pathlib import Path
 
+from skygas.commands.json_output import add_json_option
+
 
 def register(subparsers) -> None:
     """Add ``skygas infer`` to ``subparsers``."""
@@ -55,7 +57,7 @@ def register(subparsers) -> None:
         help="frames per IBI simulation (default: the movie's, at most 2000)",
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the bootstrap and simulations")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json_option(p, "the inferred model: inference.json's numbers")
     p.set_defaults(func=_infer)
 
 

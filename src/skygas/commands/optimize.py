@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import sys
 
-from skygas.commands.json_output import print_json
+from skygas.commands.json_output import add_json_option, print_json
 from skygas.commands.run_options import add_dask_options, add_force_option
 
 
@@ -111,6 +111,6 @@ def register(subparsers) -> None:
         "--seed", type=int, default=None, help="root seed (default: [study] seed, else 0)"
     )
     add_dask_options(p)
-    p.add_argument("--json", action="store_true", help="print the results as one JSON object")
+    add_json_option(p, "the best trial (or the Pareto set) and the trials run")
     add_force_option(p)
     p.set_defaults(func=_optimize)

@@ -287,7 +287,7 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
                         xytext=(0, 4),
                     )
     ax_p.axhline(0, color="k", lw=0.8)
-    ax_p.set_ylabel("p_out − p_in (bars: p_out's 95 % interval)")
+    ax_p.set_ylabel("p_out − p_in\n(bars: p_out's 95 % interval)")
     x_all = ds[x_dim].values * scale
     if x_dim == CURRENT and x_all.min() <= PAPER_LOWEST_CURRENT <= x_all.max():
         # the paper's bound holds at its lowest current: drawn there, where the axis reaches it
