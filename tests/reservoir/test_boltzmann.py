@@ -68,7 +68,7 @@ def test_current_free_occupation_converges_to_boltzmann(setting, shape, toleranc
 
     walls, material, thiele = setting
     if shape == "disk":
-        walls = geo.disk(SIDE / 2)
+        walls = geo.disk(diameter=SIDE)
     sim = Simulation(walls, material, temperature=300.0, seed=11, thiele=thiele)
     sim.add_skyrmions([[0.0, 0.0]])
     sim.run(2e-6)  # forget the start
@@ -81,7 +81,7 @@ def test_current_free_occupation_converges_to_boltzmann(setting, shape, toleranc
         blocks = sim.take_frames()
         x = np.concatenate([b.x[:, 0] for b in blocks])
         y = np.concatenate([b.y[:, 0] for b in blocks])
-        d = walls.wall_distance_nm(x, y)
+        d = walls._wall_distance_nm(x, y)
         hists.append(np.histogram(d, bins=edges)[0] / len(d))
     hists = np.array(hists)
     mean = hists.mean(axis=0)
