@@ -3,6 +3,7 @@ multiples, and the end exactly at the duration asked for."""
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -25,8 +26,9 @@ def test_a_chosen_step_is_fitted_to_the_record_interval_with_a_warning():
     assert not float(1e-9 / suggested).is_integer()  # the case of the issue: 1.001 ns frames
     with pytest.warns(UserWarning, match="time step shortened"):
         sim.run(50e-9, record_interval=1e-9)
+    # the longest step up to the suggested one that divides the interval
     assert sim.time_step <= suggested
-    assert (1e-9 / sim.time_step) == pytest.approx(round(1e-9 / sim.time_step), abs=1e-9)
+    assert 1e-9 / sim.time_step == pytest.approx(math.ceil(1e-9 / suggested), abs=1e-6)
     ds = sim.trajectories()
     np.testing.assert_allclose(ds.time.values, np.arange(51) * 1e-9, rtol=1e-12, atol=0)
     assert sim.time == pytest.approx(50e-9, rel=1e-12)

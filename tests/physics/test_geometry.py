@@ -379,3 +379,15 @@ def test_si_random_positions_are_the_nanometre_ones_in_metres():
     assert np.all(outline.wall_distance(si[:, 0], si[:, 1]) >= 30e-9 * (1 - 1e-12))
     gaps = np.hypot(*(si[:, None, :] - si[None, :, :]).transpose(2, 0, 1))
     assert gaps[np.triu_indices(20, 1)].min() >= 45e-9 * (1 - 1e-12)
+
+
+def test_the_former_nanometre_names_warn_and_still_answer():
+    outline = disk(diameter=200e-9)
+    with pytest.warns(DeprecationWarning, match="Outline.contains"):
+        assert bool(outline.contains_nm(0.0, 0.0))
+    with pytest.warns(DeprecationWarning, match="Outline.area"):
+        assert outline.area_nm2() == outline._area_nm2()
+    with pytest.warns(DeprecationWarning, match="Outline.bounds"):
+        assert outline.bounds_nm == outline._bounds_nm
+    with pytest.warns(DeprecationWarning, match="Outline.wall_distance"):
+        assert outline.wall_distance_nm(0.0, 0.0) == pytest.approx(100.0, rel=1e-3)

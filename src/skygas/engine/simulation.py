@@ -265,7 +265,12 @@ class Simulation:
                 step_interval,
                 "an interval > 0 in seconds",
             )
-            time_step = default_time_step(self.thiele, self._step_stiffness(), step_interval)
+            stiffness = max(
+                t.stiffness()
+                for t in self.term_rules
+                if not (isinstance(t, Landscape) and not t.time_step_counts)
+            )
+            time_step = default_time_step(self.thiele, stiffness, step_interval)
         if time_step is None:
             time_step = self.suggested_time_step()
         require(
@@ -317,14 +322,6 @@ class Simulation:
         self._counters = np.zeros(1, T.COUNTERS)
         self._neighbor_cells: T.NeighborCells | None = None  # set by set_uniform_drift
         self.set_uniform_drift(drift_velocity)
-
-    def _step_stiffness(self) -> float:
-        """The largest stiffness [pN/nm] of the terms that set the suggested step."""
-        return max(
-            t.stiffness()
-            for t in self.term_rules
-            if not (isinstance(t, Landscape) and not t.time_step_counts)
-        )
 
     def _build_landscape(self, terms: list) -> LandscapeField:
         """The landscape of the user's ``terms``, plus a calibrated material's edge stray field.
@@ -734,8 +731,7 @@ class Simulation:
         """The time steps between two frames recorded every ``record_interval`` [s].
 
         A step the simulation chose itself is shortened first, if nothing has run yet and no
-        operation is attached, so that the interval is a whole number of steps (see
-        :meth:`run`).
+        operation is attached, to the longest one that divides the interval (see :meth:`run`).
 
         Raises
         ------
@@ -754,7 +750,8 @@ class Simulation:
             and self.step == 0
             and not self.operations
         ):
-            fitted = default_time_step(self.thiele, self._step_stiffness(), record_interval)
+            # the longest step up to the present one that divides the interval
+            fitted = record_interval / math.ceil(record_interval / self.time_step - 1e-9)
             warnings.warn(
                 f"skygas: time step shortened from {self.time_step:.6g} s to {fitted:.6g} s, "
                 f"so that record_interval = {record_interval:g} s is a whole number of steps "

@@ -18,6 +18,7 @@ assume coordinates of order one); the ``_nm`` forms of the queries are the engin
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -123,7 +124,8 @@ class Outline:
     @property
     def bounds(self) -> tuple[float, float, float, float]:
         """(x0, y0, x1, y1) [m], the bounding box of the region."""
-        return tuple(v / M_TO_NM for v in self.region.bounds)  # type: ignore[return-value]
+        x0, y0, x1, y1 = self.region.bounds
+        return (x0 / M_TO_NM, y0 / M_TO_NM, x1 / M_TO_NM, y1 / M_TO_NM)
 
     def contains(self, x, y) -> np.ndarray:
         """Whether the points (x, y) [m] lie strictly inside the region.
@@ -182,6 +184,28 @@ class Outline:
         """The area of the region [nm²]."""
         return float(self.region.area)
 
+    # -- the former public names, for one release ------------------------------------------
+    @property
+    def bounds_nm(self) -> tuple[float, float, float, float]:
+        """Deprecated: :attr:`bounds` [m] × 10⁹."""
+        _deprecated("bounds_nm", "bounds")
+        return self._bounds_nm
+
+    def contains_nm(self, x, y) -> np.ndarray:
+        """Deprecated: :meth:`contains` of points in metres."""
+        _deprecated("contains_nm", "contains")
+        return self._contains_nm(x, y)
+
+    def wall_distance_nm(self, x, y) -> np.ndarray:
+        """Deprecated: :meth:`wall_distance` of points in metres."""
+        _deprecated("wall_distance_nm", "wall_distance")
+        return self._wall_distance_nm(x, y)
+
+    def area_nm2(self) -> float:
+        """Deprecated: :meth:`area` [m²] × 10¹⁸."""
+        _deprecated("area_nm2", "area")
+        return self._area_nm2()
+
     # -- composition and records ---------------------------------------------------------------
     def translated(self, dx: float, dy: float) -> Outline:
         """The same outline moved by (dx, dy) metres (port names kept)."""
@@ -216,6 +240,15 @@ class Outline:
         region = shapely.from_wkt(record["region_wkt_nm"])
         ports = {k: LineString(v) for k, v in record.get("ports_nm", {}).items()}
         return cls(region, ports)
+
+
+def _deprecated(old: str, new: str) -> None:
+    warnings.warn(
+        f"Outline.{old} (nanometres) is deprecated and will be removed in the next release: "
+        f"use Outline.{new}, in metres",
+        DeprecationWarning,
+        stacklevel=3,
+    )
 
 
 def _positive(name: str, value: float) -> float:

@@ -286,7 +286,7 @@ def plot(ds: xr.Dataset, ax=None, max_tracks: int = 200, title: str | None = Non
     Examples
     --------
     >>> import skygas
-    >>> sim = skygas.Simulation(skygas.disk(diameter=400e-9), seed=1)
+    >>> sim = skygas.Simulation(skygas.disk(diameter=400e-9), seed=1, step_interval=0.5e-9)
     >>> ids = sim.add_random(3)
     >>> sim.run(2e-9, record_interval=0.5e-9)
     >>> fig = skygas.plot(sim.trajectories())
