@@ -138,7 +138,7 @@ class AnnihilationModel:
         """No annihilation and no nucleation: the count changes only by injection and exit."""
         return cls(base_rate=0.0, enabled=False)
 
-    def lengths_nm(self, skyrmion_diameter: float) -> tuple[float, float]:
+    def _lengths_nm(self, skyrmion_diameter: float) -> tuple[float, float]:
         """(r_c, d_min) [nm] for a skyrmion diameter [m]."""
         d = skyrmion_diameter
         r_c = (
@@ -285,7 +285,7 @@ class Annihilator:
         """
         if self._fixed is None or self._fixed[0] is not self.model or self._fixed[1] is not sim:
             wall, grid = sim.wall_field.wall_distance, sim.wall_field.grid
-            r_c, d_min = self.model.lengths_nm(sim.thiele.skyrmion_diameter)
+            r_c, d_min = self.model._lengths_nm(sim.thiele.skyrmion_diameter)
             self._fixed = (
                 self.model,
                 sim,

@@ -46,7 +46,7 @@ def saturation_estimate(
     """
     from skygas.neuron.calibration import SATURATION_DENSITY_FIT as fit
 
-    r_c, _ = model.lengths_nm(skyrmion_diameter)
+    r_c, _ = model._lengths_nm(skyrmion_diameter)
     # fitted: N_sat ≈ a · ((D − b·r_c)/r_c)², a, b from the calibration runs (docs/neuron.md)
     eff = max(chamber_diameter * 1e9 - fit["b"] * r_c, 0.0) / r_c
     return fit["a"] * eff**2
