@@ -70,6 +70,12 @@ def test_fit_from_ovf_snapshots(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "pair law" in printed and "d = 1.20–" in printed  # the range the data covered
     assert "a₂ ≥" not in printed  # a law that passes the checks is not constrained
+    # the law is printed with its form and named coefficients, F₀ with its unit
+    assert "|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)], d in skyrmion diameters" in printed
+    assert all(f"{name} = " in printed for name in ("F₀", "a₂", "a₁", "a₀")) and " N, a₂" in printed
+    record = json.loads((out / "fit.json").read_text())["pair_law"]
+    assert record["coefficient_names"] == ["a₂", "a₁", "a₀"]
+    assert record["formula"] == "|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)]"
     fitted = load_material(out / "material.toml")
     # The first frames (d ≈ 1.2 d_sk, walls 8 nm apart) bias the drawn centres by ~0.15 cell and
     # a₁, a₀ are strongly correlated, so the check is on the force the fitted law gives, over
@@ -120,6 +126,7 @@ def test_fit_constrains_a_pair_law_that_grows_outside_the_data(tmp_path, capsys)
     assert main(["micromag", "fit", str(snaps), "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     assert "a₂ ≥ 0.01" in printed and "grows without bound" in printed
+    assert "the unconstrained fit (a₂, a₁, a₀) = (" in printed  # named, as the law itself
     assert "the data covered 1.20–" in printed
     fitted = load_material(out / "material.toml")
     assert fitted.pair_law[0] >= 0.01 and law_problem("pair", fitted.pair_law) is None

@@ -277,3 +277,15 @@ def test_a_pair_law_rising_inside_the_data_is_refused_without_strict(system):
     with pytest.raises(InputError, match="inside the data") as refused:
         fit_trajectories(tracks, "S2", film_thickness=FILM)
     assert not isinstance(refused.value, UnfixedLawError)
+
+
+def test_law_formulas_name_every_coefficient_highest_power_first():
+    from skygas.micromag.forces import law_coefficient_names, law_formula
+
+    assert law_formula("pair", 3) == "|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)]"
+    assert law_formula("wall", 4) == "|F|(d) = F₀·exp[−(b₃d³ + b₂d² + b₁d + b₀)]"
+    assert law_coefficient_names("wall", 6) == ("b₅", "b₄", "b₃", "b₂", "b₁", "b₀")
+    # the form evaluates to the law the engine uses: exp[−polyval(b, d)] at d = 2
+    b = (0.5, -1.0, 2.0, 0.25)
+    by_formula = np.exp(-(b[0] * 2**3 + b[1] * 2**2 + b[2] * 2 + b[3]))
+    np.testing.assert_allclose(by_formula, wall_law_magnitude(2.0, b))

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from skygas.reservoir.readout import fit_and_score, split
+from skygas.reservoir.readout import accuracy_interval, fit_and_score, split
 from skygas.reservoir.sensors import coverage, disk_overlap_area
 from skygas.reservoir.tasks import BOOLEAN_NAMES, boolean_study, boolean_value
 
@@ -98,3 +98,13 @@ def test_a_random_landscape_is_one_device_in_one_stream():
     )
     boolean, temporal = run_streams(pinned)
     assert len(boolean) == 1 and len(boolean[0].bits) == 16 and temporal == []
+
+
+def test_the_accuracy_interval_is_wilsons():
+    # all right on n inputs: [n/(n + z²), 1]; half right: 1/2 ± z/(2√(n + z²)) (closed forms)
+    low, high = accuracy_interval([1.0, 0.0, 0.5], 10)
+    np.testing.assert_allclose(low, [10 / 11, 0.0, 0.5 - 1 / (2 * np.sqrt(11))], atol=1e-12)
+    np.testing.assert_allclose(high, [1.0, 1 / 11, 0.5 + 1 / (2 * np.sqrt(11))], atol=1e-12)
+    # many inputs: the normal interval a ± √(a(1 − a)/n)
+    low, high = accuracy_interval(0.8, 10**6, z=2.0)
+    np.testing.assert_allclose([low, high], [0.8 - 0.0008, 0.8 + 0.0008], rtol=1e-5)

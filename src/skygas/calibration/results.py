@@ -258,7 +258,12 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from skygas.physics.forces import paper_pair_force, paper_wall_force
+    from skygas.physics.forces import (
+        law_coefficient_names,
+        law_formula,
+        paper_pair_force,
+        paper_wall_force,
+    )
 
     law = cal.pair if which == "pair" else cal.wall
     energy = cal.pair_energy if which == "pair" else cal.wall_energy
@@ -267,7 +272,7 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
     d_sk = cal.diameter
 
     def draw(tmp):
-        fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4))
+        fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 6))
         lo, hi = law.measured
         inside = law.distance <= hi
         ax.semilogy(
@@ -299,8 +304,22 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
                 if which == "pair"
                 else paper_wall_force(x / d_sk, fit)
             )
+            values = [
+                f"{name} = {c:.4g}"
+                for name, c in zip(law_coefficient_names(which, len(fit)), fit, strict=True)
+            ]
             ax.semilogy(
-                x * 1e9, cal.force_scale * shape * 1e12, "r--", lw=1, label="paper's form fitted"
+                x * 1e9,
+                cal.force_scale * shape * 1e12,
+                "r--",
+                lw=1,
+                label="\n".join(
+                    [
+                        f"paper's form fitted: {law_formula(which, len(fit))},",
+                        f"F₀ = {cal.force_scale * 1e12:.4g} pN, d in d_sk = {d_sk * 1e9:.3g} nm:",
+                        *(", ".join(values[k : k + 3]) for k in range(0, len(values), 3)),
+                    ]
+                ),
             )
         if paper is not None:
             p, pd, pf = paper
@@ -322,7 +341,8 @@ def plot_law(cal: Calibration, which: str, path: Path) -> Path:
             ylabel="|F| [pN]",
             title=f"{which} law",
         )
-        ax.legend(fontsize=7)
+        # below the axes: inside, the fitted law's form and values would cover the curves
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14))
         bx.plot(energy.distance * 1e9, energy.energy / (cal.force_scale * d_sk), "ko", ms=4)
         bx.set(
             xlabel="distance [nm]",

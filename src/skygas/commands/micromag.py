@@ -7,7 +7,6 @@ Each sub-command is one call into :mod:`skygas.micromag`, imported when the sub-
 from __future__ import annotations
 
 import argparse
-import math
 
 from skygas.commands.json_output import print_json
 
@@ -165,13 +164,9 @@ def _fit(args: argparse.Namespace) -> int:
     )
     for fit in (result.pair, result.wall):
         if fit is not None:
-            values = ", ".join(
-                f"{c:.5g} ± {u:.2g}" if math.isfinite(u) else f"{c:.5g}"
-                for c, u in zip(fit.coefficients, fit.uncertainties, strict=True)
-            )
             print(
                 f"{fit.law} law ({fit.n_points} samples, d = {fit.distance_range[0]:.2f}"
-                f"–{fit.distance_range[1]:.2f} d_sk): [{values}]"
+                f"–{fit.distance_range[1]:.2f} d_sk): {fit.describe()}"
             )
     for law, table in result.tables.items():
         lo, hi = table.distance_range

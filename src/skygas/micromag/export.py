@@ -59,11 +59,21 @@ def write_material_toml(path: str | Path, material: Material, notes: Sequence[st
     return path
 
 
+def fit_legend(fit) -> str:
+    """A fitted law's legend: its form, then F₀ and the named coefficients, three to a line."""
+    values = [f"F₀ = {fit.force_scale * 1e12:.4g} pN"] + [
+        f"{name} = {c:.4g}" for name, c in zip(fit.coefficient_names, fit.coefficients, strict=True)
+    ]
+    lines = [", ".join(values[k : k + 3]) for k in range(0, len(values), 3)]
+    return "\n".join([f"fit {fit.formula}", *lines, "(d in skyrmion diameters)"])
+
+
 def plot_fits(path: str | Path, samples: dict, fits: dict, tables: dict | None = None) -> Path:
     """One panel per law: |F| [pN] against d [diameters].
 
     The samples, the law tabulated over the measured range (median and interquartile range per bin)
-    and the fitted curve, if a law was fitted.
+    and the fitted curve, if a law was fitted, its legend the law's form and named values
+    (:func:`fit_legend`).
     """
     import matplotlib
 
@@ -73,7 +83,7 @@ def plot_fits(path: str | Path, samples: dict, fits: dict, tables: dict | None =
     tables = tables or {}
     laws = [law for law in ("pair", "wall") if law in samples]
     fig, axes = plt.subplots(
-        1, max(len(laws), 1), figsize=(5 * max(len(laws), 1), 4), squeeze=False
+        1, max(len(laws), 1), figsize=(5 * max(len(laws), 1), 5.6), squeeze=False
     )
     for ax, law in zip(axes[0], laws, strict=False):
         d, force = samples[law]
@@ -100,8 +110,7 @@ def plot_fits(path: str | Path, samples: dict, fits: dict, tables: dict | None =
         fit = fits.get(law)
         if fit is not None:
             grid = np.linspace(d.min(), d.max(), 200)
-            coeffs = ", ".join(f"{c:.4g}" for c in fit.coefficients)
-            ax.semilogy(grid, fit.magnitude(grid) * 1e12, "r-", label=f"fit [{coeffs}]")
+            ax.semilogy(grid, fit.magnitude(grid) * 1e12, "r-", label=fit_legend(fit))
         else:
             ax.text(
                 0.02,
@@ -113,7 +122,8 @@ def plot_fits(path: str | Path, samples: dict, fits: dict, tables: dict | None =
         ax.set_xlabel("distance d (skyrmion diameters)")
         ax.set_ylabel("|F| (pN)")
         ax.set_title("skyrmion–skyrmion" if law == "pair" else "skyrmion–wall")
-        ax.legend(fontsize=7)
+        # below the axes: inside, the form and values of the law would cover its samples
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14))
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

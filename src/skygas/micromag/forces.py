@@ -50,6 +50,7 @@ import numpy as np
 from scipy import optimize, signal
 
 from skygas.core.errors import InputError
+from skygas.physics.forces import law_coefficient_names, law_formula
 
 #: Smallest distance [d_sk] from which a fitted law must decrease (see the module docstring).
 DECREASING_FROM = 1.0
@@ -195,6 +196,33 @@ class LawFit:
     covariance: list = field(default_factory=list, repr=False)
     note: str = ""
 
+    @property
+    def formula(self) -> str:
+        """The law's functional form, with its coefficients' names (d in skyrmion diameters)."""
+        return law_formula(self.law, len(self.coefficients))
+
+    @property
+    def coefficient_names(self) -> tuple[str, ...]:
+        """The coefficients' names, in the order of :attr:`coefficients` (all dimensionless)."""
+        return law_coefficient_names(self.law, len(self.coefficients))
+
+    def describe(self) -> str:
+        """The law with its named values: form, F₀ [N], each coefficient ± its 1σ uncertainty.
+
+        For example ``|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)], d in skyrmion diameters:
+        F₀ = 3.2e-12 N, a₂ = 0.52 ± 0.03, a₁ = 1.9 ± 0.1, a₀ = −0.4 ± 0.2 (dimensionless)``.
+        """
+        values = ", ".join(
+            f"{name} = {c:.5g} ± {u:.2g}" if math.isfinite(u) else f"{name} = {c:.5g}"
+            for name, c, u in zip(
+                self.coefficient_names, self.coefficients, self.uncertainties, strict=True
+            )
+        )
+        return (
+            f"{self.formula}, d in skyrmion diameters: F₀ = {self.force_scale:.4g} N, {values} "
+            "(dimensionless)"
+        )
+
     def magnitude(self, d) -> np.ndarray:
         """The fitted |F| [N] at distances d (diameters)."""
         shape = pair_law_magnitude if self.law == "pair" else wall_law_magnitude
@@ -204,6 +232,8 @@ class LawFit:
         """The fit as a JSON-able dict (``fit.json``), with the range the engine uses it over."""
         return {
             "law": self.law,
+            "formula": self.formula,
+            "coefficient_names": list(self.coefficient_names),
             "coefficients": list(self.coefficients),
             "uncertainties": list(self.uncertainties),
             "force_scale_N": self.force_scale,
@@ -478,7 +508,7 @@ def _constrained_pair_fit(d, y, free: LawFit, reason: str, rejected: int) -> Law
     rms = float(np.sqrt(np.mean(residual(solution.x) ** 2)))
     note = (
         f"pair law fitted with a₂ ≥ {PAIR_A2_FLOOR} and decreasing from "
-        f"{DECREASING_FROM:g} d_sk on: the unconstrained fit {_rounded(free.coefficients)} "
+        f"{DECREASING_FROM:g} d_sk on: the unconstrained fit {_named('pair', free.coefficients)} "
         f"{reason} (outside the data, d = {free.distance_range[0]:.2f}–"
         f"{free.distance_range[1]:.2f} d_sk); rms ln-residual "
         f"{free.rms_log_residual:.3g} → {rms:.3g}"
@@ -528,6 +558,12 @@ def fit_wall_law(d, force, force_scale: float, degree: int = 5, check: bool = Tr
 
 def _rounded(coefficients) -> list[float]:
     return [float(f"{c:.4g}") for c in coefficients]
+
+
+def _named(law: str, coefficients) -> str:
+    """``(a₂, a₁, a₀) = (…)``: the coefficients with their names (4 significant digits)."""
+    names = ", ".join(law_coefficient_names(law, len(coefficients)))
+    return f"({names}) = ({', '.join(f'{c:.4g}' for c in coefficients)})"
 
 
 def _refusal(fit: LawFit, why: str, remedy: str) -> InputError:

@@ -161,7 +161,7 @@ class FitResult:
             )
             notes += [
                 f"{fit.law} law fitted to {fit.n_points} samples over d = "
-                f"{fit.distance_range[0]:.3f}–{fit.distance_range[1]:.3f} d_sk"
+                f"{fit.distance_range[0]:.3f}–{fit.distance_range[1]:.3f} d_sk: {fit.describe()}"
                 for fit in (self.pair, self.wall)
                 if fit is not None
             ]

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
 
 def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
@@ -16,27 +17,22 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
 
     The landscape has the gate's band drawn closed, with the user's potentials; over it, the
     nucleation site and the recorded trajectories (start ○, end ●) or, for a run that recorded
-    none, the skyrmions present at its end.
+    none, the skyrmions present at its end. A panel beside the device magnifies the output
+    conduit and its gate (the grey box); the colour bar, shared by both, lies below them, so
+    neither the magnified view nor the bar covers the chamber or a label.
     """
-    from skygas.runs.plotting import draw_landscape, draw_outline, draw_tracks
+    from skygas.runs.plotting import draw_landscape, draw_outline, draw_tracks, landscape_energy
 
     sim = run.sim
-    fig = Figure(figsize=(7, 5), dpi=120)
-    ax = fig.add_subplot()
-    draw_landscape(ax, sim.landscape, sim.outline)
+    fig = Figure(figsize=(9, 5.8), dpi=120)
+    grid = fig.add_gridspec(2, 2, width_ratios=(2.6, 1), height_ratios=(1, 0.04))
+    ax, zoom = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
+    image = draw_landscape(ax, sim.landscape, sim.outline, colorbar=False)
     draw_outline(ax, sim.outline)
+    zoom_image = draw_landscape(zoom, sim.landscape, sim.outline, colorbar=False)
+    draw_outline(zoom, sim.outline, labels=False)
     ds = sim.trajectories()
-    # an inset magnifies the output conduit and its gate, a few skyrmion diameters wide
-    dev = run.device.config.device
-    d_um = sim.thiele.skyrmion_diameter * 1e6
-    x0 = run.device.x_meet * 1e-3 - 2 * d_um
-    x1 = run.device.x_meet * 1e-3 + dev.conduit_length * 1e6 + 0.5 * d_um
-    half = dev.conduit_width * 1e6 / 2 + 1.5 * d_um
-    height = 0.3 * 2 * half / (x1 - x0)
-    inset = ax.inset_axes((0.02, 0.98 - height, 0.3, height))  # the Hall drift keeps it clear
-    draw_landscape(inset, sim.landscape, sim.outline, colorbar=False)
-    draw_outline(inset, sim.outline)
-    for axis in (ax, inset):
+    for axis in (ax, zoom):
         if ds.sizes.get("skyrmion", 0):
             draw_tracks(axis, ds, max_tracks)
         else:
@@ -47,13 +43,18 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
         if ds.sizes.get("skyrmion", 0)
         else f"{sim.count} skyrmions at the end"
     )
-    inset.set_xlim(x0, x1)
-    inset.set_ylim(-half, half)
-    inset.set_xticks([])
-    inset.set_yticks([])
-    inset.set_xlabel("")
-    inset.set_ylabel("")
-    ax.indicate_inset_zoom(inset, edgecolor="grey")
+    # the magnified view: the output conduit and its gate, a few skyrmion diameters around them
+    dev = run.device.config.device
+    d_um = sim.thiele.skyrmion_diameter * 1e6
+    x0 = run.device.x_meet * 1e-3 - 2 * d_um
+    x1 = run.device.x_meet * 1e-3 + dev.conduit_length * 1e6 + 0.5 * d_um
+    half = max(dev.conduit_width * 1e6 / 2 + 1.5 * d_um, (x1 - x0) / 2)
+    zoom.set_xlim(x0, x1)
+    zoom.set_ylim(-half, half)
+    zoom.set_title("output conduit and gate\n(grey box, magnified)", fontsize=8)
+    zoom.tick_params(labelsize=7)
+    zoom.xaxis.set_major_locator(MaxNLocator(4))
+    ax.indicate_inset((x0, -half, x1 - x0, 2 * half), edgecolor="grey", alpha=0.8)
     site = run.device.site * 1e-3
     ax.plot(*site, "*", color="tab:red", ms=9)
     ax.annotate(
@@ -63,9 +64,22 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
         fontsize=7,
         ha="center",
         va="top",
-        xytext=(0, -6),
+        xytext=(0, -8),
         textcoords="offset points",
+        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
     )
+    # room beside the device for the port labels, inside the axes
+    bx0, _, bx1, _ = sim.outline.bounds_nm
+    margin = 0.12 * (bx1 - bx0) * 1e-3
+    ax.set_xlim(bx0 * 1e-3 - margin, bx1 * 1e-3 + margin)
+    if image is not None:
+        assert zoom_image is not None
+        zoom_image.set_norm(image.norm)  # one colour scale for both panels: one bar
+        energy = landscape_energy(sim.landscape)
+        assert energy is not None  # draw_landscape drew it
+        fig.colorbar(
+            image, cax=fig.add_subplot(grid[1, :]), orientation="horizontal", label=energy[1]
+        )
     g = run.device.config.gate
     ax.set_title(
         f"gate {g.barrier_height:g} k_BT (drawn closed), {what}, {sim.time * 1e9:.0f} ns",
@@ -100,7 +114,10 @@ def plot_trace(run, path: Path) -> Path:
         ax.axvline(s, color="k", lw=0.4, alpha=0.5)
     ax.set_xlabel("time (ns)")
     ax.set_ylabel("count (membrane potential)")
-    ax.legend(fontsize=7, loc="upper right")
+    # the threshold inside the axis, not on its frame; the legend above it, off the trace
+    top = max(float(np.max(tr["count"], initial=0)), run.controller.threshold)
+    ax.set_ylim(-0.05 * top - 0.5, 1.1 * top + 0.5)
+    ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.01), ncols=4, frameon=False)
     fig.tight_layout()
     fig.savefig(path)
     return path
@@ -123,16 +140,21 @@ def plot_transfer(curve: dict, path: Path, lif: dict | None = None) -> Path:
 
 
 def plot_saturation(result, path: Path) -> Path:
-    """The maximum-density figure to ``path``: saturation count against diameter."""
+    """The maximum-density figure to ``path``: saturation count against diameter.
+
+    The saturation counts carry their standard errors; the legend gives the protocol's
+    relaxation time and temperature.
+    """
     fig = Figure(figsize=(4.5, 3.5), dpi=110)
     ax = fig.add_subplot()
+    relax, temperature = result.parameters["relax_time_s"], result.parameters["temperature_K"]
     d = result.diameters * 1e9
     ax.errorbar(
         d,
         result.max_count,
         yerr=result.max_count_error,
         fmt="o-",
-        label="simulated saturation (2 ns, 300 K)",
+        label=f"simulated saturation ({relax * 1e9:g} ns, {temperature:g} K)",
     )
     ax.plot(d, result.close_packing, "--", label="hexagonal close packing")
     ax.set_yscale("log")

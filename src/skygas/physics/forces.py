@@ -7,6 +7,8 @@ and return the force magnitude in units of F₀ (docs/physics.md §2). The engin
   coefficient order of the Appendix C table), repulsive along the line of centres.
 - :func:`paper_wall_force`: |F| = exp[−p(d)], p a polynomial with the highest power first
   (paper eq. "boundary", Methods' b vector), along the inward wall normal.
+- :func:`law_formula` / :func:`law_coefficient_names`: the two paper laws written out with their
+  coefficients' names, for what a fit prints and draws.
 - :func:`lin_reichhardt_pair_force`: |F| = A·K₁(d/λ) (Lin, Reichhardt, Batista & Saxena,
   PRB 87, 214419 (2013)), an alternative pair law.
 - :func:`tabulated_force` / :func:`tabulated_law`: a calibrated model's table of |F| [N] against
@@ -61,6 +63,40 @@ def paper_wall_force(d, coefficients):
     """
     d = np.maximum(np.asarray(d, dtype=float), 0.0)
     return np.exp(-np.polyval(np.asarray(coefficients, dtype=float), d))
+
+
+_SUBSCRIPTS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+_SUPERSCRIPTS = str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def law_coefficient_names(law: str, count: int) -> tuple[str, ...]:
+    """Names of a paper law's ``count`` coefficients, highest power first.
+
+    ``law`` is "pair" or "wall". The pair law's are a₂, a₁, a₀; the wall polynomial's of degree n
+    are bₙ, …, b₁, b₀.
+    """
+    letter = "a" if law == "pair" else "b"
+    return tuple(f"{letter}{str(k).translate(_SUBSCRIPTS)}" for k in range(count - 1, -1, -1))
+
+
+def law_formula(law: str, count: int) -> str:
+    """The functional form of a paper law with ``count`` coefficients, as text.
+
+    ``|F|(d) = F₀·exp[−(a₂d² + a₁d + a₀)/(d + 1)]`` for the pair law, ``|F|(d) =
+    F₀·exp[−(b₂d² + b₁d + b₀)]`` for a wall polynomial of degree 2; d in skyrmion diameters.
+    """
+    names = law_coefficient_names(law, count)
+    terms = []
+    for name, power in zip(names, range(count - 1, -1, -1), strict=True):
+        terms.append(
+            name
+            if power == 0
+            else f"{name}d" + ("" if power == 1 else str(power).translate(_SUPERSCRIPTS))
+        )
+    poly = " + ".join(terms)
+    if law == "pair":
+        return f"|F|(d) = F₀·exp[−({poly})/(d + 1)]"
+    return f"|F|(d) = F₀·exp[−({poly})]"
 
 
 def lin_reichhardt_pair_force(d, amplitude: float = 1.0, decay_length: float = 0.5):

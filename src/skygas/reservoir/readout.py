@@ -12,7 +12,8 @@ it predicts that label.
 
 Scores: accuracy on the test inputs; chance = the test fraction of the majority class (what a
 constant guess gets); the standard error of an accuracy at chance, √(chance·(1 − chance)/n_test);
-and the margin (accuracy − chance)/standard error.
+and the margin (accuracy − chance)/standard error. The uncertainty of an accuracy itself is its
+Wilson score interval (:func:`accuracy_interval`).
 """
 
 from __future__ import annotations
@@ -68,3 +69,35 @@ def fit_and_score(
         "standard_error": se,
         "margin_standard_errors": (accuracy - chance) / se if se > 0 else None,
     }
+
+
+def accuracy_interval(accuracy, n_test, z: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """The Wilson score interval of accuracies measured on ``n_test`` test inputs.
+
+    With a = accuracy, n = n_test and z standard deviations (z = 1: 68 %),
+
+        centre = (a + z²/2n) / (1 + z²/n),
+        half width = z/(1 + z²/n) · √(a(1 − a)/n + z²/4n²),
+
+    which, unlike a ± √(a(1 − a)/n), keeps a width at a = 0 or 1 and stays inside [0, 1].
+
+    Parameters
+    ----------
+    accuracy : array_like
+        Fractions of the test inputs classified right.
+    n_test : array_like
+        Test inputs of each accuracy.
+    z : float
+        Width in standard deviations.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The interval's lower and upper ends.
+    """
+    a = np.asarray(accuracy, float)
+    n = np.asarray(n_test, float)
+    shrink = 1.0 + z**2 / n
+    centre = (a + z**2 / (2 * n)) / shrink
+    half = z / shrink * np.sqrt(a * (1 - a) / n + z**2 / (4 * n**2))
+    return centre - half, centre + half

@@ -144,7 +144,7 @@ def reshuffler_demo(
         [s["x_and_reshuffled_x"] for s in squaring],
         yerr=[2 * s["binomial_std"] for s in squaring],
         fmt="s",
-        label="x AND reshuffled x",
+        label="x AND reshuffled x (bars: ±2σ, binomial)",
     )
     ax.set_xlabel("p of x")
     ax.set_ylabel("p of the AND output")

@@ -151,6 +151,7 @@ def plot_running_correlation(ds, path: Path) -> Path:
 def plot_occupancy(ds, path: Path) -> Path:
     """Skyrmions present in each chamber against time, and the transit-time distribution."""
     from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
 
     fig = Figure(figsize=(9, 3.8), dpi=110)
     ax, hx = fig.subplots(1, 2)
@@ -171,6 +172,8 @@ def plot_occupancy(ds, path: Path) -> Path:
         hx.set_xscale("log")
     hx.set_xlabel("transit time (ns, log scale)")
     hx.set_ylabel("skyrmions")
+    for axis in (ax.yaxis, hx.yaxis):  # counts: whole numbers on the axes
+        axis.set_major_locator(MaxNLocator(integer=True))
     fig.tight_layout()
     fig.savefig(path)
     return path

@@ -220,7 +220,7 @@ def _plot_squaring(panels: dict[str, dict[str, dict[str, list[float]]]], path: P
 def _plot_error(errors: dict[str, Any], path: Path) -> None:
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(5.5, 4.2))
+    fig = Figure(figsize=(8, 4.2))
     ax = fig.add_subplot()
     n = np.asarray(errors["n_bits"])
     ax.loglog(n, errors["binomial_limit"], "k--", label="binomial limit (independent inputs)")
@@ -233,7 +233,8 @@ def _plot_error(errors: dict[str, Any], path: Path) -> None:
             ax.loglog(*zip(*pts, strict=False), "s-", mfc="none", ms=4, label=name)
     ax.set_xlabel("stream length $N$ (bits)")
     ax.set_ylabel("RMS error of $p^2$")
-    ax.legend(fontsize=7)
+    # beside the axes: inside, the legend would cover the curves of the short streams
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.tight_layout()
     fig.savefig(path, dpi=150)
 

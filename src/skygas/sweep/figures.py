@@ -6,7 +6,8 @@
 - ``chamber_size.png`` (paper, chamber-size figure): ρ against the chamber diameter L with the
   fit ρ = c_A + c_B/√L;
 - ``reshuffler_details.png`` / ``chamber_size_details.png``: per point, p_out − p_in with
-  p_out's 95 % interval, the fullest chamber (the paper's 51 marked), the mean transit time and
+  p_out's 95 % interval (the p-values side by side), the fullest chamber (the paper's "at most
+  51 at 10¹⁰ A/m²" marked where the current axis reaches 10¹⁰ A/m²), the mean transit time and
   the lag scan (ρ at lag 0 beside its largest value over lags, with that lag);
 - ``fits.json``: every fitted constant and exponent with its uncertainty; ``points.csv``: one
   row per point (:func:`~skygas.sweep.analysis.point_table`).
@@ -45,7 +46,8 @@ from skygas.sweep.analysis import (
 from skygas.sweep.store import open_sweep
 
 RUNNING_P = 0.62  # the paper's running-correlation panel
-PAPER_MAX_OCCUPANCY = 51  # the paper's fullest chamber at its lowest current
+PAPER_MAX_OCCUPANCY = 51  # the paper's fullest chamber at its lowest current ...
+PAPER_LOWEST_CURRENT = 1e10  # ... J [A/m²]
 
 
 def _fmt(fit: dict, key: str) -> str:
@@ -75,6 +77,22 @@ def fit_label(name: str, model_at_points, mean, sem) -> tuple[str, str]:
     return f"{name} (χ²/dof = {chi2:.2g})", "-"
 
 
+def dodge(x, k: int, n: int, log: bool, width: float = 0.3) -> np.ndarray:
+    """``x`` shifted for series ``k`` of ``n`` so that the series' error bars stand side by side.
+
+    The ``n`` series spread over ``width`` of the smallest gap between neighbouring x (on a log
+    axis, between their logarithms), centred on the true x; one series is not moved.
+    """
+    x = np.asarray(x, float)
+    if n < 2 or x.size < 1:
+        return x
+    where = np.log10(x) if log else x
+    gaps = np.diff(np.unique(where[np.isfinite(where)]))
+    gap = gaps.min() if gaps.size else (0.1 if log else max(abs(float(where[0])), 1.0) * 0.1)
+    shifted = where + (k - (n - 1) / 2) * width * gap / (n - 1)
+    return 10**shifted if log else shifted
+
+
 def _grid_only(ds: xr.Dataset, keep: tuple[str, ...]) -> xr.Dataset:
     """The first value of any other swept dimension (averaging over it would mix physics)."""
     extra = [d for d in ds["done"].dims if d not in (*keep, "replica")]
@@ -91,14 +109,14 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     stats = replica_mean(ds)
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(11, 4.2), dpi=110)
+    fig = Figure(figsize=(11, 5.4), dpi=110)
     left, right = fig.subplots(1, 2)
     j = ds[CURRENT].values
     p_values = ds[P_VALUE].values if P_VALUE in ds.dims else [None]
-    for p in p_values:
+    for k, p in enumerate(p_values):
         sel = stats.sel({P_VALUE: p}) if p is not None else stats
         left.errorbar(
-            j,
+            dodge(j, k, len(p_values), log=True),  # side by side: their bars would hide each other
             sel["mean"].values,
             yerr=np.nan_to_num(sel["sem"].values),
             fmt="o",
@@ -134,7 +152,8 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     left.set_xscale("log")
     left.set_xlabel("current density J in the conduits (A/m²)")
     left.set_ylabel("correlation ρ (output vs input)")
-    left.legend(fontsize=8)
+    # below the axes: the fits' long labels inside would cover the points and curves
+    left.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncols=2)
     if p_values[0] is not None:
         p_run = p_values[int(np.argmin(np.abs(np.asarray(p_values, float) - RUNNING_P)))]
     for value in j:
@@ -155,7 +174,7 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
     right.set_title(
         "running ρ" + (f", p = {p_run:g}" if p_values[0] is not None else ""), fontsize=9
     )
-    right.legend(fontsize=7)
+    right.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncols=2)
     fig.tight_layout()
     fig.savefig(path)
     return path
@@ -232,7 +251,7 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
     )
     fig = Figure(figsize=(11, 7.5), dpi=110)
     (ax_p, ax_n), (ax_t, ax_lag) = fig.subplots(2, 2)
-    for p in series:
+    for k, p in enumerate(series):
         sub = ds.sel({P_VALUE: p}) if p is not None else ds
         ok = sub["done"] == 1
         x = sub[x_dim].values * scale
@@ -240,7 +259,13 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
         half = ((sub["p_out_high"] - sub["p_out_low"]) / 2).where(ok).mean("replica")
         tag = f"p = {p:g}" if p is not None else None
         ax_p.errorbar(
-            x, diff.values, yerr=np.nan_to_num(half.values), fmt="o", ms=3, capsize=2, label=tag
+            dodge(x, k, len(series), log),  # side by side: their bars would hide each other
+            diff.values,
+            yerr=np.nan_to_num(half.values),
+            fmt="o",
+            ms=3,
+            capsize=2,
+            label=tag,
         )
         ax_n.plot(x, sub["max_occupancy"].where(ok).max("replica").values, "o-", ms=3, label=tag)
         ax_t.plot(
@@ -263,20 +288,33 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
                     )
     ax_p.axhline(0, color="k", lw=0.8)
     ax_p.set_ylabel("p_out − p_in (bars: p_out's 95 % interval)")
-    if x_dim == CURRENT:  # the paper's bound at its lowest current
-        ax_n.axhline(PAPER_MAX_OCCUPANCY, color="r", ls=":", label="paper: ≤ 51 at 10¹⁰")
+    x_all = ds[x_dim].values * scale
+    if x_dim == CURRENT and x_all.min() <= PAPER_LOWEST_CURRENT <= x_all.max():
+        # the paper's bound holds at its lowest current: drawn there, where the axis reaches it
+        ax_n.plot(
+            [PAPER_LOWEST_CURRENT],
+            [PAPER_MAX_OCCUPANCY],
+            "rv",
+            ms=8,
+            label=f"paper: ≤ {PAPER_MAX_OCCUPANCY} at J = 10¹⁰ A/m²",
+        )
     ax_n.set_ylabel("fullest chamber (skyrmions)")
     ax_t.set_ylabel("mean transit time (ns)")
     if any(np.nanmax(line.get_ydata(), initial=0) > 0 for line in ax_t.lines):
         ax_t.set_yscale("log")
-    ax_lag.set_ylabel("correlation (lag in events)")
+    ax_lag.set_ylabel("correlation ρ (numbers: best lag, events)")
     for ax in (ax_p, ax_n, ax_t, ax_lag):
         ax.set_xlabel(label)
         if log:
             ax.set_xscale("log")
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
-    fig.tight_layout()
+    # one legend above the panels for the series they share (inside, it would cover points)
+    handles, labels = ax_n.get_legend_handles_labels()
+    top = 1.0
+    if handles:
+        fig.legend(handles, labels, loc="upper center", ncols=len(labels), fontsize=8)
+        top = 0.95
+    ax_lag.legend(fontsize=7)
+    fig.tight_layout(rect=(0, 0, 1, top))
     fig.savefig(path)
     return path
 
