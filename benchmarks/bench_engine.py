@@ -27,18 +27,18 @@ from machine_clock import clock_ghz
 from machine_steal import StealMeter
 from pair_pass import repeated_pair_pass
 from skygas.engine import Simulation
-from skygas.physics.geometry import disk, random_positions
+from skygas.physics.geometry import _random_positions_nm, disk
 
 HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
 
 
 def make_sim(n: int, seed: int = 1) -> Simulation:
     radius_nm = np.sqrt(n / (np.pi * HALF_FULL_DENSITY))
-    outline = disk(radius_nm * 1e-9)
+    outline = disk(diameter=2 * radius_nm * 1e-9)
     sim = Simulation(outline, "S2", temperature=300.0, seed=seed, grid_spacing=4e-9, capacity=n)
     rng = np.random.default_rng(seed)
     d_sk = sim.thiele.skyrmion_diameter_internal
-    pts = random_positions(outline, n, 1.2 * d_sk, 0.6 * d_sk, rng)
+    pts = _random_positions_nm(outline, n, 1.2 * d_sk, 0.6 * d_sk, rng)
     sim.state.insert_nm(pts)
     # Compile, then let the random start relax (≈ 0.2 µs): right after random placement the
     # skyrmions push each other apart fast and the neighbour list is rebuilt far more often

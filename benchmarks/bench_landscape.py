@@ -31,7 +31,7 @@ import numpy as np
 
 from skygas.engine import Simulation
 from skygas.fields.landscape import Disorder, RandomPinning
-from skygas.physics.geometry import disk, random_positions
+from skygas.physics.geometry import _random_positions_nm, disk
 
 HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
 LANDSCAPES = {
@@ -46,7 +46,7 @@ LANDSCAPES = {
 
 def make_sim(n: int, landscape, time_step=None) -> Simulation:
     radius_nm = np.sqrt(n / (np.pi * HALF_FULL_DENSITY))
-    outline = disk(radius_nm * 1e-9)
+    outline = disk(diameter=2 * radius_nm * 1e-9)
     sim = Simulation(
         outline,
         "S2",
@@ -58,7 +58,7 @@ def make_sim(n: int, landscape, time_step=None) -> Simulation:
         landscape=landscape,
     )
     d_sk = sim.thiele.skyrmion_diameter_internal
-    pts = random_positions(outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(1))
+    pts = _random_positions_nm(outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(1))
     sim.state.insert_nm(pts)
     sim.run(2000 * sim.time_step)  # compile, and let the random start relax
     return sim

@@ -23,19 +23,25 @@ import subprocess
 import sys
 
 # Runs in a fresh interpreter with one version's source first on the path: prints seconds.
-# Only public API, present in both versions, is used (skyrmions placed with add_skyrmions).
+# The API of both versions is used (skyrmions placed with add_skyrmions).
 ENGINE = """
 import time, numpy as np
 from skygas.engine import Simulation
 from skygas import disk
-try:  # the module moved with the layers-as-folders layout
-    from skygas.physics.geometry import random_positions
+try:  # the nanometre form became private when random_positions took metres
+    from skygas.physics.geometry import _random_positions_nm as random_positions
 except ImportError:
-    from skygas.geometry import random_positions
+    try:  # the module moved with the layers-as-folders layout
+        from skygas.physics.geometry import random_positions
+    except ImportError:
+        from skygas.geometry import random_positions
 n = {n}
 radius_nm = np.sqrt(n / (np.pi * 45 / (np.pi * 512.0**2)))
-sim = Simulation(disk(radius_nm * 1e-9), "S2", temperature=300.0, seed=1, grid_spacing=4e-9,
-                 capacity=n)
+try:  # sizes became diameters
+    outline = disk(diameter=2 * radius_nm * 1e-9)
+except TypeError:
+    outline = disk(radius_nm * 1e-9)
+sim = Simulation(outline, "S2", temperature=300.0, seed=1, grid_spacing=4e-9, capacity=n)
 d_sk = sim.thiele.skyrmion_diameter_internal
 pts = random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(1))
 sim.add_skyrmions(pts * 1e-9, validate=False)

@@ -57,6 +57,11 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
 
 #: Upward imports accepted, as (importing module, imported module): why each is there.
 ALLOWED_UPWARD: dict[tuple[str, str], str] = {
+    ("skygas.engine.simulation", "skygas.runs.plotting"): (
+        "Simulation.plot draws with the command line's own figure functions, so that a "
+        "simulation plotted from Python looks like its run's figures; imported only when plot "
+        "is called"
+    ),
     ("skygas.neuron.files", "skygas.outputs.finish"): (
         "a neuron run recorded for a movie writes its positions as frames.nc with "
         "outputs.finish.write_frames, next to the reader of that file (outputs.records), so the "

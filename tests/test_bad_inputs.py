@@ -959,3 +959,34 @@ def test_a_bad_movie_is_one_line_and_writes_nothing(name, tmp_path):
     assert "Traceback" not in proc.stderr
     assert _snapshot(tmp_path) == before  # nothing created, written, changed or removed
     assert proc.stdout == ""
+
+
+# -- sizes and steps of simulate's configuration (issue 30: a Python API without unit traps) --
+# A disk of the shapes geometry is given by its diameter, as every size; an explicit time step
+# must divide the record interval, so that the frames fall on its multiples.
+SIMULATE_CASES = {
+    "disk radius": (
+        CHAMBER.split("[geometry]")[0]
+        + '[geometry]\nkind = "shapes"\nshapes = [{ kind = "disk", radius = 300e-9 }]\n'
+        + "[skyrmions]\nrandom_count = 3\n",
+        "diameter",
+    ),
+    "step not dividing the record interval": (
+        _replace_line(CHAMBER, "record_interval", "record_interval = 1e-9\ntime_step = 3e-12"),
+        "time_step",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(SIMULATE_CASES))
+def test_a_simulate_size_or_step_trap_is_one_line(name, tmp_path):
+    text, expected = SIMULATE_CASES[name]
+    (tmp_path / "run.toml").write_text(text)
+    before = _snapshot(tmp_path)
+    proc = _run(["simulate", "run.toml", "--out", "OUT"], tmp_path)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1 and lines[0].startswith("skygas: error: "), proc.stderr
+    assert expected in lines[0], lines[0]
+    assert "Traceback" not in proc.stderr
+    assert _snapshot(tmp_path) == before

@@ -68,3 +68,22 @@ def test_the_command_line_is_built_without_numerics():
         )
         == ""
     )
+
+
+def test_the_public_names_and_modules_have_docstrings():
+    import types
+    from pathlib import Path
+
+    import skygas
+
+    modules = {n for n in skygas.__all__ if isinstance(getattr(skygas, n), types.ModuleType)}
+    # the public modules are those of the API reference (docs/api/<module>.md, one per module)
+    api = Path(__file__).resolve().parents[1] / "docs" / "api"
+    assert modules == {p.stem for p in api.glob("*.md")} - {"skygas"}
+    for name in skygas.__all__:
+        if name != "__version__":
+            assert (getattr(skygas, name).__doc__ or "").strip(), name
+    # the top-level docstring names every public module, and calls none of them internal
+    for name in modules:
+        assert f"skygas.{name}`" in skygas.__doc__, name
+    assert "skygas.fields.landscape" in skygas.__doc__

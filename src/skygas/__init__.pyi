@@ -1,5 +1,20 @@
 """Names of :mod:`skygas`, imported on first use (see ``__init__.py``)."""
 
+from . import (
+    analysis,
+    calibration,
+    engine,
+    fields,
+    micromag,
+    neuron,
+    outputs,
+    physics,
+    reservoir,
+    reshuffler,
+    runs,
+    sc,
+    sweep,
+)
 from ._version import __version__
 from .core.errors import InputError
 from .engine import Simulation
@@ -13,6 +28,7 @@ from .physics.materials import (
     preset_names,
 )
 from .runs.config import SimulationConfig, load_config
+from .runs.plotting import plot
 from .runs.runner import run_simulation
 
 __all__ = [
@@ -28,10 +44,25 @@ __all__ = [
     "disk",
     "load_config",
     "load_material",
+    "plot",
     "polygon",
     "preset",
     "preset_names",
     "rectangle",
     "run_simulation",
     "union",
+    # the public modules
+    "analysis",
+    "calibration",
+    "engine",
+    "fields",
+    "micromag",
+    "neuron",
+    "outputs",
+    "physics",
+    "reservoir",
+    "reshuffler",
+    "runs",
+    "sc",
+    "sweep",
 ]

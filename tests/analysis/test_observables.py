@@ -99,14 +99,14 @@ def test_pair_correlation_of_an_ideal_gas_is_one_at_every_distance():
     with 19 degrees of freedom exceeds 4.5 with probability 2.4×10⁻⁴, so one of 30 bins does
     with < 1 %); the errors must be close to those of 500 independent frames, which the block
     scatter measures, and far from the Poisson error, which ignores shared points."""
-    outline = disk(0.5e-6)
+    outline = disk(diameter=1e-6)
     rng = np.random.default_rng(7)
     frames_xy = []
     for _ in range(500):
         pts = np.empty((0, 2))
         while len(pts) < 60:
             cand = rng.uniform(-500, 500, size=(200, 2))
-            pts = np.vstack([pts, cand[outline.contains_nm(cand[:, 0], cand[:, 1])]])
+            pts = np.vstack([pts, cand[outline._contains_nm(cand[:, 0], cand[:, 1])]])
         frames_xy.append(pts[:60] * 1e-9)
     xy = np.concatenate(frames_xy)
     frames = Frames(

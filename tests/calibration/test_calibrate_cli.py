@@ -86,7 +86,7 @@ def test_the_model_runs_in_simulate_and_reshuffle(calibrated, tmp_path):
         f'material = "{calibrated / "model.toml"}"\nduration = 2e-9\n'
         "temperature = 300\nrecord_interval = 1e-10\n"
         '[geometry]\nkind = "shapes"\n[[geometry.shapes]]\nkind = "disk"\n'
-        "radius = 150e-9\n[skyrmions]\nrandom_count = 6\n"
+        "diameter = 300e-9\n[skyrmions]\nrandom_count = 6\n"
     )
     assert (
         cli.main(

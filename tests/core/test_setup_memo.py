@@ -72,7 +72,7 @@ def assert_identical(a, b):
 )
 def test_bucketed_nearest_segment_equals_the_scan(outline):
     segs = _segments(outline.walls)
-    x0, y0, x1, y1 = outline.bounds_nm
+    x0, y0, x1, y1 = outline._bounds_nm
     rng = np.random.default_rng(3)
     gx, gy = np.meshgrid(np.arange(x0 - 10, x1 + 10, 3.7), np.arange(y0 - 10, y1 + 10, 3.7))
     # grid nodes, random points far outside, segment ends and midpoints (exact ties)

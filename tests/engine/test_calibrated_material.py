@@ -101,9 +101,9 @@ def test_another_film_thickness_is_refused_in_one_line(model_file):
     with pytest.raises(InputError, match="film_thickness = 2e-09: expected the 3e-09 m film"):
         derive_thiele(model, film_thickness=2e-9)
     with pytest.raises(InputError, match="the 3e-09 m film"):
-        Simulation(disk(200e-9), model, film_thickness=4e-9)
+        Simulation(disk(diameter=400e-9), model, film_thickness=4e-9)
     with pytest.raises(InputError) as err:  # explicit Thiele parameters of another film
-        Simulation(disk(200e-9), model, thiele=derive_thiele(preset("S2"), 2e-9))
+        Simulation(disk(diameter=400e-9), model, thiele=derive_thiele(preset("S2"), 2e-9))
     assert err.value.field == "thiele.film_thickness"
     # within the relative tolerance 1e-9: the same film
     assert derive_thiele(model, 3e-9 * (1 + 1e-12)).film_thickness == pytest.approx(
@@ -124,7 +124,7 @@ def test_gyromagnetic_ratio_sets_k():
 
 # -- the edge stray field -----------------------------------------------------------------------
 def test_stray_field_is_added_with_the_table_wall_law_only():
-    outline = disk(250e-9)
+    outline = disk(diameter=500e-9)
     model = calibrated_material()
     with_table = Simulation(outline, model)
     terms = with_table.landscape.terms
@@ -151,7 +151,7 @@ def test_stray_field_force_in_a_disk_points_to_the_centre():
     a skyrmion can be (within 2° of −r̂), vanishing at the centre (below 1e-3 of its value at
     half the radius), and growing towards the wall."""
     radius = 250e-9
-    sim = Simulation(disk(radius), calibrated_material())
+    sim = Simulation(disk(diameter=2 * radius), calibrated_material())
     angles = np.linspace(0.0, 2 * np.pi, 24, endpoint=False)
     radii = np.array([0.25, 0.5, 0.7, 0.85]) * radius
     points = np.array([[r * math.cos(a), r * math.sin(a)] for r in radii for a in angles])
@@ -170,7 +170,7 @@ def test_stray_field_force_in_a_disk_points_to_the_centre():
 def test_the_time_step_counts_the_stray_field_where_skyrmions_can_be():
     """τ_min takes the stray field's curvature at ≥ 0.5 d_sk from the walls, as it takes the
     laws' slopes: the suggested step shrinks with it, but not to the curvature at the wall."""
-    outline = disk(250e-9)
+    outline = disk(diameter=500e-9)
     with_field = Simulation(outline, calibrated_material())
     without = Simulation(outline, calibrated_material(stray=False))
     assert with_field.relaxation_time() < without.relaxation_time()

@@ -20,7 +20,7 @@ def test_a_free_skyrmion_moves_at_the_mobility_times_the_force_exactly():
     """T = 0, one skyrmion far from every wall: dx/dt = M·F with the Thiele mobility
     M = (a I − g ε)/(a² + g²), a = α𝒟k, g = G (docs/physics.md §1). Heun integrates a constant
     velocity exactly, so the displacement is n dt M·F to rounding."""
-    sim = Simulation(disk(4e-6), "S2", temperature=0.0, external_force=FORCE)
+    sim = Simulation(disk(diameter=8e-6), "S2", temperature=0.0, external_force=FORCE)
     sim.add_skyrmions(np.array([[0.0, 0.0]]))
     steps = 500
     sim.run(steps * sim.time_step)
@@ -39,7 +39,7 @@ def test_a_free_skyrmion_moves_at_the_mobility_times_the_force_exactly():
 
 def test_no_force_leaves_every_bit_of_a_run_unchanged():
     def run(**kw):
-        sim = Simulation(disk(5e-7), "S2", temperature=300.0, seed=3, **kw)
+        sim = Simulation(disk(diameter=1e-6), "S2", temperature=300.0, seed=3, **kw)
         sim.add_skyrmions(np.array([[0.0, 0.0], [1.2e-7, 0.0], [0.0, -1.5e-7]]))
         sim.run(300 * sim.time_step)
         return sim.positions()[1]
@@ -48,8 +48,8 @@ def test_no_force_leaves_every_bit_of_a_run_unchanged():
 
 
 def test_the_force_widens_the_neighbour_margins_as_a_drift_of_the_same_speed():
-    still = Simulation(disk(1e-6), "S2", temperature=0.0)
-    pushed = Simulation(disk(1e-6), "S2", temperature=0.0, external_force=FORCE)
+    still = Simulation(disk(diameter=2e-6), "S2", temperature=0.0)
+    pushed = Simulation(disk(diameter=2e-6), "S2", temperature=0.0, external_force=FORCE)
     th = pushed.thiele
     a, g = th.damping * th.dissipation * th.k, th.gyrocoupling
     speed = math.hypot(*FORCE) / math.hypot(a, g)  # |M·F| [m/s] = [nm/ns]
@@ -61,18 +61,18 @@ def test_the_force_widens_the_neighbour_margins_as_a_drift_of_the_same_speed():
 
 
 def test_a_force_too_strong_for_the_time_step_is_named_by_the_sanity_check():
-    sim = Simulation(disk(1e-6), "S2", temperature=0.0, external_force=(2e-9, 0.0))
+    sim = Simulation(disk(diameter=2e-6), "S2", temperature=0.0, external_force=(2e-9, 0.0))
     found = sanity.findings_before_run(object(), sim)
     assert [e.field for e in found] == ["forces.external_force"]
     assert "diameters per step" in str(found[0])
-    quiet = Simulation(disk(1e-6), "S2", temperature=0.0, external_force=FORCE)
+    quiet = Simulation(disk(diameter=2e-6), "S2", temperature=0.0, external_force=FORCE)
     assert sanity.findings_before_run(object(), quiet) == []
 
 
 @pytest.mark.parametrize("bad", [(1e-12,), (float("nan"), 0.0), (0.0, float("inf"))])
 def test_a_bad_force_is_one_line(bad):
     with pytest.raises(InputError, match="external_force"):
-        Simulation(disk(1e-6), "S2", external_force=bad)
+        Simulation(disk(diameter=2e-6), "S2", external_force=bad)
 
 
 FORCES_TOML = "[forces]\nexternal_force = [3e-12, -1.5e-12]\n"

@@ -150,7 +150,7 @@ def test_single_skyrmion_in_disk_samples_boltzmann_density():
     g_tilde = 4 * math.pi
     thiele = derive_thiele(S2, dissipation=g_tilde / S2.damping)
     sim = Simulation(
-        disk(radius_nm * 1e-9),
+        disk(diameter=2 * radius_nm * 1e-9),
         S2,
         temperature=300.0,
         thiele=thiele,
@@ -194,7 +194,7 @@ def spiral_angle(points: np.ndarray) -> np.ndarray:
 def test_two_skyrmions_spiral_apart_on_the_exact_log_spiral():
     """At T = 0 the separation ρ obeys dρ/dt = 2aF/(a²+g²), ρ dθ/dt = 2gF/(a²+g²) for any
     repulsive F(ρ): a logarithmic spiral θ − θ₀ = (G/α𝒟k) ln(ρ/ρ₀), anticlockwise for G > 0."""
-    sim = Simulation(disk(3e-6), S2, temperature=0.0, time_step=5e-12, grid_spacing=20e-9)
+    sim = Simulation(disk(diameter=6e-6), S2, temperature=0.0, time_step=5e-12, grid_spacing=20e-9)
     d_sk = sim.thiele.skyrmion_diameter_internal
     sim.add_skyrmions(np.array([[-0.6 * d_sk, 0.0], [0.6 * d_sk, 0.0]]) * 1e-9)
     sim.run(60e-9, record_interval=0.5e-9)
@@ -214,7 +214,7 @@ def test_skyrmion_at_wall_moves_along_and_away_clockwise():
     """Paper, boundary figure: a skyrmion 50 nm from the wall of a 1024 nm disk moves along
     the wall and away from it, clockwise. The wall force is radial, so the path is the log
     spiral θ − θ₀ = (G/α𝒟k) ln(r/r₀) with r decreasing: clockwise for G > 0."""
-    sim = Simulation(disk(512e-9), S2, temperature=0.0, time_step=1e-11)
+    sim = Simulation(disk(diameter=1024e-9), S2, temperature=0.0, time_step=1e-11)
     sim.add_skyrmions([[462e-9, 0.0]])
     sim.run(200e-9, record_interval=1e-9)
     ds = sim.trajectories()
@@ -233,7 +233,7 @@ def test_skyrmion_at_wall_moves_along_and_away_clockwise():
 # -- convergence ---------------------------------------------------------------------------------
 def final_positions(integrator, dt, temperature=0.0, substeps=1, seed=0):
     sim = Simulation(
-        disk(400e-9),
+        disk(diameter=800e-9),
         S2,
         temperature=temperature,
         time_step=dt,
@@ -242,10 +242,10 @@ def final_positions(integrator, dt, temperature=0.0, substeps=1, seed=0):
         brownian_substeps=substeps,
     )
     rng = np.random.default_rng(42)
-    from skygas.physics.geometry import random_positions
+    from skygas.physics.geometry import _random_positions_nm
 
     d_sk = sim.thiele.skyrmion_diameter_internal
-    pts = random_positions(sim.outline, 20, 1.05 * d_sk, 0.5 * d_sk, rng)
+    pts = _random_positions_nm(sim.outline, 20, 1.05 * d_sk, 0.5 * d_sk, rng)
     sim.state.insert_nm(pts)
     sim.run(4e-9)
     return sim.positions()[1] * units.M_TO_NM
@@ -291,12 +291,12 @@ def test_strong_order_with_additive_noise():
 
 # -- robustness and reproducibility --------------------------------------------------------------
 def dense_chamber_run(seed: int, duration=30e-9):
-    from skygas.physics.geometry import Outline, chamber_with_conduits, random_positions
+    from skygas.physics.geometry import Outline, _random_positions_nm, chamber_with_conduits
 
     outline = Outline(chamber_with_conduits().region)  # closed conduits
     sim = Simulation(outline, S2, temperature=300.0, seed=seed)
     d_sk = sim.thiele.skyrmion_diameter_internal
-    pts = random_positions(outline, 90, 1.05 * d_sk, 0.5 * d_sk, np.random.default_rng(1))
+    pts = _random_positions_nm(outline, 90, 1.05 * d_sk, 0.5 * d_sk, np.random.default_rng(1))
     sim.state.insert_nm(pts)
     sim.run(duration, record_interval=1e-9)
     return sim
@@ -309,7 +309,7 @@ def test_dense_run_stays_inside_and_finite_and_is_reproducible():
     assert a.count == 90 and a.wall_escapes == 0
     ids, pos = a.positions()
     assert np.all(np.isfinite(pos))
-    assert np.all(a.outline.contains_nm(pos[:, 0] * 1e9, pos[:, 1] * 1e9))
+    assert np.all(a.outline._contains_nm(pos[:, 0] * 1e9, pos[:, 1] * 1e9))
     xa = a.trajectories().x.values
     assert np.all(np.isfinite(xa))
     assert np.array_equal(xa, b.trajectories().x.values)  # bit-identical
@@ -335,7 +335,7 @@ def test_noise_does_not_depend_on_other_skyrmions_or_insertions():
 
 def test_checkpoint_resume_is_bit_identical():
     def fresh():
-        sim = Simulation(disk(300e-9), S2, temperature=300.0, seed=21)
+        sim = Simulation(disk(diameter=600e-9), S2, temperature=300.0, seed=21)
         sim.add_skyrmions(np.array([[-100, 0], [0, 80], [90, -40]]) * 1e-9)
         return sim
 
@@ -369,11 +369,13 @@ def test_spatial_sorting_of_large_systems_changes_nothing_but_rounding(monkeypat
 
     def run(sort_above):
         monkeypatch.setattr(engine, "SORT_ABOVE", sort_above)
-        sim = Simulation(disk(1.2e-6), S2, temperature=300.0, seed=17)
-        from skygas.physics.geometry import random_positions
+        sim = Simulation(disk(diameter=2400e-9), S2, temperature=300.0, seed=17)
+        from skygas.physics.geometry import _random_positions_nm
 
         d_sk = sim.thiele.skyrmion_diameter_internal
-        pts = random_positions(sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk, np.random.default_rng(3))
+        pts = _random_positions_nm(
+            sim.outline, 300, 1.1 * d_sk, 0.6 * d_sk, np.random.default_rng(3)
+        )
         sim.state.insert_nm(pts)
         sim.run(2e-9)
         return sim.positions()

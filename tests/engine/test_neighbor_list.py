@@ -14,7 +14,7 @@ from skygas.engine import Simulation
 from skygas.engine._rng import _log
 from skygas.engine.neighbors import build_neighbor_list
 from skygas.engine.stages import BRANCH_FREE_ENTRIES
-from skygas.physics.geometry import disk, random_positions
+from skygas.physics.geometry import _random_positions_nm, disk
 
 # the benchmarks' pair-pass kernel (benchmarks/pair_pass.py), checked here against a direct sum
 sys.path.insert(0, str(Path(__file__).parents[2] / "benchmarks"))
@@ -33,11 +33,16 @@ def _gas(exact_list: bool) -> Simulation:
     the list is then rebuilt before every force evaluation and holds exactly the pairs inside
     the cutoff."""
     sim = Simulation(
-        disk(400e-9), "S2", temperature=300.0, seed=5, drift_velocity=(8.0, 0.0), capacity=64
+        disk(diameter=800e-9),
+        "S2",
+        temperature=300.0,
+        seed=5,
+        drift_velocity=(8.0, 0.0),
+        capacity=64,
     )
     rng = np.random.default_rng(3)
     d_sk = sim.thiele.skyrmion_diameter_internal
-    sim.state.insert_nm(random_positions(sim.outline, 40, 1.3 * d_sk, 0.7 * d_sk, rng))
+    sim.state.insert_nm(_random_positions_nm(sim.outline, 40, 1.3 * d_sk, 0.7 * d_sk, rng))
     if exact_list:
         sim.neighbor_cells = sim.neighbor_cells._replace(skin=0.0, margin_steps=0.0, margin_max=0.0)
     return sim
@@ -67,10 +72,10 @@ def test_skipping_the_field_lookup_far_from_the_walls_changes_nothing():
     runs = []
     for grid_drift in (False, True):
         # the wall-force cutoff is ~256 nm: a 700 nm disk has an interior beyond it
-        sim = Simulation(disk(700e-9), "S2", temperature=300.0, seed=9, capacity=64)
+        sim = Simulation(disk(diameter=1400e-9), "S2", temperature=300.0, seed=9, capacity=64)
         rng = np.random.default_rng(4)
         d_sk = sim.thiele.skyrmion_diameter_internal
-        sim.state.insert_nm(random_positions(sim.outline, 60, 1.3 * d_sk, 0.3 * d_sk, rng))
+        sim.state.insert_nm(_random_positions_nm(sim.outline, 60, 1.3 * d_sk, 0.3 * d_sk, rng))
         if grid_drift:
             shape = (sim.wall_field.grid.ny, sim.wall_field.grid.nx)
             sim.set_drift_field(np.zeros(shape), np.zeros(shape))
@@ -96,10 +101,10 @@ def test_pair_forces_equal_a_direct_sum_over_all_pairs(n):
     all N(N−1)/2 pairs with the same table. 1 000 skyrmions make a list longer than
     BRANCH_FREE_ENTRIES, so both forms of the pair loop are checked."""
     radius = 512e-9 * np.sqrt(n / 45)  # half-full chamber density, as in the benchmark
-    sim = Simulation(disk(radius), "S2", temperature=300.0, seed=1, capacity=n)
+    sim = Simulation(disk(diameter=2 * radius), "S2", temperature=300.0, seed=1, capacity=n)
     d_sk = sim.thiele.skyrmion_diameter_internal
     sim.state.insert_nm(
-        random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(n))
+        _random_positions_nm(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(n))
     )
     fx, fy, evaluated = repeated_pair_pass(sim, 1)
     table = sim.forces.pair
@@ -124,10 +129,12 @@ def test_list_build_holds_exactly_the_pairs_within_their_margins():
     the pair (i, j) is listed once, under the owner met first, iff |x_i − x_j| <
     cutoff + s_i + s_j. A list array that is too small is reported (−1), not overrun."""
     n = 400
-    sim = Simulation(disk(512e-9 * np.sqrt(n / 45)), "S2", temperature=300.0, seed=1, capacity=n)
+    sim = Simulation(
+        disk(diameter=1024e-9 * np.sqrt(n / 45)), "S2", temperature=300.0, seed=1, capacity=n
+    )
     d_sk = sim.thiele.skyrmion_diameter_internal
     sim.state.insert_nm(
-        random_positions(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(4))
+        _random_positions_nm(sim.outline, n, 1.2 * d_sk, 0.6 * d_sk, np.random.default_rng(4))
     )
     cells, cutoff = sim.neighbor_cells, sim.force_terms.pair.cutoff
     margin = np.random.default_rng(5).uniform(0.0, cells.margin_max, n)

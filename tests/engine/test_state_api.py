@@ -11,7 +11,7 @@ from skygas.physics.geometry import chamber_with_conduits, disk
 
 
 def _sim(seed=2) -> Simulation:
-    sim = Simulation(disk(400e-9), "S2", temperature=300.0, seed=seed)
+    sim = Simulation(disk(diameter=800e-9), "S2", temperature=300.0, seed=seed)
     sim.add_skyrmions([[-150e-9, 0.0], [0.0, 120e-9], [150e-9, -40e-9]])
     return sim
 
@@ -94,7 +94,7 @@ def test_resume_from_a_checkpoint_is_bit_identical_and_keeps_every_counter():
 def test_add_random_places_skyrmions_apart_from_each_other_the_present_and_the_walls():
 
     def build():
-        return Simulation(disk(600e-9), "S2", temperature=300.0, seed=4)
+        return Simulation(disk(diameter=1200e-9), "S2", temperature=300.0, seed=4)
 
     sim = build()
     d = sim.thiele.skyrmion_diameter
@@ -104,7 +104,7 @@ def test_add_random_places_skyrmions_apart_from_each_other_the_present_and_the_w
     _, pos = sim.positions()
     gaps = np.hypot(*(pos[:, None] - pos[None]).transpose(2, 0, 1))
     assert gaps[~np.eye(20, dtype=bool)].min() >= 1.5 * d * (1 - 1e-12)
-    walls = sim.outline.wall_distance_nm(pos[:, 0] * 1e9, pos[:, 1] * 1e9)
+    walls = sim.outline._wall_distance_nm(pos[:, 0] * 1e9, pos[:, 1] * 1e9)
     assert walls.min() >= 1.5 * d * 1e9 * (1 - 1e-12)
     again = build()
     again.add_random(10, 1.5)
@@ -114,3 +114,13 @@ def test_add_random_places_skyrmions_apart_from_each_other_the_present_and_the_w
         build().add_random(10_000, 1.5)
     with pytest.raises(InputError, match="count"):
         build().add_random(-1)
+
+
+def test_validate_positions_takes_metres():
+    sim = Simulation(disk(diameter=400e-9), "S2", temperature=300.0, seed=1)
+    sim.validate_positions([[0.0, 0.0], [100e-9, 0.0]])  # inside, apart: accepted
+    with pytest.raises(InputError) as err:
+        sim.validate_positions([[0.0, 0.0], [250e-9, 0.0]])  # the second outside
+    assert err.value.field == "skyrmions[1]"
+    with pytest.raises(InputError):
+        sim.validate_positions([[0.0, 0.0], [1e-9, 0.0]])  # on top of each other

@@ -174,11 +174,11 @@ def test_law_names_resolve_to_the_materials_own():
         assert err.value.field == field
         assert "\n" not in str(err.value)
     with pytest.raises(InputError, match="has no pair_table"):
-        Simulation(disk(200e-9), "S2", pair_law="table")
+        Simulation(disk(diameter=400e-9), "S2", pair_law="table")
 
 
 def test_recorded_law_names_are_the_resolved_ones():
-    outline = disk(200e-9)
+    outline = disk(diameter=400e-9)
     s2 = Simulation(outline, "S2").parameters()
     assert (s2["pair_law"], s2["wall_law"], s2["edge_stray_field"]) == ("paper", "paper", False)
     model = calibrated_material(stray=False)

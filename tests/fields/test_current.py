@@ -155,7 +155,7 @@ def test_reversed_current_and_swapped_ports(chamber, chamber_solution):
     # (the grid, aligned with the source port, is mirrored too; the sample grid is symmetric).
     # Next to walls the nearest-cell extension breaks ties by scan order: compare ≥ 2 cells in.
     gx, gy = grid.nodes()
-    away = chamber.contains_nm(gx, gy) & (chamber.wall_distance_nm(gx, gy) > 2 * COARSE * 1e9)
+    away = chamber._contains_nm(gx, gy) & (chamber._wall_distance_nm(gx, gy) > 2 * COARSE * 1e9)
     sx, sy = swapped.sample(grid)
     _, jy = chamber_solution.sample(grid)
     np.testing.assert_allclose(sx[away], -jx[:, ::-1][away], rtol=1e-6, atol=1e-6 * J)

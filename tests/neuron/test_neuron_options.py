@@ -19,7 +19,9 @@ DURATION = 2e-6
 def _chamber(seed: int, nucleations: float, base_rate: float, area):
     """A closed disk at 300 K with an Annihilator whose ν gives ``nucleations`` expected events
     over DURATION in the area ``area(sim)`` [m²]; also records (time, count) every 100 ns."""
-    sim = Simulation(disk(RADIUS), "S2", temperature=300.0, time_step=2.5e-10, seed=seed)
+    sim = Simulation(
+        disk(diameter=2 * RADIUS), "S2", temperature=300.0, time_step=2.5e-10, seed=seed
+    )
     # collapse distance far below any separation the placement allows: no collapse
     model = AnnihilationModel(
         base_rate=base_rate,
@@ -43,7 +45,7 @@ def test_nucleation_attempts_are_poisson_in_the_chamber_area_and_none_is_lost():
     # exactly the nucleations, and the attempts (nucleations plus misses) are Poisson with
     # mean ν·A·t, A the chamber's area. Tolerance: 4 standard deviations (√(ν·A·t) = 30).
     expected = 900.0
-    sim, op, counts = _chamber(4, expected, 0.0, lambda sim: sim.outline.area_nm2() * 1e-18)
+    sim, op, counts = _chamber(4, expected, 0.0, lambda sim: sim.outline._area_nm2() * 1e-18)
     sim.run(DURATION)
     attempts = op.n_nucleated + op.nucleation_misses
     assert abs(attempts - expected) < 4 * math.sqrt(expected)

@@ -82,7 +82,7 @@ def test_simulation_figure(faults, tmp_path):
         "seed": 7,
         "duration": 5e-9,
         "record_interval": 1e-9,
-        "geometry": {"kind": "shapes", "shapes": [{"kind": "disk", "radius": 150e-9}]},
+        "geometry": {"kind": "shapes", "shapes": [{"kind": "disk", "diameter": 300e-9}]},
         "skyrmions": {"positions": [[0.0, 0.0], [70e-9, 0.0]]},
         "potentials": [
             {"kind": "gaussian", "center": [0.0, 0.0], "sigma": 40e-9, "amplitude_kT": 6.0}

@@ -88,7 +88,7 @@ def test_gif_fallback(simulation_run, tmp_path):
 
     info = render_movie(load_run(simulation_run), tmp_path / "movie.gif", stride=3)
     with Image.open(info.path) as gif:
-        assert gif.n_frames == info.frames == 10
+        assert gif.n_frames == info.frames == 11  # 0, 3, ..., 30 ns
         assert gif.size == info.size
 
 

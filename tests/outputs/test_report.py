@@ -62,7 +62,7 @@ def _payload(url: str) -> tuple[str, bytes]:
 def reshuffler_report(reshuffler_run):
     """The report a run command writes with --animate (movie included)."""
     done = finish_outputs(reshuffler_run, animate=True, report=True)
-    assert done["movie"]["frames"] == 100  # 0.4 µs every 4 ns, each one shown
+    assert done["movie"]["frames"] == 101  # t = 0 and every 4 ns to 0.4 µs, each one shown
     return Path(done["report"]["path"])
 
 

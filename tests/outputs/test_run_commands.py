@@ -35,7 +35,7 @@ def test_simulate_writes_report_and_movie_when_asked(tmp_path, capsys):
     assert (tmp_path / "a" / "report.html").stat().st_size > 10_000
     assert (tmp_path / "a" / "movie.mp4").stat().st_size > 1_000
     outputs = json.loads((tmp_path / "a" / "outputs.json").read_text())
-    assert outputs["movie"]["frames"] == 12 and outputs["movie"]["stride"] == 1
+    assert outputs["movie"]["frames"] == 13 and outputs["movie"]["stride"] == 1
     assert (
         main(["simulate", str(config), "--out", str(tmp_path / "b"), "--quiet", "--no-report"]) == 0
     )
@@ -44,7 +44,7 @@ def test_simulate_writes_report_and_movie_when_asked(tmp_path, capsys):
     capsys.readouterr()
     assert main(["analyze", str(tmp_path / "a"), "--json"]) == 0
     result = json.loads(capsys.readouterr().out)
-    assert result["kind"] == "simulate" and result["frames"] == 12
+    assert result["kind"] == "simulate" and result["frames"] == 13
     assert len(result["msd"]["msd_m2"]) == len(result["diffusion"]["msd_over_4tau_m2_s"])
     assert result["occupancy"]["max_total"] == 10  # a closed chamber keeps all ten
     assert main(["analyze", str(tmp_path / "a")]) == 0
@@ -73,5 +73,5 @@ def test_neuron_records_frames_for_its_movie(tmp_path):
 
     record = load_run(out)
     assert record.kind == "neuron" and record.path.name == "frames.nc"
-    assert record.frames.n_frames == 25  # every 4 ns of 100 ns
+    assert record.frames.n_frames == 26  # t = 0 and every 4 ns to 100 ns
     assert (out / "movie.mp4").exists() and (out / "report.html").exists()

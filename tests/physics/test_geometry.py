@@ -14,6 +14,7 @@ from skygas.core.errors import InputError
 from skygas.fields.wall_field import Grid, WallField
 from skygas.physics.geometry import (
     Outline,
+    _random_positions_nm,
     chamber_with_conduits,
     disk,
     polygon,
@@ -45,11 +46,13 @@ def test_chamber_ports_sit_at_the_conduit_ends(diameter, width, length, center):
         xs, ys = ports[name][:, 0], ports[name][:, 1]
         np.testing.assert_allclose(xs, cx + sign * x_end, rtol=0, atol=1e-9)
         np.testing.assert_allclose(sorted(ys), [cy - half_w, cy + half_w], rtol=0, atol=1e-9)
-    x0, y0, x1, y1 = outline.bounds_nm
+    x0, y0, x1, y1 = outline._bounds_nm
     assert x0 == pytest.approx(cx - x_end, abs=1e-9) and x1 == pytest.approx(cx + x_end, abs=1e-9)
     assert y1 - y0 == pytest.approx(2 * r, abs=1e-6)
     # the ports are open: no wall at a conduit's end
-    assert float(outline.wall_distance_nm(cx + x_end - 1e-3, cy)) == pytest.approx(half_w, abs=1e-6)
+    assert float(outline._wall_distance_nm(cx + x_end - 1e-3, cy)) == pytest.approx(
+        half_w, abs=1e-6
+    )
 
 
 def test_chamber_area_is_disk_plus_conduits():
@@ -61,9 +64,9 @@ def test_chamber_area_is_disk_plus_conduits():
     cap = h * x_meet + r * r * math.asin(h / r) - 2 * h * x_meet
     exact = math.pi * r * r + 2 * (2 * h * length - cap)
     # the circle is a polygon within 0.05 nm: area low by at most ~2πR·0.05 nm²
-    assert outline.area_nm2() == pytest.approx(exact, rel=2.5e-4)
-    assert outline.area_nm2() < exact
-    assert outline.area_nm2() == pytest.approx(math.pi * r * r + 2 * 2 * h * length, rel=1e-3)
+    assert outline._area_nm2() == pytest.approx(exact, rel=2.5e-4)
+    assert outline._area_nm2() < exact
+    assert outline._area_nm2() == pytest.approx(math.pi * r * r + 2 * 2 * h * length, rel=1e-3)
 
 
 def test_rounded_junctions_are_arcs_tangent_to_both_walls():
@@ -109,8 +112,8 @@ def test_bad_chamber_sizes_are_refused(kwargs, field):
 @pytest.mark.parametrize(
     "make, field",
     [
-        (lambda: disk(0.0), "radius"),
-        (lambda: disk(-1e-7), "radius"),
+        (lambda: disk(diameter=0.0), "diameter"),
+        (lambda: disk(diameter=-2e-7), "diameter"),
         (lambda: rectangle(-1e-7, 1e-7), "width"),
         (lambda: rectangle(1e-7, 0.0), "height"),
         (lambda: polygon([(0, 0), (1e-7, 0)]), "vertices"),
@@ -124,31 +127,31 @@ def test_bad_shapes_are_refused(make, field):
 
 
 def test_shapes_are_built_in_nanometres():
-    d = disk(100e-9, center=(50e-9, 0.0))
-    x0, y0, x1, y1 = d.bounds_nm
+    d = disk(diameter=200e-9, center=(50e-9, 0.0))
+    x0, y0, x1, y1 = d._bounds_nm
     assert (x0, x1) == pytest.approx((-50.0, 150.0), abs=1e-9)
     # an inscribed polygon within 0.05 nm of the circle: area low by < 2πR·0.05 nm²
-    assert math.pi * 100.0**2 * (1 - 1e-3) < d.area_nm2() < math.pi * 100.0**2
+    assert math.pi * 100.0**2 * (1 - 1e-3) < d._area_nm2() < math.pi * 100.0**2
     r = rectangle(300e-9, 100e-9, center=(0.0, 20e-9))
-    assert r.bounds_nm == pytest.approx((-150.0, -30.0, 150.0, 70.0), abs=1e-9)
+    assert r._bounds_nm == pytest.approx((-150.0, -30.0, 150.0, 70.0), abs=1e-9)
     p = polygon([(0, 0), (200e-9, 0), (0, 100e-9)])
-    assert p.area_nm2() == pytest.approx(1e4, rel=1e-12)
-    assert bool(p.contains_nm(10.0, 10.0)) and not bool(p.contains_nm(150.0, 90.0))
+    assert p._area_nm2() == pytest.approx(1e4, rel=1e-12)
+    assert bool(p._contains_nm(10.0, 10.0)) and not bool(p._contains_nm(150.0, 90.0))
 
 
 # -- unions and ports ---------------------------------------------------------------------------
 def test_union_of_overlapping_shapes_keeps_ports():
     a = rectangle(200e-9, 100e-9).with_port("left", (-100e-9, -50e-9), (-100e-9, 50e-9))
-    b = disk(80e-9, center=(120e-9, 0.0))
+    b = disk(diameter=160e-9, center=(120e-9, 0.0))
     u = union(a, b)
     assert u.port_names() == ["left"]
     assert (a | b).region.equals(u.region)
-    assert u.area_nm2() > a.area_nm2()
+    assert u._area_nm2() > a._area_nm2()
 
 
 def test_union_of_disjoint_shapes_is_refused():
     with pytest.raises(InputError) as err:
-        union(disk(50e-9), disk(50e-9, center=(300e-9, 0.0)))
+        union(disk(diameter=100e-9), disk(diameter=100e-9, center=(300e-9, 0.0)))
     assert err.value.field == "geometry"
 
 
@@ -186,7 +189,7 @@ def _disk_points(radius, band, n, seed=0):
 @pytest.fixture(scope="module")
 def disk_field():
     radius, band = 300.0, 60.0
-    outline = disk(radius * 1e-9)
+    outline = disk(diameter=2 * radius * 1e-9)
     return outline, WallField.build(outline, SPACING_NM, band), radius, band
 
 
@@ -209,7 +212,7 @@ def test_disk_wall_distance_is_close_to_the_circle(disk_field):
     d, _, _ = field.interpolate(x, y)
     assert np.max(np.abs(d - (radius - r))) < 0.075
     # against the exact distance to the polygon that is actually simulated
-    assert np.max(np.abs(d - outline.wall_distance_nm(x, y))) < 0.03
+    assert np.max(np.abs(d - outline._wall_distance_nm(x, y))) < 0.03
 
 
 def test_interpolation_error_report(disk_field):
@@ -228,7 +231,7 @@ def test_interpolation_error_report(disk_field):
 
 def test_disk_field_sign_outside_and_far_nodes():
     radius, band = 150.0, 40.0
-    field = WallField.build(disk(radius * 1e-9), SPACING_NM, band)
+    field = WallField.build(disk(diameter=2 * radius * 1e-9), SPACING_NM, band)
     d, nx, ny = field.interpolate(np.array([radius + 5.0]), np.array([0.0]))
     assert d[0] == pytest.approx(-5.0, abs=0.1)  # beyond a wall: negative distance
     assert nx[0] == pytest.approx(-1.0, abs=1e-3)  # normal still points back inside
@@ -251,7 +254,7 @@ def test_rectangle_port_is_not_a_wall():
     # exact: nearest of the left, bottom and top edges (the right edge is open)
     dists = np.stack([x + width / 2, height / 2 - y, y + height / 2])
     exact = dists.min(axis=0)
-    np.testing.assert_allclose(outline.wall_distance_nm(x, y), exact, rtol=0, atol=1e-5)
+    np.testing.assert_allclose(outline._wall_distance_nm(x, y), exact, rtol=0, atol=1e-5)
     # grid: exact (bilinear of a linear function) where all four nodes share the nearest wall
     # (within a cell of the port the outside nodes measure to the corners instead)
     second = np.sort(dists, axis=0)[1]
@@ -316,24 +319,75 @@ def test_grid_bilinear_is_exact_for_linear_fields():
 @pytest.mark.parametrize(
     "outline",
     [
-        disk(300e-9),
+        disk(diameter=600e-9),
         chamber_with_conduits(600e-9, 100e-9, 50e-9),
     ],
 )
 def test_random_positions_respect_separation_and_walls(outline):
     sep, wall = 1.5 * D_SK_NM, 1.0 * D_SK_NM
-    pts = random_positions(outline, 25, sep, wall, np.random.default_rng(11))
+    pts = _random_positions_nm(outline, 25, sep, wall, np.random.default_rng(11))
     assert pts.shape == (25, 2)
-    assert np.all(outline.contains_nm(pts[:, 0], pts[:, 1]))
-    assert np.all(outline.wall_distance_nm(pts[:, 0], pts[:, 1]) >= wall)
+    assert np.all(outline._contains_nm(pts[:, 0], pts[:, 1]))
+    assert np.all(outline._wall_distance_nm(pts[:, 0], pts[:, 1]) >= wall)
     pair = np.hypot(pts[:, None, 0] - pts[None, :, 0], pts[:, None, 1] - pts[None, :, 1])
     assert pair[np.triu_indices(25, 1)].min() >= sep
     # reproducible with the same generator seed
-    again = random_positions(outline, 25, sep, wall, np.random.default_rng(11))
+    again = _random_positions_nm(outline, 25, sep, wall, np.random.default_rng(11))
     np.testing.assert_array_equal(pts, again)
 
 
 def test_random_positions_that_do_not_fit_are_refused():
     with pytest.raises(InputError) as err:
-        random_positions(disk(100e-9), 30, 60.0, 10.0, np.random.default_rng(0), max_tries=3000)
+        _random_positions_nm(
+            disk(diameter=200e-9), 30, 60.0, 10.0, np.random.default_rng(0), max_tries=3000
+        )
     assert err.value.field == "skyrmions.count"
+
+
+# -- the SI queries -------------------------------------------------------------------------------
+def test_si_queries_agree_with_the_nanometre_ones():
+    outline = chamber_with_conduits(chamber_diameter=600e-9)
+    rng = np.random.default_rng(3)
+    x0, y0, x1, y1 = outline._bounds_nm
+    x = rng.uniform(x0, x1, 200)
+    y = rng.uniform(y0, y1, 200)
+    np.testing.assert_array_equal(outline.contains(x * 1e-9, y * 1e-9), outline._contains_nm(x, y))
+    np.testing.assert_allclose(
+        outline.wall_distance(x * 1e-9, y * 1e-9) * 1e9,
+        outline._wall_distance_nm(x, y),
+        rtol=1e-12,
+    )
+    assert outline.area() * 1e18 == pytest.approx(outline._area_nm2(), rel=1e-15)
+    assert np.array(outline.bounds) * 1e9 == pytest.approx(outline._bounds_nm, rel=1e-15)
+
+
+def test_a_disk_is_given_by_its_diameter():
+    d = disk(diameter=200e-9, center=(50e-9, 0.0))
+    x0, y0, x1, y1 = d.bounds
+    assert (x0, x1) == pytest.approx((-50e-9, 150e-9), rel=1e-9)
+    assert math.pi * (100e-9) ** 2 * (1 - 1e-3) < d.area() < math.pi * (100e-9) ** 2
+    with pytest.raises(TypeError):
+        disk(200e-9)  # a bare number could be a radius: the keyword is required
+
+
+def test_si_random_positions_are_the_nanometre_ones_in_metres():
+    outline = chamber_with_conduits(chamber_diameter=600e-9)
+    si = random_positions(outline, 20, 45e-9, 30e-9, np.random.default_rng(8))
+    nm = _random_positions_nm(outline, 20, 45.0, 30.0, np.random.default_rng(8))
+    np.testing.assert_allclose(si * 1e9, nm, rtol=1e-12)
+    assert np.all(outline.contains(si[:, 0], si[:, 1]))
+    assert np.all(outline.wall_distance(si[:, 0], si[:, 1]) >= 30e-9 * (1 - 1e-12))
+    gaps = np.hypot(*(si[:, None, :] - si[None, :, :]).transpose(2, 0, 1))
+    assert gaps[np.triu_indices(20, 1)].min() >= 45e-9 * (1 - 1e-12)
+
+
+def test_the_former_nanometre_names_warn_and_still_answer():
+    outline = disk(diameter=200e-9)
+    with pytest.warns(DeprecationWarning, match="Outline.contains"):
+        assert bool(outline.contains_nm(0.0, 0.0))
+    with pytest.warns(DeprecationWarning, match="Outline.area"):
+        assert outline.area_nm2() == outline._area_nm2()
+    with pytest.warns(DeprecationWarning, match="Outline.bounds"):
+        assert outline.bounds_nm == outline._bounds_nm
+    with pytest.warns(DeprecationWarning, match="Outline.wall_distance"):
+        assert outline.wall_distance_nm(0.0, 0.0) == pytest.approx(100.0, rel=1e-3)

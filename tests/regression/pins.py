@@ -16,19 +16,25 @@ import numpy as np
 PINS = Path(__file__).with_name("pins.npz")
 
 
+def after_start(ds):
+    """The frames after t = 0: the pins were written before a run recorded its start."""
+    assert ds.time.values[0] == 0.0
+    return ds.isel(time=slice(1, None))
+
+
 def gas_in_chamber() -> dict[str, np.ndarray]:
     """25 interacting skyrmions in the paper's chamber at 300 K, Heun, 600 steps."""
     import skygas
-    from skygas.physics.geometry import random_positions
+    from skygas.physics.geometry import _random_positions_nm
 
     outline = skygas.chamber_with_conduits(chamber_diameter=1024e-9)
     sim = skygas.Simulation(outline, "S2", temperature=300.0, seed=3)
     rng = np.random.default_rng(5)
     d_sk = sim.thiele.skyrmion_diameter_internal
-    pts = random_positions(sim.outline, 25, 1.2 * d_sk, 1.2 * d_sk, rng)
+    pts = _random_positions_nm(sim.outline, 25, 1.2 * d_sk, 1.2 * d_sk, rng)
     sim.add_skyrmions(pts * 1e-9)
     sim.run(600 * sim.time_step, record_interval=20 * sim.time_step)
-    ds = sim.trajectories()
+    ds = after_start(sim.trajectories())
     return {
         "gas_x": ds.x.values,
         "gas_y": ds.y.values,
@@ -60,7 +66,7 @@ def drifting_gas() -> dict[str, np.ndarray]:
     xs = np.linspace(-300e-9, 100e-9, 6)
     sim.add_skyrmions(np.column_stack([xs, np.zeros_like(xs)]))
     sim.run(2000 * sim.time_step, record_interval=50 * sim.time_step)
-    ds = sim.trajectories()
+    ds = after_start(sim.trajectories())
     return {
         "drift_x": ds.x.values,
         "drift_y": ds.y.values,

@@ -68,8 +68,11 @@ def test_current_free_occupation_converges_to_boltzmann(setting, shape, toleranc
 
     walls, material, thiele = setting
     if shape == "disk":
-        walls = geo.disk(SIDE / 2)
-    sim = Simulation(walls, material, temperature=300.0, seed=11, thiele=thiele)
+        walls = geo.disk(diameter=SIDE)
+    # a step that divides the record interval
+    sim = Simulation(
+        walls, material, temperature=300.0, seed=11, thiele=thiele, step_interval=20e-9
+    )
     sim.add_skyrmions([[0.0, 0.0]])
     sim.run(2e-6)  # forget the start
     sim.take_frames()
@@ -81,7 +84,7 @@ def test_current_free_occupation_converges_to_boltzmann(setting, shape, toleranc
         blocks = sim.take_frames()
         x = np.concatenate([b.x[:, 0] for b in blocks])
         y = np.concatenate([b.y[:, 0] for b in blocks])
-        d = walls.wall_distance_nm(x, y)
+        d = walls._wall_distance_nm(x, y)
         hists.append(np.histogram(d, bins=edges)[0] / len(d))
     hists = np.array(hists)
     mean = hists.mean(axis=0)

@@ -292,7 +292,9 @@ def test_snapshots_recorded_in_the_kernel_equal_positions_read_at_each_snapshot_
     )
     recorded.advance()
     reference.advance()
-    snaps = recorded.snapshots
+    # the first snapshot is the empty device at t = 0; the operation first acts one interval on
+    start, *snaps = recorded.snapshots
+    assert start[0] == 0.0 and len(start[1]) == 0 and start[2].shape == (0, 2)
     assert len(snaps) == len(read) == 20
     assert recorded.counts()["detected"] >= 5  # skyrmions left between snapshots
     for (t_a, ids_a, pos_a), (t_b, ids_b, pos_b) in zip(snaps, read, strict=True):
@@ -301,7 +303,8 @@ def test_snapshots_recorded_in_the_kernel_equal_positions_read_at_each_snapshot_
         assert np.abs(pos_a - pos_b).max(initial=0.0) < 1e-15  # metres
     # the figure's dense frames: every 1 ns of the window, on the snapshot steps as well
     ds = recorded.sim.trajectories()
-    assert len(ds.time) == 50 and np.allclose(np.diff(ds.time.values), 1e-9)
+    assert len(ds.time) == 51 and ds.time.values[0] == 0.0  # t = 0 and every 1 ns to 50 ns
+    assert np.allclose(np.diff(ds.time.values), 1e-9)
     # one column per skyrmion seen in the window, not per skyrmion ever nucleated
     in_window = np.unique(np.concatenate([ids for t, ids, _ in snaps if t <= 50e-9]))
     assert set(in_window) <= set(ds.skyrmion.values)

@@ -30,7 +30,7 @@ material = "S2"
 
 [geometry]
 kind = "shapes"
-shapes = [{ kind = "disk", radius = 150e-9 }]
+shapes = [{ kind = "disk", diameter = 300e-9 }]
 
 [skyrmions]
 positions = [[0.0, 0.0], [70e-9, 0.0], [-40e-9, 60e-9]]
@@ -89,11 +89,11 @@ def test_invalid_top_level_values_are_named(update, field, no_stepping):
         ("skyrmions", {"random_count": -2}, "skyrmions.random_count"),
         ("skyrmions", {"colour": "red"}, "skyrmions.colour"),  # unknown extra field
         ("geometry", {"kind": "blob"}, "geometry.kind"),  # unknown tag
-        # pydantic puts the union tags in the path: geometry.<kind>.shapes.<i>.<kind>.radius
+        # pydantic puts the union tags in the path: geometry.<kind>.shapes.<i>.<kind>.diameter
         (
             "geometry",
-            {"shapes": [{"kind": "disk", "radius": -1e-7}]},
-            "geometry.shapes.shapes.0.disk.radius",
+            {"shapes": [{"kind": "disk", "diameter": -2e-7}]},
+            "geometry.shapes.shapes.0.disk.diameter",
         ),
     ],
 )
@@ -124,13 +124,13 @@ def test_missing_skyrmions_table_is_named():
 
 def test_negative_temperature_is_refused_by_the_engine_too():
     with pytest.raises(InputError) as err:
-        Simulation(disk(RADIUS), "S2", temperature=-5.0)
+        Simulation(disk(diameter=2 * RADIUS), "S2", temperature=-5.0)
     assert err.value.field == "temperature"
     with pytest.raises(InputError) as err:
-        Simulation(disk(RADIUS), "S2", temperature=float("nan"))
+        Simulation(disk(diameter=2 * RADIUS), "S2", temperature=float("nan"))
     assert err.value.field == "temperature"
     with pytest.raises(InputError) as err:
-        Simulation(disk(RADIUS), "S2", seed=-1)
+        Simulation(disk(diameter=2 * RADIUS), "S2", seed=-1)
     assert err.value.field == "seed"
 
 
@@ -172,7 +172,7 @@ def test_skyrmions_on_top_of_each_other_are_named(no_stepping, tmp_path):
 
 
 def test_add_skyrmions_validation():
-    sim = Simulation(disk(RADIUS), "S2", seed=1)
+    sim = Simulation(disk(diameter=2 * RADIUS), "S2", seed=1)
     d_sk = sim.thiele.skyrmion_diameter
     sim.add_skyrmions([[0.0, 0.0]])
     # on top of an existing skyrmion: closer than 0.5 d_sk
@@ -198,10 +198,10 @@ def test_time_step_above_the_limit_is_named(no_stepping, tmp_path):
     err = _refused({**tiny_config(), "time_step": 2 * limit}, tmp_path)
     assert err.field == "time_step"
     with pytest.raises(InputError) as err:
-        Simulation(disk(RADIUS), "S2", time_step=2 * limit)
+        Simulation(disk(diameter=2 * RADIUS), "S2", time_step=2 * limit)
     assert err.value.field == "time_step"
     # the limit itself is accepted
-    assert Simulation(disk(RADIUS), "S2", time_step=limit).time_step == limit
+    assert Simulation(disk(diameter=2 * RADIUS), "S2", time_step=limit).time_step == limit
 
 
 def test_validation_happens_before_any_file_is_written(no_stepping, tmp_path):
@@ -228,18 +228,16 @@ def test_cli_simulate_end_to_end(tmp_path, capsys):
     assert ds.x.attrs["units"] == "m" and ds.y.attrs["units"] == "m"
     assert ds.time.attrs["units"] == "s"
     assert ds.sizes["skyrmion"] == 3
-    # ~one frame per nanosecond over 5 ns, in seconds
+    # a frame at t = 0 and one on every nanosecond up to the end, 5 ns, in seconds
     t = ds.time.values
-    assert 4 <= len(t) <= 6
-    assert np.all(np.diff(t) > 0)
-    assert 0 < t[0] <= 1.1e-9 and 4e-9 <= t[-1] <= 5.2e-9
-    np.testing.assert_allclose(np.diff(t), 1e-9, rtol=0.05)
-    # positions in metres, inside the 150 nm disk and near where they started
+    assert len(t) == 6 and t[0] == 0.0
+    np.testing.assert_allclose(t, np.arange(6) * 1e-9, rtol=1e-12, atol=0)
+    # positions in metres, inside the 150 nm disk, the first frame where they were placed
     x, y = ds.x.values, ds.y.values
     assert np.all(np.isfinite(x)) and np.all(np.isfinite(y))
     assert np.all(np.hypot(x, y) < RADIUS)
     start = np.array([[0.0, 0.0], [70e-9, 0.0], [-40e-9, 60e-9]])
-    assert np.all(np.hypot(x[0] - start[:, 0], y[0] - start[:, 1]) < 40e-9)
+    np.testing.assert_allclose(np.column_stack([x[0], y[0]]), start, rtol=1e-15, atol=1e-24)
     # provenance
     assert int(ds.attrs["seed"]) == 7
     assert ds.attrs["skygas_version"] == __version__

@@ -15,7 +15,7 @@ BUMP = {"kind": "gaussian", "center": [0.0, 0.0], "sigma": 40e-9, "amplitude_kT"
 
 
 def test_the_landscape_image_is_the_energy_in_kT_inside_the_outline():
-    sim = Simulation(disk(150e-9), "S2", temperature=300.0, landscape=[BUMP])
+    sim = Simulation(disk(diameter=300e-9), "S2", temperature=300.0, landscape=[BUMP])
     u, label = landscape_energy(sim.landscape, sim.outline)
     assert label == "U (k_BT, T = 300 K)"
     assert np.nanmax(u) == pytest.approx(6.0, rel=1e-3)  # the bump's top, 6 k_BT
@@ -30,7 +30,7 @@ def test_the_landscape_image_is_the_energy_in_kT_inside_the_outline():
     ax = fig.add_subplot()
     assert draw_landscape(ax, sim.landscape, sim.outline) is not None
     assert fig.axes[-1].get_ylabel() == label  # the colour bar, with units
-    bare = Simulation(disk(150e-9), "S2", temperature=300.0)
+    bare = Simulation(disk(diameter=300e-9), "S2", temperature=300.0)
     assert draw_landscape(ax, bare.landscape, bare.outline) is None
 
 
@@ -38,7 +38,7 @@ def test_simulate_and_reshuffler_figures_with_a_landscape(tmp_path):
     config = tmp_path / "tiny.toml"
     config.write_text(
         "seed = 7\nduration = 5e-9\nrecord_interval = 1e-9\n[geometry]\nkind = 'shapes'\n"
-        "shapes = [{ kind = 'disk', radius = 150e-9 }]\n[skyrmions]\n"
+        "shapes = [{ kind = 'disk', diameter = 300e-9 }]\n[skyrmions]\n"
         "positions = [[0.0, 0.0], [70e-9, 0.0]]\n[[potentials]]\nkind = 'gaussian'\n"
         "center = [0.0, 0.0]\nsigma = 40e-9\namplitude_kT = 6.0\n"
     )

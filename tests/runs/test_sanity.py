@@ -35,12 +35,12 @@ def test_strict_refuses_during_the_run_once_the_rate_is_judged():
 
 
 def test_the_engine_counts_skyrmion_steps_exactly():
-    sim = Simulation(disk(500e-9), "S2", temperature=300.0, seed=1)
+    sim = Simulation(disk(diameter=1e-6), "S2", temperature=300.0, seed=1)
     d = sim.thiele.skyrmion_diameter_internal
     sim.state.insert_nm(np.array([[0.0, 0.0], [3 * d, 0.0], [0.0, 3 * d]]))
     sim.run(40 * sim.time_step)
     assert sim.skyrmion_steps == 3 * 40
     saved = sim.state_dict()
-    again = Simulation(disk(500e-9), "S2", temperature=300.0, seed=1)
+    again = Simulation(disk(diameter=1e-6), "S2", temperature=300.0, seed=1)
     again.load_state_dict(saved)
     assert again.skyrmion_steps == 120

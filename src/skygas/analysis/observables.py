@@ -99,7 +99,7 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40, burn_in: float = 
             out["diffusion"] = est.as_dict()
         out["free_diffusion_constant_m2_s"] = _free_diffusion_constant(record)
         out["velocity"] = _velocity(record, frames)
-    x0, y0, x1, y1 = record.outline.bounds_nm
+    x0, y0, x1, y1 = record.outline._bounds_nm
     r_max = min(10 * record.skyrmion_diameter, 0.5 * min(x1 - x0, y1 - y0) * 1e-9)
     if frames.n_frames and frames.count.max(initial=0) >= 2:
         out["pair_correlation"] = pair_correlation(
@@ -142,7 +142,7 @@ def _velocity(record, frames) -> dict:
         )
         return velocity
     clearance_nm = HALL_WALL_CLEARANCE * record.skyrmion_diameter * 1e9
-    far = record.outline.wall_distance_nm(frames.x * 1e9, frames.y * 1e9) >= clearance_nm
+    far = record.outline._wall_distance_nm(frames.x * 1e9, frames.y * 1e9) >= clearance_nm
     free = frames.entries_where(far)
     try:
         away = mean_velocity(free)

@@ -97,12 +97,16 @@ def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness
     centre = (0.5 * film.size[0], 0.5 * film.size[1])
     radius = math.sqrt(film.magnetic().sum() / math.pi) * film.cell_size
     sim = Simulation(
-        geometry.disk(radius, centre), material, temperature=0.0, film_thickness=thickness, seed=0
+        geometry.disk(diameter=2 * radius, center=centre),
+        material,
+        temperature=0.0,
+        film_thickness=thickness,
+        seed=0,
     )
     interval = float(times[1] - times[0])
     steps = max(1, round(interval / sim.suggested_time_step()))
     sim = Simulation(
-        geometry.disk(radius, centre),
+        geometry.disk(diameter=2 * radius, center=centre),
         material,
         temperature=0.0,
         film_thickness=thickness,

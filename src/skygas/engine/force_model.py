@@ -265,3 +265,15 @@ def default_time_step(thiele: ThieleParameters, stiffness: float, interval: floa
     """
     suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, stiffness)
     return interval / math.ceil(interval / suggested - 1e-9)
+
+
+def whole_steps(interval: float, time_step: float) -> int | None:
+    """``interval`` [s] in time steps of ``time_step`` [s], or ``None`` if not a whole number.
+
+    Whole to a relative 10⁻⁹: an interval that is a multiple of the step up to rounding counts.
+    """
+    ratio = interval / time_step
+    if not math.isfinite(ratio):
+        return None
+    k = round(ratio)
+    return int(k) if abs(ratio - k) <= 1e-9 * max(1.0, ratio) else None

@@ -49,6 +49,8 @@ class Recorder:
     def __init__(self, port_names) -> None:
         self.port_names = list(port_names)
         self.blocks: list[FrameBlock] = []
+        #: the step of the last frame recorded (−1: none yet), kept when frames are taken
+        self.last_frame_step = -1
         self.exits = ExitLog(self.port_names)
         self._no_frames: Frames | None = None
         self._exit_buffer: Exits | None = None
@@ -110,6 +112,7 @@ class Recorder:
         """Keep the first ``recorded`` frames of a call, the first at ``first_step``."""
         if recorded:
             steps = first_step + every * np.arange(recorded, dtype=np.int64)
+            self.last_frame_step = int(steps[-1])
             self.blocks.append(
                 FrameBlock(
                     steps,
@@ -195,6 +198,7 @@ class Recorder:
             "frame_x": flat("x", float),
             "frame_y": flat("y", float),
             "frame_ids": flat("ids", np.int64),
+            "frame_last_step": np.array(self.last_frame_step, dtype=np.int64),
             **{f"exit_{k}": v.copy() for k, v in ex.items()},
         }
 
@@ -216,6 +220,8 @@ class Recorder:
             )
             row += length
             cell += width * length
+        last = state.get("frame_last_step")
+        self.last_frame_step = int(last) if last is not None else -1
         self.exits = ExitLog(self.port_names)
         self.exits.append(
             state["exit_skyrmion"],

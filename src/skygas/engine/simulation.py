@@ -13,6 +13,7 @@ It owns the parts that each do one job and wires them together:
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -31,8 +32,9 @@ from skygas.engine.force_model import (
     ForceModel,
     default_time_step,
     relaxation_time,
+    whole_steps,
 )
-from skygas.engine.kernel import advance
+from skygas.engine.kernel import Frames, advance
 from skygas.engine.recorder import FrameBlock, Recorder
 from skygas.engine.scheduler import NO_PLAN, Operation, first_plan, named_operations
 from skygas.engine.state import StateView
@@ -60,6 +62,7 @@ from skygas.physics.materials import (
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
 #: Neighbour-list skin in skyrmion diameters (the list is rebuilt after a skyrmion moves
 #: half of it; larger skins rebuild less often but carry more pairs beyond the cutoff). At
@@ -252,6 +255,9 @@ class Simulation:
         self._landscape_rules = Landscape(self.landscape, self.edge_stray_field is not None)
         self._constant_rules = ConstantForce((float(force[0]), float(force[1])))
         limit = self.max_time_step()
+        #: whether the step was chosen here (not given): :meth:`run` may then shorten it once,
+        #: before the first step, so that the record interval is a whole number of steps
+        self._step_chosen = time_step is None
         if time_step is None and step_interval is not None:
             require(
                 np.isfinite(step_interval) and step_interval > 0,
@@ -528,11 +534,34 @@ class Simulation:
         return self.store.positions()
 
     def validate_positions(
+        self, positions, field_name: str = "skyrmions", check_existing: bool = True
+    ) -> None:
+        """Refuse positions outside the device or on top of another skyrmion.
+
+        Parameters
+        ----------
+        positions : array_like
+            (n, 2) positions (x, y) [m].
+        field_name : str
+            The name the error gives them (``field_name[k]`` for the k-th).
+        check_existing : bool
+            Also keep them clear of the skyrmions already present.
+
+        Raises
+        ------
+        InputError
+            For the first position that is not finite, not inside the outline, or closer than
+            MIN_PLACEMENT_SEPARATION skyrmion diameters to another.
+        """
+        p = np.asarray(positions, dtype=float).reshape(-1, 2) * units.M_TO_NM
+        self._validate_positions_nm(p, field_name, check_existing)
+
+    def _validate_positions_nm(
         self, positions_nm: np.ndarray, field_name: str = "skyrmions", check_existing: bool = True
     ) -> None:
-        """Refuse positions [nm] outside the device or on top of another skyrmion."""
+        """:meth:`validate_positions` of positions [nm]."""
         p = np.asarray(positions_nm, dtype=float).reshape(-1, 2)
-        inside = self.outline.contains_nm(p[:, 0], p[:, 1])
+        inside = self.outline._contains_nm(p[:, 0], p[:, 1])
         for k in np.nonzero(~inside | ~np.all(np.isfinite(p), axis=1))[0]:
             raise InputError(
                 f"{field_name}[{k}]",
@@ -555,7 +584,7 @@ class Simulation:
         """Insert skyrmions at ``positions`` [m] (shape (n, 2)); returns their new ids."""
         p = np.asarray(positions, dtype=float).reshape(-1, 2) * units.M_TO_NM
         if validate:
-            self.validate_positions(p)
+            self._validate_positions_nm(p)
         return self.store.insert(p)
 
     def add_random(
@@ -579,7 +608,7 @@ class Simulation:
         InputError
             If ``count`` is not a non-negative integer, or the skyrmions do not fit.
         """
-        from skygas.physics.geometry import random_positions
+        from skygas.physics.geometry import _random_positions_nm
 
         require(
             isinstance(count, (int, np.integer)) and count >= 0,
@@ -599,7 +628,7 @@ class Simulation:
             )
         d = min_separation * self.thiele.skyrmion_diameter_internal
         _, present = self.store.positions()
-        points = random_positions(
+        points = _random_positions_nm(
             self.outline,
             int(count),
             d,
@@ -626,9 +655,38 @@ class Simulation:
     ) -> None:
         """Advance by ``duration`` [s], recording positions every ``record_interval`` [s].
 
+        Frames fall on the multiples of ``record_interval`` (counted from t = 0), the start of
+        the run included when it is one and was not recorded yet: a fresh simulation's
+        trajectory begins with its frame at t = 0 and ends with the frame at its last step.
+
+        With a ``record_interval``, the interval and ``duration`` must be whole numbers of
+        time steps, so that the frames and the end fall exactly where they are asked for. A
+        step the simulation chose itself (``time_step=None``) is shortened once, before the
+        first step, to the next one that divides ``record_interval``, with a warning (pass
+        ``step_interval=record_interval`` to the constructor to have it chosen so from the
+        start, as ``skygas simulate`` does); a step given explicitly is never changed.
+
         Operations in :attr:`operations` act at the steps they ask for (see
         :class:`~skygas.engine.scheduler.Operation`). ``progress(t)`` is called with the
         simulated time after each chunk.
+
+        Parameters
+        ----------
+        duration : float
+            The time to advance [s], ≥ 0; without a record interval, the nearest whole number
+            of time steps.
+        record_interval : float, optional
+            The time between frames [s] (:meth:`trajectories`); ``None`` records none.
+        progress : callable, optional
+            Called with the simulated time [s] after each chunk.
+        chunk_steps : int
+            The most steps of one call of the compiled kernel.
+
+        Raises
+        ------
+        InputError
+            If ``duration`` is negative or not finite, or, with a record interval, if the
+            interval or ``duration`` is not a whole number of an explicitly given time step.
         """
         require(
             np.isfinite(duration) and duration >= 0,
@@ -636,16 +694,19 @@ class Simulation:
             duration,
             "a duration >= 0 in seconds",
         )
-        n_total = int(round(duration / self.time_step))
         record_every = 0
         if record_interval is not None:
+            record_every = self.recording_steps(record_interval)
             require(
-                record_interval >= self.time_step,
-                "record_interval",
-                record_interval,
-                f"an interval >= the time step ({self.time_step:.3g} s)",
+                whole_steps(duration, self.time_step) is not None,
+                "duration",
+                duration,
+                f"a whole number of time steps ({self.time_step:.6g} s) when recording, "
+                f"e.g. a multiple of record_interval ({record_interval:g} s)",
             )
-            record_every = max(1, int(round(record_interval / self.time_step)))
+        n_total = int(round(duration / self.time_step))
+        if record_every and self.step % record_every == 0:
+            self._record_start()
         end = self.step + n_total
         while self.step < end:
             due = [op.next_step(self.step) for op in self.operations]
@@ -665,6 +726,78 @@ class Simulation:
                     op.act(self)
             if progress is not None:
                 progress(self.time)
+
+    def recording_steps(self, record_interval: float) -> int:
+        """The time steps between two frames recorded every ``record_interval`` [s].
+
+        A step the simulation chose itself is shortened first, if nothing has run yet and no
+        operation is attached, to the longest one that divides the interval (see :meth:`run`).
+
+        Raises
+        ------
+        InputError
+            If ``record_interval`` is shorter than the step or not a whole number of steps.
+        """
+        require(
+            np.isfinite(record_interval) and record_interval >= self.time_step,
+            "record_interval",
+            record_interval,
+            f"an interval >= the time step ({self.time_step:.3g} s)",
+        )
+        if (
+            whole_steps(record_interval, self.time_step) is None
+            and self._step_chosen
+            and self.step == 0
+            and not self.operations
+        ):
+            # the longest step up to the present one that divides the interval
+            fitted = record_interval / math.ceil(record_interval / self.time_step - 1e-9)
+            warnings.warn(
+                f"skygas: time step shortened from {self.time_step:.6g} s to {fitted:.6g} s, "
+                f"so that record_interval = {record_interval:g} s is a whole number of steps "
+                f"(Simulation(..., step_interval={record_interval:g}) chooses it so)",
+                stacklevel=3,
+            )
+            self._set_time_step(fitted)
+        every = whole_steps(record_interval, self.time_step)
+        require(
+            every is not None,
+            "record_interval",
+            record_interval,
+            f"a whole multiple of the time step ({self.time_step:.6g} s); give the "
+            "Simulation step_interval=record_interval instead of a time_step, or a time_step "
+            "that divides it",
+        )
+        return max(1, every or 0)
+
+    def _set_time_step(self, time_step: float) -> None:
+        """Change dt [s] before the first step (the noise and neighbour margins follow it)."""
+        self._step_chosen = False
+        self.time_step = float(time_step)
+        self._dt_ns = self.time_step * units.S_TO_NS
+        self._noise = T.noise_term(
+            self.thiele, self.temperature, self._dt_ns, self.seed, self.brownian_substeps
+        )
+        self._configure_neighbor_cells()
+
+    def _record_start(self) -> None:
+        """Record a frame of the present state at the current step, unless it has one."""
+        if self.recorder.last_frame_step == self.step:
+            return
+        store = self.store
+        used = store.used_slots()
+        alive = store.alive[:used]
+        self.recorder.add_frames(
+            Frames(
+                np.where(alive, store.x[:used], np.nan)[None, :],
+                np.where(alive, store.y[:used], np.nan)[None, :],
+                np.where(alive, store.ids[:used], -1).astype(np.int64)[None, :],
+            ),
+            1,
+            self.step,
+            1,
+            self.time_step,
+        )
 
     def _advance(self, n_steps: int, record_every: int, plan=None) -> int:
         """One kernel call of up to ``n_steps`` steps; returns the planned insertions made."""
@@ -732,10 +865,13 @@ class Simulation:
 
     # -- checkpoints ---------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
-        """The mutable state as plain arrays (positions in nm, exactly as stored).
+        """The mutable state as plain arrays: an opaque checkpoint for :meth:`load_state_dict`.
 
-        With the same construction arguments, :meth:`load_state_dict` continues the run
-        bit-identically, because the noise depends only on (seed, id, step).
+        The arrays hold the engine's values exactly as stored (positions in its internal unit,
+        nanometres), so that a resumed run is bit-identical; read positions [m] with
+        :meth:`positions` or :attr:`state`, not from here. With the same construction
+        arguments, :meth:`load_state_dict` continues the run bit-identically, because the noise
+        depends only on (seed, id, step).
         """
         state = {
             **nest("store_", self.store.state_dict()),
@@ -752,6 +888,8 @@ class Simulation:
             ),
             # which landscape terms are switched on (a gate can be open or closed)
             "landscape_enabled": np.array(self.landscape.enabled, dtype=bool),
+            # the step, which run() may have fitted to a record interval
+            "time_step": np.array(self.time_step),
         }
         # each named operation's own state, under its name (the user's operations too); values
         # that are not arrays travel as JSON text
@@ -761,11 +899,28 @@ class Simulation:
         return state
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        """Restore a state saved by :meth:`state_dict`."""
+        """Restore a state saved by :meth:`state_dict`.
+
+        A simulation that chose its own step takes the saved one (which :meth:`run` may have
+        fitted to a record interval); one given another step explicitly refuses the state.
+        """
+        saved_step = state.get("time_step")
+        if saved_step is not None and float(saved_step) != self.time_step:
+            require(
+                self._step_chosen and self.step == 0,
+                "time_step",
+                self.time_step,
+                f"the step of the saved state ({float(saved_step):.6g} s)",
+            )
+            self._set_time_step(float(saved_step))
         self.store.load_state_dict(unnest("store_", state))
         self.recorder.load_state_dict(unnest("record_", state))
         counters = [int(v) for v in state["counters"]]
         self.step, self.wall_escapes, self.pair_evaluations, self.neighbor_rebuilds = counters[:4]
+        if "record_frame_last_step" not in state and self.step > 0:
+            # a checkpoint of a version that recorded no frame at the start of a run: it
+            # continues as it began, without one at the step it resumes from
+            self.recorder.last_frame_step = self.step
         self.skyrmion_steps = counters[4] if len(counters) > 4 else 0
         for term, on in enumerate(state.get("landscape_enabled", ())):
             self.landscape.set_enabled(term, bool(on))
@@ -859,6 +1014,32 @@ class Simulation:
         so that the simulation does not hold them all.
         """
         return self.recorder.take_frames(first_block)
+
+    def plot(self, ax=None, landscape: bool = True, title: str | None = None) -> Figure:
+        """Draw the skyrmions present now over the outline, in µm.
+
+        Each skyrmion is a disc of its diameter; walls are black, ports red with their names,
+        and the energy landscape, if any, lies underneath coloured by U/k_BT. The drawing is
+        that of the command line's figures (:mod:`skygas.runs.plotting`).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Draw on it (default: a new figure).
+        landscape : bool
+            Draw the energy landscape under the skyrmions (when there is one).
+        title : str, optional
+            The title (default: the count, the temperature and the simulated time).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on; save it with ``fig.savefig(path)``. The recorded frames are
+            drawn by :func:`skygas.plot` of :meth:`trajectories`.
+        """
+        from skygas.runs.plotting import state_figure
+
+        return state_figure(self, ax, landscape, title)
 
     def trajectories(self) -> xr.Dataset:
         """Recorded positions as a Dataset.

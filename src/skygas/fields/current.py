@@ -167,7 +167,7 @@ def _aligned_cells(outline: Outline, reference: LineString, cell_size_nm: float)
     axis_aligned = len(reference.coords) == 2 and (
         abs(bx - ax) <= _AXIS_TOLERANCE * width or abs(by - ay) <= _AXIS_TOLERANCE * width
     )
-    minx, miny, maxx, maxy = outline.bounds_nm
+    minx, miny, maxx, maxy = outline._bounds_nm
     if axis_aligned:
         h = width / max(1, round(width / h))
     else:
@@ -331,7 +331,7 @@ def _unit_flow(
     started = time.perf_counter()
     cells = _aligned_cells(outline, outline.ports[sources[0]], h_nm)
     cx, cy = cells.centres()
-    inside = outline.contains_nm(cx, cy)
+    inside = outline._contains_nm(cx, cy)
     ports = _port_faces(
         cells, inside, outline, [(n, 1.0, True) for n in sources] + [(n, 0.0, False) for n in sinks]
     )
@@ -693,7 +693,7 @@ def solve_current(
         sink,
         f"ports different from the source ports {list(sources)}",
     )
-    minx, miny, maxx, maxy = outline.bounds_nm
+    minx, miny, maxx, maxy = outline._bounds_nm
     estimate = ((maxx - minx) / h_nm + 5) * ((maxy - miny) / h_nm + 5)
     require(
         estimate <= _MAX_CELLS,
@@ -835,7 +835,7 @@ def _contact_cells(outline: Outline, contacts: Sequence[str], h_nm: float):
     """
     cells = _aligned_cells(outline, outline.ports[contacts[0]], h_nm)
     cx, cy = cells.centres()
-    return cells, outline.contains_nm(cx, cy)
+    return cells, outline._contains_nm(cx, cy)
 
 
 def _check_contacts(outline: Outline, potentials) -> dict[str, float]:

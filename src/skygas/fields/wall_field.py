@@ -167,7 +167,7 @@ class WallField:
 
     @classmethod
     def _build(cls, outline: Outline, spacing: float, band: float) -> WallField:
-        x0, y0, x1, y1 = outline.bounds_nm
+        x0, y0, x1, y1 = outline._bounds_nm
         margin = 3 * spacing
         nx = int(np.ceil((x1 - x0 + 2 * margin) / spacing)) + 1
         ny = int(np.ceil((y1 - y0 + 2 * margin) / spacing)) + 1
@@ -182,7 +182,7 @@ class WallField:
         )
         grid = Grid(x0 - margin, y0 - margin, float(spacing), nx, ny)
         gx, gy = grid.nodes()
-        inside = outline.contains_nm(gx, gy)
+        inside = outline._contains_nm(gx, gy)
 
         # Approximate distance everywhere (Euclidean distance transform of the raster) ...
         approx = (
@@ -222,7 +222,7 @@ class WallField:
             ax, ay, bx, by = wall_segs[index[on_wall]].T
             length = np.hypot(bx - ax, by - ay)
             cx, cy = -(by - ay) / length, (bx - ax) / length
-            probe_in = outline.contains_nm(
+            probe_in = outline._contains_nm(
                 px[on_wall] + 1e-3 * spacing * cx, py[on_wall] + 1e-3 * spacing * cy
             )
             flip = np.where(probe_in, 1.0, -1.0)
@@ -255,10 +255,10 @@ class WallField:
         At random inside points within ``band`` of a wall (quantiles and maximum).
         """
         rng = np.random.default_rng(seed)
-        x0, y0, x1, y1 = outline.bounds_nm
+        x0, y0, x1, y1 = outline._bounds_nm
         pts = rng.uniform((x0, y0), (x1, y1), size=(20 * n_samples, 2))
-        pts = pts[outline.contains_nm(pts[:, 0], pts[:, 1])]
-        exact = outline.wall_distance_nm(pts[:, 0], pts[:, 1])
+        pts = pts[outline._contains_nm(pts[:, 0], pts[:, 1])]
+        exact = outline._wall_distance_nm(pts[:, 0], pts[:, 1])
         keep = exact < self.band
         pts, exact = pts[keep][:n_samples], exact[keep][:n_samples]
         d, nx, ny = self.interpolate(pts[:, 0], pts[:, 1])

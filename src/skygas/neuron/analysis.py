@@ -59,7 +59,7 @@ def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> 
 
     Placed at random in the chamber; returns the trace and the fitted leak time with its error.
     """
-    from skygas.physics.geometry import random_positions
+    from skygas.physics.geometry import _random_positions_nm
 
     require(
         isinstance(initial_count, (int, np.integer)) and initial_count >= 0,
@@ -72,7 +72,7 @@ def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> 
     run.controller.threshold = math.inf  # never open the gate
     d_nm = run.sim.thiele.skyrmion_diameter_internal
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x6C65616B)))
-    pts = random_positions(run.sim.outline, initial_count, 2 * d_nm, 1.5 * d_nm, rng)
+    pts = _random_positions_nm(run.sim.outline, initial_count, 2 * d_nm, 1.5 * d_nm, rng)
     # keep them in the chamber (not the conduits)
     run.sim.state.insert_nm(pts)
     run.controller.act(run.sim)  # first trace point at t = 0

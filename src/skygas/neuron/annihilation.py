@@ -138,7 +138,7 @@ class AnnihilationModel:
         """No annihilation and no nucleation: the count changes only by injection and exit."""
         return cls(base_rate=0.0, enabled=False)
 
-    def lengths_nm(self, skyrmion_diameter: float) -> tuple[float, float]:
+    def _lengths_nm(self, skyrmion_diameter: float) -> tuple[float, float]:
         """(r_c, d_min) [nm] for a skyrmion diameter [m]."""
         d = skyrmion_diameter
         r_c = (
@@ -285,7 +285,7 @@ class Annihilator:
         """
         if self._fixed is None or self._fixed[0] is not self.model or self._fixed[1] is not sim:
             wall, grid = sim.wall_field.wall_distance, sim.wall_field.grid
-            r_c, d_min = self.model.lengths_nm(sim.thiele.skyrmion_diameter)
+            r_c, d_min = self.model._lengths_nm(sim.thiele.skyrmion_diameter)
             self._fixed = (
                 self.model,
                 sim,
@@ -322,7 +322,7 @@ class Annihilator:
         sim.state.annihilate(store.ids[victims], REASON)
 
     def _nucleate(self, sim, dt: float) -> None:
-        area_m2 = sim.outline.area_nm2() / units.M_TO_NM**2
+        area_m2 = sim.outline.area()
         n = self.nuc_rng.poisson(self.model.nucleation_rate * area_m2 * dt)
         if not n:
             return
@@ -345,8 +345,8 @@ class Annihilator:
         Rejection from its bounding box: the attempt rate ν·A already counts the outline's area, so
         a point outside it must be drawn again, not dropped.
         """
-        x0, y0, x1, y1 = outline.bounds_nm
+        x0, y0, x1, y1 = outline._bounds_nm
         while True:
             p = self.nuc_rng.uniform((x0, y0), (x1, y1))
-            if outline.contains_nm(p[0], p[1]):
+            if outline._contains_nm(p[0], p[1]):
                 return p

@@ -202,7 +202,7 @@ class NeuronDevice:
             )
         return band
 
-    def sensor_geometry_nm(self, r_nm: float) -> tuple[np.ndarray, float]:
+    def _sensor_geometry_nm(self, r_nm: float) -> tuple[np.ndarray, float]:
         """The read element's centre [nm] and radius [nm] (default: ``r_nm``)."""
         s = self.config.sensor
         center = np.asarray(s.center, float) * units.M_TO_NM
@@ -210,7 +210,7 @@ class NeuronDevice:
         return center, radius
 
     def _validate_sensor(self, r_nm: float) -> None:
-        center, radius = self.sensor_geometry_nm(r_nm)
+        center, radius = self._sensor_geometry_nm(r_nm)
         if np.hypot(*center) + radius > r_nm * (1 + 1e-9):
             raise InputError(
                 "sensor",
@@ -222,7 +222,7 @@ class NeuronDevice:
         """Largest reading the sensor can see at the chamber's saturation (estimate)."""
         c = self.config
         r_nm = c.device.chamber_diameter / 2 * units.M_TO_NM
-        _, radius = self.sensor_geometry_nm(r_nm)
+        _, radius = self._sensor_geometry_nm(r_nm)
         n_sat = saturation_estimate(c.device.chamber_diameter, d_sk, c.annihilation_model())
         fraction = min(1.0, (radius / r_nm) ** 2)
         if c.sensor.signal == "count":
@@ -304,7 +304,7 @@ class NeuronDevice:
         )
         gate.set(c.gate.initially_open)
         r_nm = c.device.chamber_diameter / 2 * units.M_TO_NM
-        center, radius = self.sensor_geometry_nm(r_nm)
+        center, radius = self._sensor_geometry_nm(r_nm)
         sensor = ReadElement(
             center,
             radius,

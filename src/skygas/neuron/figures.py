@@ -69,7 +69,7 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
         bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
     )
     # room beside the device for the port labels, inside the axes
-    bx0, _, bx1, _ = sim.outline.bounds_nm
+    bx0, _, bx1, _ = sim.outline._bounds_nm
     margin = 0.12 * (bx1 - bx0) * 1e-3
     ax.set_xlim(bx0 * 1e-3 - margin, bx1 * 1e-3 + margin)
     if image is not None:

@@ -51,9 +51,9 @@ def crowd_at_gate(device, n: int, spacing_d: float = CROWD_SPACING) -> np.ndarra
     band = device.band
     edge = band.start[0] * units.M_TO_NM - 2 * band.edge_width * units.M_TO_NM
     outline = device.outline
-    ok = (x < edge) & outline.contains_nm(x, y)
+    ok = (x < edge) & outline._contains_nm(x, y)
     x, y = x[ok], y[ok]
-    ok = outline.wall_distance_nm(x, y) >= d
+    ok = outline._wall_distance_nm(x, y) >= d
     x, y = x[ok], y[ok]
     order = np.argsort(np.hypot(x - device.x_meet, y))
     require(n <= len(order), "n", n, f"at most {len(order)} skyrmions at this spacing")
@@ -113,7 +113,9 @@ def hold_crowd(
             )
         )
     run.sim.state.insert_nm(crowd_at_gate(device, n))
-    run.sim.run(duration, record_interval=record_interval)
+    dt = run.sim.time_step
+    every = None if record_interval is None else max(1, round(record_interval / dt)) * dt
+    run.sim.run(round(duration / dt) * dt, record_interval=every)  # the nearest whole steps
     exits = run.emission_times()
     return {
         "n": n,
@@ -142,14 +144,14 @@ def release_crowd(
     [s] (None if not reached), and the skyrmions emitted and annihilated during the release.
     """
     from skygas.neuron.device import NeuronDevice
-    from skygas.physics.geometry import random_positions
+    from skygas.physics.geometry import _random_positions_nm
 
     device = NeuronDevice(config)
     run = device.build(inputs=[], duration=hold, seed=seed)
     run.controller.threshold = math.inf
     d = device.thiele.skyrmion_diameter * units.M_TO_NM
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x72656C)))
-    run.sim.state.insert_nm(random_positions(run.sim.outline, n, 2 * d, 1.5 * d, rng))
+    run.sim.state.insert_nm(_random_positions_nm(run.sim.outline, n, 2 * d, 1.5 * d, rng))
     run.sim.run(hold)
     run.controller.reset_level = -math.inf  # the study decides when it ends
     run.gate.set(True)

@@ -26,7 +26,7 @@ from skygas.core.errors import require
 from skygas.engine import MIN_PLACEMENT_SEPARATION, Simulation
 from skygas.neuron.annihilation import AnnihilationModel, Annihilator
 from skygas.neuron.calibration import CALIBRATED
-from skygas.physics.geometry import disk, random_positions
+from skygas.physics.geometry import _random_positions_nm, disk
 from skygas.physics.materials import derive_thiele, load_material
 
 HEX_PACKING = math.pi / (2 * math.sqrt(3))
@@ -46,7 +46,7 @@ def saturation_estimate(
     """
     from skygas.neuron.calibration import SATURATION_DENSITY_FIT as fit
 
-    r_c, _ = model.lengths_nm(skyrmion_diameter)
+    r_c, _ = model._lengths_nm(skyrmion_diameter)
     # fitted: N_sat ≈ a · ((D − b·r_c)/r_c)², a, b from the calibration runs (docs/neuron.md)
     eff = max(chamber_diameter * 1e9 - fit["b"] * r_c, 0.0) / r_c
     return fit["a"] * eff**2
@@ -95,11 +95,11 @@ def relax_survivors(
     time_step: float | None = None,
 ) -> int:
     """Survivors after nucleating ``n`` skyrmions at random in a disk and relaxing."""
-    outline = disk(diameter / 2)
+    outline = disk(diameter=diameter)
     sim = Simulation(outline, material, temperature=temperature, time_step=time_step, seed=seed)
     d_nm = sim.thiele.skyrmion_diameter_internal
     rng = np.random.default_rng(np.random.SeedSequence((seed, 0x736174)))
-    pts = random_positions(
+    pts = _random_positions_nm(
         outline, n, MIN_PLACEMENT_SEPARATION * d_nm, MIN_PLACEMENT_SEPARATION * d_nm, rng
     )
     sim.state.insert_nm(pts)

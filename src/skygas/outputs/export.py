@@ -43,7 +43,7 @@ FORMATS = ("gsd", "extxyz")
 
 def _box_nm(record) -> tuple[float, float]:
     """Lx, Ly [nm] of the origin-centred box that holds the outline (1 % margin)."""
-    x0, y0, x1, y1 = record.outline.bounds_nm
+    x0, y0, x1, y1 = record.outline._bounds_nm
     return 2.02 * max(abs(x0), abs(x1)), 2.02 * max(abs(y0), abs(y1))
 
 

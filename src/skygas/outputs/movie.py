@@ -122,7 +122,7 @@ class _Canvas:
 
         from skygas.runs.plotting import draw_outline
 
-        x0, y0, x1, y1 = np.array(record.outline.bounds_nm) * 1e-3  # µm
+        x0, y0, x1, y1 = np.array(record.outline._bounds_nm) * 1e-3  # µm
         aspect = (y1 - y0) / (x1 - x0)
         dpi = 100
         # sizes in whole multiples of 16 px: H.264 encoders want even sizes, and ffmpeg

@@ -106,11 +106,11 @@ class RunRecord:
             return values, tuple(e * 1e-9 for e in extent), label, "linear"
         if self.background_fn is None:
             return None
-        x0, y0, x1, y1 = self.outline.bounds_nm
+        x0, y0, x1, y1 = self.outline._bounds_nm
         ny = max(2, int(round(nx * (y1 - y0) / (x1 - x0))))
         gx, gy = np.meshgrid(np.linspace(x0, x1, nx), np.linspace(y0, y1, ny))
         values, label = self.background_fn(gx * 1e-9, gy * 1e-9)
-        values = np.where(self.outline.contains_nm(gx, gy), values, np.nan)
+        values = np.where(self.outline._contains_nm(gx, gy), values, np.nan)
         return values, (x0 * 1e-9, x1 * 1e-9, y0 * 1e-9, y1 * 1e-9), label, "log"
 
 

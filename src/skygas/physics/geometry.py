@@ -7,13 +7,18 @@ force from every other part of the boundary; a skyrmion that crosses a port leav
 The outline only describes *shape*. The force a wall exerts lives in :mod:`skygas.physics.forces`,
 and the precomputed distance/normal grid the engine reads lives in :mod:`skygas.fields.wall_field`.
 
-Public constructors take metres (SI); the outline stores nanometres internally (shapely's
-tolerances assume coordinates of order one).
+Everything public is in SI units: the constructors take metres, and the queries
+(:meth:`Outline.contains`, :meth:`Outline.wall_distance`, :meth:`Outline.area`,
+:attr:`Outline.bounds`) and :func:`random_positions` take and return metres. Sizes are given as
+**diameters** (:func:`disk`, :func:`chamber_with_conduits`), as the device configurations give
+them; rectangles by their sides. The outline stores nanometres internally (shapely's tolerances
+assume coordinates of order one); the ``_nm`` forms of the queries are the engine's.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -33,8 +38,10 @@ _PORT_TOLERANCE_NM = 1e-6
 
 @dataclass(frozen=True)
 class Outline:
-    """A device outline in nanometres: ``region`` and open ``ports``.
+    """A device outline: the ``region`` a skyrmion may occupy and its open ``ports``.
 
+    Its queries take and return metres (:meth:`contains`, :meth:`wall_distance`, :meth:`area`,
+    :attr:`bounds`); the shapely shapes it holds are in nanometres, the engine's unit.
     ``region`` is a shapely Polygon, or a MultiPolygon for devices made of separate chambers
     (the reshuffler's UP and DOWN chambers). Build it with :func:`disk`, :func:`rectangle`,
     :func:`polygon`, :func:`union` and :meth:`with_port`, or :func:`chamber_with_conduits` for
@@ -104,10 +111,10 @@ class Outline:
         )
         return Outline(self.region, {**self.ports, name: segment})
 
-    # -- queries (nanometres) ---------------------------------------------------------------
+    # -- queries (metres) -------------------------------------------------------------------
     @cached_property
     def walls(self):
-        """The boundary minus the ports (a (Multi)LineString in nm)."""
+        """The boundary minus the ports (a (Multi)LineString in nm, as :attr:`region`)."""
         boundary = self.region.boundary
         if not self.ports:
             return boundary
@@ -115,10 +122,91 @@ class Outline:
         return boundary.difference(openings)
 
     @property
-    def bounds_nm(self) -> tuple[float, float, float, float]:
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(x0, y0, x1, y1) [m], the bounding box of the region."""
+        x0, y0, x1, y1 = self.region.bounds
+        return (x0 / M_TO_NM, y0 / M_TO_NM, x1 / M_TO_NM, y1 / M_TO_NM)
+
+    def contains(self, x, y) -> np.ndarray:
+        """Whether the points (x, y) [m] lie strictly inside the region.
+
+        Parameters
+        ----------
+        x, y : float or array_like
+            Coordinates [m] (broadcast against each other).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            True where the point is inside.
+        """
+        return self._contains_nm(np.asarray(x, float) * M_TO_NM, np.asarray(y, float) * M_TO_NM)
+
+    def wall_distance(self, x, y) -> np.ndarray:
+        """The exact distance [m] from the points (x, y) [m] to the nearest wall.
+
+        Ports are not walls: a point near a port is as far from the walls as from the rest of
+        the boundary.
+
+        Parameters
+        ----------
+        x, y : float or array_like
+            Coordinates [m].
+
+        Returns
+        -------
+        numpy.ndarray
+            The distance [m] (≥ 0, on either side of the wall).
+        """
+        nm = self._wall_distance_nm(np.asarray(x, float) * M_TO_NM, np.asarray(y, float) * M_TO_NM)
+        return nm / M_TO_NM
+
+    def area(self) -> float:
+        """The area of the region [m²]."""
+        return self._area_nm2() / M_TO_NM**2
+
+    # -- the same queries in the engine's unit, nanometres ----------------------------------
+    @property
+    def _bounds_nm(self) -> tuple[float, float, float, float]:
         """(x0, y0, x1, y1) [nm], the bounding box of the region."""
         return tuple(self.region.bounds)
 
+    def _contains_nm(self, x, y) -> np.ndarray:
+        """True where (x, y) [nm] is strictly inside the region."""
+        return shapely.contains_xy(self.region, np.asarray(x, float), np.asarray(y, float))
+
+    def _wall_distance_nm(self, x, y) -> np.ndarray:
+        """Exact distance [nm] from (x, y) [nm] to the nearest wall (shapely)."""
+        points = shapely.points(np.asarray(x, float), np.asarray(y, float))
+        return shapely.distance(points, self.walls)
+
+    def _area_nm2(self) -> float:
+        """The area of the region [nm²]."""
+        return float(self.region.area)
+
+    # -- the former public names, for one release ------------------------------------------
+    @property
+    def bounds_nm(self) -> tuple[float, float, float, float]:
+        """Deprecated: :attr:`bounds` [m] × 10⁹."""
+        _deprecated("bounds_nm", "bounds")
+        return self._bounds_nm
+
+    def contains_nm(self, x, y) -> np.ndarray:
+        """Deprecated: :meth:`contains` of points in metres."""
+        _deprecated("contains_nm", "contains")
+        return self._contains_nm(x, y)
+
+    def wall_distance_nm(self, x, y) -> np.ndarray:
+        """Deprecated: :meth:`wall_distance` of points in metres."""
+        _deprecated("wall_distance_nm", "wall_distance")
+        return self._wall_distance_nm(x, y)
+
+    def area_nm2(self) -> float:
+        """Deprecated: :meth:`area` [m²] × 10¹⁸."""
+        _deprecated("area_nm2", "area")
+        return self._area_nm2()
+
+    # -- composition and records ---------------------------------------------------------------
     def translated(self, dx: float, dy: float) -> Outline:
         """The same outline moved by (dx, dy) metres (port names kept)."""
         from shapely import affinity
@@ -134,19 +222,6 @@ class Outline:
         for name in names:
             require(name in self.ports, "port name", name, f"one of {list(self.ports)}")
         return Outline(self.region, {k: v for k, v in self.ports.items() if k not in names})
-
-    def contains_nm(self, x, y) -> np.ndarray:
-        """True where (x, y) [nm] is strictly inside the region."""
-        return shapely.contains_xy(self.region, np.asarray(x, float), np.asarray(y, float))
-
-    def wall_distance_nm(self, x, y) -> np.ndarray:
-        """Exact distance [nm] from (x, y) [nm] to the nearest wall (shapely)."""
-        points = shapely.points(np.asarray(x, float), np.asarray(y, float))
-        return shapely.distance(points, self.walls)
-
-    def area_nm2(self) -> float:
-        """The area of the region [nm²]."""
-        return float(self.region.area)
 
     def port_names(self) -> list[str]:
         """The names of the open ports, in the order they were opened."""
@@ -165,6 +240,15 @@ class Outline:
         region = shapely.from_wkt(record["region_wkt_nm"])
         ports = {k: LineString(v) for k, v in record.get("ports_nm", {}).items()}
         return cls(region, ports)
+
+
+def _deprecated(old: str, new: str) -> None:
+    warnings.warn(
+        f"Outline.{old} (nanometres) is deprecated and will be removed in the next release: "
+        f"use Outline.{new}, in metres",
+        DeprecationWarning,
+        stacklevel=3,
+    )
 
 
 def _positive(name: str, value: float) -> float:
@@ -190,13 +274,17 @@ def _circle(cx: float, cy: float, r: float) -> Polygon:
     return Point(cx, cy).buffer(r, quad_segs=_circle_segments(r))
 
 
-def disk(radius: float, center=(0.0, 0.0)) -> Outline:
-    """A disk of ``radius`` [m] at ``center`` [m] (a polygon within 0.05 nm of the circle).
+def disk(*, diameter: float, center=(0.0, 0.0)) -> Outline:
+    """A disk of ``diameter`` [m] at ``center`` [m] (a polygon within 0.05 nm of the circle).
+
+    Sizes are diameters throughout skygas, as in :func:`chamber_with_conduits` and the
+    configurations (``chamber_diameter``, ``skyrmion_diameter``); the keyword is required, so
+    that a radius cannot be passed by mistake.
 
     Parameters
     ----------
-    radius : float
-        The radius [m], > 0.
+    diameter : float
+        The diameter 2R [m], > 0.
     center : tuple of float
         (x, y) of the centre [m].
 
@@ -208,9 +296,15 @@ def disk(radius: float, center=(0.0, 0.0)) -> Outline:
     Raises
     ------
     InputError
-        If ``radius`` is not a finite length > 0.
+        If ``diameter`` is not a finite length > 0.
+
+    Examples
+    --------
+    >>> import skygas
+    >>> round(skygas.disk(diameter=1e-6).area() * 1e12, 3)  # π (0.5 µm)² in µm²
+    0.785
     """
-    r = _positive("radius", radius) * M_TO_NM
+    r = _positive("diameter", diameter) / 2 * M_TO_NM
     cx, cy = np.asarray(center, float) * M_TO_NM
     return Outline(_circle(cx, cy, r))
 
@@ -393,42 +487,88 @@ def chamber_with_conduits(
 def random_positions(
     outline: Outline,
     count: int,
+    min_separation: float,
+    min_wall_distance: float,
+    rng: np.random.Generator,
+    max_tries: int = 200_000,
+    occupied: np.ndarray | None = None,
+) -> np.ndarray:
+    """``count`` random points [m] inside ``outline``, by random sequential addition.
+
+    Parameters
+    ----------
+    outline : Outline
+        Where the points lie.
+    count : int
+        How many points.
+    min_separation : float
+        Their least distance [m] from each other and from the ``occupied`` points.
+    min_wall_distance : float
+        Their least distance [m] from the walls.
+    rng : numpy.random.Generator
+        The source of randomness (the same generator state gives the same points).
+    max_tries : int
+        Candidate points tried before giving up.
+    occupied : array_like, optional
+        (n, 2) points [m] already taken (not returned).
+
+    Returns
+    -------
+    numpy.ndarray
+        (count, 2) points (x, y) [m].
+
+    Raises
+    ------
+    InputError
+        If the points do not fit (more than ``max_tries`` tries).
+    """
+    taken = None if occupied is None else np.asarray(occupied, float).reshape(-1, 2) * M_TO_NM
+    points = _random_positions_nm(
+        outline,
+        count,
+        min_separation * M_TO_NM,
+        min_wall_distance * M_TO_NM,
+        rng,
+        max_tries=max_tries,
+        occupied=taken,
+    )
+    return points / M_TO_NM
+
+
+def _random_positions_nm(
+    outline: Outline,
+    count: int,
     min_separation_nm: float,
     min_wall_distance_nm: float,
     rng: np.random.Generator,
     max_tries: int = 200_000,
     occupied: np.ndarray | None = None,
 ) -> np.ndarray:
-    """``count`` random points [nm] inside ``outline``, by random sequential addition.
-
-    The points are pairwise ≥ ``min_separation_nm`` apart, ≥ ``min_wall_distance_nm`` from walls
-    and as far from the ``occupied`` points [nm] (n, 2), if any, which are not returned.
-    Raises :class:`InputError` if the points do not fit (more than ``max_tries`` tries).
-    """
-    x0, y0, x1, y1 = outline.bounds_nm
+    """:func:`random_positions` in the engine's unit: every length and point in nm."""
+    x0, y0, x1, y1 = outline._bounds_nm
     held = 0 if occupied is None else len(occupied)
     points = np.empty((0, 2)) if occupied is None else np.asarray(occupied, float).reshape(-1, 2)
-    count = count + held
+    total = count + held
     tries = 0
-    while len(points) < count:
+    while len(points) < total:
         batch = rng.uniform((x0, y0), (x1, y1), size=(256, 2))
-        inside = outline.contains_nm(batch[:, 0], batch[:, 1])
+        inside = outline._contains_nm(batch[:, 0], batch[:, 1])
         batch = batch[inside]
         if len(batch):
-            far = outline.wall_distance_nm(batch[:, 0], batch[:, 1]) >= min_wall_distance_nm
+            far = outline._wall_distance_nm(batch[:, 0], batch[:, 1]) >= min_wall_distance_nm
             batch = batch[far]
         for p in batch:
             tries += 1
             if len(points) == 0 or np.min(np.hypot(*(points - p).T)) >= min_separation_nm:
                 points = np.vstack([points, p])
-                if len(points) == count:
+                if len(points) == total:
                     break
         tries += 1
         if tries > max_tries:
             raise InputError(
                 "skyrmions.count",
                 count,
-                f"fewer skyrmions: only {len(points) - held} fit at {min_separation_nm:.1f} nm "
-                "separation",
+                f"fewer skyrmions: only {len(points) - held} fit at "
+                f"{min_separation_nm * 1e-9:.3g} m separation",
             )
     return points[held:]

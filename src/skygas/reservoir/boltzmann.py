@@ -43,13 +43,13 @@ def boltzmann_wall_distance_pdf(
     The bins are ``edges_nm`` [nm], the temperature ``temperature`` [K]; the quadrature runs on
     a square grid of ``resolution_nm``.
     """
-    x0, y0, x1, y1 = outline.bounds_nm
+    x0, y0, x1, y1 = outline._bounds_nm
     gx, gy = np.meshgrid(
         np.arange(x0, x1, resolution_nm) + resolution_nm / 2,
         np.arange(y0, y1, resolution_nm) + resolution_nm / 2,
     )
-    inside = outline.contains_nm(gx, gy)
-    d = outline.wall_distance_nm(gx[inside], gy[inside])
+    inside = outline._contains_nm(gx, gy)
+    d = outline._wall_distance_nm(gx[inside], gy[inside])
     # tabulate U(d) once and interpolate (the quadrature in wall_potential is per point)
     table = np.linspace(0.0, d.max(), 400)
     energy = np.interp(d, table, wall_energy(table, material, thiele))

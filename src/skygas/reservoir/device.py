@@ -169,11 +169,11 @@ class ReservoirDevice:
 
     def _initial_positions(self, sim, rng) -> np.ndarray:
         d = sim.thiele.skyrmion_diameter_internal
-        return geo.random_positions(self.walls, self.config.n_skyrmions, 1.2 * d, 1.0 * d, rng)
+        return geo._random_positions_nm(self.walls, self.config.n_skyrmions, 1.2 * d, 1.0 * d, rng)
 
     def map_extent(self) -> tuple[float, float, float, float]:
         """The occupation maps' extent (x0, x1, y0, y1) [nm]: the chamber's bounds."""
-        x0, y0, x1, y1 = self.outline.bounds_nm
+        x0, y0, x1, y1 = self.outline._bounds_nm
         return (x0, x1, y0, y1)
 
     def map_shape(self) -> tuple[int, int]:
@@ -201,11 +201,9 @@ class ReservoirDevice:
             "config": c.model_dump(mode="json"),
             "time_step_s": self.time_step,
             "diffusion_constant_m2_per_s": self.diffusion_constant,
-            "chamber_area_m2": self.outline.area_nm2() / M_TO_NM**2,
+            "chamber_area_m2": self.outline.area(),
             # the time for the mean squared displacement 4Dt to reach the chamber's area
-            "exploration_time_s": self.outline.area_nm2()
-            / M_TO_NM**2
-            / (4 * self.diffusion_constant)
+            "exploration_time_s": self.outline.area() / (4 * self.diffusion_constant)
             if self.diffusion_constant > 0
             else None,
             "sensors": {
@@ -272,10 +270,17 @@ class StreamRun:
         for n in range(self.position, end):
             key = tuple(int(b) for b in self.inputs[n])
             sim.set_drift_field(*device._fields[key])
-            sim.run(self.hold, record_interval=self.interval)
+            start, dt = sim.step, sim.time_step
+            # whole numbers of steps: the hold's and the reads' nearest
+            sim.run(
+                round(self.hold / dt) * dt,
+                record_interval=max(1, round(self.interval / dt)) * dt,
+            )
+            # the frames within the hold, after its start (the first hold's frame at t = 0
+            # belongs to no input)
             blocks = sim.take_frames()
-            x = np.concatenate([b.x for b in blocks])
-            y = np.concatenate([b.y for b in blocks])
+            x = np.concatenate([b.x[b.step > start] for b in blocks])
+            y = np.concatenate([b.y[b.step > start] for b in blocks])
             if n < self.warmup:
                 continue
             signal = coverage(

@@ -23,7 +23,7 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
     jx, jy = drift_field_on_grid(run.geometry, run.current, grid, 1.0)
     magnitude = np.hypot(jx, jy)
     gx, gy = grid.nodes()
-    inside = run.sim.outline.contains_nm(gx, gy)
+    inside = run.sim.outline._contains_nm(gx, gy)
     magnitude = np.where(inside, magnitude, np.nan)
     from matplotlib.figure import Figure
 
@@ -109,7 +109,7 @@ def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
             fontsize=8,
             bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"},
         )
-    x0, y0, x1, y1 = run.sim.outline.bounds_nm
+    x0, y0, x1, y1 = run.sim.outline._bounds_nm
     ax.set_xlim(x0 * 1e-3 - 0.35 * (x1 - x0) * 1e-3, x1 * 1e-3 + 0.3 * (x1 - x0) * 1e-3)
     contours = ", |j| contours (A/m²)" if run.sim.landscape.terms else ""
     ax.set_title(

@@ -23,6 +23,7 @@ from skygas.core.config_types import (
     to_input_error,
 )
 from skygas.core.errors import InputError
+from skygas.core.units import M_TO_NM
 from skygas.fields.landscape.kinds import Potential
 from skygas.physics import geometry as geo
 from skygas.physics.forces import DEFAULT_CUTOFF_FRACTION
@@ -49,11 +50,20 @@ class PortSpec(StrictModel):
 
 
 class DiskSpec(StrictModel):
-    """A disk of ``radius`` [m] around ``center`` [m]."""
+    """A disk of ``diameter`` [m] around ``center`` [m] (sizes are diameters, as everywhere)."""
 
     kind: Literal["disk"]
-    radius: Length
+    diameter: Length
     center: Point2 = (0.0, 0.0)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_radius(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "radius" in data:
+            raise ValueError(
+                "a disk given by its diameter: write diameter = 2 × radius instead of radius"
+            )
+        return data
 
 
 class RectangleSpec(StrictModel):
@@ -101,7 +111,7 @@ class ShapesGeometry(StrictModel):
         parts = []
         for s in self.shapes:
             if s.kind == "disk":
-                parts.append(geo.disk(s.radius, s.center))
+                parts.append(geo.disk(diameter=s.diameter, center=s.center))
             elif s.kind == "rectangle":
                 parts.append(geo.rectangle(s.width, s.height, s.center))
             else:
@@ -324,10 +334,10 @@ class SimulationConfig(MaterialFields, OperationsField):
         if s.random_count:
             d_sk = sim.thiele.skyrmion_diameter_internal
             rng = np.random.default_rng(np.random.SeedSequence([self.seed, 0x5EED]))
-            pts = geo.random_positions(
+            pts = geo._random_positions_nm(
                 sim.outline, s.random_count, s.min_separation * d_sk, s.min_separation * d_sk, rng
             )
-            sim.validate_positions(pts, "skyrmions.random_count")
+            sim.validate_positions(pts / M_TO_NM, "skyrmions.random_count")
             sim.state.insert_nm(pts)
         return sim
 

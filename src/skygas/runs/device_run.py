@@ -89,7 +89,11 @@ class DeviceRun:
         Recording frames every :attr:`record_interval`; a device that does more per piece
         overrides it.
         """
-        self.sim.run(n * self.sim.time_step, record_interval=self.record_interval)
+        dt = self.sim.time_step
+        interval = self.record_interval
+        if interval is not None:  # the whole number of steps nearest to it (a movie's frames)
+            interval = max(1, round(interval / dt)) * dt
+        self.sim.run(n * dt, record_interval=interval)
 
     def extra_state(self) -> dict[str, np.ndarray]:
         """What the run keeps outside the simulation and its named operations, as arrays."""

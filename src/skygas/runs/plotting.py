@@ -40,7 +40,7 @@ def _label_port(ax, outline: Outline, name: str, xy: np.ndarray, scale: float) -
     tangent = xy[-1] - xy[0]
     normal = np.array([tangent[1], -tangent[0]]) / max(np.hypot(*tangent), 1e-12)
     probe = (mid + 1e-3 * normal) / scale
-    if outline.contains_nm(probe[0], probe[1]):
+    if outline._contains_nm(probe[0], probe[1]):
         normal = -normal  # point away from the device
     ax.annotate(
         name,
@@ -83,7 +83,7 @@ def landscape_energy(
         label = "U (zJ)"
     if outline is not None:
         gx, gy = field.grid.nodes()
-        u = np.where(outline.contains_nm(gx, gy), u, np.nan)
+        u = np.where(outline._contains_nm(gx, gy), u, np.nan)
     return u, label
 
 
@@ -134,23 +134,53 @@ def draw_tracks(ax, ds: xr.Dataset, max_tracks: int, color=None, ends: bool = Tr
             ax.plot(x[ok, k][-1], y[ok, k][-1], "o", color=line.get_color(), ms=3)
 
 
-def plot_trajectories(
-    ds: xr.Dataset,
-    outline: Outline,
-    path: str | Path,
-    max_tracks: int = 200,
-    title: str | None = None,
-    landscape=None,
-) -> Path:
-    """Save a PNG of the outline with the recorded trajectories (start ○, end ●).
+def draw_skyrmions(ax, positions, diameter: float, color="tab:blue") -> None:
+    """Skyrmions as discs of their ``diameter`` [m] at ``positions`` [m] (n, 2), in µm."""
+    from matplotlib.collections import EllipseCollection
 
-    Over the energy ``landscape`` (a :class:`~skygas.fields.landscape.LandscapeField`) when there is
-    one.
-    """
+    xy = np.asarray(positions, dtype=float).reshape(-1, 2) * 1e6
+    if not len(xy):
+        return
+    size = np.full(len(xy), diameter * 1e6)
+    ax.add_collection(
+        EllipseCollection(
+            size,
+            size,
+            np.zeros(len(xy)),
+            units="xy",
+            offsets=xy,
+            offset_transform=ax.transData,
+            facecolors=color,
+            edgecolors="none",
+            alpha=0.7,
+        )
+    )
+
+
+def _figure_and_axes(ax, landscape):
+    """``ax`` and its figure, or a new figure (wider beside a landscape's colour bar)."""
+    if ax is not None:
+        return ax.figure, ax
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(6.5 if landscape is not None and landscape.terms else 6, 5.5), dpi=120)
-    ax = fig.add_subplot()
+    return fig, fig.add_subplot()
+
+
+def trajectories_figure(
+    ds: xr.Dataset,
+    outline: Outline,
+    ax=None,
+    max_tracks: int = 200,
+    title: str | None = None,
+    landscape=None,
+):
+    """The outline with the recorded trajectories (start ○, end ●), in µm.
+
+    Over the energy ``landscape`` (a :class:`~skygas.fields.landscape.LandscapeField`) when there is
+    one. Drawn on ``ax`` if given, else on a new figure; returns the figure.
+    """
+    fig, ax = _figure_and_axes(ax, landscape)
     draw_landscape(ax, landscape, outline)
     draw_outline(ax, outline)
     draw_tracks(ax, ds, max_tracks)
@@ -163,9 +193,114 @@ def plot_trajectories(
         else "no frames"
     )
     fig.tight_layout()
+    return fig
+
+
+def plot_trajectories(
+    ds: xr.Dataset,
+    outline: Outline,
+    path: str | Path,
+    max_tracks: int = 200,
+    title: str | None = None,
+    landscape=None,
+) -> Path:
+    """Save a PNG of :func:`trajectories_figure` at ``path``; returns the path."""
+    fig = trajectories_figure(ds, outline, None, max_tracks, title, landscape)
     path = Path(path)
     fig.savefig(path)
     return path
+
+
+def state_figure(sim, ax=None, landscape: bool = True, title: str | None = None):
+    """The skyrmions of ``sim`` now, as discs of their diameter over its outline, in µm.
+
+    Over its energy landscape when ``landscape`` and it has one (every term drawn). Drawn on
+    ``ax`` if given, else on a new figure; returns the figure. See
+    :meth:`skygas.engine.Simulation.plot`.
+    """
+    field = sim.landscape if landscape else None
+    fig, ax = _figure_and_axes(ax, field)
+    draw_landscape(ax, field, sim.outline)
+    draw_outline(ax, sim.outline)
+    draw_skyrmions(ax, sim.positions()[1], sim.thiele.skyrmion_diameter)
+    ax.set_title(
+        title or f"{sim.count} skyrmions, {sim.temperature:g} K, t = {sim.time * 1e9:.4g} ns"
+    )
+    fig.tight_layout()
+    return fig
+
+
+def dataset_outline(ds: xr.Dataset) -> Outline:
+    """The outline a trajectories Dataset records (its parameters' ``geometry``).
+
+    Raises
+    ------
+    InputError
+        If the Dataset records no outline (not one of :meth:`Simulation.trajectories
+        <skygas.engine.Simulation.trajectories>` or of a result file holding one).
+    """
+    import json
+
+    from skygas.core.errors import InputError
+
+    for key in ("parameters_json", "engine_parameters_json"):
+        if key in ds.attrs:
+            geometry = json.loads(ds.attrs[key]).get("geometry")
+            if geometry:
+                return Outline.from_record(geometry)
+    raise InputError(
+        "dataset",
+        ds.attrs.get("title", "a Dataset"),
+        "a trajectories Dataset whose attributes record the outline (parameters_json), as "
+        "Simulation.trajectories() and trajectories.nc give",
+    )
+
+
+def plot(ds: xr.Dataset, ax=None, max_tracks: int = 200, title: str | None = None):
+    """Plot a trajectories Dataset: the tracks over the device's outline, in µm.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Recorded trajectories, as :meth:`Simulation.trajectories
+        <skygas.engine.Simulation.trajectories>` returns or ``skygas simulate`` writes
+        (``trajectories.nc``): ``x``, ``y`` [m] on (time, skyrmion), the outline in its
+        attributes.
+    ax : matplotlib.axes.Axes, optional
+        Draw on it (default: a new figure).
+    max_tracks : int
+        Draw at most this many skyrmions' tracks.
+    title : str, optional
+        The title (default: skyrmions, temperature and duration).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on; save it with ``fig.savefig(path)``.
+
+    Raises
+    ------
+    InputError
+        If ``ds`` holds no ``x`` and ``y`` or records no outline.
+
+    Examples
+    --------
+    >>> import skygas
+    >>> sim = skygas.Simulation(skygas.disk(diameter=400e-9), seed=1, step_interval=0.5e-9)
+    >>> ids = sim.add_random(3)
+    >>> sim.run(2e-9, record_interval=0.5e-9)
+    >>> fig = skygas.plot(sim.trajectories())
+    """
+    from skygas.core.errors import InputError
+
+    if not isinstance(ds, xr.Dataset) or "x" not in ds or "y" not in ds:
+        raise InputError(
+            "dataset",
+            type(ds).__name__,
+            "a trajectories Dataset with x and y [m] on (time, skyrmion), as "
+            "Simulation.trajectories() returns",
+        )
+    return trajectories_figure(ds, dataset_outline(ds), ax, max_tracks, title)
 
 
 def draw_current(

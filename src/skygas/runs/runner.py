@@ -13,11 +13,14 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any
 
+from skygas.core.errors import InputError
 from skygas.core.estimates import check
 from skygas.core.resources import require_memory, step_count
+from skygas.engine.force_model import whole_steps
 from skygas.runs.config import SimulationConfig
 from skygas.runs.device_run import DeviceRun
 from skygas.runs.machine_speed import optimistic_estimate, run_estimate
@@ -87,6 +90,16 @@ class SimulationRun(DeviceRun):
             announce=False,
         )
         super().__init__(config, config.build())  # validates everything before any stepping
+        dt = self.sim.time_step
+        if whole_steps(config.record_interval, dt) is None:  # an explicit time_step
+            raise InputError(
+                "time_step",
+                dt,
+                f"a step that divides record_interval ({config.record_interval:g} s) into whole "
+                f"steps, e.g. {config.record_interval / math.ceil(config.record_interval / dt):.6g}"
+                " s, so that the frames fall on its multiples; or leave time_step out (it is then "
+                "chosen so)",
+            )
         self.record_interval = config.record_interval
         check(
             run_estimate(self.total_steps, skyrmions, memory),
