@@ -62,9 +62,9 @@ class WallProfile:
 
 def wall_distance(outline: Outline, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Distance [m] of each point to the outline's boundary (negative outside)."""
-    d = np.asarray(outline.wall_distance_nm(np.asarray(x) * M_TO_NM, np.asarray(y) * M_TO_NM))
-    inside = outline.contains_nm(np.asarray(x) * M_TO_NM, np.asarray(y) * M_TO_NM)
-    return np.where(inside, d, -d) / M_TO_NM
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    d = np.asarray(outline.wall_distance(x, y))
+    return np.where(outline.contains(x, y), d, -d)
 
 
 def inradius(outline: Outline) -> float:

@@ -360,8 +360,7 @@ def render_run(
     interval = float(f"{np.median(np.diff(times)):.12g}")  # the record interval, not its rounding
     diameter = float(record.skyrmion_diameter)
     margin = settings.margin if settings.margin is not None else 2 * diameter
-    x0, y0, x1, y1 = (v * 1e-9 for v in record.outline.bounds_nm)
-    bounds = (x0, y0, x1, y1)
+    bounds = tuple(record.outline.bounds)  # [m]
     grid = grid_for(bounds, settings.pixel_size, margin)
     positions = [frames.frame(int(f))[1] for f in indices]
     bar = tqdm(total=len(indices), unit="frame", desc="rendered", leave=False, disable=not progress)
@@ -389,10 +388,10 @@ def render_run(
 def outline_mask(outline, grid: Grid) -> np.ndarray:
     """The device on the movie's pixel grid: True at pixel centres inside the outline."""
     ny, nx = grid.shape
-    x = (grid.origin[0] + grid.pixel_size * np.arange(nx)) * 1e9
-    y = (grid.origin[1] + grid.pixel_size * np.arange(ny)) * 1e9
+    x = grid.origin[0] + grid.pixel_size * np.arange(nx)
+    y = grid.origin[1] + grid.pixel_size * np.arange(ny)
     gx, gy = np.meshgrid(x, y)
-    return outline.contains_nm(gx, gy)
+    return outline.contains(gx, gy)
 
 
 def outline_vertices(outline, grid: Grid) -> np.ndarray:
