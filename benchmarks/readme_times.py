@@ -25,13 +25,14 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: (name, what the README calls it, argv after ``skygas``); ``{out}`` is a fresh folder,
-#: ``{root}`` the repository.
+#: (name, what it runs, argv after ``skygas``): ``{out}`` is the command's own folder (removed
+#: before each run), ``{work}`` the scratch folder of this whole measurement (later commands read
+#: what earlier ones wrote there), ``{root}`` the repository.
 COMMANDS: tuple[tuple[str, str, list[str]], ...] = (
-    ("demo", "`make demo` (the reshuffler, 100 µs)", ["demo", "--out", "{out}", "--quiet"]),
+    ("demo", "`make demo`: the reshuffler, 100 µs", ["demo", "--out", "{out}", "--quiet"]),
     (
-        "reshuffle",
-        "reshuffler, paper preset, 40 µs",
+        "reshuffle-paper",
+        "the reshuffler, paper preset, 40 µs",
         [
             "reshuffle",
             "--out",
@@ -47,40 +48,88 @@ COMMANDS: tuple[tuple[str, str, list[str]], ...] = (
     ),
     (
         "reshuffle-800nm",
-        "reshuffler, 800 nm chambers",
-        ["reshuffle", "--out", "{out}", "--p", "0.3", "--chamber-diameter", "800e-9", "--quiet"],
+        "the reshuffler, 800 nm chambers",
+        ["reshuffle", "--out", "{out}", "--json", "--p", "0.3", "--chamber-diameter", "800e-9"],
     ),
-    ("neuron", "the neuron", ["neuron", "--out", "{out}", "--quiet"]),
-    (
-        "saturation",
-        "saturation of two chambers",
-        ["saturation", "--diameters", "512e-9", "1024e-9", "--out", "{out}", "--quiet"],
-    ),
-    ("reservoir", "reservoir computing", ["reservoir", "--out", "{out}", "--quiet"]),
-    (
-        "simulate",
-        "closed chamber, 45 skyrmions, 200 ns",
-        ["simulate", "{root}/examples/closed-chamber.toml", "--out", "{out}", "--quiet"],
-    ),
-    (
-        "check-timestep",
-        "time-step check",
-        ["check-timestep", "{root}/examples/closed-chamber.toml"],
-    ),
-    ("sc-demo", "stochastic computing demo", ["sc", "demo", "--out", "{out}"]),
     (
         "sweep",
-        "sweep of 60 runs of 10 µs, 2 workers",
+        "a sweep of 60 runs of 10 µs, 2 workers",
         [
             "sweep",
             "{root}/examples/sweeps/quick-current.toml",
             "--out",
-            "{out}.zarr",
+            "{work}/sweep.zarr",
             "--workers",
             "2",
             "--quiet",
         ],
     ),
+    (
+        "plot",
+        "the sweep's figures and fits",
+        ["plot", "{work}/sweep.zarr", "--out", "{out}"],
+    ),
+    ("neuron", "the neuron", ["neuron", "--out", "{out}", "--json"]),
+    (
+        "saturation",
+        "saturation of two chambers",
+        ["saturation", "--diameters", "512e-9", "1024e-9", "--out", "{out}", "--quiet"],
+    ),
+    ("reservoir", "reservoir computing", ["reservoir", "--out", "{out}", "--json"]),
+    (
+        "simulate",
+        "a closed chamber, 45 skyrmions, 200 ns",
+        ["simulate", "{root}/examples/closed-chamber.toml", "--out", "{out}", "--quiet"],
+    ),
+    (
+        "check-timestep",
+        "the time-step check of that chamber",
+        ["check-timestep", "{root}/examples/closed-chamber.toml"],
+    ),
+    ("sc-demo", "the stochastic-computing demo", ["sc", "demo", "--out", "{out}"]),
+    (
+        "sc-demo-reshuffler",
+        "the same with the reshuffler as a decorrelator",
+        ["sc", "demo", "--reshuffler", "--out", "{out}"],
+    ),
+    (
+        "track",
+        "tracking the shipped movie (400 frames)",
+        ["track", "{root}/examples/tracking/chamber-movie.tif", "--out", "{work}/track", "--quiet"],
+    ),
+    (
+        "infer",
+        "inference from those tracks",
+        [
+            "infer",
+            "{work}/track/tracks.csv",
+            "--pixel-size",
+            "14e-9",
+            "--frame-interval",
+            "2e-9",
+            "--outline",
+            "{root}/examples/tracking/chamber-movie-outline.csv",
+            "--temperature",
+            "300",
+            "--out",
+            "{out}",
+        ],
+    ),
+    (
+        "optimize",
+        "a design search of 40 trials, 2 workers",
+        [
+            "optimize",
+            "{root}/examples/optimize/reshuffler-rate.toml",
+            "--out",
+            "{out}",
+            "--workers",
+            "2",
+            "--trials",
+            "40",
+        ],
+    ),
+    ("calibrate", "micromagnetics to a model, film S6", ["calibrate", "S6", "--out", "{out}"]),
 )
 
 
@@ -89,12 +138,13 @@ def _children_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def _run(argv: list[str], scratch: Path) -> tuple[float, float]:
-    """Wall and CPU seconds of one run of ``skygas argv`` in a fresh folder under ``scratch``."""
-    out = scratch / "out"
+def _run(name: str, argv: list[str], work: Path) -> tuple[float, float]:
+    """Wall and CPU seconds of one run of ``skygas argv`` (its folder made afresh)."""
+    out = work / name
     shutil.rmtree(out, ignore_errors=True)
-    shutil.rmtree(scratch / "out.zarr", ignore_errors=True)
-    args = [a.format(out=out, root=ROOT) for a in argv]
+    if "--out" in argv:  # a folder a later command reads is made afresh too
+        shutil.rmtree(argv[argv.index("--out") + 1].format(out=out, work=work), ignore_errors=True)
+    args = [a.format(out=out, work=work, root=ROOT) for a in argv]
     cpu = _children_cpu()
     start = time.perf_counter()
     done = subprocess.run(
@@ -110,26 +160,40 @@ def main() -> None:
     """Measure and print the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3, help="warm runs per command")
+    parser.add_argument(
+        "--warmup", type=int, default=1, help="runs before the timed ones (default 1)"
+    )
     parser.add_argument("--only", default="", help="comma-separated names of commands to time")
+    parser.add_argument(
+        "--skip",
+        default="calibrate",
+        help="comma-separated names to leave out (default: calibrate)",
+    )
     args = parser.parse_args()
     only = {name for name in args.only.split(",") if name}
+    skip = {name for name in args.skip.split(",") if name} - only
     print(f"load average before: {os.getloadavg()[0]:.2f}", file=sys.stderr)
     rows = []
+    work = Path(tempfile.mkdtemp(prefix="skygas-times-"))
     for name, label, argv in COMMANDS:
-        if only and name not in only:
+        if (only and name not in only) or name in skip:
             continue
-        with tempfile.TemporaryDirectory() as scratch:
-            _run(argv, Path(scratch))
-            timings = [_run(argv, Path(scratch)) for _ in range(args.rounds)]
+        for _ in range(args.warmup):
+            _run(name, argv, work)
+        timings = [_run(name, argv, work) for _ in range(args.rounds)]
         wall = statistics.median(t[0] for t in timings)
         cpu = statistics.median(t[1] for t in timings)
         rows.append((name, label, wall, cpu))
         print(f"{name}: {wall:.1f} s, CPU {cpu:.1f} s", file=sys.stderr)
+    shutil.rmtree(work, ignore_errors=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}", file=sys.stderr)
-    print("| command | what | wall time (median) | CPU time |")
+    print("| what | command | wall time (median) | CPU time |")
     print("|---|---|---|---|")
     for name, label, wall, cpu in rows:
-        print(f"| {name} | {label} | {wall:.1f} s | {cpu:.0f} s |")
+        argv = next(a for n, _, a in COMMANDS if n == name)
+        shown = " ".join(a.replace("{root}/", "").replace("{work}", "out") for a in argv)
+        shown = shown.replace("{out}", f"out/{name}")
+        print(f"| {label} | `skygas {shown}` | {wall:.1f} s | {cpu:.0f} s |")
 
 
 if __name__ == "__main__":

@@ -21,10 +21,12 @@ The public modules, also in :data:`__all__`:
   fields), :mod:`skygas.runs` (configurations, resumable runs, provenance);
 - the devices: :mod:`skygas.reshuffler`, :mod:`skygas.neuron`, :mod:`skygas.reservoir`,
   :mod:`skygas.sc` (stochastic computing);
-- studies and tools: :mod:`skygas.sweep` (parameter sweeps), :mod:`skygas.analysis` (MSD and
-  diffusion constants, g(r), Hall angle, maps), :mod:`skygas.outputs` (movies, HTML reports,
-  exports), :mod:`skygas.micromag` (micromagnetic bridge), :mod:`skygas.calibration` (from film
-  parameters to a particle model).
+- studies and tools: :mod:`skygas.sweep` (parameter sweeps), :mod:`skygas.optimize` (design
+  search), :mod:`skygas.analysis` (MSD and diffusion constants, g(r), Hall angle, maps),
+  :mod:`skygas.outputs` (movies, HTML reports, exports), :mod:`skygas.micromag` (micromagnetic
+  bridge), :mod:`skygas.calibration` (from film parameters to a particle model),
+  :mod:`skygas.movies` (microscope movies: tracking and rendering) and :mod:`skygas.inference`
+  (from an experiment's tracks to a particle model).
 
 Names that begin with an underscore, :mod:`skygas.core` and :mod:`skygas.commands` are
 internal and may change.
