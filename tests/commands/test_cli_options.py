@@ -141,6 +141,7 @@ def _tour_command_lines() -> list[str]:
     lines = []
     for page in [ROOT / "README.md"]:
         for block in re.findall(r"^```\n(.*?)^```", page.read_text(), re.DOTALL | re.MULTILINE):
+            block = block.replace("\\\n", " ")  # a command continued on the next line
             for line in block.splitlines():
                 line = line.split("  #")[0].strip()
                 if line.startswith("skygas ") and "[" not in line and "..." not in line:
