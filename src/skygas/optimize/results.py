@@ -298,10 +298,26 @@ def _report(out: Path, record: dict, result: dict, table, notes: dict[str, str])
     import html
 
     from skygas._version import __version__
+    from skygas.outputs import headlines as H
     from skygas.outputs.report import Page
 
     page = Page(f"skygas optimize — {record.get('name') or out.name}")
     page.paragraph(f"Report written by skygas {__version__} from the study folder {out}.")
+    # the answer first: the best trial (after re-evaluation where there was one), or the front
+    headline = H.Results()
+    if "pareto_set" in result:
+        headline.rows.append(("trials on the Pareto front", str(len(result["pareto_set"]))))
+        headline.notes.append("Each trial of the front is listed under “Pareto set” below.")
+    elif result["best"] is None:
+        headline.rows.append(("best trial", H.none("no complete trial meets the constraints yet")))
+    else:
+        chosen = result.get("best_after_reevaluation") or result["best"]
+        headline.rows += _best_rows(record, chosen)
+        if result.get("best_after_reevaluation"):
+            headline.notes.append(
+                "The best trial after the best candidates were run again (re-evaluation)."
+            )
+    page.headline(headline)
     page.heading("Study")
     page.table(
         [
@@ -323,15 +339,9 @@ def _report(out: Path, record: dict, result: dict, table, notes: dict[str, str])
         page.heading(f"Pareto set ({len(result['pareto_set'])} trials)")
         for entry in result["pareto_set"]:
             page.table(_best_rows(record, entry))
-    else:
-        page.heading("Best trial")
-        if result["best"] is None:
-            page.paragraph("No complete trial meets the constraints yet.")
-        else:
-            page.table(_best_rows(record, result["best"]))
-        if result.get("best_after_reevaluation"):
-            page.heading("Best after re-evaluation")
-            page.table(_best_rows(record, result["best_after_reevaluation"]))
+    elif result.get("best_after_reevaluation"):  # the headline holds the re-evaluated best
+        page.heading("Best trial of the search, before re-evaluation")
+        page.table(_best_rows(record, result["best"]))
     page.heading("Figures")
     for name in sorted(notes):
         if notes[name] == "written" and (out / name).exists():
