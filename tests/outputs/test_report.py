@@ -173,6 +173,21 @@ SNAKE_CASE = re.compile(r"\b[a-z][a-z0-9]*(?:_[a-z0-9]+)+\b")
 #: numbers as a program prints them: 4.4e-08, 1e+11, nan, inf, a caret power
 RAW_NUMBER = re.compile(r"\d[eE][+-]?\d|\bnan\b|\binf\b|\^", re.IGNORECASE)
 
+MOVIE = Path(__file__).resolve().parents[2] / "examples" / "tracking" / "chamber-movie.tif"
+STUDY = """
+[study]
+device = "analytic"
+seed = 1
+[space]
+x = { low = -1.0, high = 1.0 }
+[[objectives]]
+expression = "f"
+"""
+#: the main result of the commands whose result file has a name of its own
+MAIN_RESULT = {"track": "track.json", "infer": "inference.json", "optimize": "best.json"}
+#: commands whose report has no configuration (they read files, not a configuration)
+NO_CONFIGURATION = ("sweep", "track", "infer", "optimize")
+
 SWEEP = """
 [sweep]
 seed = 1
@@ -252,12 +267,23 @@ def command_reports(tmp_path_factory, reshuffler_report):
         "reservoir": ["reservoir", root / "reservoir.toml", "--quiet"],
         "sc demo": ["sc", "demo", "--n-bits", "256"],
         "micromag fit": ["micromag", "fit", Path(skygas.__file__).parent / "data" / "ovf" / "pair"],
+        "track": ["track", MOVIE, "--quiet"],
+        "infer": [
+            "infer",
+            root / "track" / "tracks.csv",
+            *("--pixel-size", "14e-9", "--frame-interval", "2e-9", "--temperature", "300"),
+            *("--outline", MOVIE.parent / "chamber-movie-outline.csv"),
+            *("--ibi-iterations", "1", "--ibi-frames", "100"),
+        ],
+        "optimize": ["optimize", root / "study.toml", "--trials", "6", "--serial", "--quiet"],
     }
+    (root / "study.toml").write_text(STUDY)
     reports = {"reshuffle": reshuffler_report}
     for name, argv in runs.items():
         out = root / name.replace(" ", "-")
         assert main([*map(str, argv), "--out", str(out)]) == 0, name
-        assert (out / "summary.json").is_file(), name  # the main result of every command
+        # the main result of every command (those the issues named otherwise: their own)
+        assert (out / MAIN_RESULT.get(name, "summary.json")).is_file(), name
         reports[name] = out / "report.html"
     store = _sweep_store(root / "sweep.zarr")
     assert main(["plot", str(store), "--out", str(root / "figures")]) == 0
@@ -296,6 +322,9 @@ COMMANDS = (
     "sc demo",
     "micromag fit",
     "sweep",
+    "track",
+    "infer",
+    "optimize",
 )
 
 
@@ -309,9 +338,9 @@ def test_every_report_opens_with_its_results_and_reads_as_a_summary(command, com
     _check_reads_as_a_summary("".join(page.text))
     for section in page.sections:
         assert "".join(section).strip(), f"{command}: an empty section"
-    if command != "sweep":
+    if command not in NO_CONFIGURATION:
         assert "<th>configuration key</th>" in text  # the configuration as a table
-    if command not in ("reshuffle", "sweep"):  # made from the command line
+    if command not in ("reshuffle", "sweep", "track", "optimize"):  # made from the command line
         assert "Made by <code class=command>skygas " in text
     # each quantity once: the labelled rows of the headline and the tables of numbers
     labels = re.findall(r"<tr><th>([^<]*)</th><td class=n>", text)

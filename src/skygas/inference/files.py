@@ -7,7 +7,6 @@ the input's hash).
 
 from __future__ import annotations
 
-import base64
 import html
 import io
 import math
@@ -110,22 +109,24 @@ def write_outputs(result: Inference, out) -> list[Path]:
     return paths
 
 
-def _png(fig) -> str:
+def _png(fig) -> bytes:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     FigureCanvasAgg(fig)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
-    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+    return buf.getvalue()
 
 
-def _fmt(value, error=None, scale=1.0, unit="") -> str:
+def _fmt(value, error, scale: float, unit: str) -> str:
+    """``value`` (± ``error``) × ``scale`` in ``unit``, as the reports write numbers."""
+    from skygas.core.quantities import format_value
+    from skygas.outputs import headlines as H
+
     if value is None or not math.isfinite(value):
-        return "—"
-    text = f"{value * scale:.4g}"
-    if error is not None and math.isfinite(error):
-        text += f" ± {error * scale:.2g}"
-    return f"{text} {unit}".strip()
+        return H.none("the data do not fix it")
+    err = None if error is None or not math.isfinite(error) else error * scale
+    return format_value(value * scale, err, unit) or H.none("the data do not fix it")
 
 
 def report_html(result: Inference) -> str:
@@ -207,7 +208,10 @@ def report_html(result: Inference) -> str:
     ax.legend(fontsize=6)
     figs.append(("Pair and wall potentials", _png(fig)))
     rows = [
-        ("D", _fmt(s["diffusion_constant"], s["diffusion_constant_error"], 1, "m²/s")),
+        (
+            "diffusion constant D",
+            _fmt(s["diffusion_constant"], s["diffusion_constant_error"], 1, "m²/s"),
+        ),
         ("Hall angle", _fmt(s["hall_angle"], s["hall_angle_error"], 180 / math.pi, "°")),
         (
             "localisation error",
@@ -233,13 +237,31 @@ def report_html(result: Inference) -> str:
         ),
         ("IBI χ² per iteration", ", ".join(f"{c:.2f}" for c in ibi.chi2) or "—"),
     ]
-    prov = _record(result)
-    body = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)
-    pics = "".join(f"<h2>{html.escape(t)}</h2><img src='{src}'>" for t, src in figs)
-    meta = "".join(f"<li>{html.escape(k)}: {html.escape(str(v))}</li>" for k, v in prov.items())
-    return (
-        "<!doctype html><html><head><meta charset='utf-8'><title>skygas infer</title></head><body>"
-        f"<h1>Inferred particle model</h1><table>{body}</table>{pics}"
-        f"<h2>Provenance</h2><ul>{meta}</ul>"
-        "</body></html>"
+    from skygas.outputs import headlines as H
+    from skygas.outputs.report import Page
+
+    page = Page("skygas infer — inferred particle model")
+    record = _record(result)
+    page.raw(
+        f"<p>Made by <code class=command>{html.escape(record['command_line'])}</code> from "
+        f"{html.escape(str(result.tracks.source))}, with {html.escape(record['written_by'])}.</p>"
     )
+    headline = H.Results()
+    headline.rows += rows
+    page.headline(headline)
+    page.heading("Figures")
+    captions = {
+        "Mean-squared displacement": "MSD(τ)/4τ of the tracks against the lag, with the "
+        "short-lag D and the model's own MSD(τ)/4τ (the consistency check).",
+        "Landscape": "The inferred pinning landscape where it is well sampled, and its "
+        "standard error (block bootstrap), in k_BT.",
+        "Pair and wall potentials": "g(r) measured and simulated at each IBI iteration (the range "
+        "the data fix shaded), and the pair and wall potentials over the distances sampled.",
+    }
+    for title, png in figs:
+        page.image(png, captions.get(title, title))
+    page.heading("Provenance")
+    page.table(
+        (k.replace("_", " "), f"<code>{html.escape(str(v))}</code>") for k, v in record.items()
+    )
+    return page.html()

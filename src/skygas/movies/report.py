@@ -68,29 +68,31 @@ def track_report(out: Path, summary: dict) -> str:
     c, n = summary["choices"], summary["counts"]
     p, dt = summary["pixel_size_m"], summary["frame_interval_s"]
     page.paragraph(f"Report written by {summary['provenance']['written_by']} from track.json.")
-    page.heading("Headline")
-    page.table(
-        [
-            (
-                "frames",
-                f"{summary['frames']} of {summary['frame_shape_px'][1]} × "
-                f"{summary['frame_shape_px'][0]} px ({summary['dtype']})",
-            ),
-            ("pixel size", f"{p * 1e9:.4g} nm" if p else "not known (tracks in pixels)"),
-            ("frame interval", f"{dt:.4g} s" if dt else "not known (tracks in frames)"),
-            (
-                "skyrmions per frame",
-                f"{n['per_frame_mean']:.2f} (from {n['per_frame_min']} to {n['per_frame_max']})",
-            ),
-            ("located features", n["features"]),
-            ("tracks", n["tracks"]),
-            (
-                "track length, median / longest",
-                f"{n['track_length_median_frames']:.0f} / {n['track_length_max_frames']} frames",
-            ),
-            ("tracks spanning the whole movie", n["tracks_spanning_whole_movie"]),
-        ]
-    )
+    from skygas.core.quantities import format_value
+    from skygas.outputs import headlines as H
+
+    headline = H.Results()
+    headline.rows += [
+        (
+            "frames",
+            f"{summary['frames']} of {summary['frame_shape_px'][1]} × "
+            f"{summary['frame_shape_px'][0]} px ({summary['dtype']})",
+        ),
+        ("pixel size", (format_value(p, unit="m") if p else None) or "not known (in pixels)"),
+        ("frame interval", (format_value(dt, unit="s") if dt else None) or "not known (in frames)"),
+        (
+            "skyrmions per frame",
+            f"{n['per_frame_mean']:.2f} (from {n['per_frame_min']} to {n['per_frame_max']})",
+        ),
+        ("located features", str(n["features"])),
+        ("tracks", str(n["tracks"])),
+        (
+            "track length, median / longest",
+            f"{n['track_length_median_frames']:.0f} / {n['track_length_max_frames']} frames",
+        ),
+        ("tracks spanning the whole movie", str(n["tracks_spanning_whole_movie"])),
+    ]
+    page.headline(headline)
     for warning in summary["warnings"]:
         page.paragraph(f"Warning: {warning}")
     page.heading("Choices")

@@ -345,9 +345,9 @@ def _report(out: Path, record: dict, result: dict, table, notes: dict[str, str])
     page.heading("Figures")
     for name in sorted(notes):
         if notes[name] == "written" and (out / name).exists():
-            page.image((out / name).read_bytes(), name)
+            page.image((out / name).read_bytes(), _caption(name))
         else:
-            page.paragraph(f"{name}: {notes[name]}")
+            page.paragraph(f"{_caption(name)}: {notes[name]}")
     header, rows = table
     page.heading(f"Trials ({len(rows)})")
     cells = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
@@ -361,6 +361,23 @@ def _report(out: Path, record: dict, result: dict, table, notes: dict[str, str])
     page.heading("Data")
     page.json_block("best", result)
     return page.html()
+
+
+#: what each of optuna's figures shows (a caption, not the file name)
+_CAPTIONS = {
+    "history": "Optimisation history: each trial's objective and the best so far",
+    "importances": "Parameter importances (fANOVA) for the objective",
+    "slice": "Slice plot: the objective against each parameter, one point per trial",
+    "pareto": "The Pareto front of the objectives (trials not dominated by any other)",
+}
+
+
+def _caption(name: str) -> str:
+    """The caption of figure file ``name`` (``history-rho.png`` → its objective named too)."""
+    stem = name.removesuffix(".png")
+    kind, _, objective = stem.partition("-")
+    text = _CAPTIONS.get(kind, stem)
+    return f"{text} ({objective})" if objective else text
 
 
 def _cell(value: Any) -> str:
