@@ -67,14 +67,7 @@ class MSDResult:
         tau = self.lag_time[[first, last]]
 
         def change(total):
-            n = np.maximum(total[..., [first, last], 0], 1)
-            value = total[..., [first, last], 3] / n
-            if self.drift_subtracted:
-                value = (
-                    value
-                    - (total[..., [first, last], 1] ** 2 + total[..., [first, last], 2] ** 2) / n**2
-                )
-            ratio = value / tau
+            ratio = _msd_of_sums(total[..., [first, last], :], self.drift_subtracted) / tau
             return ratio[..., 1] / ratio[..., 0] - 1.0
 
         if self.per_skyrmion_sums is None:
@@ -108,6 +101,15 @@ SHORT_LAGS = 4
 #: Largest relative change of MSD(τ)/4τ across a fit range that still counts as flat (linear
 #: MSD), when the change is also significant (beyond 3 standard errors).
 FLATNESS = 0.2
+
+
+def _msd_of_sums(total: np.ndarray, subtract_drift: bool) -> np.ndarray:
+    """MSD [m²] from sums (..., lags, 4) of count, Σdx, Σdy, Σ|d|² (drift removed if asked)."""
+    n = np.maximum(total[..., 0], 1)
+    value = total[..., 3] / n
+    if subtract_drift:
+        value = value - (total[..., 1] ** 2 + total[..., 2] ** 2) / n**2
+    return value
 
 
 def _seconds(t: float) -> str:
@@ -175,11 +177,7 @@ def mean_squared_displacement(
     in_fit = np.isin(lags, fit)
 
     def msd_of(total):
-        n = np.maximum(total[..., 0], 1)
-        value = total[..., 3] / n
-        if subtract_drift:
-            value = value - (total[..., 1] ** 2 + total[..., 2] ** 2) / n**2
-        return value
+        return _msd_of_sums(total, subtract_drift)
 
     def d_of(total):
         m = msd_of(total)[..., in_fit]
