@@ -8,17 +8,19 @@ part of the mobility M), so over the first frame lags of a record
     MSD(τ) = 4 σ² + 4 D τ + ⟨v²⟩ τ² + O(τ³)
 
 in two dimensions. D, σ² and ⟨v²⟩ come from a least-squares quadratic through the MSD at lags
-1 … :data:`FIT_LAGS` (:func:`skygas.analysis.mean_squared_displacement` computes the MSD). A line
+1 … :data:`FIT_LAGS` (the MSD pooled over every displacement at each lag). A line
 alone would take the drift for diffusion: in a gyrotropic gas on a landscape of 1.5 k_BT the
 MSD/4τ at the first lag already exceeds the free D by 12 %. The O(τ³) rest (the drift
-decorrelates as the skyrmion moves) leaves a bias of a few per cent where the drift is strong;
-docs/inference.md gives the measured one. Frames are correlated, so the standard errors come
+decorrelates as the skyrmion moves, and a neighbour's or a wall's push within a frame looks like
+diffusion) leaves a bias that grows with the density: :mod:`skygas.inference.bias` measures it
+on a run of the inferred model and removes it. Frames are correlated, so the standard errors come
 from **blocking**: the record is cut
 into :data:`BLOCKS` contiguous blocks of time, D is fitted in each, and the error is the
 standard error of the mean of the block values, s/√blocks (valid when a block is much longer
 than the correlation time of the fitted displacements, a few frame lags).
 
 Each skyrmion's own D uses the ensemble's σ² as intercept (one track is too short to fix both).
+
 """
 
 from __future__ import annotations
@@ -27,7 +29,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from skygas.analysis import mean_squared_displacement
 from skygas.analysis.frames import Frames
 
 #: Frame lags 1 … FIT_LAGS fit D and σ².
@@ -108,14 +109,28 @@ def blocked(values: np.ndarray) -> float:
     return float(np.std(values, ddof=1) / np.sqrt(len(values)))
 
 
-def _fit(frames: Frames, lags: np.ndarray) -> tuple[float, float, np.ndarray, np.ndarray]:
-    msd = mean_squared_displacement(frames, lags, fit_lags=lags)
-    d, s2 = fit_line(msd.lag_time, msd.msd)
-    return d, s2, msd.lag_time, msd.msd
+def _msd_sums(frames: Frames, lags: np.ndarray, blocks: int) -> tuple[np.ndarray, np.ndarray]:
+    """Σ r² [m²] and counts (blocks, lags) of the displacements at ``lags`` [frames].
+
+    Each displacement goes to the block of time its start falls in.
+    """
+    block_of = block_of_frame(frames.n_frames, blocks)
+    sums = np.zeros((blocks, len(lags)))
+    counts = np.zeros((blocks, len(lags)))
+    for k, lag in enumerate(lags):
+        a, b = frames.pairs_at_lag(int(lag))
+        r2 = (frames.x[b] - frames.x[a]) ** 2 + (frames.y[b] - frames.y[a]) ** 2
+        blk = block_of[frames.frame_of_entry[a]]
+        sums[:, k] = np.bincount(blk, weights=r2, minlength=blocks)
+        counts[:, k] = np.bincount(blk, minlength=blocks)
+    return sums, counts
 
 
 def estimate_diffusion(
-    frames: Frames, *, fit_lags: int = FIT_LAGS, blocks: int = BLOCKS
+    frames: Frames,
+    *,
+    fit_lags: int = FIT_LAGS,
+    blocks: int = BLOCKS,
 ) -> Diffusion:
     """D and σ from the short-lag MSD of ``frames``, with blocked standard errors.
 
@@ -124,11 +139,14 @@ def estimate_diffusion(
     lags = np.arange(1, min(fit_lags, frames.n_frames - 1) + 1)
     if len(lags) < 2:
         raise ValueError("at least three frames are needed to fit D and the localisation error")
-    d, s2, tau, msd = _fit(frames, lags)
-    parts = [b for b in time_blocks(frames.n_frames, blocks) if len(b) > 2 * lags[-1]]
-    per_block = (
-        np.array([_fit(frames.select(b), lags)[:2] for b in parts]) if parts else np.empty((0, 2))
-    )
+    dt = frames.frame_interval()
+    tau = lags * dt
+    sums, counts = _msd_sums(frames, lags, blocks)
+    msd = sums.sum(axis=0) / np.maximum(counts.sum(axis=0), 1)
+    d, s2 = fit_line(tau, msd)
+    # blocks long enough to hold the longest lag, each fitted alone
+    usable = [k for k in range(blocks) if np.all(counts[k] > 0)]
+    per_block = np.array([fit_line(tau, sums[k] / counts[k]) for k in usable]).reshape(-1, 2)
     d_err = blocked(per_block[:, 0]) if len(per_block) else float("nan")
     s2_err = blocked(per_block[:, 1]) if len(per_block) else float("nan")
     sigma = float(np.sqrt(max(s2, 0.0)))

@@ -28,7 +28,7 @@ def _record(result: Inference) -> dict:
 
 
 def landscape_dataset(result: Inference):
-    """U and its uncertainty [k_BT] on x, y [m], the pinning part and the well-sampled mask."""
+    """U = −ln ρ and its uncertainty [k_BT] on x, y [m], Φ, the pinning and the sampled mask."""
     import xarray as xr
 
     g = result.landscape.grid
@@ -41,10 +41,15 @@ def landscape_dataset(result: Inference):
                 result.landscape.error,
                 {"units": "k_BT", "long_name": "bootstrap standard error of U"},
             ),
+            "crowding": (
+                ("y", "x"),
+                result.crowding,
+                {"units": "k_BT", "long_name": "Phi, the neighbours' mean push (force balance)"},
+            ),
             "pinning": (
                 ("y", "x"),
                 result.pinning,
-                {"units": "k_BT", "long_name": "U minus the wall profile W(d)"},
+                {"units": "k_BT", "long_name": "U + Phi minus the wall profile W(d)"},
             ),
             "well_sampled": (("y", "x"), result.landscape.well_sampled.astype(np.int8)),
         },
@@ -211,6 +216,14 @@ def report_html(result: Inference) -> str:
         (
             "diffusion constant D",
             _fmt(s["diffusion_constant"], s["diffusion_constant_error"], 1, "m²/s"),
+        ),
+        (
+            "systematic error of D (30 % of the crowding correction)",
+            _fmt(s["diffusion_constant_systematic_error"], None, 1, "m²/s"),
+        ),
+        (
+            "D as the MSD fit reads it, before the crowding correction",
+            _fmt(s["diffusion_constant_as_read"], s["diffusion_constant_as_read_error"], 1, "m²/s"),
         ),
         ("Hall angle", _fmt(s["hall_angle"], s["hall_angle_error"], 180 / math.pi, "°")),
         (

@@ -211,6 +211,25 @@ def boltzmann_inversion(
     return LandscapeMap(grid, u, error, well, bandwidth, np.asarray(candidates, float), scores)
 
 
+def held_out_maps(frames: Frames, lmap: LandscapeMap, folds: int = CV_BLOCKS):
+    """For each of ``folds`` contiguous blocks of time: its entries and U [k_BT] from the others.
+
+    Yields (entries (n,) int, U (ny, nx)): the map of the other blocks' positions, with the
+    kernel width of ``lmap``. A force read from it at an entry does not contain that entry's own
+    position (nor its neighbours in time, which follow the same noise): read from the map of all
+    positions, the force at a position leans toward where the skyrmion went next, and a
+    displacement looks more aligned with the force than it is.
+    """
+    grid = lmap.grid
+    film = grid.inside > 0
+    entry_block = block_of_frame(frames.n_frames, folds)[frames.frame_of_entry]
+    per_block = _binned_by_block(frames, grid, folds)
+    total = per_block.sum(axis=0)
+    for k in range(len(per_block)):
+        rho = smoothed_density(total - per_block[k], grid, lmap.bandwidth)
+        yield np.flatnonzero(entry_block == k), _energy(rho, film)
+
+
 def _energy(rho: np.ndarray, film: np.ndarray) -> np.ndarray:
     """−ln ρ on the film, NaN off it and where the density is 0 (never visited)."""
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -8,21 +8,13 @@ g(r) the same way, and corrects
 
     V_{n+1}(r) = V_n(r) + k_BT ln(g_n(r) / g_measured(r))
 
-and, at the same time, the pinning landscape (the one-body Boltzmann inversion is exact only for
-independent skyrmions: in a crowded gas the neighbours flatten the density, and the kernel and
-the localisation error smooth it):
-
-    U_{n+1}(x, y) = U_n(x, y) + ½ k_BT ln(ρ_n(x, y) / ρ_measured(x, y))
-
-on the well-sampled nodes, with ρ_n estimated from the simulation's positions plus the movie's
-localisation error with the movie's kernel, so that both densities are seen alike (damped by
-:data:`LANDSCAPE_DAMPING`, and only where the mismatch exceeds :data:`SIGNIFICANCE` times the
-combined standard error of the two maps: the bootstrap error of the movie's, scaled by the
-ratio of the samples for the model's).
-
-over the distances the data fix, until χ² = mean((g_n − g)²/(σ_n² + σ²)) is at most
-:data:`CHI2_GOAL` or :data:`ITERATIONS` are done. The law handed to the engine is the smooth fit
-of V (:mod:`skygas.inference.laws`), so each simulation runs the force −dV/dr of a smooth V.
+over the distances the data fix (the pinning landscape of the runs is the crowding-corrected
+Boltzmann inversion of :mod:`skygas.inference.crowding`, held fixed; each iteration also
+reports the rms of ln(ρ_n/ρ_measured) over the well-sampled nodes, both densities seen alike:
+the model's positions plus the movie's localisation error, the movie's kernel), until
+χ² = mean((g_n − g)²/(σ_n² + σ²)) is at most :data:`CHI2_GOAL` or :data:`ITERATIONS` are
+done. The law handed to the engine is the smooth fit of V (:mod:`skygas.inference.laws`), so
+each simulation runs the force −dV/dr of a smooth V.
 
 The **distances the data fix** are the bins with at least :data:`MIN_PAIRS` pairs where
 g is below 1 by more than two standard errors: closer, no pair was seen; farther, the
@@ -36,9 +28,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from scipy import ndimage
 
 from skygas.analysis import pair_correlation
 from skygas.analysis.frames import Frames
+from skygas.analysis.structure import PairCorrelation
 from skygas.core import units
 from skygas.core.units import M_TO_NM
 from skygas.inference.landscape import LandscapeMap, smoothed_density
@@ -54,16 +48,14 @@ MIN_PAIRS = 20
 BINS = 40
 #: Frames of each simulation.
 SIM_FRAMES = 2000
-#: The landscape's correction is damped by this factor (each simulation's density is noisy:
-#: a full step would pile its noise into the map).
-LANDSCAPE_DAMPING = 0.5
-#: ... and applied only where the mismatch exceeds this many combined standard errors.
-SIGNIFICANCE = 2.0
 
 
 @dataclass
 class IBIResult:
-    """The iterations: r [m], measured g ± error, per iteration g_sim, V [k_BT], χ²; the range."""
+    """The iterations: r [m], measured g ± error, per iteration g_sim, V [k_BT], χ²; the range.
+
+    ``runs`` the positions of each iteration's simulation (:class:`Frames`, no noise added).
+    """
 
     r: np.ndarray
     g: np.ndarray
@@ -74,7 +66,7 @@ class IBIResult:
     chi2: list = field(default_factory=list)
     coefs: list = field(default_factory=list)
     density_rms: list = field(default_factory=list)
-    last_frames: Frames | None = None
+    runs: list = field(default_factory=list)
 
     @property
     def fixed_range(self) -> tuple[float, float] | None:
@@ -154,32 +146,34 @@ def iterate(
     sigma: float,
     folder: Path,
     *,
-    r_max: float,
+    measured: PairCorrelation,
     iterations: int = ITERATIONS,
     sim_frames: int = 2000,
     seed: int = 0,
     progress=None,
-) -> tuple[IBIResult, dict, np.ndarray]:
-    """Run IBI on the pair potential and the pinning landscape together.
+    retune=None,
+) -> tuple[IBIResult, dict]:
+    """Run IBI on the pair potential over the fixed ``pinning`` [k_BT] on the landscape's grid.
 
-    Returns the iterations, the material with the final ``pair_table`` (none if the data fix
-    fewer than three distances) and the final pinning [k_BT] on the landscape's grid.
+    ``retune(run)``, if given, is called with each simulation's positions and returns material
+    fields for the next one (the D correction of :mod:`skygas.inference.bias`).
+    Returns the iterations and the material with the final ``pair_table`` (none if the data fix
+    fewer than three distances).
     """
     kt = units.BOLTZMANN * temperature
     grid = landscape.grid
-    measured = pair_correlation(frames, outline, r_max, BINS, max_frames=2000)
     fixed = fixed_bins(measured.g, measured.error, measured.pairs)
     result = IBIResult(measured.r, measured.g, measured.error, fixed)
     rho_meas = smoothed_density(grid.bins(frames.x, frames.y), grid, landscape.bandwidth)
     update = landscape.well_sampled & (rho_meas > 0)
-    pinning = np.where(landscape.well_sampled, np.nan_to_num(pinning), 0.0)
+    pinning = np.where(landscape.well_sampled, pinning, np.nan)
+    potential = pinning_grid_file(folder, pinning, grid.x, grid.y, pad_nodes(grid), "pinning")
     r_nm = measured.r * M_TO_NM
     v = -np.log(np.where(measured.g > 0, measured.g, np.nan))
     skyrmions = max(1, int(round(float(np.mean(frames.count)))))
     d_sk = 2 * material["skyrmion_radius"]
     closest = float(measured.r[fixed].min()) if fixed.any() else d_sk
     separation = max(0.5, 0.9 * closest / d_sk)
-    pad = int(np.ceil(0.5 * max(len(grid.x), len(grid.y))))
     rng = np.random.default_rng([seed, 0x1B1])
     for n in range(iterations):
         current = dict(material)
@@ -190,7 +184,6 @@ def iterate(
             current["pair_table"] = force_table(
                 coef, r_nm[fixed][0], 5 * r_nm[fixed][-1], kt, 1 / M_TO_NM
             )
-        potential = pinning_grid_file(folder, pinning, grid.x, grid.y, pad, f"pinning_{n}")
         sim = simulate(
             outline,
             current,
@@ -202,15 +195,9 @@ def iterate(
             seed + n,
             separation,
         )
-        # the model's positions seen as the movie sees them: the same localisation error
-        seen = Frames(
-            sim.time,
-            sim.count,
-            sim.ids,
-            sim.x + rng.normal(0, sigma, len(sim.x)),
-            sim.y + rng.normal(0, sigma, len(sim.y)),
-        )
+        seen = seen_as_movie(sim, sigma, rng)
         rho_sim = smoothed_density(grid.bins(seen.x, seen.y), grid, landscape.bandwidth)
+        r_max = float(measured.edges[-1])
         g_sim = pair_correlation(seen, outline, r_max, BINS, max_frames=2000)
         with np.errstate(divide="ignore", invalid="ignore"):
             sigma2 = measured.error**2 + g_sim.error**2
@@ -222,35 +209,60 @@ def iterate(
             ratio = np.log(rho_sim / rho_meas)
         ok = update & np.isfinite(ratio)
         shift = ratio[ok] - np.mean(ratio[ok]) if ok.any() else np.zeros(0)
-        # the model's density is as noisy as its sample is small: correct only where the
-        # mismatch exceeds twice the combined standard error of both maps
-        noise = landscape.error[ok] * np.sqrt(1 + len(frames.x) / max(len(sim.x), 1))
-        significant = np.abs(shift) > SIGNIFICANCE * noise
         result.potentials.append(v.copy())
         result.simulated.append((g_sim.g, g_sim.error))
         result.chi2.append(chi2)
         result.coefs.append(coef)
         result.density_rms.append(float(np.sqrt(np.mean(shift**2))) if len(shift) else None)
-        result.last_frames = sim
+        result.runs.append(sim)
         if coef is not None:
             material = current
+        if retune is not None:
+            material = {**material, **retune(sim)}
         if progress is not None:
             progress(
                 f"IBI iteration {n + 1}: g(r) chi2 = {chi2:.2f}, density mismatch rms "
                 f"{result.density_rms[-1] or 0:.3f} k_BT"
             )
         if n + 1 < iterations:
-            pinning[ok] += LANDSCAPE_DAMPING * np.where(significant, shift, 0.0)
             good = fixed & (g_sim.g > 0)
             v[good] = v[good] + np.log(g_sim.g[good] / measured.g[good])
-    return result, material, pinning
+    return result, material
+
+
+def seen_as_movie(run: Frames, sigma: float, rng: np.random.Generator) -> Frames:
+    """A run's positions as a movie sees them: Gaussian localisation error σ [m] added."""
+    return Frames(
+        run.time,
+        run.count,
+        run.ids,
+        run.x + rng.normal(0.0, sigma, len(run.x)),
+        run.y + rng.normal(0.0, sigma, len(run.y)),
+    )
+
+
+def pad_nodes(grid) -> int:
+    """Nodes of padding around the landscape's grid for a ``grid`` potential: half its size."""
+    return int(np.ceil(0.5 * max(len(grid.x), len(grid.y))))
 
 
 def pinning_grid_file(
     folder: Path, u_kt: np.ndarray, x: np.ndarray, y: np.ndarray, pad: int, name: str
 ) -> dict:
-    """Save U [k_BT] (NaN → 0), padded by ``pad`` nodes of edge values, as a ``grid`` potential."""
-    values = np.nan_to_num(u_kt, nan=0.0)
+    """Save U [k_BT], padded by ``pad`` nodes of edge values, as a ``grid`` potential.
+
+    Nodes without a value (NaN: not well sampled) take the value of the nearest node with one:
+    the landscape continues flat where the data say nothing, instead of stepping to 0 (a step
+    at the edge of the sampled area would be a force the film does not have).
+    """
+    known = np.isfinite(u_kt)
+    if known.any():
+        nearest = ndimage.distance_transform_edt(
+            ~known, return_distances=False, return_indices=True
+        )
+        values = u_kt[tuple(nearest)]
+    else:
+        values = np.zeros_like(u_kt)
     values = np.pad(values, pad, mode="edge")
     h = float(x[1] - x[0])
     path = Path(folder) / f"{name}.npy"

@@ -3,19 +3,21 @@
 The steps, each in its own module of :mod:`skygas.inference`:
 
 1. tracks in SI, drift removed where significant (:mod:`~skygas.inference.tracks`);
-2. D and the localisation error from the short-lag MSD, blocked errors, per skyrmion
-   (:mod:`~skygas.inference.diffusion`);
-3. U = −k_BT ln ρ with a cross-validated kernel and a bootstrap uncertainty
+2. U = −k_BT ln ρ with a cross-validated kernel and a bootstrap uncertainty
    (:mod:`~skygas.inference.landscape`);
-4. the wall potential W(d) from the density against the distance to the outline
-   (:mod:`~skygas.inference.wall`); the pinning is U − W(d);
-5. the Hall angle from the displacements in the landscape's force
-   (:mod:`~skygas.inference.mobility`),
-   and with D the Thiele parameters (:mod:`~skygas.inference.model`);
+3. the neighbours' mean push Φ by force balance (:mod:`~skygas.inference.crowding`) and the wall
+   potential W(d) from the density against the distance to the outline
+   (:mod:`~skygas.inference.wall`); the pinning is U + Φ − W(d);
+4. D and the localisation error from the short-lag MSD, blocked errors, per skyrmion
+   (:mod:`~skygas.inference.diffusion`);
+5. the Hall angle from the displacements in the landscape's held-out force
+   (:mod:`~skygas.inference.mobility`), and with D the Thiele parameters
+   (:mod:`~skygas.inference.model`);
 6. the pair potential by iterative Boltzmann inversion with skygas simulations of the whole model
-   (:mod:`~skygas.inference.pair`), whose last run is also the consistency check: its
-   MSD(τ)/4τ against the measured one at the longer lags, where pinning, walls and
-   neighbours have slowed the skyrmions.
+   (:mod:`~skygas.inference.pair`), in which D is retuned until the model's runs, read by the
+   same MSD fit, read what the movie reads (:mod:`~skygas.inference.bias`);
+7. the consistency check: a run of the final model, its MSD(τ)/4τ against the measured one at
+   the longer lags, where pinning, walls and neighbours have slowed the skyrmions.
 """
 
 from __future__ import annotations
@@ -29,12 +31,13 @@ import numpy as np
 from skygas._version import __version__
 from skygas.analysis import mean_squared_displacement
 from skygas.analysis.frames import Frames
+from skygas.analysis.structure import pair_correlation
 from skygas.core import units
 from skygas.core.errors import require
+from skygas.inference import bias, crowding, mobility, model, pair, tracks, wall
 from skygas.inference import diffusion as diff
 from skygas.inference import landscape as land
-from skygas.inference import mobility, model, pair, tracks, wall
-from skygas.inference.laws import force_table, potential
+from skygas.inference.laws import force_table
 from skygas.inference.outline import read_outline
 from skygas.physics.materials import load_material
 
@@ -50,6 +53,7 @@ class Inference:
 
     summary: dict
     landscape: land.LandscapeMap
+    crowding: np.ndarray
     pinning: np.ndarray
     wall: wall.WallProfile
     ibi: pair.IBIResult
@@ -74,6 +78,15 @@ def _check_inside(frames: Frames, outline, pixel_size: float, source: str) -> No
         "check --pixel-size and that the outline is on the tracks' pixel grid (x = column, "
         "y = row) or in metres",
     )
+
+
+def _wall_table(profile: wall.WallProfile, kt: float) -> dict | None:
+    """The engine's wall table of the fitted W(d) over its sampled range (None: no fit)."""
+    if profile.coef is None or profile.sampled_range is None:
+        return None
+    lo = profile.sampled_range[0] * 1e9
+    # up to where the fit has fallen to nothing (at least 10 nm past the first sampled distance)
+    return force_table(profile.coef, lo, max(profile.reach * 1e9, lo + 10.0), kt, 1e-9)
 
 
 def infer(
@@ -144,41 +157,52 @@ def infer(
     )
     kt = units.BOLTZMANN * temperature
 
-    say("diffusion: MSD with the localisation error, blocked errors")
-    d = diff.estimate_diffusion(frames)
-    require(d.diffusion_constant > 0, "tracks", data.source, "skyrmions that move (D ≤ 0 measured)")
-
     say("landscape: Boltzmann inversion, kernel width by cross-validation, bootstrap")
     spacing = max(data.pixel_size / 2, 1e-9)
     lmap = land.boltzmann_inversion(frames, shape, spacing, seed=seed)
     grid = lmap.grid
 
-    say("wall potential: density against the distance to the outline")
-    wprof = wall.wall_profile(frames, shape, max(lmap.grid.h, 2e-9))
+    say("pair correlation")
+    r_max = min(
+        0.5 * min(grid.x[-1] - grid.x[0], grid.y[-1] - grid.y[0]), 12 * base.skyrmion_radius * 2
+    )
+    measured_g = pair_correlation(frames, shape, r_max, pair.BINS, max_frames=2000)
     gx, gy = np.meshgrid(grid.x, grid.y)
     node_d = wall.wall_distance(shape, gx, gy)
-    w_nodes = np.zeros_like(node_d)
-    if wprof.coef is not None:
-        w_nodes = np.where(node_d < wprof.bulk_from, potential(wprof.coef, node_d * 1e9), 0.0)
-    pinning = lmap.u - w_nodes
-    say("Hall angle and drift-free D: displacements against the landscape's force")
-    hall = mobility.fit_mobility(frames, mobility.total_force(frames, lmap), d.sigma)
-    thiele = model.thiele_fields(d.diffusion_constant, hall.angle, hall.error, base, temperature)
-    wall_table = None
-    if wprof.coef is not None and wprof.sampled_range is not None:
-        lo = wprof.sampled_range[0] * 1e9
-        wall_table = force_table(wprof.coef, lo, wprof.bulk_from * 1e9, kt, 1e-9)
-    name = "inferred"
-    material = model.model_material(name, base, thiele, None, wall_table)
 
-    say("pair potential: iterative Boltzmann inversion with skygas simulations")
+    def one_body(material_now: dict) -> tuple[wall.WallProfile, np.ndarray, np.ndarray]:
+        """The wall profile, the pinning map and Φ [k_BT] with the neighbours' push taken out."""
+        law = crowding.material_law(material_now, base, temperature)
+        cutoff = crowding.reach(law, 0.25 * base.skyrmion_radius, r_max)
+        phi, fx, fy = crowding.crowding_potential(frames, lmap, law, cutoff)
+        normal = crowding.normal_component(frames, grid, node_d, fx, fy)
+        profile = wall.wall_profile(frames, shape, max(grid.h, 2e-9), normal_force=normal)
+        return profile, lmap.u + phi - profile.at(node_d), phi
+
+    say("neighbours' mean push (force balance) and the wall potential")
+    wprof, pinning, crowd = one_body(model.model_material("inferred", base, {}, None, None))
+
+    say("diffusion: MSD with the localisation error, blocked errors")
+    d = diff.estimate_diffusion(frames)
+    require(d.diffusion_constant > 0, "tracks", data.source, "skyrmions that move (D ≤ 0 measured)")
+
+    say("Hall angle: displacements against the held-out landscape force")
+    hall = mobility.fit_mobility(frames, mobility.landscape_force(frames, lmap), d.sigma)
+    thiele = model.thiele_fields(d.diffusion_constant, hall.angle, hall.error, base, temperature)
+    material = model.model_material("inferred", base, thiele, None, _wall_table(wprof, kt))
+
+    d_tuner = bias.DiffusionTuner(
+        d.diffusion_constant,
+        d.error,
+        d.sigma,
+        lambda value: model.thiele_fields(value, hall.angle, hall.error, base, temperature),
+        seed,
+    )
+    say("pair potential: iterative Boltzmann inversion with skygas simulations, D retuned")
     n_sim = ibi_frames or pair.SIM_FRAMES
     with pair.scratch_folder() as scratch:
         folder = Path(scratch)
-        r_max = min(
-            0.5 * min(grid.x[-1] - grid.x[0], grid.y[-1] - grid.y[0]), 12 * base.skyrmion_radius * 2
-        )
-        ibi, material, pinning = pair.iterate(
+        ibi, material = pair.iterate(
             frames,
             shape,
             material,
@@ -187,46 +211,53 @@ def infer(
             pinning,
             d.sigma,
             folder,
-            r_max=r_max,
+            measured=measured_g,
             iterations=max(ibi_iterations, 1),
             sim_frames=n_sim,
             seed=seed,
             progress=say,
+            retune=d_tuner.retune,
         )
-        pad = int(math.ceil(0.5 * max(len(grid.x), len(grid.y))))
-        grid_potential = pair.pinning_grid_file(folder, pinning, grid.x, grid.y, pad, "final")
-        if ibi.coef is not None and "pair_table" in material:
-            say("Hall angle and drift-free D again, with the pair forces")
-            cutoff = float(material["pair_table"]["distance"][-1])
-            hall = mobility.fit_mobility(
-                frames, mobility.total_force(frames, lmap, ibi.coef, cutoff), d.sigma
-            )
-            thiele = model.thiele_fields(
-                d.diffusion_constant, hall.angle, hall.error, base, temperature
-            )
-            material = {**material, **thiele}
-        say("consistency check: a skygas run of the final model")
+        if "pair_table" in material:
+            say("neighbours' mean push and the wall potential again, with the iterations' law")
+            wprof, pinning, crowd = one_body(material)
+            material = {k: v for k, v in material.items() if k != "wall_table"}
+            if (table := _wall_table(wprof, kt)) is not None:
+                material["wall_table"] = table
+        grid_potential = pair.pinning_grid_file(
+            folder,
+            np.where(lmap.well_sampled, pinning, np.nan),
+            grid.x,
+            grid.y,
+            pair.pad_nodes(grid),
+            "final",
+        )
         d_sk = 2 * material["skyrmion_radius"]
         closest = ibi.fixed_range[0] if ibi.fixed_range else d_sk
+        n_skyrmions = max(1, int(round(float(np.mean(frames.count)))))
+        separation = max(0.5, 0.9 * closest / d_sk)
+        d_value, d_error = d_tuner.result()
+        angle, angle_error = hall.angle, hall.error
+        material = {
+            **material,
+            **model.thiele_fields(d_value, angle, angle_error, base, temperature),
+        }
+        say("consistency check: a skygas run of the final model")
         model_frames = pair.simulate(
             shape,
             material,
             [grid_potential],
             temperature,
             frames.frame_interval(),
-            max(1, int(round(float(np.mean(frames.count))))),
+            n_skyrmions,
             n_sim,
             seed + 1000,
-            max(0.5, 0.9 * closest / d_sk),
+            separation,
         )
 
     say("landscape statistics and dwell times")
-    # the interior: well sampled and beyond the wall's reach (where the fitted W < 0.1 k_BT)
-    reach = wprof.bulk_from
-    if wprof.coef is not None:
-        dd = np.linspace(0, wprof.bulk_from, 200)
-        weak = np.flatnonzero(potential(wprof.coef, dd * 1e9) < 0.1)
-        reach = float(dd[weak[0]]) if len(weak) else wprof.bulk_from
+    # the interior: well sampled and beyond the wall's reach (where the fitted W is negligible)
+    reach = wprof.reach if wprof.coef is not None else wprof.bulk_from
     interior = lmap.well_sampled & (node_d >= reach)
     if interior.any():
         pinning = np.where(lmap.well_sampled, pinning - np.nanmean(pinning[interior]), np.nan)
@@ -291,14 +322,20 @@ def infer(
             "seed": seed,
         },
         **d.as_dict(),
-        "diffusion_constant_method": "MSD = 4σ² + 4Dτ + cτ² fitted over frame lags 1-3, "
-        "errors by blocking over 16 blocks of time",
-        "diffusion_constant_drift_corrected": hall.diffusion,
-        "diffusion_constant_drift_corrected_error": hall.diffusion_error,
-        "diffusion_constant_drift_corrected_method": "MSD of the displacements minus the drift "
-        "dt·M·F of the inferred forces (landscape, walls, pairs), MSD = 4σ² + 4Dτ over lags 1-4; "
-        "a diagnostic: it is only as good as the inferred force map",
         **hall.as_dict(),
+        "diffusion_constant": d_value,
+        "diffusion_constant_error": d_error,
+        "hall_angle": angle,
+        "hall_angle_error": angle_error,
+        "diffusion_constant_systematic_error": bias.SYSTEMATIC_SHARE
+        * abs(d.diffusion_constant - d_value),
+        "diffusion_constant_as_read": d.diffusion_constant,
+        "diffusion_constant_as_read_error": d.error,
+        "diffusion_constant_method": "MSD = 4σ² + 4Dτ + cτ² fitted over frame lags 1-3, errors "
+        "by blocking over 16 blocks of time; then D retuned until runs of the inferred model "
+        "read what the movie reads (the systematic error: a share of that correction, the "
+        "residual measured on the round-trip gases)",
+        "diffusion_constant_retuning": d_tuner.as_dict(),
         "landscape": {
             "kernel_width_m": lmap.bandwidth,
             "kernel_candidates_m": lmap.candidates.tolist(),
@@ -346,8 +383,8 @@ def infer(
         },
         "consistency_check": check,
         "model": {
-            "free_diffusion_m2_s": d.diffusion_constant,
-            "hall_angle_rad": hall.angle,
+            "free_diffusion_m2_s": d_value,
+            "hall_angle_rad": angle,
             "pinning_as_disorder": {
                 "kind": "disorder",
                 "rms_kT": rms,
@@ -358,6 +395,7 @@ def infer(
     return Inference(
         summary,
         lmap,
+        crowd,
         pinning,
         wprof,
         ibi,
