@@ -10,7 +10,8 @@ then inferred (:func:`skygas.inference.infer`). Printed per row:
 - D: (inferred − true)/true and in standard errors;
 - Hall angle: inferred and true [deg];
 - landscape: RMS of (inferred − true pinning) over the well-sampled nodes at least 150 nm from
-  the walls, relative to the true pinning's rms there (both with their mean removed);
+  the walls, relative to the true pinning's rms there (both with their mean removed); and over
+  those of them fixed across skyrmions (with their share);
 - pair force: the largest relative error of −dV/dr over the range the data fix;
 - wall potential: the largest error of W(d) relative to W at the first sampled distance.
 
@@ -52,6 +53,12 @@ def row(frames: int, skyrmions: int, ibi: int, seed: int) -> dict:
     a = res.pinning[area] - np.mean(res.pinning[area])
     b = true_u[area] - np.mean(true_u[area])
     land_rel = float(np.sqrt(np.mean((a - b) ** 2)) / np.std(b)) if area.any() else float("nan")
+    fixed = res.landscape.fixed_across_skyrmions & far
+    fixed_rel, fixed_share = float("nan"), float(fixed.sum() / max(area.sum(), 1))
+    if fixed.sum() > 10:
+        a2 = res.pinning[fixed] - np.mean(res.pinning[fixed])
+        b2 = true_u[fixed] - np.mean(true_u[fixed])
+        fixed_rel = float(np.sqrt(np.mean((a2 - b2) ** 2)) / np.std(b2))
     kt = units.BOLTZMANN * gas.temperature
     d_sk, f0 = t.skyrmion_diameter, t.force_scale
     # pair force over the fixed range
@@ -87,6 +94,8 @@ def row(frames: int, skyrmions: int, ibi: int, seed: int) -> dict:
         "hall_deg": math.degrees(s["hall_angle"]),
         "hall_true_deg": math.degrees(hall_true),
         "landscape_rel_rms": land_rel,
+        "landscape_fixed_rel_rms": fixed_rel,
+        "landscape_fixed_share": fixed_share,
         "pair_force_max_rel": pair_err,
         "pair_range_nm": None
         if not res.ibi.fixed_range
@@ -105,9 +114,9 @@ def main() -> None:
     args = p.parse_args()
     print(
         "| frames | skyrmions | D read | D − D_true | in SE | Hall angle (true) | landscape RMS "
-        "| pair force max | pair range | wall max | IBI χ² |"
+        "| fixed across skyrmions: share, RMS | pair force max | pair range | wall max | IBI χ² |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for frames in args.frames:
         for n in args.skyrmions:
             r = row(frames, n, args.ibi, args.seed)
@@ -115,7 +124,10 @@ def main() -> None:
                 f"| {frames} | {n} | {100 * r['D_read_rel']:+.1f} % | {100 * r['D_rel']:+.1f} % | "
                 f"{r['D_se']:+.1f} | "
                 f"{r['hall_deg']:.1f}° ({r['hall_true_deg']:.1f}°) | "
-                f"{100 * r['landscape_rel_rms']:.0f} % | {100 * r['pair_force_max_rel']:.0f} % | "
+                f"{100 * r['landscape_rel_rms']:.0f} % | "
+                f"{100 * r['landscape_fixed_share']:.0f} %, "
+                f"{100 * r['landscape_fixed_rel_rms']:.0f} % | "
+                f"{100 * r['pair_force_max_rel']:.0f} % | "
                 f"{r['pair_range_nm']} nm | {100 * r['wall_max_rel']:.0f} % | {r['ibi_chi2']} |",
                 flush=True,
             )

@@ -51,7 +51,18 @@ def landscape_dataset(result: Inference):
                 result.pinning,
                 {"units": "k_BT", "long_name": "U + Phi minus the wall profile W(d)"},
             ),
+            "U_error_across_skyrmions": (
+                ("y", "x"),
+                result.landscape.error_across_skyrmions
+                if result.landscape.error_across_skyrmions is not None
+                else np.full(result.landscape.u.shape, np.nan),
+                {"units": "k_BT", "long_name": "standard error of U, bootstrap over the tracks"},
+            ),
             "well_sampled": (("y", "x"), result.landscape.well_sampled.astype(np.int8)),
+            "fixed_across_skyrmions": (
+                ("y", "x"),
+                result.landscape.fixed_across_skyrmions.astype(np.int8),
+            ),
         },
         coords={"x": ("x", g.x, {"units": "m"}), "y": ("y", g.y, {"units": "m"})},
         attrs={

@@ -17,7 +17,11 @@ whole blocks held out because neighbouring frames are correlated).
 **Uncertainty.** A bootstrap over :data:`BOOT_BLOCKS` contiguous blocks of time
 (:data:`BOOT_REPLICAS` resamples of the blocks with replacement) gives the standard deviation of U
 at each node. A node is **well sampled** where that standard error is at most
-:data:`WELL_SAMPLED_ERROR` k_BT.
+:data:`WELL_SAMPLED_ERROR` k_BT. That error does not see which wells the skyrmions happened to
+start in (on a movie short against the time a skyrmion takes to cross the film, each region is
+sampled by the few skyrmions that were near it): a second bootstrap, over the skyrmions' tracks,
+gives ``error_across_skyrmions``, and the nodes where it too is at most
+:data:`WELL_SAMPLED_ERROR` are **fixed across skyrmions**.
 
 **Statistics and wells.** The rms and correlation length of the pinning part (U minus the wall
 profile, :mod:`skygas.inference.wall`) over the well-sampled nodes; the correlation length ξ is
@@ -43,6 +47,8 @@ CV_BLOCKS = 8
 #: Blocks of time resampled by the bootstrap, and the number of resamples.
 BOOT_BLOCKS = 20
 BOOT_REPLICAS = 40
+#: Tracks are pooled into at most this many groups for the bootstrap over skyrmions.
+SKYRMION_GROUPS = 100
 #: A node is well sampled where the bootstrap standard error of U is at most this [k_BT].
 WELL_SAMPLED_ERROR = 0.25
 #: Largest number of grid nodes along the longer side.
@@ -149,6 +155,19 @@ class LandscapeMap:
     bandwidth: float
     candidates: np.ndarray
     scores: np.ndarray
+    error_across_skyrmions: np.ndarray | None = None
+
+    @property
+    def fixed_across_skyrmions(self) -> np.ndarray:
+        """Well-sampled nodes whose U is also fixed across skyrmions.
+
+        Their error from resampling the skyrmions is at most :data:`WELL_SAMPLED_ERROR` k_BT
+        (all False if it was not computed).
+        """
+        if self.error_across_skyrmions is None:
+            return np.zeros_like(self.well_sampled)
+        with np.errstate(invalid="ignore"):
+            return self.well_sampled & (self.error_across_skyrmions <= WELL_SAMPLED_ERROR)
 
     def gradient(self) -> tuple[np.ndarray, np.ndarray]:
         """∂U/∂x, ∂U/∂y [k_BT/m] at the nodes (central differences; NaN off the film)."""
@@ -208,7 +227,39 @@ def boltzmann_inversion(
     well = film & np.isfinite(u) & (error <= WELL_SAMPLED_ERROR)
     if well.any():
         u = u - np.nanmean(u[well])
-    return LandscapeMap(grid, u, error, well, bandwidth, np.asarray(candidates, float), scores)
+    across = _bootstrap(_binned_by_skyrmion(frames, grid), u, grid, bandwidth, film, rng)
+    return LandscapeMap(
+        grid, u, error, well, bandwidth, np.asarray(candidates, float), scores, across
+    )
+
+
+def _binned_by_skyrmion(frames: Frames, grid: Grid, groups: int = SKYRMION_GROUPS) -> np.ndarray:
+    """Counts (G, ny, nx) of the positions of each track (tracks pooled into ≤ ``groups``)."""
+    _, track = np.unique(frames.ids, return_inverse=True)
+    group = track % groups
+    n = int(group.max()) + 1 if len(group) else 0
+    return np.array([grid.bins(frames.x[group == k], frames.y[group == k]) for k in range(n)])
+
+
+def _bootstrap(
+    parts: np.ndarray, u: np.ndarray, grid: Grid, bandwidth: float, film, rng
+) -> np.ndarray:
+    """Standard deviation of U over resamples (with replacement) of ``parts``' counts."""
+    if len(parts) < 2:
+        return np.where(film, np.inf, np.nan)
+    replicas = np.empty((BOOT_REPLICAS, *u.shape))
+    for r in range(BOOT_REPLICAS):
+        pick = rng.integers(0, len(parts), len(parts))
+        replicas[r] = _energy(smoothed_density(parts[pick].sum(axis=0), grid, bandwidth), film)
+        ok = np.isfinite(replicas[r]) & np.isfinite(u)
+        if ok.any():
+            replicas[r] -= np.median(replicas[r][ok] - u[ok])
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        error = np.where(
+            np.all(np.isfinite(replicas), axis=0), np.nanstd(replicas, axis=0, ddof=1), np.inf
+        )
+    return np.where(film, error, np.nan)
 
 
 def held_out_maps(frames: Frames, lmap: LandscapeMap, folds: int = CV_BLOCKS):

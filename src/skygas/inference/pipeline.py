@@ -344,6 +344,12 @@ def infer(
             f"{land.WELL_SAMPLED_ERROR} k_BT ({land.BOOT_REPLICAS} resamples of "
             f"{land.BOOT_BLOCKS} blocks of time)",
             "well_sampled_area_m2": float(np.sum(lmap.well_sampled) * grid.h**2),
+            "area_fixed_across_skyrmions_m2": float(
+                np.sum(lmap.fixed_across_skyrmions) * grid.h**2
+            ),
+            "fixed_across_skyrmions_definition": "well sampled, and the standard error of U "
+            f"from {land.BOOT_REPLICAS} resamples of the tracks at most "
+            f"{land.WELL_SAMPLED_ERROR} k_BT",
             "film_area_m2": float(np.sum(grid.inside) * grid.h**2),
             "pinning_rms_kT": rms,
             "pinning_correlation_length_m": xi,
