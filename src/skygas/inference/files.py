@@ -223,6 +223,7 @@ def report_html(result: Inference) -> str:
     ax.set_xlabel("distance [nm] (sampled range only)")
     ax.legend(fontsize=6)
     figs.append(("Pair and wall potentials", _png(fig)))
+    land = s["landscape"]
     rows = [
         (
             "diffusion constant D",
@@ -247,6 +248,11 @@ def report_html(result: Inference) -> str:
             _fmt(s["landscape"]["pinning_correlation_length_m"], None, 1e9, "nm"),
         ),
         ("kernel width", _fmt(s["landscape"]["kernel_width_m"], None, 1e9, "nm")),
+        (
+            "share of the film well sampled; fixed across skyrmions",
+            f"{100 * land['well_sampled_area_m2'] / land['film_area_m2']:.0f} %; "
+            f"{100 * land['area_fixed_across_skyrmions_m2'] / land['film_area_m2']:.0f} %",
+        ),
         (
             "pair range fixed by data",
             "—"
