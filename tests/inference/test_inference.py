@@ -217,8 +217,8 @@ def test_force_balance_restores_a_crowded_gas_landscape():
     from skygas.inference.synthetic import simulated_tracks
 
     gas = simulated_tracks(skyrmions=30, frames=4000, seed=1)
-    fr = tracks.load_tracks(gas.tracks, gas.pixel_size, gas.frame_interval, subtract_drift="no")
-    fr = fr.frames
+    data = tracks.load_tracks(gas.tracks, gas.pixel_size, gas.frame_interval, subtract_drift="no")
+    fr = data.frames
     lmap = landscape.boltzmann_inversion(fr, gas.outline, gas.pixel_size / 2)
     law = crowding.material_law({}, gas.material, gas.temperature)  # the true (paper) law
     phi, _, _ = crowding.crowding_potential(fr, lmap, law, 300e-9)

@@ -30,6 +30,7 @@ import numpy as np
 
 from skygas.analysis.frames import Frames
 from skygas.inference.diffusion import estimate_diffusion
+from skygas.inference.pair import seen_as_movie
 
 #: The systematic error of the retuned D, as a share of its correction |D̂ − D|: on the round-trip
 #: gases of 15 and 30 skyrmions (1000–16 000 frames) what remained after the retuning was 7–49 %
@@ -39,8 +40,6 @@ SYSTEMATIC_SHARE = 0.3
 
 def read_run(run: Frames, sigma: float, seed: int) -> tuple[float, float]:
     """D [m²/s] ± error that the MSD fit reads off ``run`` seen with localisation error σ [m]."""
-    from skygas.inference.pair import seen_as_movie
-
     d = estimate_diffusion(seen_as_movie(run, sigma, np.random.default_rng([seed, 0xB1A5])))
     return d.diffusion_constant, d.error
 

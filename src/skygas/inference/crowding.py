@@ -68,14 +68,11 @@ def mean_force_map(
 ) -> tuple[np.ndarray, np.ndarray]:
     """f̄ (ny, nx) [k_BT/m]: the kernel-weighted mean of (fx, fy) over the positions near a node."""
     s = bandwidth / grid.h
-    counts = ndimage.gaussian_filter(grid.bins(frames.x, frames.y), s, mode="constant")
-    ex = np.concatenate([grid.x - grid.h / 2, [grid.x[-1] + grid.h / 2]])
-    ey = np.concatenate([grid.y - grid.h / 2, [grid.y[-1] + grid.h / 2]])
 
     def smoothed(w):
-        binned = np.histogram2d(frames.y, frames.x, bins=(ey, ex), weights=w)[0]
-        return ndimage.gaussian_filter(binned, s, mode="constant")
+        return ndimage.gaussian_filter(grid.bins(frames.x, frames.y, w), s, mode="constant")
 
+    counts = smoothed(None)
     with np.errstate(invalid="ignore", divide="ignore"):
         return smoothed(fx) / counts, smoothed(fy) / counts
 

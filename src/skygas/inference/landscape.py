@@ -67,11 +67,11 @@ class Grid:
     h: float
     inside: np.ndarray
 
-    def bins(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Counts (ny, nx) of the points in the nodes' cells."""
+    def bins(self, x: np.ndarray, y: np.ndarray, weights: np.ndarray | None = None) -> np.ndarray:
+        """Counts (ny, nx) of the points in the nodes' cells (sums of ``weights``, if given)."""
         ex = np.concatenate([self.x - self.h / 2, [self.x[-1] + self.h / 2]])
         ey = np.concatenate([self.y - self.h / 2, [self.y[-1] + self.h / 2]])
-        return np.histogram2d(y, x, bins=(ey, ex))[0]
+        return np.histogram2d(y, x, bins=(ey, ex), weights=weights)[0]
 
     def node_of(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The (row, column) of the node nearest to each point, clipped to the grid."""
@@ -208,22 +208,7 @@ def boltzmann_inversion(
     # bootstrap over blocks of time
     per_block = _binned_by_block(frames, grid, BOOT_BLOCKS)
     rng = np.random.default_rng([seed, 0xB007])
-    replicas = np.empty((BOOT_REPLICAS, *u.shape))
-    for r in range(BOOT_REPLICAS):
-        pick = rng.integers(0, len(per_block), len(per_block))
-        replicas[r] = _energy(smoothed_density(per_block[pick].sum(axis=0), grid, bandwidth), film)
-    # the constant of each replica is arbitrary: align it to U over the nodes both sample
-    finite = np.isfinite(replicas) & np.isfinite(u)[None]
-    for r in range(BOOT_REPLICAS):
-        ok = finite[r]
-        if ok.any():
-            replicas[r] -= np.median(replicas[r][ok] - u[ok])
-    with np.errstate(invalid="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # nodes no replica visited
-        error = np.where(
-            np.all(np.isfinite(replicas), axis=0), np.nanstd(replicas, axis=0, ddof=1), np.inf
-        )
-    error = np.where(film, error, np.nan)
+    error = _bootstrap(per_block, u, grid, bandwidth, film, rng)
     well = film & np.isfinite(u) & (error <= WELL_SAMPLED_ERROR)
     if well.any():
         u = u - np.nanmean(u[well])
@@ -244,18 +229,23 @@ def _binned_by_skyrmion(frames: Frames, grid: Grid, groups: int = SKYRMION_GROUP
 def _bootstrap(
     parts: np.ndarray, u: np.ndarray, grid: Grid, bandwidth: float, film, rng
 ) -> np.ndarray:
-    """Standard deviation of U over resamples (with replacement) of ``parts``' counts."""
+    """Standard deviation of U over :data:`BOOT_REPLICAS` resamples of ``parts``' counts.
+
+    ``parts`` (P, ny, nx): the counts of blocks of time, or of groups of tracks; each resample
+    draws P of them with replacement. Inf where a resample never visited a node, NaN off the film.
+    """
     if len(parts) < 2:
         return np.where(film, np.inf, np.nan)
     replicas = np.empty((BOOT_REPLICAS, *u.shape))
     for r in range(BOOT_REPLICAS):
         pick = rng.integers(0, len(parts), len(parts))
         replicas[r] = _energy(smoothed_density(parts[pick].sum(axis=0), grid, bandwidth), film)
+        # the constant of each replica is arbitrary: align it to U over the nodes both sample
         ok = np.isfinite(replicas[r]) & np.isfinite(u)
         if ok.any():
             replicas[r] -= np.median(replicas[r][ok] - u[ok])
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
+        warnings.simplefilter("ignore", RuntimeWarning)  # nodes no replica visited
         error = np.where(
             np.all(np.isfinite(replicas), axis=0), np.nanstd(replicas, axis=0, ddof=1), np.inf
         )

@@ -91,9 +91,12 @@ class Mobility:
         }
 
 
-def _lag_sums(frames: Frames, force: ForceField, sigma: float, lag: int) -> np.ndarray:
-    """Σ Δ·F + σ²∇·F, Σ|F|², Σ F̄×Δ, Σ|F̄|² per block of time (4, BLOCKS) at ``lag``."""
-    fx, fy, div, ok = force(np.arange(len(frames.x)))
+def _lag_sums(frames: Frames, fields: tuple, sigma: float, lag: int) -> np.ndarray:
+    """Σ Δ·F + σ²∇·F, Σ|F|², Σ F̄×Δ, Σ|F̄|² per block of time (4, BLOCKS) at ``lag``.
+
+    ``fields`` (F_x, F_y, ∇·F, usable) at every entry (a :data:`ForceField` of all of them).
+    """
+    fx, fy, div, ok = fields
     a, b = frames.pairs_at_lag(lag)
     use = ok[a] & np.isfinite(fx[b]) & np.isfinite(fy[b])
     a, b = a[use], b[use]
@@ -131,7 +134,8 @@ def fit_mobility(
     the first lag alone is used, and ``lags`` says so.
     """
     lags = tuple(lag for lag in lags if lag < frames.n_frames)
-    per = np.array([_lag_sums(frames, force, sigma, lag) for lag in lags])
+    fields = force(np.arange(len(frames.x)))
+    per = np.array([_lag_sums(frames, fields, sigma, lag) for lag in lags])
     p, q, p_lag, q_lag = _extrapolate(per.sum(axis=2), frames.frame_interval() * np.array(lags))
     if not p > 0:
         lags, per = lags[:1], per[:1]
@@ -153,7 +157,7 @@ def fit_mobility(
         else float("nan")
     )
     a, _ = frames.pairs_at_lag(lags[0])
-    samples = int(np.sum(force(a)[3]))
+    samples = int(np.sum(fields[3][a]))
     return Mobility(angle, error, p, q, lags, p_lag, q_lag, samples)
 
 

@@ -52,10 +52,7 @@ SIM_FRAMES = 2000
 
 @dataclass
 class IBIResult:
-    """The iterations: r [m], measured g ± error, per iteration g_sim, V [k_BT], χ²; the range.
-
-    ``runs`` the positions of each iteration's simulation (:class:`Frames`, no noise added).
-    """
+    """The iterations: r [m], measured g ± error, per iteration g_sim, V [k_BT], χ²; the range."""
 
     r: np.ndarray
     g: np.ndarray
@@ -66,7 +63,6 @@ class IBIResult:
     chi2: list = field(default_factory=list)
     coefs: list = field(default_factory=list)
     density_rms: list = field(default_factory=list)
-    runs: list = field(default_factory=list)
 
     @property
     def fixed_range(self) -> tuple[float, float] | None:
@@ -170,10 +166,8 @@ def iterate(
     potential = pinning_grid_file(folder, pinning, grid.x, grid.y, pad_nodes(grid), "pinning")
     r_nm = measured.r * M_TO_NM
     v = -np.log(np.where(measured.g > 0, measured.g, np.nan))
-    skyrmions = max(1, int(round(float(np.mean(frames.count)))))
-    d_sk = 2 * material["skyrmion_radius"]
-    closest = float(measured.r[fixed].min()) if fixed.any() else d_sk
-    separation = max(0.5, 0.9 * closest / d_sk)
+    skyrmions, separation = gas_layout(frames, material, result.fixed_range)
+    r_max = float(measured.edges[-1])
     rng = np.random.default_rng([seed, 0x1B1])
     for n in range(iterations):
         current = dict(material)
@@ -197,7 +191,6 @@ def iterate(
         )
         seen = seen_as_movie(sim, sigma, rng)
         rho_sim = smoothed_density(grid.bins(seen.x, seen.y), grid, landscape.bandwidth)
-        r_max = float(measured.edges[-1])
         g_sim = pair_correlation(seen, outline, r_max, BINS, max_frames=2000)
         with np.errstate(divide="ignore", invalid="ignore"):
             sigma2 = measured.error**2 + g_sim.error**2
@@ -214,7 +207,6 @@ def iterate(
         result.chi2.append(chi2)
         result.coefs.append(coef)
         result.density_rms.append(float(np.sqrt(np.mean(shift**2))) if len(shift) else None)
-        result.runs.append(sim)
         if coef is not None:
             material = current
         if retune is not None:
@@ -228,6 +220,18 @@ def iterate(
             good = fixed & (g_sim.g > 0)
             v[good] = v[good] + np.log(g_sim.g[good] / measured.g[good])
     return result, material
+
+
+def gas_layout(frames: Frames, material: dict, fixed_range) -> tuple[int, float]:
+    """How a model run places its gas: (skyrmions, least separation at the start).
+
+    The movie's mean number of skyrmions, and 0.9 of the closest distance the data fix in
+    skyrmion diameters (at least half a diameter).
+    """
+    skyrmions = max(1, int(round(float(np.mean(frames.count)))))
+    d_sk = 2 * material["skyrmion_radius"]
+    closest = fixed_range[0] if fixed_range else d_sk
+    return skyrmions, max(0.5, 0.9 * closest / d_sk)
 
 
 def seen_as_movie(run: Frames, sigma: float, rng: np.random.Generator) -> Frames:

@@ -232,10 +232,7 @@ def infer(
             pair.pad_nodes(grid),
             "final",
         )
-        d_sk = 2 * material["skyrmion_radius"]
-        closest = ibi.fixed_range[0] if ibi.fixed_range else d_sk
-        n_skyrmions = max(1, int(round(float(np.mean(frames.count)))))
-        separation = max(0.5, 0.9 * closest / d_sk)
+        n_skyrmions, separation = pair.gas_layout(frames, material, ibi.fixed_range)
         d_value, d_error = d_tuner.result()
         angle, angle_error = hall.angle, hall.error
         material = {
