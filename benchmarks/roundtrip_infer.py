@@ -12,7 +12,9 @@ then inferred (:func:`skygas.inference.infer`). Printed per row:
 - landscape: RMS of (inferred − true pinning) over the well-sampled nodes at least 150 nm from
   the walls, relative to the true pinning's rms there (both with their mean removed); and over
   those of them fixed across skyrmions (with their share);
-- pair force: the largest relative error of −dV/dr over the range the data fix;
+- pair force: the largest relative error of −dV/dr over the range the data fix, the largest
+  error in units of the inference's own standard error there, that standard error (median
+  over the range, relative), and the largest relative error where that error is at most 10 %;
 - wall potential: the largest error of W(d) relative to W at the first sampled distance.
 
 Usage: python benchmarks/roundtrip_infer.py [--frames 1000 4000] [--skyrmions 15 30] [--ibi 3]
@@ -28,7 +30,6 @@ from scipy.integrate import quad
 from scipy.interpolate import RegularGridInterpolator
 
 from skygas.core import units
-from skygas.inference.laws import force
 from skygas.inference.synthetic import simulated_tracks
 from skygas.physics.forces import paper_pair_force, paper_wall_force
 
@@ -62,12 +63,19 @@ def row(frames: int, skyrmions: int, ibi: int, seed: int) -> dict:
     kt = units.BOLTZMANN * gas.temperature
     d_sk, f0 = t.skyrmion_diameter, t.force_scale
     # pair force over the fixed range
-    pair_err = float("nan")
+    pair_err, pair_se, pair_rel_se = float("nan"), float("nan"), float("nan")
+    pair_tight, pair_tight_range = float("nan"), None
     if res.ibi.coef is not None and res.ibi.fixed_range:
         r = np.linspace(*res.ibi.fixed_range, 20)
-        f_inf = force(res.ibi.coef, r * 1e9) * kt / 1e-9
+        f_inf, f_se = (v * kt for v in res.ibi.force(r))
         f_true = paper_pair_force(r / d_sk, *gas.material.pair_law) * f0
         pair_err = float(np.max(np.abs(f_inf / f_true - 1)))
+        pair_se = float(np.max(np.abs(f_inf - f_true) / f_se))
+        pair_rel_se = float(np.median(f_se / f_inf))
+        tight = f_se <= 0.1 * f_inf
+        if tight.any():
+            pair_tight = float(np.max(np.abs(f_inf[tight] / f_true[tight] - 1)))
+            pair_tight_range = [round(r[tight][0] * 1e9), round(r[tight][-1] * 1e9)]
     wall_err = float("nan")
     w = res.wall
     if w.coef is not None and w.sampled_range:
@@ -97,6 +105,10 @@ def row(frames: int, skyrmions: int, ibi: int, seed: int) -> dict:
         "landscape_fixed_rel_rms": fixed_rel,
         "landscape_fixed_share": fixed_share,
         "pair_force_max_rel": pair_err,
+        "pair_force_max_se": pair_se,
+        "pair_force_median_rel_se": pair_rel_se,
+        "pair_force_tight_max_rel": pair_tight,
+        "pair_force_tight_range_nm": pair_tight_range,
         "pair_range_nm": None
         if not res.ibi.fixed_range
         else [round(v * 1e9) for v in res.ibi.fixed_range],
@@ -114,9 +126,10 @@ def main() -> None:
     args = p.parse_args()
     print(
         "| frames | skyrmions | D read | D − D_true | in SE | Hall angle (true) | landscape RMS "
-        "| fixed across skyrmions: share, RMS | pair force max | pair range | wall max | IBI χ² |"
+        "| fixed across skyrmions: share, RMS | pair range | pair force max | in SE | its SE "
+        "| where SE ≤ 10 %: range, max | wall max | IBI χ² |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for frames in args.frames:
         for n in args.skyrmions:
             r = row(frames, n, args.ibi, args.seed)
@@ -127,8 +140,12 @@ def main() -> None:
                 f"{100 * r['landscape_rel_rms']:.0f} % | "
                 f"{100 * r['landscape_fixed_share']:.0f} %, "
                 f"{100 * r['landscape_fixed_rel_rms']:.0f} % | "
-                f"{100 * r['pair_force_max_rel']:.0f} % | "
-                f"{r['pair_range_nm']} nm | {100 * r['wall_max_rel']:.0f} % | {r['ibi_chi2']} |",
+                f"{r['pair_range_nm']} nm | "
+                f"{100 * r['pair_force_max_rel']:.0f} % | {r['pair_force_max_se']:.1f} | "
+                f"{100 * r['pair_force_median_rel_se']:.0f} % | "
+                f"{r['pair_force_tight_range_nm']} nm, "
+                f"{100 * r['pair_force_tight_max_rel']:.0f} % | "
+                f"{100 * r['wall_max_rel']:.0f} % | {r['ibi_chi2']} |",
                 flush=True,
             )
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from skygas.inference.laws import force, potential
+from skygas.inference.laws import potential
 from skygas.inference.pipeline import Inference
 from skygas.runs.provenance import provenance
 
@@ -205,9 +205,15 @@ def report_html(result: Inference) -> str:
     ax.legend(fontsize=6)
     ax = fig.add_subplot(1, 2, 2)
     if ibi.coef is not None and ibi.fixed_range:
-        r = np.linspace(ibi.fixed_range[0], ibi.fixed_range[1], 100) * 1e9
+        r = np.linspace(ibi.fixed_range[0], ibi.fixed_range[1], 100)
+        f, f_err = ibi.force(r)
+        r = r * 1e9
         ax.plot(r, potential(ibi.coef, r), label="pair V(r) [k_BT]")
-        ax.plot(r, force(ibi.coef, r) * 10, label="pair force [k_BT/10 nm]")
+        # per 10 nm, so that force and potential share the axis; the band is ±1 standard error
+        (line,) = ax.plot(r, f * 1e-8, label="pair force ± SE [k_BT/10 nm]")
+        ax.fill_between(
+            r, (f - f_err) * 1e-8, (f + f_err) * 1e-8, color=line.get_color(), alpha=0.25
+        )
     w = result.wall
     if w.coef is not None and w.sampled_range:
         d = np.linspace(w.sampled_range[0], w.sampled_range[1], 100) * 1e9
@@ -258,6 +264,17 @@ def report_html(result: Inference) -> str:
             "—"
             if not ibi.fixed_range
             else f"{ibi.fixed_range[0] * 1e9:.0f}–{ibi.fixed_range[1] * 1e9:.0f} nm",
+        ),
+        (
+            "pair force mid-range",
+            "—"
+            if not (table := s["pair"]["force_over_fixed_range"])
+            else _fmt(
+                table["force_N"][len(table["r_m"]) // 2],
+                table["force_error_N"][len(table["r_m"]) // 2],
+                1e12,
+                f"pN at {table['r_m'][len(table['r_m']) // 2] * 1e9:.0f} nm",
+            ),
         ),
         (
             "wall range fixed by data",

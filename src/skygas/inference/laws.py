@@ -12,6 +12,10 @@ tables (:class:`~skygas.physics.materials.ForceTableSpec`) hold |F| ≥ 0 [N] on
 distances [m]; :func:`force_table` samples the fit from the closest sampled distance to where
 the force has fallen below 10⁻³ of its value there (the engine holds the first value below the
 table and sets the force to zero beyond its end).
+
+How well the points fix the force: :func:`coefficient_covariance` is the covariance of the
+quadratic's coefficients (the points' errors taken as their standard errors, also where the fit
+fell back to a line), and :func:`force_error` carries it to F(r) to first order.
 """
 
 from __future__ import annotations
@@ -33,16 +37,47 @@ def fit_exp_quadratic(r: np.ndarray, v: np.ndarray, err: np.ndarray) -> np.ndarr
     left out; a line (c₂ = 0) when fewer than five points remain or the quadratic curves
     upwards (c₂ > 0, a V that would grow again beyond the data).
     """
-    r, v, err = (np.asarray(a, float) for a in (r, v, err))
-    ok = np.isfinite(v) & np.isfinite(err) & (v > FIT_FLOOR) & (err > 0)
-    if ok.sum() < 3:
+    r, v, err = _selected(r, v, err)
+    if len(r) < 3:
         return None
-    w = v[ok] / err[ok]
-    coef = np.polyfit(r[ok], np.log(v[ok]), 2, w=w) if ok.sum() >= 5 else None
+    w = v / err
+    coef = np.polyfit(r, np.log(v), 2, w=w) if len(r) >= 5 else None
     if coef is None or coef[0] > 0:
         # a line when ln V curves upwards: V would grow again beyond the data
-        coef = np.polyfit(r[ok], np.log(v[ok]), 1, w=w)
+        coef = np.polyfit(r, np.log(v), 1, w=w)
     return np.concatenate([np.zeros(3 - len(coef)), coef])[::-1]
+
+
+def _selected(r, v, err):
+    """The points the fit uses: finite, V above :data:`FIT_FLOOR`, a positive error."""
+    r, v, err = (np.asarray(a, float) for a in (r, v, err))
+    ok = np.isfinite(v) & np.isfinite(err) & (v > FIT_FLOOR) & (err > 0)
+    return r[ok], v[ok], err[ok]
+
+
+def coefficient_covariance(r, v, err) -> np.ndarray:
+    """The 3×3 covariance of (c₀, c₁, c₂) of a weighted fit of ln V = c₀ + c₁r + c₂r² to the points.
+
+    Weighted least squares on ln V with σ(ln V) = σ_V/V over the points
+    :func:`fit_exp_quadratic` uses: cov = (Xᵀ Σ⁻¹ X)⁻¹, X = [1, r, r²]. Always the quadratic's,
+    also where the fit fell back to a line: the line is a choice (no upward curvature), not
+    something the points fix, and the curvature they leave free belongs in the error.
+    """
+    r, v, err = _selected(r, v, err)
+    x = np.vander(r, 3, increasing=True)
+    w = (v / err) ** 2
+    return np.linalg.pinv(x.T @ (w[:, None] * x))
+
+
+def force_error(coef: np.ndarray, cov: np.ndarray, r) -> np.ndarray:
+    """The standard error of F(r) = −dV/dr of the fit, from the coefficients' covariance.
+
+    To first order, σ_F² = J cov Jᵀ with J = ∂F/∂c = (F, F r − V, F r² − 2rV).
+    """
+    r = np.asarray(r, float)
+    v, f = potential(coef, r), force(coef, r)
+    jac = np.stack([f, f * r - v, f * r * r - 2 * r * v], axis=-1)
+    return np.sqrt(np.einsum("...i,ij,...j->...", jac, cov, jac))
 
 
 def potential(coef: np.ndarray, r) -> np.ndarray:

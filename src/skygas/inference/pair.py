@@ -11,10 +11,12 @@ g(r) the same way, and corrects
 over the distances the data fix (the pinning landscape of the runs is the crowding-corrected
 Boltzmann inversion of :mod:`skygas.inference.crowding`, held fixed; each iteration also
 reports the rms of ln(ρ_n/ρ_measured) over the well-sampled nodes, both densities seen alike:
-the model's positions plus the movie's localisation error, the movie's kernel), until
-χ² = mean((g_n − g)²/(σ_n² + σ²)) is at most :data:`CHI2_GOAL` or :data:`ITERATIONS` are
-done. The law handed to the engine is the smooth fit of V (:mod:`skygas.inference.laws`), so
-each simulation runs the force −dV/dr of a smooth V.
+the model's positions plus the movie's localisation error, the movie's kernel), for
+:data:`ITERATIONS` iterations (every run also serves the retuning of D), each reporting
+χ² = mean((g_n − g)²/(σ_n² + σ²)). The law handed to the engine is the smooth fit of V
+(:mod:`skygas.inference.laws`), weighted by σ_V = σ_g/g (the movie's error, and from the second
+iteration on the previous run's as well), so each simulation runs the force −dV/dr of a smooth
+V; the fit's covariance gives the force's statistical error (:meth:`IBIResult.force`).
 
 The **distances the data fix** are the bins with at least :data:`MIN_PAIRS` pairs where
 g is below 1 by more than two standard errors: closer, no pair was seen; farther, the
@@ -36,16 +38,28 @@ from skygas.analysis.structure import PairCorrelation
 from skygas.core import units
 from skygas.core.units import M_TO_NM
 from skygas.inference.landscape import LandscapeMap, smoothed_density
-from skygas.inference.laws import fit_exp_quadratic, force_table
+from skygas.inference.laws import (
+    coefficient_covariance,
+    fit_exp_quadratic,
+    force,
+    force_error,
+    force_table,
+)
 from skygas.physics.geometry import Outline
 
-#: Iterations at most, and the χ² that ends them earlier.
+#: Iterations.
 ITERATIONS = 6
-CHI2_GOAL = 1.5
 #: A bin enters the fixed range with at least this many pairs.
 MIN_PAIRS = 20
-#: Bins of g(r).
-BINS = 40
+#: Bins of g(r) per skyrmion diameter: the pair law falls e-fold over about half a diameter,
+#: and a fit that can bend (:func:`~skygas.inference.laws.fit_exp_quadratic`, five points or
+#: more) needs several bins across the few diameters where g < 1.
+BINS_PER_DIAMETER = 7
+#: g(r) of the movie is counted over at most this many frames, evenly chosen.
+MOVIE_FRAMES = 20000
+#: The iterations' law replaces the material's only where the movie's g(r) fixes the force at
+#: the middle of the range to this relative standard error.
+MAX_FORCE_ERROR = 0.1
 #: Frames of each simulation.
 SIM_FRAMES = 2000
 
@@ -62,7 +76,10 @@ class IBIResult:
     simulated: list = field(default_factory=list)
     chi2: list = field(default_factory=list)
     coefs: list = field(default_factory=list)
+    coef_covs: list = field(default_factory=list)
     density_rms: list = field(default_factory=list)
+    #: σ_F/F at the middle of the fixed range from the movie's g(r) alone (None: no fit)
+    initial_force_error: float | None = None
 
     @property
     def fixed_range(self) -> tuple[float, float] | None:
@@ -75,6 +92,21 @@ class IBIResult:
     def coef(self):
         """The fit (c₀, c₁, c₂) of ln V, r in nm, of the last iteration (None if none)."""
         return self.coefs[-1] if self.coefs else None
+
+    def force(self, r) -> tuple[np.ndarray, np.ndarray]:
+        """The final law's force −dV/dr and its standard error [k_BT/m] at ``r`` [m].
+
+        The error carries the movie's g(r) errors and the last simulation's to the fit
+        (:func:`~skygas.inference.laws.force_error`); it is statistical only. Only for a result
+        with a law of its own (:attr:`coef` not None).
+        """
+        if self.coef is None:
+            raise ValueError("the iterations kept the material's pair law: no force of their own")
+        r_nm = np.asarray(r, float) * M_TO_NM
+        return (
+            force(self.coef, r_nm) * M_TO_NM,
+            force_error(self.coef, self.coef_covs[-1], r_nm) * M_TO_NM,
+        )
 
 
 def fixed_bins(g: np.ndarray, err: np.ndarray, pairs: np.ndarray) -> np.ndarray:
@@ -153,8 +185,10 @@ def iterate(
 
     ``retune(run)``, if given, is called with each simulation's positions and returns material
     fields for the next one (the D correction of :mod:`skygas.inference.bias`).
-    Returns the iterations and the material with the final ``pair_table`` (none if the data fix
-    fewer than three distances).
+    Returns the iterations and the material with the final ``pair_table``: none if the data fix
+    fewer than three distances, or if the fit of −ln g(r) leaves the force at the middle of
+    their range uncertain by more than :data:`MAX_FORCE_ERROR` (the simulations then run the
+    material's own pair law).
     """
     kt = units.BOLTZMANN * temperature
     grid = landscape.grid
@@ -166,15 +200,23 @@ def iterate(
     potential = pinning_grid_file(folder, pinning, grid.x, grid.y, pad_nodes(grid), "pinning")
     r_nm = measured.r * M_TO_NM
     v = -np.log(np.where(measured.g > 0, measured.g, np.nan))
+    # σ(V) = σ_g/g: the movie's g(r), and from the second iteration on the last simulation's
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v_error = measured.error / measured.g
     skyrmions, separation = gas_layout(frames, material, result.fixed_range)
     r_max = float(measured.edges[-1])
     rng = np.random.default_rng([seed, 0x1B1])
+    result.initial_force_error = initial_force_error(r_nm[fixed], v[fixed], v_error[fixed])
+    usable = (
+        result.initial_force_error is not None and result.initial_force_error <= MAX_FORCE_ERROR
+    )
     for n in range(iterations):
         current = dict(material)
-        coef = None
-        if fixed.sum() >= 3:
-            coef = fit_exp_quadratic(r_nm[fixed], v[fixed], np.full(fixed.sum(), 0.1))
+        coef, cov = None, None
+        if usable:
+            coef = fit_exp_quadratic(r_nm[fixed], v[fixed], v_error[fixed])
         if coef is not None:
+            cov = coefficient_covariance(r_nm[fixed], v[fixed], v_error[fixed])
             current["pair_table"] = force_table(
                 coef, r_nm[fixed][0], 5 * r_nm[fixed][-1], kt, 1 / M_TO_NM
             )
@@ -191,7 +233,7 @@ def iterate(
         )
         seen = seen_as_movie(sim, sigma, rng)
         rho_sim = smoothed_density(grid.bins(seen.x, seen.y), grid, landscape.bandwidth)
-        g_sim = pair_correlation(seen, outline, r_max, BINS, max_frames=2000)
+        g_sim = pair_correlation(seen, outline, r_max, len(measured.r), max_frames=sim_frames)
         with np.errstate(divide="ignore", invalid="ignore"):
             sigma2 = measured.error**2 + g_sim.error**2
             chi2 = (
@@ -206,6 +248,7 @@ def iterate(
         result.simulated.append((g_sim.g, g_sim.error))
         result.chi2.append(chi2)
         result.coefs.append(coef)
+        result.coef_covs.append(cov)
         result.density_rms.append(float(np.sqrt(np.mean(shift**2))) if len(shift) else None)
         if coef is not None:
             material = current
@@ -219,7 +262,35 @@ def iterate(
         if n + 1 < iterations:
             good = fixed & (g_sim.g > 0)
             v[good] = v[good] + np.log(g_sim.g[good] / measured.g[good])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                v_error = np.hypot(measured.error, g_sim.error) / measured.g
     return result, material
+
+
+def initial_force_error(r_nm: np.ndarray, v: np.ndarray, v_error: np.ndarray) -> float | None:
+    """σ_F/F at the middle of the fixed range, of the fit of V = −ln g (None: fewer than 3 points).
+
+    The first iteration's law; the iterations move V but not how well the movie's g(r) fixes it.
+    """
+    if len(r_nm) < 3:
+        return None
+    coef = fit_exp_quadratic(r_nm, v, v_error)
+    if coef is None:
+        return None
+    mid = 0.5 * (r_nm[0] + r_nm[-1])
+    f = float(force(coef, mid))
+    if not f > 0:
+        return float("inf")
+    cov = coefficient_covariance(r_nm, v, v_error)
+    return float(force_error(coef, cov, mid)) / f
+
+
+def measured_pair_correlation(
+    frames: Frames, outline: Outline, r_max: float, skyrmion_diameter: float
+) -> PairCorrelation:
+    """The movie's g(r) over [0, ``r_max``], :data:`BINS_PER_DIAMETER` bins per diameter."""
+    bins = max(1, int(np.ceil(BINS_PER_DIAMETER * r_max / skyrmion_diameter)))
+    return pair_correlation(frames, outline, r_max, bins, max_frames=MOVIE_FRAMES)
 
 
 def gas_layout(frames: Frames, material: dict, fixed_range) -> tuple[int, float]:

@@ -31,7 +31,6 @@ import numpy as np
 from skygas._version import __version__
 from skygas.analysis import mean_squared_displacement
 from skygas.analysis.frames import Frames
-from skygas.analysis.structure import pair_correlation
 from skygas.core import units
 from skygas.core.errors import require
 from skygas.inference import bias, crowding, mobility, model, pair, tracks, wall
@@ -87,6 +86,23 @@ def _wall_table(profile: wall.WallProfile, kt: float) -> dict | None:
     lo = profile.sampled_range[0] * 1e9
     # up to where the fit has fallen to nothing (at least 10 nm past the first sampled distance)
     return force_table(profile.coef, lo, max(profile.reach * 1e9, lo + 10.0), kt, 1e-9)
+
+
+def _pair_force_table(ibi: pair.IBIResult, kt: float) -> dict | None:
+    """The final pair force and its statistical error [N] over the range the data fix."""
+    if ibi.coef is None or not ibi.fixed_range:
+        return None
+    r = np.linspace(*ibi.fixed_range, 12)
+    f, err = ibi.force(r)
+    tight = r[err <= 0.1 * f]
+    return {
+        "r_m": r.tolist(),
+        "force_N": (f * kt).tolist(),
+        "force_error_N": (err * kt).tolist(),
+        "range_within_10_percent_m": [float(tight[0]), float(tight[-1])] if len(tight) else None,
+        "note": "statistical error only: the movie's g(r) and the last IBI run's, carried "
+        "through the fit of ln V",
+    }
 
 
 def infer(
@@ -166,7 +182,7 @@ def infer(
     r_max = min(
         0.5 * min(grid.x[-1] - grid.x[0], grid.y[-1] - grid.y[0]), 12 * base.skyrmion_radius * 2
     )
-    measured_g = pair_correlation(frames, shape, r_max, pair.BINS, max_frames=2000)
+    measured_g = pair.measured_pair_correlation(frames, shape, r_max, 2 * base.skyrmion_radius)
     gx, gy = np.meshgrid(grid.x, grid.y)
     node_d = wall.wall_distance(shape, gx, gy)
 
@@ -370,8 +386,14 @@ def infer(
             "range_fixed_by_data_m": ibi.fixed_range,
             "law_in_model": "pair_table from IBI"
             if "pair_table" in material
-            else f"the base material's ({base.name}) paper law: the data fix fewer than 3 "
-            "distances",
+            else f"the base material's ({base.name}) law: "
+            + (
+                "the data fix fewer than 3 distances"
+                if ibi.initial_force_error is None
+                else f"the movie's g(r) fixes the force to {100 * ibi.initial_force_error:.0f} % "
+                f"only (at most {100 * pair.MAX_FORCE_ERROR:.0f} % for a law of its own)"
+            ),
+            "force_relative_error_from_g": ibi.initial_force_error,
             "iterations": [
                 {
                     "chi2": c,
@@ -383,6 +405,7 @@ def infer(
             "fit_ln_potential_coefficients_nm": None
             if ibi.coef is None
             else list(map(float, ibi.coef)),
+            "force_over_fixed_range": _pair_force_table(ibi, kt),
         },
         "consistency_check": check,
         "model": {
