@@ -17,7 +17,7 @@ then inferred (:func:`skygas.inference.infer`). Printed per row:
   over the range, relative), and the largest relative error where that error is at most 10 %;
 - wall potential: the largest error of W(d) relative to W at the first sampled distance.
 
-Usage: python benchmarks/roundtrip_infer.py [--frames 1000 4000] [--skyrmions 15 30] [--ibi 3]
+Usage: python benchmarks/roundtrip_infer.py [--frames 1000 4000] [--skyrmions 15 30] [--ibi 6]
 """
 
 from __future__ import annotations
@@ -30,6 +30,7 @@ from scipy.integrate import quad
 from scipy.interpolate import RegularGridInterpolator
 
 from skygas.core import units
+from skygas.inference.pair import ITERATIONS
 from skygas.inference.synthetic import simulated_tracks
 from skygas.physics.forces import paper_pair_force, paper_wall_force
 
@@ -121,7 +122,9 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--frames", type=int, nargs="+", default=[1000, 4000])
     p.add_argument("--skyrmions", type=int, nargs="+", default=[15, 30])
-    p.add_argument("--ibi", type=int, default=3)
+    p.add_argument(
+        "--ibi", type=int, default=ITERATIONS, help="IBI iterations (default: infer's own)"
+    )
     p.add_argument("--seed", type=int, default=1)
     args = p.parse_args()
     print(
