@@ -44,3 +44,17 @@ def test_a_line_fit_keeps_the_error_of_the_curvature_it_does_not_fix():
     scatter = forces.std(axis=0, ddof=1)
     assert np.all(scatter < 1.1 * predicted)
     assert np.all(np.abs(forces.mean(axis=0) - true) < 0.2 * predicted)
+
+
+def test_a_law_of_its_own_only_where_g_fixes_the_force():
+    """The iterations keep the material's law unless −ln g fixes the force to 10 % mid-range."""
+    from skygas.inference import pair
+
+    r = np.linspace(75.0, 100.0, 6)
+    v = laws.potential(CURVED, r)
+    precise = pair.initial_force_error(r, v, 0.02 * v)
+    noisy = pair.initial_force_error(r, v, 0.3 * v)
+    assert precise < pair.MAX_FORCE_ERROR < noisy
+    assert pair.initial_force_error(r[:2], v[:2], 0.02 * v[:2]) is None  # too few distances
+    rising = laws.potential(np.array([0.0, 0.02, -1e-4]), r)  # V grows with r: an attraction
+    assert pair.initial_force_error(r, rising, 0.02 * rising) == np.inf

@@ -390,6 +390,8 @@ def infer(
             + (
                 "the data fix fewer than 3 distances"
                 if ibi.initial_force_error is None
+                else "the fit of −ln g(r) gives no repulsion in the middle of the range"
+                if not math.isfinite(ibi.initial_force_error)
                 else f"the movie's g(r) fixes the force to {100 * ibi.initial_force_error:.0f} % "
                 f"only (at most {100 * pair.MAX_FORCE_ERROR:.0f} % for a law of its own)"
             ),
