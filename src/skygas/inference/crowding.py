@@ -15,9 +15,9 @@ the mean of the neighbours' pair forces on the skyrmions found at r. So
 and f̄ is measured on the movie's own frames: the pair force of every neighbour on every
 tracked position, with the pair law the data fix (:mod:`skygas.inference.pair`), averaged with
 the landscape's kernel. Φ is the least-squares potential of that field on the well-sampled
-nodes (a sparse solve). No simulation enters, so no simulation noise does either. On the
-round-trip gases this brings the pinning map from 0.69 to 0.38 relative RMS error for 30
-skyrmions and from 0.81 to 0.35 for 60 (docs/inference.md).
+nodes (a sparse solve). No simulation enters, so no simulation noise does either. On a
+round-trip gas of 30 skyrmions, −ln ρ has 0.49 of the true landscape's amplitude and a
+correlation of 0.78 with it, U = −ln ρ + Φ 0.96 and 0.93 (docs/inference.md).
 
 Near a wall the same balance, along the normal to the outline, gives the wall potential free of
 the neighbours' layering (:func:`normal_component`, used by :mod:`skygas.inference.wall`).

@@ -145,6 +145,19 @@ def _fmt(value, error, scale: float, unit: str) -> str:
     return format_value(value * scale, err, unit) or H.none("the data do not fix it")
 
 
+def _mid_range(table: dict | None) -> str:
+    """The pair force ± its error in the middle of the range the data fix, as a headline."""
+    if not table:
+        return "—"
+    k = len(table["r_m"]) // 2
+    return _fmt(
+        table["force_N"][k],
+        table["force_error_N"][k],
+        1e12,
+        f"pN at {table['r_m'][k] * 1e9:.0f} nm",
+    )
+
+
 def report_html(result: Inference) -> str:
     """One self-contained HTML page: headline numbers and the figures."""
     from matplotlib.figure import Figure
@@ -265,17 +278,7 @@ def report_html(result: Inference) -> str:
             if not ibi.fixed_range
             else f"{ibi.fixed_range[0] * 1e9:.0f}–{ibi.fixed_range[1] * 1e9:.0f} nm",
         ),
-        (
-            "pair force mid-range",
-            "—"
-            if not (table := s["pair"]["force_over_fixed_range"])
-            else _fmt(
-                table["force_N"][len(table["r_m"]) // 2],
-                table["force_error_N"][len(table["r_m"]) // 2],
-                1e12,
-                f"pN at {table['r_m'][len(table['r_m']) // 2] * 1e9:.0f} nm",
-            ),
-        ),
+        ("pair force mid-range", _mid_range(s["pair"]["force_over_fixed_range"])),
         (
             "wall range fixed by data",
             "—"

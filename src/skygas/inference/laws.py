@@ -48,6 +48,21 @@ def fit_exp_quadratic(r: np.ndarray, v: np.ndarray, err: np.ndarray) -> np.ndarr
     return np.concatenate([np.zeros(3 - len(coef)), coef])[::-1]
 
 
+def first_run(ok: np.ndarray) -> np.ndarray:
+    """The first run of consecutive True in ``ok`` (all False if there is none).
+
+    The distances a law is fitted over: from the first usable bin to the first unusable one
+    after it (bins beyond a gap would fit a range the data do not join up).
+    """
+    ok = np.asarray(ok, bool)
+    out = np.zeros(len(ok), bool)
+    start = np.flatnonzero(ok)
+    if len(start):
+        gap = np.flatnonzero(~ok[start[0] :])
+        out[start[0] : start[0] + (gap[0] if len(gap) else len(ok))] = True
+    return out
+
+
 def _selected(r, v, err):
     """The points the fit uses: finite, V above :data:`FIT_FLOOR`, a positive error."""
     r, v, err = (np.asarray(a, float) for a in (r, v, err))

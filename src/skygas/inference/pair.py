@@ -40,6 +40,7 @@ from skygas.core.units import M_TO_NM
 from skygas.inference.landscape import LandscapeMap, smoothed_density
 from skygas.inference.laws import (
     coefficient_covariance,
+    first_run,
     fit_exp_quadratic,
     force,
     force_error,
@@ -111,15 +112,9 @@ class IBIResult:
 
 def fixed_bins(g: np.ndarray, err: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     """The bins the data fix: enough pairs and g below 1 by more than 2σ, from the first such."""
-    ok = (pairs >= MIN_PAIRS) & np.isfinite(g) & (g > 0) & (g < 1 - 2 * np.nan_to_num(err, nan=1))
-    out = np.zeros(len(g), bool)
-    idx = np.flatnonzero(ok)
-    if len(idx):
-        k = idx[0]
-        while k < len(g) and ok[k]:
-            out[k] = True
-            k += 1
-    return out
+    return first_run(
+        (pairs >= MIN_PAIRS) & np.isfinite(g) & (g > 0) & (g < 1 - 2 * np.nan_to_num(err, nan=1))
+    )
 
 
 def simulate(

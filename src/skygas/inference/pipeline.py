@@ -250,10 +250,9 @@ def infer(
         )
         n_skyrmions, separation = pair.gas_layout(frames, material, ibi.fixed_range)
         d_value, d_error = d_tuner.result()
-        angle, angle_error = hall.angle, hall.error
         material = {
             **material,
-            **model.thiele_fields(d_value, angle, angle_error, base, temperature),
+            **model.thiele_fields(d_value, hall.angle, hall.error, base, temperature),
         }
         say("consistency check: a skygas run of the final model")
         model_frames = pair.simulate(
@@ -338,8 +337,8 @@ def infer(
         **hall.as_dict(),
         "diffusion_constant": d_value,
         "diffusion_constant_error": d_error,
-        "hall_angle": angle,
-        "hall_angle_error": angle_error,
+        "hall_angle": hall.angle,
+        "hall_angle_error": hall.error,
         "diffusion_constant_systematic_error": bias.SYSTEMATIC_SHARE
         * abs(d.diffusion_constant - d_value),
         "diffusion_constant_as_read": d.diffusion_constant,
@@ -412,7 +411,7 @@ def infer(
         "consistency_check": check,
         "model": {
             "free_diffusion_m2_s": d_value,
-            "hall_angle_rad": angle,
+            "hall_angle_rad": hall.angle,
             "pinning_as_disorder": {
                 "kind": "disorder",
                 "rms_kT": rms,

@@ -26,7 +26,7 @@ import numpy as np
 from skygas.analysis.frames import Frames
 from skygas.core.units import M_TO_NM
 from skygas.inference.diffusion import blocked, time_blocks
-from skygas.inference.laws import fit_exp_quadratic, potential
+from skygas.inference.laws import first_run, fit_exp_quadratic, potential
 from skygas.physics.geometry import Outline
 
 #: The bulk starts at this fraction of the film's inradius from the boundary.
@@ -154,12 +154,8 @@ def wall_profile(
         [blocked(per_block_arr[:, k]) if np.isfinite(w[k]) else np.inf for k in range(len(w))]
     )
     centres = 0.5 * (edges[1:] + edges[:-1])
-    usable = (counts >= MIN_COUNT) & np.isfinite(w) & (error <= MAX_ERROR) & (w > 2 * error) & ~bulk
-    sampled = np.zeros(len(w), bool)
-    first = np.flatnonzero(usable)
-    k = first[0] if len(first) else len(w)
-    while k < len(w) and usable[k]:
-        sampled[k] = True
-        k += 1
+    sampled = first_run(
+        (counts >= MIN_COUNT) & np.isfinite(w) & (error <= MAX_ERROR) & (w > 2 * error) & ~bulk
+    )
     coef = fit_exp_quadratic(centres[sampled] * M_TO_NM, w[sampled], error[sampled])
     return WallProfile(centres, w, error, counts, sampled, coef, bulk_from)
