@@ -88,7 +88,12 @@ def ideal_pair_probability(region, edges_nm, sub: int = 2, n_angles: int = 12) -
 
 
 def pair_correlation(
-    frames: Frames, region, r_max: float, bins: int = 40, max_frames: int = 400
+    frames: Frames,
+    region,
+    r_max: float,
+    bins: int = 40,
+    max_frames: int = 400,
+    error_blocks: int = ERROR_BLOCKS,
 ) -> PairCorrelation:
     """The pair correlation function g(r) for 0 ≤ r ≤ ``r_max``.
 
@@ -105,6 +110,9 @@ def pair_correlation(
         Bins of equal width over [0, ``r_max``].
     max_frames : int
         At most this many frames are used, evenly chosen.
+    error_blocks : int
+        Contiguous blocks of frames for the jackknife error (fewer, longer blocks where pairs
+        last long: blocks shorter than that are correlated, and the error too small).
 
     Returns
     -------
@@ -120,9 +128,9 @@ def pair_correlation(
         if frames.n_frames
         else np.empty(0, int)
     )
-    block_of = (np.arange(len(chosen)) * ERROR_BLOCKS) // max(len(chosen), 1)
-    counts = np.zeros((ERROR_BLOCKS, bins))
-    pairs = np.zeros(ERROR_BLOCKS)
+    block_of = (np.arange(len(chosen)) * error_blocks) // max(len(chosen), 1)
+    counts = np.zeros((error_blocks, bins))
+    pairs = np.zeros(error_blocks)
     off = frames.offsets
     for f, block in zip(chosen, block_of, strict=True):
         a, b = off[f], off[f + 1]

@@ -44,6 +44,8 @@ def _value(value: Any) -> str:
 def dumps(data: dict[str, Any], comments: dict[str, str] | None = None, prefix: str = "") -> str:
     """``data`` (nested dicts of numbers, strings, bools and lists) as TOML.
 
+    A list of dicts is an array of tables (``[[name]]``).
+
     ``comments`` maps a table's dotted name to a comment line written above it. ``None`` values are
     left out.
     """
@@ -53,7 +55,9 @@ def dumps(data: dict[str, Any], comments: dict[str, str] | None = None, prefix: 
     for key, value in data.items():
         if value is None:
             continue
-        if isinstance(value, dict):
+        if isinstance(value, dict) or (
+            isinstance(value, list) and value and all(isinstance(v, dict) for v in value)
+        ):
             tables.append((key, value))
         else:
             lines.append(f"{key} = {_value(value)}")
@@ -65,7 +69,13 @@ def dumps(data: dict[str, Any], comments: dict[str, str] | None = None, prefix: 
             if not comments.get(name)
             else "".join(f"# {line}\n" for line in comments[name].splitlines())
         )
-        out += f"\n\n{head}[{name}]\n" + dumps(value, comments, f"{name}.")
+        if isinstance(value, list):  # an array of tables, [[name]]
+            for k, item in enumerate(value):
+                out += f"\n\n{head if k == 0 else ''}[[{name}]]\n" + dumps(
+                    item, comments, f"{name}."
+                )
+        else:
+            out += f"\n\n{head}[{name}]\n" + dumps(value, comments, f"{name}.")
     return out.strip("\n") + "\n"
 
 

@@ -31,6 +31,8 @@ from skygas.physics.materials import ForceTableSpec, Material, ThieleParameters
 MAX_STEP_FRACTION = 1.0
 #: Suggested time step as a fraction of τ_min.
 SUGGESTED_STEP_FRACTION = 0.1
+#: Without any stiff force, a step moves a free skyrmion this many diameters (rms).
+FREE_STEP_DIAMETERS = 0.1
 #: Skyrmions closer than this many diameters are "on top of each other" and refused. The same
 #: distance bounds the range where the force laws' stiffness sets the time-step limit: the
 #: laws are not valid below about one diameter (paper, "Boundary Effects"), and skyrmions
@@ -257,13 +259,37 @@ def relaxation_time(thiele: ThieleParameters, stiffness: float) -> float:
     return math.inf if rate == 0 else 1.0 / rate / units.S_TO_NS
 
 
-def default_time_step(thiele: ThieleParameters, stiffness: float, interval: float) -> float:
-    """The suggested step SUGGESTED_STEP_FRACTION · τ_min [s], fitted to ``interval``.
+def free_time_step(thiele: ThieleParameters, temperature: float) -> float:
+    """The step [s] of a model with no stiff force: (f·d_sk)²/(4D).
+
+    In it a free skyrmion moves f = FREE_STEP_DIAMETERS of its diameter (rms, two dimensions).
+
+    A model without pair, wall or landscape forces (a zero table: skyrmions that do not
+    interact) has no relaxation time; its walls still stop skyrmions, and a step must not jump
+    them far. Infinite at T = 0 (nothing moves).
+    """
+    d = thiele.diffusion_constant(temperature) if temperature > 0 else 0.0
+    return math.inf if d <= 0 else (FREE_STEP_DIAMETERS * thiele.skyrmion_diameter) ** 2 / (4 * d)
+
+
+def suggested_time_step(thiele: ThieleParameters, stiffness: float, temperature: float) -> float:
+    """SUGGESTED_STEP_FRACTION · τ_min [s], or :func:`free_time_step` without a stiff force."""
+    suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, stiffness)
+    return suggested if math.isfinite(suggested) else free_time_step(thiele, temperature)
+
+
+def default_time_step(
+    thiele: ThieleParameters, stiffness: float, interval: float, temperature: float = 0.0
+) -> float:
+    """The suggested step [s] (:func:`suggested_time_step`), fitted to ``interval``.
 
     τ_min is :func:`relaxation_time` of ``stiffness`` [pN/nm]; the step is shortened so that
-    ``interval`` [s] (a recording or injection interval) is a whole number of steps.
+    ``interval`` [s] (a recording or injection interval) is a whole number of steps (one
+    step per interval when nothing limits it).
     """
-    suggested = SUGGESTED_STEP_FRACTION * relaxation_time(thiele, stiffness)
+    suggested = suggested_time_step(thiele, stiffness, temperature)
+    if not math.isfinite(suggested):
+        return interval
     return interval / math.ceil(interval / suggested - 1e-9)
 
 

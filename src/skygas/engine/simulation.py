@@ -28,10 +28,10 @@ from skygas.engine import terms as T
 from skygas.engine.force_model import (
     MAX_STEP_FRACTION,
     MIN_PLACEMENT_SEPARATION,
-    SUGGESTED_STEP_FRACTION,
     ForceModel,
     default_time_step,
     relaxation_time,
+    suggested_time_step,
     whole_steps,
 )
 from skygas.engine.kernel import Frames, advance
@@ -270,7 +270,7 @@ class Simulation:
                 for t in self.term_rules
                 if not (isinstance(t, Landscape) and not t.time_step_counts)
             )
-            time_step = default_time_step(self.thiele, stiffness, step_interval)
+            time_step = default_time_step(self.thiele, stiffness, step_interval, self.temperature)
         if time_step is None:
             time_step = self.suggested_time_step()
         require(
@@ -458,9 +458,13 @@ class Simulation:
     def suggested_time_step(self) -> float:
         """A safe default [s]: SUGGESTED_STEP_FRACTION · τ_min.
 
-        Check it with :func:`skygas.runs.timestep.check_time_step`.
+        Without any stiff force (τ_min infinite), the step in which a free skyrmion moves a
+        tenth of its diameter (:func:`~skygas.engine.force_model.free_time_step`). Check it
+        with :func:`skygas.runs.timestep.check_time_step`.
         """
-        return SUGGESTED_STEP_FRACTION * self.relaxation_time()
+        return suggested_time_step(
+            self.thiele, max(t.stiffness() for t in self.term_rules), self.temperature
+        )
 
     # -- landscape -----------------------------------------------------------------------------
     def set_landscape_enabled(self, term, on: bool) -> None:

@@ -495,6 +495,107 @@ class GridFile(_Kind):
         return Samples(*parts)
 
 
+#: A measured map blends into its statistics over this many correlation lengths by default.
+BLEND_CORRELATION_LENGTHS = 3.0
+
+
+class MeasuredMap(_Kind):
+    """A landscape measured where a film was sampled, and random of its statistics elsewhere.
+
+    What ``skygas infer`` writes (docs/inference.md): ``path`` holds a .npy array of U [k_BT]
+    (rows along y) on nodes ``spacing`` [m] apart from ``origin`` [m], NaN where the movie did
+    not fix it. Where it is finite the landscape is the map (a bicubic spline); elsewhere, and
+    beyond the map's extent, a ``disorder`` field of ``rms_kT`` and ``correlation_length`` [m]
+    drawn from the run's seed (nothing if ``rms_kT`` is 0). The two are blended by a weight
+    that falls from 1 to 0 over about ``blend`` [m] (default: three correlation lengths)
+    outside the sampled area, so that no step appears where the map ends, and no bend sharper
+    than the landscape's own (which would shorten a run's time step). Derivatives by
+    fourth-order central differences on the engine's grid.
+    """
+
+    kind: Literal["measured"] = "measured"
+    path: str
+    spacing: Length
+    origin: Point = (0.0, 0.0)
+    rms_kT: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+    correlation_length: Length
+    blend: Length | None = None
+
+    @field_validator("path")
+    @classmethod
+    def _readable(cls, path: str) -> str:
+        values = _map_values(path)
+        if not np.any(np.isfinite(values)):
+            raise ValueError("a map with at least one finite value (all are NaN)")
+        return path
+
+    def sample(self, ctx: SampleContext) -> Samples:
+        """U and its derivatives at the nodes of ``ctx`` (pN·nm, pN, pN/nm)."""
+        from scipy import ndimage
+        from scipy.interpolate import RectBivariateSpline
+
+        h = float(ctx.x[0, 1] - ctx.x[0, 0])  # nm
+        pad = 2
+        ny, nx = ctx.x.shape
+        xs = ctx.x[0, 0] + h * np.arange(-pad, nx + pad)
+        ys = ctx.y[0, 0] + h * np.arange(-pad, ny + pad)
+        gx, gy = np.meshgrid(xs, ys)
+        values = _map_values(self.path)
+        known = np.isfinite(values)
+        # the map continued by its nearest known value (the weight hides it), for the spline
+        nearest = ndimage.distance_transform_edt(
+            ~known, return_distances=False, return_indices=True
+        )
+        filled = values[tuple(nearest)]
+        step = self.spacing * units.M_TO_NM
+        mx = self.origin[0] * units.M_TO_NM + step * np.arange(values.shape[1])
+        my = self.origin[1] * units.M_TO_NM + step * np.arange(values.shape[0])
+        # the weight: 1 where the map is known, falling to 0 over about the blend width outside
+        # it, beyond the map's extent too (the mask is padded with unknown nodes first). It is
+        # the smoothed mask (½ at the mask's edge) through a smoothstep that is flat to second
+        # order at both ends, interpolated by a cubic spline: the weight bends nowhere sharply,
+        # so the blend adds no curvature that would shorten a run's time step
+        width = (self.blend or BLEND_CORRELATION_LENGTHS * self.correlation_length) * units.M_TO_NM
+        pad_nodes = int(np.ceil(2 * width / step)) + 4
+        padded = np.pad(known, pad_nodes, constant_values=False).astype(float)
+        smooth = ndimage.gaussian_filter(padded, 0.5 * width / step)
+        wx = mx[0] + step * np.arange(-pad_nodes, len(mx) + pad_nodes)
+        wy = my[0] + step * np.arange(-pad_nodes, len(my) + pad_nodes)
+        inside = (gx >= wx[0]) & (gx <= wx[-1]) & (gy >= wy[0]) & (gy <= wy[-1])
+        # the map continued by its edge values over the padding: a spline evaluated past its
+        # data would extrapolate its last cubic, and bend
+        u_map = RectBivariateSpline(wy, wx, np.pad(filled, pad_nodes, mode="edge")).ev(
+            gy.ravel(), gx.ravel()
+        )
+        level = RectBivariateSpline(wy, wx, smooth).ev(gy.ravel(), gx.ravel())
+        z = np.clip((level - 0.02) / (0.5 - 0.02), 0.0, 1.0)
+        weight = np.where(inside.ravel(), z**3 * (10 - 15 * z + 6 * z * z), 0.0)
+        u = (weight * u_map).reshape(gx.shape) * ctx.kt
+        if self.rms_kT > 0:
+            outside = Disorder(rms_kT=self.rms_kT, correlation_length=self.correlation_length)
+            noise = outside.sample(SampleContext(gx, gy, ctx.kt, ctx.seed)).u
+            u = u + (1.0 - weight.reshape(gx.shape)) * noise
+        ux = _fourth_order_derivative(u, h, 1)
+        uy = _fourth_order_derivative(u, h, 0)
+        uxy = _fourth_order_derivative(ux, h, 0)
+        inner = (slice(pad, -pad), slice(pad, -pad))
+        return Samples(u[inner].copy(), ux[pad:-pad, :].copy(), uy[:, pad:-pad].copy(), uxy.copy())
+
+
+def _map_values(path: str) -> np.ndarray:
+    """The 2-D array of a measured map's .npy file (NaN allowed), checked."""
+    file = Path(path)
+    if not file.is_file() or file.suffix.lower() != ".npy":
+        raise ValueError(f"an existing .npy file of U in k_BT (no such file {file})")
+    try:
+        values = np.asarray(np.load(io.BytesIO(file.read_bytes()), allow_pickle=False), float)
+    except (OSError, ValueError, EOFError) as err:
+        raise ValueError(f"a readable .npy file ({err or type(err).__name__})") from None
+    if values.ndim != 2 or min(values.shape) < 4:
+        raise ValueError(f"a 2-D array of at least 4×4 values (the file holds {values.shape})")
+    return values
+
+
 def _fourth_order_derivative(f: np.ndarray, spacing: float, axis: int) -> np.ndarray:
     """∂f along ``axis`` by the fourth-order central difference.
 
@@ -596,7 +697,7 @@ class EdgeStrayField(_Kind):
 
 
 Potential = Annotated[
-    Gaussian | Periodic | Band | RandomPinning | Disorder | GridFile | EdgeStrayField,
+    Gaussian | Periodic | Band | RandomPinning | Disorder | GridFile | MeasuredMap | EdgeStrayField,
     Field(discriminator="kind"),
 ]
 KINDS: dict[str, type[_Kind]] = {
@@ -606,6 +707,7 @@ KINDS: dict[str, type[_Kind]] = {
     "random_pinning": RandomPinning,
     "disorder": Disorder,
     "grid": GridFile,
+    "measured": MeasuredMap,
     "edge_stray_field": EdgeStrayField,
 }
 # pydantic names the member tried in an error's location: not a field (to_input_error)
