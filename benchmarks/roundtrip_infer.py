@@ -1,156 +1,319 @@
-"""Round trip of ``skygas infer``: simulate a known gas, write its tracks, infer, compare.
+"""``skygas infer`` on gases it did not make: the validation table of docs/inference.md.
 
-For each (frames, skyrmions) of the table a walled 1.2 µm square of S2 at 300 K with a random
-landscape (disorder, rms 1.5 k_BT, correlation length 60 nm), its paper pair and wall laws, and a
-3 nm localisation error per coordinate is simulated
-(:func:`skygas.inference.synthetic.simulated_tracks`),
-then inferred (:func:`skygas.inference.infer`). Printed per row:
+Each case is simulated by a generator that shares nothing with skygas's engine: the plain NumPy
+Euler–Maruyama simulator of ``tests/inference/independent_gas.py`` (its own laws: Gaussian
+wells, a K₁ or the paper's S2 pair law, exponential walls, a drive; walled, periodic, or seen
+through a field of view), or, with ``--peer DIR``, tracks written by an external particle code
+(a folder per case with ``tracks.csv`` and ``truth.json``, see docs/inference.md). The tracks go
+through :func:`skygas.inference.infer` as a user's would, and the inferred model is compared
+with the truth:
 
-- D read: (D of the MSD fit − true)/true, before the crowding correction;
-- D: (inferred − true)/true and in standard errors;
-- Hall angle: inferred and true [deg];
-- landscape: RMS of (inferred − true pinning) over the well-sampled nodes at least 150 nm from
-  the walls, relative to the true pinning's rms there (both with their mean removed); and over
-  those of them fixed across skyrmions (with their share);
-- pair force: the largest relative error of −dV/dr over the range the data fix, the largest
-  error in units of the inference's own standard error there, that standard error (median
-  over the range, relative), and the largest relative error where that error is at most 10 %;
-- wall potential: the largest error of W(d) relative to W at the first sampled distance.
+- D: (inferred − true)/true, and in units of its own standard error;
+- Hall angle: inferred ± error against the truth [°] (``none`` where the data cannot fix it);
+- landscape: the share of the film well sampled, the RMS of (inferred − true) over it (both
+  with their mean over it removed) [k_BT], and the pinning strength (rms of U over it)
+  inferred / true; for a flat truth, whether the model has a landscape;
+- pair and wall: whether the model has the term, and where the force is reported as fixed
+  (its jackknife error within 5 %), the largest |F/F_true − 1|; for the wall also the
+  potential W at the closest distance against the truth, in units of its error;
+- self-check: passed, or what failed;
+- the inference's wall time.
 
-Usage: python benchmarks/roundtrip_infer.py [--frames 1000 4000] [--skyrmions 15 30] [--ibi 6]
+Usage::
+
+    python benchmarks/roundtrip_infer.py                      # every generated case
+    python benchmarks/roundtrip_infer.py --cases exp_pins_walls nano_s2
+    python benchmarks/roundtrip_infer.py --peer /path/to/peer-data   # add the external code's
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import sys
+import time
+from pathlib import Path
 
 import numpy as np
-from scipy.integrate import quad
-from scipy.interpolate import RegularGridInterpolator
 
-from skygas.core import units
-from skygas.inference.pair import ITERATIONS
-from skygas.inference.synthetic import simulated_tracks
-from skygas.physics.forces import paper_pair_force, paper_wall_force
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "inference"))
+
+import independent_gas as ig  # noqa: E402
+
+W = 30e-6
+EXPERIMENT = dict(
+    skyrmions=60,
+    frames=4000,
+    frame_interval=10e-3,
+    substeps=3,
+    width=W,
+    height=W,
+    diffusion=0.31e-12,
+    hall_angle=math.radians(60.0),
+    localisation_error=20e-9,
+    pixel_size=100e-9,
+)
+#: Gaussian wells of 3 k_BT and 1.5 µm, centres also beyond the film (homogeneous pinning)
+WELLS = ig.random_wells(40, W, W, 3.0, 1.5e-6, seed=3, margin=-4.5e-6)
+K1 = ("k1", 17.6e6, 1e-6)
+S2_FORCE = 1.44e-12 / (ig.BOLTZMANN * 300.0)  # the paper's F₀ for S2, in k_BT/m
+S2 = dict(
+    skyrmions=30,
+    frames=4000,
+    frame_interval=1e-9,
+    substeps=10,
+    width=1.2e-6,
+    height=1.2e-6,
+    diffusion=4.38e-9,
+    hall_angle=math.radians(77.0),
+    localisation_error=2e-9,
+    pixel_size=5e-9,
+)
+
+CASES = {
+    "exp_free_fov": ig.GasSpec(
+        **{**EXPERIMENT, "width": 60e-6, "height": 60e-6, "skyrmions": 120},
+        boundary="periodic",
+        field_of_view=(15e-6, 15e-6, 45e-6, 45e-6),
+    ),
+    "exp_pins_walls": ig.GasSpec(**EXPERIMENT, boundary="walls", wells=WELLS, wall=(5.0, 1.0e-6)),
+    "exp_pair_walls": ig.GasSpec(
+        **EXPERIMENT, boundary="walls", pair=K1, pair_cutoff=8e-6, wall=(5.0, 1.0e-6)
+    ),
+    "exp_pins_pair_periodic": ig.GasSpec(
+        **EXPERIMENT, boundary="periodic", wells=WELLS, pair=K1, pair_cutoff=8e-6
+    ),
+    "exp_pins_pair_fov": ig.GasSpec(
+        **{**EXPERIMENT, "width": 45e-6, "height": 45e-6, "skyrmions": 135},
+        boundary="periodic",
+        wells=ig.random_wells(68, 45e-6, 45e-6, 3.0, 1.5e-6, seed=4),
+        pair=K1,
+        pair_cutoff=8e-6,
+        field_of_view=(7.5e-6, 7.5e-6, 37.5e-6, 37.5e-6),
+    ),
+    "exp_pins_drive": ig.GasSpec(
+        **EXPERIMENT, boundary="periodic", wells=WELLS, drive=(0.8e6, 0.3e6)
+    ),
+    "exp_no_magnus": ig.GasSpec(
+        **{**EXPERIMENT, "hall_angle": 0.0},
+        boundary="periodic",
+        wells=WELLS,
+        pair=K1,
+        pair_cutoff=8e-6,
+    ),
+    "exp_no_localisation_error": ig.GasSpec(
+        **{**EXPERIMENT, "localisation_error": 0.0},
+        boundary="periodic",
+        wells=WELLS,
+        pair=K1,
+        pair_cutoff=8e-6,
+    ),
+    "nano_s2": ig.GasSpec(
+        **S2,
+        boundary="walls",
+        wells=ig.random_wells(400, 1.2e-6, 1.2e-6, 1.5, 30e-9, seed=5, margin=-90e-9),
+        pair=("s2", S2_FORCE, 38.2e-9),
+        pair_cutoff=300e-9,
+        wall=(8.0, 20e-9),
+    ),
+}
 
 
-def row(frames: int, skyrmions: int, ibi: int, seed: int) -> dict:
-    gas = simulated_tracks(skyrmions=skyrmions, frames=frames, seed=seed)
-    outline = gas.outline
-    res = gas.infer(ibi_iterations=ibi, seed=seed)
-    s = res.summary
-    t = gas.thiele
-    d_true = t.diffusion_constant(gas.temperature)
-    hall_true = math.atan2(t.gyrocoupling, t.friction)
-    # landscape
-    g = res.landscape.grid
-    truth = RegularGridInterpolator((gas.landscape_y, gas.landscape_x), gas.landscape_kt)
-    gx, gy = np.meshgrid(g.x, g.y)
-    true_u = truth(np.column_stack([gy.ravel(), gx.ravel()])).reshape(gx.shape)
-    from skygas.inference.wall import wall_distance
+def _outline(spec: ig.GasSpec):
+    from skygas.physics.geometry import rectangle
 
-    far = wall_distance(outline, gx, gy) >= 150e-9
-    area = res.landscape.well_sampled & far
-    a = res.pinning[area] - np.mean(res.pinning[area])
-    b = true_u[area] - np.mean(true_u[area])
-    land_rel = float(np.sqrt(np.mean((a - b) ** 2)) / np.std(b)) if area.any() else float("nan")
-    fixed = res.landscape.fixed_across_skyrmions & far
-    fixed_rel, fixed_share = float("nan"), float(fixed.sum() / max(area.sum(), 1))
-    if fixed.sum() > 10:
-        a2 = res.pinning[fixed] - np.mean(res.pinning[fixed])
-        b2 = true_u[fixed] - np.mean(true_u[fixed])
-        fixed_rel = float(np.sqrt(np.mean((a2 - b2) ** 2)) / np.std(b2))
-    kt = units.BOLTZMANN * gas.temperature
-    d_sk, f0 = t.skyrmion_diameter, t.force_scale
-    # pair force over the fixed range
-    pair_err, pair_se, pair_rel_se = float("nan"), float("nan"), float("nan")
-    pair_tight, pair_tight_range = float("nan"), None
-    if res.ibi.coef is not None and res.ibi.fixed_range:
-        r = np.linspace(*res.ibi.fixed_range, 20)
-        f_inf, f_se = (v * kt for v in res.ibi.force(r))
-        f_true = paper_pair_force(r / d_sk, *gas.material.pair_law) * f0
-        pair_err = float(np.max(np.abs(f_inf / f_true - 1)))
-        pair_se = float(np.max(np.abs(f_inf - f_true) / f_se))
-        pair_rel_se = float(np.median(f_se / f_inf))
-        tight = f_se <= 0.1 * f_inf
-        if tight.any():
-            pair_tight = float(np.max(np.abs(f_inf[tight] / f_true[tight] - 1)))
-            pair_tight_range = [round(r[tight][0] * 1e9), round(r[tight][-1] * 1e9)]
-    wall_err = float("nan")
-    w = res.wall
-    if w.coef is not None and w.sampled_range:
-        from skygas.inference.laws import potential
+    if spec.boundary != "walls":
+        return None
+    return rectangle(spec.width, spec.height, center=(spec.width / 2, spec.height / 2))
 
-        d = np.linspace(w.sampled_range[0], w.bulk_from, 20)
-        cut = w.bulk_from  # the inference sets W = 0 there; compare W(d) − W(bulk) for both
 
-        def w_true(x):
-            return (
-                quad(lambda z: paper_wall_force(z / d_sk, gas.material.wall_law) * f0, x, cut)[0]
-                / kt
+def peer_spec(folder: Path) -> tuple[ig.GasSpec, dict]:
+    """The truth of an external code's case as a spec (SI: λ = 100 nm, 1 time unit = 1 µs)."""
+    truth = json.loads((folder / "truth.json").read_text())
+    lam = 100e-9
+    t0 = 1e-6
+    pins = truth.get("pins") or {}
+    wells = np.zeros((0, 4))
+    if pins.get("n"):
+        n = pins["n"]
+        wells = np.column_stack(
+            [
+                np.asarray(pins["x_lambda"]) * lam,
+                np.asarray(pins["y_lambda"]) * lam,
+                np.full(n, pins["depth_kBT"]),
+                np.full(n, pins["R0_lambda"] * lam / math.sqrt(2)),  # exp(−r²/R0²) = e^(−r²/2s²)
+            ]
+        )
+    pair = None
+    if (truth.get("pair") or {}).get("on"):
+        pair = ("k1", truth["pair"]["U0_kBT_per_lambda"] / lam, lam)
+    side = truth["box"]["L_lambda"] * lam
+    spec = ig.GasSpec(
+        skyrmions=truth["N"],
+        frames=truth["frames"],
+        frame_interval=truth["frame_interval_time_units"] * t0,
+        width=side,
+        height=side,
+        boundary="periodic",
+        diffusion=truth["D_free_lambda2_per_time"] * lam**2 / t0,
+        hall_angle=math.radians(truth["hall_angle"]["theta_H_deg"]),
+        wells=wells,
+        pair=pair,
+        pair_cutoff=6.0513 * lam,
+        pixel_size=lam / truth["px_per_lambda"],
+    )
+    return spec, truth
+
+
+def compare(spec: ig.GasSpec, summary: dict, result) -> dict:
+    """The table's numbers for one case."""
+    s = summary
+    out: dict = {}
+    d = s["diffusion_constant"]
+    in_se = (d - spec.diffusion) / s["diffusion_constant_error"]
+    out["D"] = f"{100 * (d / spec.diffusion - 1):+.1f} % ({in_se:+.1f} SE)"
+    if not s["diffusion_constant_fixed_by_data"]:
+        out["D"] = f"none: frames too coarse (as read {out['D']})"
+    if s["hall_angle"] is None:
+        out["Hall angle"] = f"none ({math.degrees(spec.hall_angle):.1f}°)"
+    else:
+        out["Hall angle"] = (
+            f"{math.degrees(s['hall_angle']):.1f} ± {math.degrees(s['hall_angle_error']):.1f}° "
+            f"({math.degrees(spec.hall_angle):.1f}°)"
+        )
+    fmap = result.map
+    gx, gy = np.meshgrid(fmap.grid.x, fmap.grid.y)
+    offset = spec.field_of_view[:2] if spec.field_of_view is not None else (0.0, 0.0)
+    true_u = ig.landscape(spec, gx + offset[0], gy + offset[1])
+    flat = len(spec.wells) == 0
+    terms = s["model_selection"]["terms"]
+    area = fmap.well_sampled
+    if flat:
+        out["landscape"] = (
+            "none (flat: right)" if "landscape" not in terms else "kept (flat: wrong)"
+        )
+    elif area.sum() >= 4:
+        scale = s["model"]["landscape_scale"]
+        a = scale * (fmap.u[area] - fmap.u[area].mean())
+        b = true_u[area] - true_u[area].mean()
+        out["landscape"] = (
+            f"{100 * area.mean() / max(fmap.film.mean(), 1e-12):.0f} % well sampled, "
+            f"RMS {np.sqrt(np.mean((a - b) ** 2)):.2f} k_BT, strength {np.std(a) / np.std(b):.2f}"
+        )
+    else:
+        sampled = fmap.sampled
+        a = fmap.u[sampled] - fmap.u[sampled].mean()
+        b = true_u[sampled] - true_u[sampled].mean()
+        out["landscape"] = (
+            f"0 % well sampled (sampled: RMS {np.sqrt(np.mean((a - b) ** 2)):.2f} k_BT, "
+            f"strength {np.std(a) / np.std(b):.2f})"
+        )
+    kt = ig.BOLTZMANN * spec.temperature
+    for term, truth_f, has in (
+        ("pair", lambda r: ig.pair_force(spec, r), spec.pair is not None),
+        (
+            "wall",
+            lambda d: ig.wall_potential(spec, d) / spec.wall[1] if spec.wall else 0 * d,
+            spec.wall is not None and spec.boundary == "walls",
+        ),
+    ):
+        fitted = s[term]["fitted"]
+        kept = term in terms
+        if not kept:
+            out[term] = "none (right)" if not has else "none (wrong)"
+            continue
+        if not has:
+            out[term] = "kept (wrong)"
+            continue
+        r = np.array(fitted["r_m"])
+        f = np.array(fitted["force_N"]) / kt
+        err = np.array(fitted["force_error_N"]) / kt
+        fixed = (f > 0) & (err <= 0.05 * f)
+        text = "kept, fixed nowhere"
+        if fitted["fixed_range_m"] is None:
+            # infer says no distance is fixed (the frames are too coarse for the forces)
+            fixed[:] = False
+        if fixed.any():
+            ratio = f[fixed] / truth_f(r[fixed])
+            text = (
+                f"kept, {r[fixed][0] * 1e9:.0f}–{r[fixed][-1] * 1e9:.0f} nm fixed, "
+                f"max error {100 * np.max(np.abs(ratio - 1)):.0f} %"
             )
+        if term == "wall":
+            # W(d) at the closest distance: the truth relative to the wall law's end
+            w = fitted["potential_kT"][0]
+            w_err = fitted["potential_error_kT"][0]
+            assert spec.wall is not None
+            true_w = ig.wall_potential(spec, r[0]) - ig.wall_potential(
+                spec, fitted["basis"]["farthest_m"]
+            )
+            text += f"; W({r[0] * 1e9:.0f} nm) {w:.2f} ± {w_err:.2f} k_BT ({true_w:.2f})"
+        out[term] = text
+    check = s["consistency_check"]
+    out["self-check"] = (
+        "-"
+        if check is None
+        else "passed"
+        if check["passed"]
+        else "failed: " + ", ".join(check["failed"])
+    )
+    return out
 
-        wt = np.array([w_true(x) for x in d])
-        wi = potential(w.coef, d * 1e9) - potential(w.coef, cut * 1e9)
-        wall_err = float(np.max(np.abs(wi - wt)) / wt[0])
-    return {
-        "frames": frames,
-        "skyrmions": skyrmions,
-        "D_rel": s["diffusion_constant"] / d_true - 1,
-        "D_read_rel": s["diffusion_constant_as_read"] / d_true - 1,
-        "D_se": (s["diffusion_constant"] - d_true) / s["diffusion_constant_error"],
-        "hall_deg": math.degrees(s["hall_angle"]),
-        "hall_true_deg": math.degrees(hall_true),
-        "landscape_rel_rms": land_rel,
-        "landscape_fixed_rel_rms": fixed_rel,
-        "landscape_fixed_share": fixed_share,
-        "pair_force_max_rel": pair_err,
-        "pair_force_max_se": pair_se,
-        "pair_force_median_rel_se": pair_rel_se,
-        "pair_force_tight_max_rel": pair_tight,
-        "pair_force_tight_range_nm": pair_tight_range,
-        "pair_range_nm": None
-        if not res.ibi.fixed_range
-        else [round(v * 1e9) for v in res.ibi.fixed_range],
-        "wall_max_rel": wall_err,
-        "ibi_chi2": [round(c, 2) for c in res.ibi.chi2],
-    }
+
+def run_case(name: str, spec: ig.GasSpec, tracks=None, skyrmion_radius=None) -> dict:
+    from skygas.inference import infer
+
+    if tracks is None:
+        t0 = time.perf_counter()
+        gas = ig.simulate(spec)
+        tracks = gas.tracks
+        print(f"[{name}] simulated in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+    start = time.perf_counter()
+    result = infer(
+        tracks,
+        pixel_size=spec.pixel_size,
+        frame_interval=spec.frame_interval,
+        temperature=spec.temperature,
+        outline=_outline(spec),
+        skyrmion_radius=skyrmion_radius,
+        progress=lambda line: print(
+            f"[{name} {time.perf_counter() - start:6.1f} s] {line}", file=sys.stderr
+        ),
+    )
+    row = {"case": name, **compare(spec, result.summary, result)}
+    row["time"] = f"{time.perf_counter() - start:.0f} s"
+    return row
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--frames", type=int, nargs="+", default=[1000, 4000])
-    p.add_argument("--skyrmions", type=int, nargs="+", default=[15, 30])
+    p.add_argument("--cases", nargs="*", default=list(CASES), help=f"of {list(CASES)}")
     p.add_argument(
-        "--ibi", type=int, default=ITERATIONS, help="IBI iterations (default: infer's own)"
+        "--peer", type=Path, default=None, help="a folder of cases/tracks.csv+truth.json"
     )
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--jsonl", type=Path, default=None, help="append each row here as JSON")
     args = p.parse_args()
-    print(
-        "| frames | skyrmions | D read | D − D_true | in SE | Hall angle (true) | landscape RMS "
-        "| fixed across skyrmions: share, RMS | pair range | pair force max | in SE | its SE "
-        "| where SE ≤ 10 %: range, max | wall max | IBI χ² |"
-    )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for frames in args.frames:
-        for n in args.skyrmions:
-            r = row(frames, n, args.ibi, args.seed)
-            print(
-                f"| {frames} | {n} | {100 * r['D_read_rel']:+.1f} % | {100 * r['D_rel']:+.1f} % | "
-                f"{r['D_se']:+.1f} | "
-                f"{r['hall_deg']:.1f}° ({r['hall_true_deg']:.1f}°) | "
-                f"{100 * r['landscape_rel_rms']:.0f} % | "
-                f"{100 * r['landscape_fixed_share']:.0f} %, "
-                f"{100 * r['landscape_fixed_rel_rms']:.0f} % | "
-                f"{r['pair_range_nm']} nm | "
-                f"{100 * r['pair_force_max_rel']:.0f} % | {r['pair_force_max_se']:.1f} | "
-                f"{100 * r['pair_force_median_rel_se']:.0f} % | "
-                f"{r['pair_force_tight_range_nm']} nm, "
-                f"{100 * r['pair_force_tight_max_rel']:.0f} % | "
-                f"{100 * r['wall_max_rel']:.0f} % | {r['ibi_chi2']} |",
-                flush=True,
-            )
+    rows = []
+    todo = [(name, CASES[name], None, None) for name in args.cases]
+    if args.peer is not None:
+        import pandas as pd
+
+        for folder in sorted(d for d in args.peer.iterdir() if (d / "truth.json").is_file()):
+            spec, _ = peer_spec(folder)
+            todo.append((f"peer_{folder.name}", spec, pd.read_csv(folder / "tracks.csv"), None))
+    for name, spec, tracks, radius in todo:
+        row = run_case(name, spec, tracks, radius)
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+        if args.jsonl is not None:
+            with args.jsonl.open("a") as fh:
+                fh.write(json.dumps(row) + "\n")
+    keys = list(rows[0])
+    print("| " + " | ".join(keys) + " |")
+    print("|" + "---|" * len(keys))
+    for row in rows:
+        print("| " + " | ".join(str(row[k]) for k in keys) + " |")
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from skygas import cli
@@ -699,11 +700,17 @@ def test_the_estimator_against_a_counted_case(monkeypatch, capsys):
 # --- skygas infer: tracks in trackpy's format ------------------------------------------------
 _OUTLINE_CSV = "x,y\n0,0\n1e-6,0\n1e-6,1e-6\n0,1e-6\n"
 _GOOD_ROWS = "".join(f"{f},{p},{20 + p + 0.1 * f},{30 + p}\n" for f in range(40) for p in range(3))
+_STILL_ROWS = "".join(f"{f},{p},{10 * p},10\n" for f in range(100) for p in range(5))
+_SHORT_ROWS = "".join(
+    f"{f},{10 * f + p},{3 * p + 5},{f % 50}\n" for f in range(100) for p in range(3)
+)
 INFER_FILES = {
     "outline.csv": _OUTLINE_CSV,
     "tracks.csv": "frame,particle,x,y\n" + _GOOD_ROWS,
     "noframe.csv": "particle,x,y\n0,1,2\n1,2,3\n",
     "single.csv": "frame,particle,x,y\n0,0,10,10\n0,1,20,20\n",
+    "still.csv": "frame,particle,x,y\n" + _STILL_ROWS,
+    "short.csv": "frame,particle,x,y\n" + _SHORT_ROWS,
     "outside.csv": "frame,particle,x,y\n"
     + "".join(f"{f},{p},{500 + p},{30}\n" for f in range(40) for p in range(3)),
 }
@@ -725,6 +732,33 @@ INFER_CASES = {
     "no such tracks file": (
         [*_INFER, "none.csv", "--pixel-size", "1e-8", "--out", "OUT"],
         "tracks",
+    ),
+    "skyrmions that never move": (
+        [*_INFER, "still.csv", "--pixel-size", "1e-8", "--out", "OUT"],
+        "skyrmions that move",
+    ),
+    "tracks too short for a step before and after": (
+        [*_INFER, "short.csv", "--pixel-size", "1e-8", "--out", "OUT"],
+        "at least three frames",
+    ),
+    "a periodic box of three sides": (
+        [
+            *_INFER,
+            "tracks.csv",
+            "--pixel-size",
+            "1e-8",
+            "--periodic",
+            "1",
+            "2",
+            "3",
+            "--out",
+            "OUT",
+        ],
+        "--periodic",
+    ),
+    "a negative self-check length": (
+        [*_INFER, "tracks.csv", "--pixel-size", "1e-8", "--check-frames", "-1", "--out", "OUT"],
+        "--check-frames",
     ),
     "a zero temperature": (
         [
@@ -760,6 +794,38 @@ def test_infer_refuses_bad_tracks_in_one_line_and_writes_nothing(name, tmp_path)
     assert expected in lines[0], lines[0]
     assert "Traceback" not in proc.stderr
     assert _snapshot(tmp_path) == before
+
+
+def _pinned_pairs(rng) -> str:
+    """20 skyrmions that sit in pairs in 10 wells, never apart: the data that once stopped
+    ``infer`` ("only 2 fit at 1.44e-07 m separation", the wells' dip in g(r) taken for the
+    closest distance). Each wanders in its well (an Ornstein–Uhlenbeck walk)."""
+    frames, n = 300, 20
+    centre = np.column_stack([(np.arange(n) // 2) * 10 + 5.0, np.full(n, 50.0)])
+    pos = centre.copy()
+    rows = []
+    for f in range(frames):
+        pos = centre + 0.95 * (pos - centre) + rng.normal(0, 0.3, (n, 2))
+        rows += [f"{f},{p},{pos[p, 0]},{pos[p, 1]}\n" for p in range(n)]
+    return "frame,particle,x,y\n" + "".join(rows)
+
+
+def _one_walker(rng) -> str:
+    x, y = np.cumsum(rng.normal(0, 1, (2, 200)), axis=1) + 50
+    return "frame,particle,x,y\n" + "".join(f"{f},0,{x[f]},{y[f]}\n" for f in range(200))
+
+
+@pytest.mark.parametrize(
+    "name, make", [("pinned pairs", _pinned_pairs), ("one skyrmion", _one_walker)]
+)
+def test_infer_gives_a_model_for_data_that_once_stopped_it(name, make, tmp_path):
+    (tmp_path / "tracks.csv").write_text(make(np.random.default_rng(1)))
+    args = ["infer", "tracks.csv", "--pixel-size", "1e-7", "--frame-interval", "0.01",
+            "--temperature", "300", "--check-frames", "100", "--quiet", "--out", "out"]  # fmt: skip
+    proc = _run(args, tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert (tmp_path / "out" / "model.toml").is_file(), name
 
 
 # -- skygas optimize ----------------------------------------------------------------------------

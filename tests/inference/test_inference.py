@@ -158,51 +158,6 @@ def test_a_mask_outline_covers_its_pixels(tmp_path):
     assert (x0, y0) == pytest.approx((45.0, 15.0))  # pixel 5 starts at x = 4.5 px
 
 
-def test_a_held_out_map_does_not_see_its_own_block_of_time():
-    """The map a block of time reads its forces from is the same whatever that block contains."""
-    from skygas.analysis.frames import Frames
-
-    rng = np.random.default_rng(5)
-    n_frames, n = 80, 20
-    x = rng.uniform(0.1e-6, 0.9e-6, n_frames * n)
-    y = rng.uniform(0.1e-6, 0.9e-6, n_frames * n)
-    count = np.full(n_frames, n)
-    ids = np.tile(np.arange(n), n_frames)
-    fr = Frames(np.arange(n_frames) * 1e-9, count, ids, x, y)
-    outline = rectangle(1e-6, 1e-6, center=(0.5e-6, 0.5e-6))
-    lmap = landscape.boltzmann_inversion(fr, outline, 10e-9)
-    maps = list(landscape.held_out_maps(fr, lmap, folds=4))
-    first = maps[0][0]
-    moved = Frames(fr.time, count, ids, x.copy(), y.copy())
-    moved.x[first] = rng.uniform(0.1e-6, 0.9e-6, len(first))
-    again = list(landscape.held_out_maps(moved, lmap, folds=4))
-    np.testing.assert_array_equal(again[0][0], first)
-    np.testing.assert_allclose(again[0][1], maps[0][1])
-    assert not np.allclose(np.nan_to_num(again[1][1]), np.nan_to_num(maps[1][1]))
-
-
-def test_the_hall_angle_of_a_pinned_gas_within_3_standard_errors():
-    """15 skyrmions of S2 (θ_H = 77.0°) on a 1.5 k_BT landscape, 5 ns frames, 3 nm noise.
-
-    Regressed at the first lag on the force of the map of all positions, this gas reads
-    72.9° ± 0.8°; the held-out force and the extrapolation to τ → 0 read 77.4° ± 1.0°
-    (docs/inference.md).
-    """
-    from skygas.inference import mobility
-    from skygas.inference.synthetic import simulated_tracks
-
-    gas = simulated_tracks(skyrmions=15, frames=3000, seed=3)
-    data = tracks.load_tracks(gas.tracks, gas.pixel_size, gas.frame_interval, subtract_drift="no")
-    fr = data.frames
-    sigma = diffusion.estimate_diffusion(fr).sigma
-    lmap = landscape.boltzmann_inversion(fr, gas.outline, gas.pixel_size / 2)
-    hall = mobility.fit_mobility(fr, mobility.landscape_force(fr, lmap), sigma)
-    true = math.atan2(gas.thiele.gyrocoupling, gas.thiele.friction)
-    assert math.degrees(true) == pytest.approx(77.0, abs=0.05)
-    assert abs(hall.angle - true) < 3 * hall.error
-    assert hall.error < math.radians(2.5)  # the data resolve it
-
-
 def test_force_balance_restores_a_crowded_gas_landscape():
     """30 skyrmions of S2 in 1.44 µm² on a 1.5 k_BT landscape: the neighbours flatten −ln ρ.
 
@@ -238,3 +193,27 @@ def test_force_balance_restores_a_crowded_gas_landscape():
     assert raw_amp < 0.7  # the crowding is there to undo
     assert 0.8 < amp < 1.1
     assert corr > 0.85 and corr > raw_corr
+
+
+def test_the_bias_spread_between_correction_rounds_is_their_standard_deviation():
+    from skygas.inference.sampling import _bias_spread
+
+    rounds = [
+        {
+            "model_diffusion_constant": 2.0,
+            "read_diffusion_constant": 2.0,
+            "model_hall_angle": 0.0,
+            "read_hall_angle": 0.1,
+        },
+        {
+            "model_diffusion_constant": 4.0,
+            "read_diffusion_constant": 4.4,
+            "model_hall_angle": 0.2,
+            "read_hall_angle": 0.2,
+        },
+    ]
+    d_spread, hall_spread = _bias_spread(rounds, 3.0)
+    # read/made: 1.0 and 1.1 → sd 0.1/√2 of D = 3; turns 0.1 and 0.0 → sd 0.1/√2
+    assert d_spread == pytest.approx(3.0 * 0.1 / math.sqrt(2))
+    assert hall_spread == pytest.approx(0.1 / math.sqrt(2))
+    assert _bias_spread(rounds[:1], 3.0) == (0.0, 0.0)

@@ -273,7 +273,7 @@ def command_reports(tmp_path_factory, reshuffler_report):
             root / "track" / "tracks.csv",
             *("--pixel-size", "14e-9", "--frame-interval", "2e-9", "--temperature", "300"),
             *("--outline", MOVIE.parent / "chamber-movie-outline.csv"),
-            *("--ibi-iterations", "1", "--ibi-frames", "100"),
+            *("--check-frames", "200"),
         ],
         "optimize": ["optimize", root / "study.toml", "--trials", "6", "--serial", "--quiet"],
     }

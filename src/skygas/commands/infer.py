@@ -1,8 +1,10 @@
 """``skygas infer TRACKS --out DIR``: from tracked skyrmions to a particle model.
 
-Reads trackpy's tracks, infers diffusion, Hall angle, pinning landscape, wall and pair laws
-(:mod:`skygas.inference`) and writes inference.json, landscape.nc, model.toml and report.html.
-The handler imports the inference when it runs (building the command line imports no numerics).
+Reads trackpy's tracks, infers D, the Hall angle and the forces the data show (a landscape, a
+pair law, a wall law, a drive) from the steps (:mod:`skygas.inference`), checks the model by
+running it, and writes inference.json, landscape.nc, landscape-map.npy, model.toml and
+report.html. The handler imports the inference when it runs (building the command line imports
+no numerics).
 """
 
 from __future__ import annotations
@@ -14,51 +16,109 @@ from pathlib import Path
 
 from skygas.commands.json_output import add_json_option
 
+#: Exit status of a model whose self-check failed under ``--strict``.
+EXIT_CHECK_FAILED = 1
+
 
 def register(subparsers) -> None:
     """Add ``skygas infer`` to ``subparsers``."""
     p = subparsers.add_parser(
         "infer",
-        help="tracked skyrmions (trackpy) → diffusion, landscape, pair and wall laws, a model",
+        help="tracked skyrmions (trackpy) → D, Hall angle, the forces the data show, a model",
         description="Infer a particle model from tracks in trackpy's format (frame, particle, x, "
-        "y in pixels): D and the Hall angle, the pinning landscape by Boltzmann inversion, the "
-        "wall potential, the pair potential by iterative Boltzmann inversion with skygas "
-        "simulations. Writes DIR/inference.json, landscape.nc, model.toml (use it as "
-        "--material DIR/model.toml) and report.html. See docs/inference.md.",
+        "y in pixels): D from the noise of the steps, the Hall angle and the forces from their "
+        "drift (a landscape, a pair law, a wall law, a drive: each only where the held-out "
+        "likelihood asks for it), errors by jackknife over blocks of time; then a run of the "
+        "model must reproduce the movie. Writes DIR/inference.json, landscape.nc, "
+        "landscape-map.npy, model.toml (use it as --material DIR/model.toml) and report.html. "
+        "See docs/inference.md.",
     )
     p.add_argument("tracks", metavar="TRACKS", help="a .csv, .h5 or .parquet file of tracks")
     p.add_argument("--pixel-size", type=float, default=None, help="metres per pixel (required)")
     p.add_argument(
         "--frame-interval", type=float, default=None, help="seconds between frames (required)"
     )
-    p.add_argument(
-        "--outline",
-        required=True,
-        help="the device: a CSV of x,y vertices [m] or a binary mask image on the pixel grid",
-    )
     p.add_argument("--temperature", type=float, required=True, help="the film's temperature [K]")
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument(
-        "--base-material",
-        default="S2",
-        help="preset or TOML for what tracks cannot measure (M_s, film thickness, α)",
+        "--outline",
+        default=None,
+        help="the device or the field of view: a CSV of x,y vertices [m] or a binary mask image "
+        "on the pixel grid (default: the field of view is the tracks' extent, with no walls)",
     )
     p.add_argument(
-        "--skyrmion-radius", type=float, default=None, help="R [m] (default: the base material's)"
+        "--walls",
+        choices=("infer", "none", "outline"),
+        default="infer",
+        help="a wall force where the tracks show one (infer), never (none), or always at the "
+        "outline (outline); an outline that tracks leave and enter through is a field of view, "
+        "never a wall, unless 'outline' is given",
+    )
+    p.add_argument(
+        "--pair",
+        choices=("infer", "none", "material"),
+        default="infer",
+        help="a pair law fitted to the tracks where they show one (infer), no interaction "
+        "(none), or the base material's law (material)",
+    )
+    p.add_argument(
+        "--periodic",
+        nargs="+",
+        default=["auto"],
+        metavar="LX LY",
+        help="tracks in a periodic box: 'auto' (found from tracks that wrap), 'none', or the "
+        "box's sides L_x L_y [m]",
+    )
+    p.add_argument(
+        "--base-material",
+        default="S2",
+        help="preset or TOML for what tracks cannot measure (M_s, film thickness, α; the pair "
+        "law of --pair material)",
+    )
+    p.add_argument(
+        "--skyrmion-radius",
+        type=float,
+        default=None,
+        help="R [m], the model's length unit (default: the base material's, or a quarter of the "
+        "closest distance between tracked skyrmions where that is far larger)",
     )
     p.add_argument(
         "--drift", choices=("auto", "yes", "no"), default="auto", help="subtract trackpy's drift"
     )
-    p.add_argument("--ibi-iterations", type=int, default=6, help="IBI iterations at most")
     p.add_argument(
-        "--ibi-frames",
+        "--check-frames",
         type=int,
-        default=None,
-        help="frames per IBI simulation (default: the movie's, at most 2000)",
+        default=2000,
+        help="frames of the self-check's run of the model (at most the movie's; 0: no check)",
     )
-    p.add_argument("--seed", type=int, default=0, help="seed of the bootstrap and simulations")
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="exit with status 1 when the self-check fails or the frames are too coarse to fix D",
+    )
+    p.add_argument("--seed", type=int, default=0, help="seed of the self-check's run")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     add_json_option(p, "the inferred model: inference.json's numbers")
     p.set_defaults(func=_infer)
+
+
+def _periodic(values: list[str]):
+    """``--periodic``: "auto", None, or (L_x, L_y) [m]."""
+    from skygas.core.errors import InputError
+
+    if values == ["auto"]:
+        return "auto"
+    if values == ["none"]:
+        return None
+    try:
+        lengths = tuple(float(v) for v in values)
+    except ValueError:
+        lengths = ()
+    if len(lengths) != 2:
+        raise InputError(
+            "--periodic", " ".join(values), "auto, none, or two lengths L_x L_y [m] of the box"
+        )
+    return lengths
 
 
 def _infer(args: argparse.Namespace) -> int:
@@ -66,36 +126,43 @@ def _infer(args: argparse.Namespace) -> int:
     from skygas.core.errors import require
     from skygas.inference import infer
     from skygas.inference.files import write_outputs
+    from skygas.inference.selfcheck import summary_lines
 
-    require(args.ibi_iterations >= 0, "--ibi-iterations", args.ibi_iterations, "an integer >= 0")
-    require(
-        args.ibi_frames is None or args.ibi_frames >= 100,
-        "--ibi-frames",
-        args.ibi_frames,
-        "at least 100 frames",
-    )
+    require(args.check_frames >= 0, "--check-frames", args.check_frames, "an integer >= 0")
+    periodic = _periodic(args.periodic)
     started = time.time()
+    quiet = args.json or args.quiet
 
     def progress(line: str) -> None:
-        if not args.json:
+        if not quiet:
             print(f"[{time.time() - started:6.1f} s] {line}", file=sys.stderr, flush=True)
 
     result = infer(
         args.tracks,
         pixel_size=args.pixel_size,
         frame_interval=args.frame_interval,
-        outline=args.outline,
         temperature=args.temperature,
+        outline=args.outline,
+        walls=args.walls,
+        pair=args.pair,
+        periodic=periodic,
         base_material=args.base_material,
         skyrmion_radius=args.skyrmion_radius,
         subtract_drift=args.drift,
-        ibi_iterations=args.ibi_iterations,
-        ibi_frames=args.ibi_frames,
+        check_frames=args.check_frames or None,
         seed=args.seed,
         progress=progress,
     )
     write_outputs(result, args.out)
     s = result.summary
+    check = s["consistency_check"]
+    failed = check is not None and not check["passed"]
+    if not s["diffusion_constant_fixed_by_data"]:
+        failed = True
+        print(f"skygas: warning: {s['diffusion_constant_note']}", file=sys.stderr)
+    if check is not None and not check["passed"]:
+        for line in summary_lines(check):
+            print(f"skygas: warning: the model fails its self-check: {line}", file=sys.stderr)
     if args.json:
         print_json(
             {
@@ -103,24 +170,19 @@ def _infer(args: argparse.Namespace) -> int:
                 "diffusion_constant_error": s["diffusion_constant_error"],
                 "hall_angle": s["hall_angle"],
                 "hall_angle_error": s["hall_angle_error"],
-                "pair_range_fixed_by_data_m": s["pair"]["range_fixed_by_data_m"],
-                "wall_range_fixed_by_data_m": s["wall"]["sampled_range_m"],
+                "terms": s["model_selection"]["terms"],
+                "film": s["film"]["kind"],
+                "self_check_passed": None if check is None else check["passed"],
                 "model": str(Path(args.out) / "model.toml"),
             }
         )
-    else:
+    elif not args.quiet:
+        from skygas.inference.report import headline_rows
+
+        for label, value in headline_rows(result):
+            print(f"{label}: {value}")
         print(
-            f"D = {s['diffusion_constant']:.4g} ± {s['diffusion_constant_error']:.2g} m²/s, "
-            f"Hall angle = {s['hall_angle']:.3f} ± {s['hall_angle_error']:.3f} rad"
+            f"results in {Path(args.out).resolve()}: inference.json, landscape.nc, "
+            "landscape-map.npy, model.toml, report.html"
         )
-        land = s["landscape"]
-        print(
-            f"pinning: rms {land['pinning_rms_kT']:.2f} k_BT, correlation length "
-            f"{land['pinning_correlation_length_m'] * 1e9:.0f} nm, kernel "
-            f"{land['kernel_width_m'] * 1e9:.1f} nm"
-        )
-        print(
-            f"results in {Path(args.out).resolve()}: inference.json, landscape.nc, model.toml, "
-            "report.html"
-        )
-    return 0
+    return EXIT_CHECK_FAILED if failed and args.strict else 0

@@ -13,7 +13,7 @@ the mean of the neighbours' pair forces on the skyrmions found at r. So
     U(r)/k_BT = −ln ρ(r) + Φ(r),        ∇Φ = f̄/k_BT,
 
 and f̄ is measured on the movie's own frames: the pair force of every neighbour on every
-tracked position, with the pair law the data fix (:mod:`skygas.inference.pair`), averaged with
+tracked position, with the pair law the steps show (:mod:`skygas.inference.forces`), averaged with
 the landscape's kernel. Φ is the least-squares potential of that field on the well-sampled
 nodes (a sparse solve). No simulation enters, so no simulation noise does either. On a
 round-trip gas of 30 skyrmions, −ln ρ has 0.49 of the true landscape's amplitude and a

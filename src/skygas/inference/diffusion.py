@@ -1,26 +1,19 @@
-"""The diffusion constant from tracks: MSD with the localisation error as intercept, blocked errors.
+"""D read off the mean-squared displacement, and the blocks of time every error uses.
 
-A tracked position is the true one plus a static localisation error of variance σ² per
-coordinate, and a skyrmion in a landscape also moves deterministically, at the velocity
-v = M·(−∇U) of the local force (for a skyrmion mostly along the equipotentials: the gyrotropic
-part of the mobility M), so over the first frame lags of a record
+The model's D comes from the noise of the steps (:mod:`skygas.inference.dynamics`). This module
+keeps the classic reading for comparison: a tracked position is the true one plus a static
+localisation error of variance σ² per coordinate, and a skyrmion in a landscape also drifts, so
+over the first frame lags
 
     MSD(τ) = 4 σ² + 4 D τ + ⟨v²⟩ τ² + O(τ³)
 
-in two dimensions. D, σ² and ⟨v²⟩ come from a least-squares quadratic through the MSD at lags
-1 … :data:`FIT_LAGS` (the MSD pooled over every displacement at each lag). A line
-alone would take the drift for diffusion: in a gyrotropic gas on a landscape of 1.5 k_BT the
-MSD/4τ at the first lag already exceeds the free D by 12 %. The O(τ³) rest (the drift
-decorrelates as the skyrmion moves, and a neighbour's or a wall's push within a frame looks like
-diffusion) leaves a bias that grows with the density: :mod:`skygas.inference.bias` measures it
-on a run of the inferred model and removes it. Frames are correlated, so the standard errors come
-from **blocking**: the record is cut
-into :data:`BLOCKS` contiguous blocks of time, D is fitted in each, and the error is the
-standard error of the mean of the block values, s/√blocks (valid when a block is much longer
-than the correlation time of the fitted displacements, a few frame lags).
+in two dimensions, fitted as a quadratic through lags 1 … :data:`FIT_LAGS`. In a crowded gas
+of gyrotropic skyrmions this reads more than the free D: the neighbours' pushes within a frame,
+turned by the gyrotropic mobility, add to the spread of the steps.
 
-Each skyrmion's own D uses the ensemble's σ² as intercept (one track is too short to fix both).
-
+Frames are correlated, so standard errors come from **blocking**: the record is cut into
+:data:`BLOCKS` contiguous blocks of time (:func:`time_blocks`, :func:`block_of_frame`), the
+quantity is computed in each, and the error is s/√blocks (:func:`blocked`).
 """
 
 from __future__ import annotations

@@ -140,6 +140,24 @@ def choose_bandwidth(
     return float(candidates[int(np.argmax(scores))]), scores
 
 
+def best_density_score(frames: Frames, outline: Outline, nodes: int = 100) -> float:
+    """The best held-out log-likelihood per position of the positions' kernel density.
+
+    On a grid of about ``nodes`` a side over ``outline``, over kernel widths from 1.5 spacings
+    to a fifth of the outline: how concentrated the positions are, out of sample.
+    """
+    from skygas.core.units import M_TO_NM
+
+    x0, y0, x1, y1 = (v / M_TO_NM for v in outline.region.bounds)
+    grid = make_grid(outline, max(x1 - x0, y1 - y0) / nodes)
+    side = min(grid.x[-1] - grid.x[0], grid.y[-1] - grid.y[0])
+    candidates = np.geomspace(1.5 * grid.h, max(side / 5, 3 * grid.h), 8)
+    _, scores = choose_bandwidth(frames, grid, candidates)
+    area = float(np.sum(grid.inside)) * grid.h**2
+    # per unit area: the scores are ln ρ [1/m²]; a larger view is not a blurrier one
+    return float(np.max(scores) + np.log(area))
+
+
 @dataclass(frozen=True)
 class LandscapeMap:
     """U [k_BT] on ``grid`` (NaN off the film) ± ``error``; ``well_sampled`` nodes; kernel width.
@@ -250,25 +268,6 @@ def _bootstrap(
             np.all(np.isfinite(replicas), axis=0), np.nanstd(replicas, axis=0, ddof=1), np.inf
         )
     return np.where(film, error, np.nan)
-
-
-def held_out_maps(frames: Frames, lmap: LandscapeMap, folds: int = CV_BLOCKS):
-    """For each of ``folds`` contiguous blocks of time: its entries and U [k_BT] from the others.
-
-    Yields (entries (n,) int, U (ny, nx)): the map of the other blocks' positions, with the
-    kernel width of ``lmap``. A force read from it at an entry does not contain that entry's own
-    position (nor its neighbours in time, which follow the same noise): read from the map of all
-    positions, the force at a position leans toward where the skyrmion went next, and a
-    displacement looks more aligned with the force than it is.
-    """
-    grid = lmap.grid
-    film = grid.inside > 0
-    entry_block = block_of_frame(frames.n_frames, folds)[frames.frame_of_entry]
-    per_block = _binned_by_block(frames, grid, folds)
-    total = per_block.sum(axis=0)
-    for k in range(len(per_block)):
-        rho = smoothed_density(total - per_block[k], grid, lmap.bandwidth)
-        yield np.flatnonzero(entry_block == k), _energy(rho, film)
 
 
 def _energy(rho: np.ndarray, film: np.ndarray) -> np.ndarray:

@@ -1,72 +1,94 @@
-"""``infer``: tracks → diffusion, Hall angle, pinning landscape, wall and pair laws → a model.
+"""``infer``: tracks → the forces the data show, D and the Hall angle → a model, checked.
 
 The steps, each in its own module of :mod:`skygas.inference`:
 
-1. tracks in SI, drift removed where significant (:mod:`~skygas.inference.tracks`);
-2. U = −k_BT ln ρ with a cross-validated kernel and a bootstrap uncertainty
-   (:mod:`~skygas.inference.landscape`);
-3. the neighbours' mean push Φ by force balance (:mod:`~skygas.inference.crowding`) and the wall
-   potential W(d) from the density against the distance to the outline
-   (:mod:`~skygas.inference.wall`); the pinning is U + Φ − W(d);
-4. D and the localisation error from the short-lag MSD, blocked errors, per skyrmion
-   (:mod:`~skygas.inference.diffusion`);
-5. the Hall angle from the displacements in the landscape's held-out force
-   (:mod:`~skygas.inference.mobility`), and with D the Thiele parameters
-   (:mod:`~skygas.inference.model`);
-6. the pair potential by iterative Boltzmann inversion with skygas simulations of the whole model
-   (:mod:`~skygas.inference.pair`), in which D is retuned until the model's runs, read by the
-   same MSD fit, read what the movie reads (:mod:`~skygas.inference.bias`);
-7. the consistency check: a run of the final model, its MSD(τ)/4τ against the measured one at
-   the longer lags, where pinning, walls and neighbours have slowed the skyrmions.
+1. tracks in SI, unwrapped if they wrap around a periodic box, a drift of the view removed
+   where it is one (:mod:`~skygas.inference.tracks`);
+2. the film: walls, an open field of view (tracks leave and enter), or a periodic box
+   (:mod:`~skygas.inference.film`);
+3. the candidate forces, sized from the tracks: a landscape, a pair law, a wall law, a drive
+   (:mod:`~skygas.inference.candidates`), and the displacements projected onto them
+   (:mod:`~skygas.inference.dynamics`): D from the noise, the Hall angle and every force from
+   the drift, jointly;
+4. the terms the data show, by held-out likelihood, with jackknife errors
+   (:mod:`~skygas.inference.forces`); the landscape on a grid with the area it is fixed on
+   (:mod:`~skygas.inference.maps`);
+5. cross-checks where the gas is in equilibrium: the landscape by Boltzmann inversion
+   (:mod:`~skygas.inference.landscape`, the neighbours' mean push taken out by
+   :mod:`~skygas.inference.crowding`) and the wall by the density against the distance to the
+   edge (:mod:`~skygas.inference.wall`);
+6. the model (:mod:`~skygas.inference.model`) and its self-check: runs of it must reproduce
+   the movie's MSD(τ), g(r) and density map within their errors
+   (:mod:`~skygas.inference.selfcheck`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from skygas._version import __version__
-from skygas.analysis import mean_squared_displacement
 from skygas.analysis.frames import Frames
 from skygas.core import units
 from skygas.core.errors import require
-from skygas.inference import bias, crowding, mobility, model, pair, tracks, wall
+from skygas.inference import (
+    candidates,
+    crowding,
+    dynamics,
+    forces,
+    maps,
+    model,
+    sampling,
+    selfcheck,
+    wall,
+)
 from skygas.inference import diffusion as diff
 from skygas.inference import landscape as land
-from skygas.inference.laws import force_table
+from skygas.inference.film import EDGE_STEPS, Film, box_film, field_of_view, tracks_leave
 from skygas.inference.outline import read_outline
-from skygas.physics.materials import load_material
+from skygas.inference.tracks import Tracks, load_tracks
+from skygas.physics.materials import derive_thiele, load_material
 
 #: Largest share of positions allowed outside the outline (by more than a pixel).
 OUTSIDE_SHARE = 0.01
-#: Lags [frames] of the consistency check.
-CHECK_LAGS = (1, 3, 10, 30, 100)
+#: The pair and wall forces are "fixed" where their jackknife error is at most this share.
+FIXED_SHARE = 0.05
+#: Frames of the self-check's model run at most.
+CHECK_FRAMES = 2000
+#: Points of a written force table.
+TABLE_POINTS = 24
+#: The map's grid: about this many nodes along the film's longer side.
+MAP_NODES = 120
+#: The model's landscape map, beside model.toml (model.toml's ``[[potentials]]`` names it).
+MAP_FILE = "landscape-map.npy"
+#: The modes of ``pair`` and ``walls``.
+PAIR_MODES = ("none", "infer", "material")
+WALL_MODES = ("none", "infer", "outline")
 
 
 @dataclass
 class Inference:
-    """What :func:`infer` found: ``summary`` (inference.json), the maps, the model table."""
+    """What :func:`infer` found: ``summary`` (inference.json) and what the files are made of."""
 
     summary: dict
-    landscape: land.LandscapeMap
-    crowding: np.ndarray
-    pinning: np.ndarray
-    wall: wall.WallProfile
-    ibi: pair.IBIResult
+    forces: forces.ForceInference
+    film: Film
+    tracks: Tracks
+    map: maps.ForceMap
+    boltzmann: np.ndarray | None
+    boltzmann_error: np.ndarray | None
+    wall_profile: wall.WallProfile | None
     material: dict
-    msd_lag_time: np.ndarray
-    msd_over_4tau: np.ndarray
-    msd_over_4tau_error: np.ndarray
-    model_msd_over_4tau: np.ndarray | None
-    tracks: tracks.Tracks
-    outline: object
+    potentials: list
+    map_values: np.ndarray
+    check: dict | None
 
 
-def _check_inside(frames: Frames, outline, pixel_size: float, source: str) -> None:
-    d = wall.wall_distance(outline, frames.x, frames.y)
+def _check_inside(frames: Frames, film: Film, pixel_size: float, source: str) -> None:
+    x, y = film.wrap(frames.x, frames.y)
+    d = wall.wall_distance(film.outline, x, y)
     outside = float(np.mean(d < -pixel_size))
     require(
         outside <= OUTSIDE_SHARE,
@@ -79,30 +101,85 @@ def _check_inside(frames: Frames, outline, pixel_size: float, source: str) -> No
     )
 
 
-def _wall_table(profile: wall.WallProfile, kt: float) -> dict | None:
-    """The engine's wall table of the fitted W(d) over its sampled range (None: no fit)."""
-    if profile.coef is None or profile.sampled_range is None:
-        return None
-    lo = profile.sampled_range[0] * 1e9
-    # up to where the fit has fallen to nothing (at least 10 nm past the first sampled distance)
-    return force_table(profile.coef, lo, max(profile.reach * 1e9, lo + 10.0), kt, 1e-9)
+def _film(data: Tracks, shape, walls: str, step: float) -> tuple[Film, str]:
+    """The film of the tracks (``shape``: the outline given, or None), and how it was decided."""
+    frames = data.frames
+    if data.box is not None:
+        return box_film(*data.box), "periodic: the tracks wrap around a box"
+    if shape is None:
+        fov = field_of_view(frames, 0.5 * data.pixel_size)
+        return Film("open", fov), "open: no outline given, the field of view is the tracks' extent"
+    if walls != "outline" and tracks_leave(frames, shape, step):
+        return Film("open", shape), "open: tracks end and start at the outline"
+    return Film("walls", shape), "walls: no track leaves through the outline"
 
 
-def _pair_force_table(ibi: pair.IBIResult, kt: float) -> dict | None:
-    """The final pair force and its statistical error [N] over the range the data fix."""
-    if ibi.coef is None or not ibi.fixed_range:
+def _skyrmion_radius(given, base, pair_range) -> tuple[float, str]:
+    """The model's length unit: given, the base material's, or a quarter of the closest pairs."""
+    if given is not None:
+        return float(given), "given (--skyrmion-radius)"
+    if pair_range is not None and pair_range[0] / 4 > 2 * base.skyrmion_radius:
+        return float(pair_range[0] / 4), (
+            "a quarter of the closest distance between tracked skyrmions (the base material's "
+            f"{base.skyrmion_radius:.3g} m is far smaller than what the tracks show)"
+        )
+    return float(base.skyrmion_radius), f"the base material's ({base.name})"
+
+
+def _radial_summary(
+    result: forces.ForceInference,
+    term: str,
+    kt: float,
+    numbers,
+    correction,
+    coarse: bool = False,
+) -> dict | None:
+    """The pair or wall force of ``numbers`` with its jackknife error over its range [N].
+
+    ``coarse``: the frames are too coarse for the forces (the sampling correction did not
+    converge), so no distance is fixed whatever the errors say: they see the noise, not the
+    bias of frames that blur the motion.
+    """
+    basis = getattr(result.basis, term)
+    if basis is None or term not in result.terms:
         return None
-    r = np.linspace(*ibi.fixed_range, 12)
-    f, err = ibi.force(r)
-    tight = r[err <= 0.1 * f]
+    cols = result.basis.columns[term]
+    r = np.linspace(basis.lo, basis.hi, 25)[:-1]
+
+    def force(fit):
+        return basis.force(r, fit.theta[cols])
+
+    def pot(fit):
+        return _potential(basis, r, fit.theta[cols])
+
+    f = basis.force(r, numbers.theta[cols])
+    potential = _potential(basis, r, numbers.theta[cols])
+    _, err = result.jackknife(force)
+    _, potential_err = result.jackknife(pot)
+    if correction is not None:
+        err = correction.error(force, err)
+        potential_err = correction.error(pot, potential_err)
+    fixed = (f > 0) & (err <= FIXED_SHARE * np.abs(f)) & (not coarse)
+    run = np.flatnonzero(fixed)
     return {
         "r_m": r.tolist(),
         "force_N": (f * kt).tolist(),
         "force_error_N": (err * kt).tolist(),
-        "range_within_10_percent_m": [float(tight[0]), float(tight[-1])] if len(tight) else None,
-        "note": "statistical error only: the movie's g(r) and the last IBI run's, carried "
-        "through the fit of ln V",
+        "potential_kT": potential.tolist(),
+        "potential_error_kT": potential_err.tolist(),
+        "fixed_range_m": [float(r[run[0]]), float(r[run[-1]])] if len(run) else None,
+        "fixed_definition": f"where the force is repulsive and its jackknife error at most "
+        f"{100 * FIXED_SHARE:g} % of it",
+        "basis": {"closest_m": basis.lo, "farthest_m": basis.hi, "splines": basis.count},
     }
+
+
+def _potential(basis, r: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """V(r) = ∫_r^hi f [k_BT] of a radial force (0 at the end of its range)."""
+    fine = np.linspace(basis.lo, basis.hi, 400)
+    f = basis.force(fine, theta)
+    tail = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(fine))])
+    return np.interp(r, fine, tail[-1] - tail)
 
 
 def infer(
@@ -110,17 +187,19 @@ def infer(
     *,
     pixel_size: float | None,
     frame_interval: float | None,
-    outline,
     temperature: float,
+    outline=None,
+    walls: str = "infer",
+    pair: str = "infer",
+    periodic="auto",
     base_material="S2",
     skyrmion_radius: float | None = None,
     subtract_drift: str = "auto",
-    ibi_iterations: int = pair.ITERATIONS,
-    ibi_frames: int | None = None,
+    check_frames: int | None = CHECK_FRAMES,
     seed: int = 0,
     progress=None,
 ) -> Inference:
-    """Infer the particle model of a tracked skyrmion gas.
+    """Infer the particle model of a tracked skyrmion gas (docs/inference.md).
 
     Parameters
     ----------
@@ -128,27 +207,33 @@ def infer(
         trackpy's table (``frame``, ``particle``, ``x``, ``y`` in pixels) or its file.
     pixel_size, frame_interval : float
         Metres per pixel, seconds per frame.
-    outline : path or Outline
-        The device: a CSV of x,y vertices [m] or a binary mask on the tracks' pixel grid.
     temperature : float
         T [K] of the film.
+    outline : path or Outline, optional
+        The device or the field of view: a CSV of x,y vertices [m] or a binary mask on the
+        tracks' pixel grid. Without one, the field of view is the tracks' extent.
+    walls : {"infer", "none", "outline"}
+        A wall force where the held-out likelihood asks for one (``infer``), never, or always
+        where the outline is a wall (``outline``).
+    pair : {"infer", "none", "material"}
+        A pair law fitted to these tracks where the held-out likelihood asks for one, none, or
+        the base material's law (its amplitude checked against the tracks).
+    periodic : "auto", None or (L_x, L_y)
+        Tracks that wrap around a periodic box: found (``auto``), ruled out, or declared [m].
     base_material : str or Material
-        Supplies what tracks cannot measure (M_s, film thickness, A_ex, K_u, α, the paper-form
-        laws for ``pair_law = "paper"``); default S2.
+        Supplies what tracks cannot measure (M_s, film thickness, α; the pair law of
+        ``pair = "material"``); default S2.
     skyrmion_radius : float, optional
-        R [m] (default the base material's): the length unit of the engine's laws.
+        R [m], the model's length unit (default: the base material's, or a quarter of the
+        closest distance between tracked skyrmions where that is far larger).
     subtract_drift : {"auto", "yes", "no"}
         See :func:`skygas.inference.tracks.load_tracks`.
-    ibi_iterations, ibi_frames : int
-        IBI iterations at most, and frames per simulation (default :data:`pair.SIM_FRAMES`).
+    check_frames : int or None
+        Frames of the self-check's model run (at most the movie's); None: no self-check.
     seed : int
-        Seeds the bootstrap and the simulations.
+        Seeds the self-check's run and the cross-check's bootstrap.
     progress : callable, optional
         Called with a line of text as each step starts.
-
-    Returns
-    -------
-    Inference
     """
     say = progress or (lambda text: None)
     require(
@@ -157,164 +242,234 @@ def infer(
         temperature,
         "the film's temperature in kelvin, > 0",
     )
+    require(walls in WALL_MODES, "--walls", walls, " or ".join(WALL_MODES))
+    require(pair in PAIR_MODES, "--pair", pair, " or ".join(PAIR_MODES))
     base = load_material(base_material)
     if skyrmion_radius is not None:
-        require(skyrmion_radius > 0, "--skyrmion-radius", skyrmion_radius, "a radius > 0 [m]")
-        base = base.model_copy(update={"skyrmion_radius": float(skyrmion_radius)})
-    data = tracks.load_tracks(source, pixel_size, frame_interval, subtract_drift=subtract_drift)
-    frames = data.frames
-    shape = read_outline(outline, data.pixel_size)
-    _check_inside(frames, shape, data.pixel_size, str(outline))
-    require(
-        frames.n_frames >= 2 * diff.BLOCKS,
-        "tracks.frame",
-        f"{frames.n_frames} frames",
-        f"at least {2 * diff.BLOCKS} frames (errors are blocked over {diff.BLOCKS} blocks of time)",
-    )
+        require(
+            np.isfinite(skyrmion_radius) and skyrmion_radius > 0,
+            "--skyrmion-radius",
+            skyrmion_radius,
+            "a radius > 0 [m]",
+        )
     kt = units.BOLTZMANN * temperature
 
-    say("landscape: Boltzmann inversion, kernel width by cross-validation, bootstrap")
-    spacing = max(data.pixel_size / 2, 1e-9)
-    lmap = land.boltzmann_inversion(frames, shape, spacing, seed=seed)
-    grid = lmap.grid
-
-    say("pair correlation")
-    r_max = min(
-        0.5 * min(grid.x[-1] - grid.x[0], grid.y[-1] - grid.y[0]), 12 * base.skyrmion_radius * 2
+    data = load_tracks(
+        source, pixel_size, frame_interval, subtract_drift=subtract_drift, period=periodic
     )
-    measured_g = pair.measured_pair_correlation(frames, shape, r_max, 2 * base.skyrmion_radius)
-    gx, gy = np.meshgrid(grid.x, grid.y)
-    node_d = wall.wall_distance(shape, gx, gy)
-
-    def one_body(material_now: dict) -> tuple[wall.WallProfile, np.ndarray, np.ndarray]:
-        """The wall profile, the pinning map and Φ [k_BT] with the neighbours' push taken out."""
-        law = crowding.material_law(material_now, base, temperature)
-        cutoff = crowding.reach(law, 0.25 * base.skyrmion_radius, r_max)
-        phi, fx, fy = crowding.crowding_potential(frames, lmap, law, cutoff)
-        normal = crowding.normal_component(frames, grid, node_d, fx, fy)
-        profile = wall.wall_profile(frames, shape, max(grid.h, 2e-9), normal_force=normal)
-        return profile, lmap.u + phi - profile.at(node_d), phi
-
-    say("neighbours' mean push (force balance) and the wall potential")
-    wprof, pinning, crowd = one_body(model.model_material("inferred", base, {}, None, None))
-
-    say("diffusion: MSD with the localisation error, blocked errors")
-    d = diff.estimate_diffusion(frames)
-    require(d.diffusion_constant > 0, "tracks", data.source, "skyrmions that move (D ≤ 0 measured)")
-
-    say("Hall angle: displacements against the held-out landscape force")
-    hall = mobility.fit_mobility(frames, mobility.landscape_force(frames, lmap), d.sigma)
-    thiele = model.thiele_fields(d.diffusion_constant, hall.angle, hall.error, base, temperature)
-    material = model.model_material("inferred", base, thiele, None, _wall_table(wprof, kt))
-
-    d_tuner = bias.DiffusionTuner(
-        d.diffusion_constant,
-        d.error,
-        d.sigma,
-        lambda value: model.thiele_fields(value, hall.angle, hall.error, base, temperature),
-        seed,
+    frames = data.frames
+    require(
+        frames.n_frames >= 2 * dynamics.BLOCKS,
+        "tracks.frame",
+        f"{frames.n_frames} frames",
+        f"at least {2 * dynamics.BLOCKS} frames (errors are blocked over {dynamics.BLOCKS} "
+        "blocks of time)",
     )
-    say("pair potential: iterative Boltzmann inversion with skygas simulations, D retuned")
-    n_sim = ibi_frames or pair.SIM_FRAMES
-    with pair.scratch_folder() as scratch:
-        folder = Path(scratch)
-        ibi, material = pair.iterate(
-            frames,
-            shape,
-            material,
+    shape = None
+    if outline is not None:
+        require(
+            data.box is None,
+            "--outline",
+            str(outline),
+            "no outline for tracks in a periodic box (they wrap: the box is the film)",
+            "leave --outline out, or give --periodic none if the tracks do not wrap",
+        )
+        shape = read_outline(outline, data.pixel_size)
+        _check_inside(frames, Film("walls", shape), data.pixel_size, str(outline))
+    loose = Film("open", field_of_view(frames, data.pixel_size))
+    first_steps = dynamics.make_steps(frames, loose if data.box is None else box_film(*data.box))
+    require(
+        len(first_steps) >= 100,
+        "tracks",
+        data.source,
+        f"tracks of at least three frames each, 100 steps in all ({len(first_steps)} here)",
+        "link the features with a larger memory, or track a longer movie",
+    )
+    d_rough = (
+        np.mean(first_steps.dx**2 + first_steps.dy**2)
+        + 2 * np.mean(first_steps.dx * first_steps.px + first_steps.dy * first_steps.py)
+    ) / (4 * first_steps.dt)
+    require(
+        d_rough > 0,
+        "tracks",
+        data.source,
+        "skyrmions that move (the noise of their steps reads D ≤ 0)",
+    )
+    step = math.sqrt(2 * d_rough * frames.frame_interval())
+    film, film_reason = _film(data, shape, walls, step)
+    say(
+        f"{len(frames.x)} positions in {frames.n_frames} frames, {len(np.unique(frames.ids))} "
+        f"tracks; film: {film_reason}"
+    )
+
+    keep = None
+    if film.kind == "open":
+        keep = wall.wall_distance(film.outline, frames.x, frames.y) >= EDGE_STEPS * step
+    steps = dynamics.make_steps(frames, film, keep)
+    require(
+        len(steps) >= 100,
+        "tracks",
+        data.source,
+        f"at least 100 steps farther than {EDGE_STEPS:g} rms steps from the edge of the "
+        f"field of view ({len(steps)} here)",
+        "track a larger field of view or a longer movie",
+    )
+    material_law, material_range = None, 0.0
+    if pair == "material":
+        law = crowding.material_law({}, base, temperature)
+        material_law = law
+        material_range = crowding.reach(law, 0.25 * base.skyrmion_radius, 50 * base.skyrmion_radius)
+    basis = candidates.build(
+        frames,
+        film,
+        step,
+        pair=pair,
+        walls=walls,
+        material_law=material_law,
+        material_range=material_range,
+    )
+    say(
+        f"projecting {len(steps)} steps onto {basis.size} force fields ("
+        + ", ".join(
+            t for t in ("landscape", "pair", "material_pair", "wall", "drive") if basis.has(t)
+        )
+        + ")"
+    )
+    moments = dynamics.accumulate(frames, steps, basis)
+    fixed = tuple(
+        t
+        for t, asked in (("wall", walls == "outline"), ("material_pair", pair == "material"))
+        if asked and basis.has(t)
+    )
+    say("choosing the terms the data show (held-out likelihood over blocks of time)")
+    result = forces.infer_forces(moments, basis, fixed=fixed, progress=say)
+
+    say("the landscape on a grid, its errors and the area it is fixed on")
+    x0, y0, x1, y1 = film.outline.bounds
+    fmap = maps.force_map(result, frames, max(x1 - x0, y1 - y0) / MAP_NODES)
+    interior = None
+    if "wall" in result.terms and result.basis.wall is not None:
+        gx, gy = np.meshgrid(fmap.grid.x, fmap.grid.y)
+        interior = wall.wall_distance(film.outline, gx, gy) >= result.basis.wall.hi
+    stats = maps.statistics(fmap, interior)
+    stats_area = "well sampled"
+    if stats["rms_kT"] is None and fmap.sampled.sum() >= 4:
+        rough = maps.ForceMap(
+            fmap.grid, fmap.u, fmap.error, fmap.sampled, fmap.sampled, fmap.film, fmap.replicas
+        )
+        stats = maps.statistics(rough, interior)
+        stats_area = "sampled (no node is well sampled: the statistics carry the map's noise)"
+
+    hall_value, hall_spread = result.jackknife(lambda f: f.hall_angle)
+    hall_fixed = result.hall_angle_fixed
+    hall_note = None
+    if hall_fixed:
+        hall_model = float(hall_value)
+    else:
+        t_base = derive_thiele(base)
+        hall_model = math.atan2(t_base.gyrocoupling, t_base.friction)
+        hall_note = (
+            "not fixed: the data show no force that turns (no landscape, pair or wall "
+            f"force); the model keeps the base material's {math.degrees(hall_model):.1f}°"
+        )
+
+    pair_range = (basis.pair.lo, basis.pair.hi) if basis.pair is not None else None
+    radius, radius_source = _skyrmion_radius(skyrmion_radius, base, pair_range)
+    base_sized = base.model_copy(update={"skyrmion_radius": radius})
+
+    # the model's landscape: the map where the film was sampled, its statistics elsewhere
+    map_values = np.where(fmap.sampled, fmap.u, np.nan)
+    landscape_table = None
+    if "landscape" in result.terms and np.isfinite(map_values).any():
+        landscape_table = {
+            "kind": "measured",
+            "path": MAP_FILE,
+            "spacing": float(fmap.grid.h),
+            "origin": [float(fmap.grid.x[0]), float(fmap.grid.y[0])],
+            "rms_kT": float(stats["rms_kT"] or 0.0),
+            "correlation_length": float(stats["correlation_length_m"] or 4 * fmap.grid.h),
+        }
+
+    def build(numbers: sampling.ModelNumbers) -> model.Model:
+        return model.build(
+            numbers,
+            basis,
+            result.terms,
+            base_sized,
             temperature,
-            lmap,
-            pinning,
-            d.sigma,
-            folder,
-            measured=measured_g,
-            iterations=max(ibi_iterations, 1),
-            sim_frames=n_sim,
-            seed=seed,
+            hall_fixed=hall_fixed,
+            hall_error=float(hall_spread),
+            landscape=landscape_table,
+            map_values=map_values,
+        )
+
+    def run(built: model.Model, n_frames: int, run_seed: int) -> selfcheck.ModelRun:
+        return _run_model(film, built, data, result, n_frames, temperature, run_seed)
+
+    check_length = min(check_frames or 0, frames.n_frames)
+    numbers = sampling.numbers_of(result, hall_model)
+    correction: sampling.Correction | None = None
+    coarse = sampling.coarseness(result)
+    if abs(coarse) >= sampling.COARSE_SHARE and check_length:
+        say(
+            f"the drift within a frame is {100 * coarse:.0f} % of the steps' spread: measuring "
+            "the estimator's bias on runs of the model"
+        )
+        correction = sampling.correct(
+            result,
+            hall_model,
+            film,
+            lambda n: run(build(n), check_length, seed + 2000),
+            step,
             progress=say,
-            retune=d_tuner.retune,
         )
-        if "pair_table" in material:
-            say("neighbours' mean push and the wall potential again, with the iterations' law")
-            wprof, pinning, crowd = one_body(material)
-            material = {k: v for k, v in material.items() if k != "wall_table"}
-            if (table := _wall_table(wprof, kt)) is not None:
-                material["wall_table"] = table
-        grid_potential = pair.pinning_grid_file(
-            folder,
-            np.where(lmap.well_sampled, pinning, np.nan),
-            grid.x,
-            grid.y,
-            pair.pad_nodes(grid),
-            "final",
+        numbers = correction.numbers
+    coarse_note = None
+    correction_used = correction
+    if correction is not None and not correction.converged:
+        # the runs of the model never read what the movie reads: no D, θ_H or force is fixed
+        # by these frames. The model keeps the numbers as read (the data's own, not a guess
+        # moved by a correction that runs away) and says so.
+        coarse_note = (
+            "the frames are too coarse for the forces: runs of the model do not read what the "
+            "movie reads, however it is moved (sampling_correction); D, the Hall angle and the "
+            "forces are not fixed by these data, and the model keeps them as read"
         )
-        n_skyrmions, separation = pair.gas_layout(frames, material, ibi.fixed_range)
-        d_value, d_error = d_tuner.result()
-        material = {
-            **material,
-            **model.thiele_fields(d_value, hall.angle, hall.error, base, temperature),
-        }
-        say("consistency check: a skygas run of the final model")
-        model_frames = pair.simulate(
-            shape,
-            material,
-            [grid_potential],
-            temperature,
-            frames.frame_interval(),
-            n_skyrmions,
-            n_sim,
-            seed + 1000,
-            separation,
-        )
+        numbers = sampling.numbers_of(result, hall_model)
+        correction = None
+    built = build(numbers)
 
-    say("landscape statistics and dwell times")
-    # the interior: well sampled and beyond the wall's reach (where the fitted W is negligible)
-    reach = wprof.reach if wprof.coef is not None else wprof.bulk_from
-    interior = lmap.well_sampled & (node_d >= reach)
-    if interior.any():
-        pinning = np.where(lmap.well_sampled, pinning - np.nanmean(pinning[interior]), np.nan)
-    rms, xi = land.correlation_length(np.nan_to_num(pinning), interior, grid.h)
-    radius = max(lmap.bandwidth, 0.5 * xi) if math.isfinite(xi) else lmap.bandwidth
-    wells = []
-    for x0, y0, depth in land.deepest_wells(pinning, interior, grid, radius):
-        t, visits = land.dwell_time(frames, (x0, y0), radius)
-        wells.append(
-            {
-                "x_m": x0,
-                "y_m": y0,
-                "depth_kT": depth,
-                "radius_m": radius,
-                "mean_dwell_time_s": t,
-                "visits": visits,
-            }
-        )
+    equilibrium = "drive" not in result.terms
+    boltzmann = boltzmann_err = None
+    cross = None
+    wprof = None
+    bi = None
+    if equilibrium:
+        say("cross-check: the landscape by Boltzmann inversion (the gas is in equilibrium)")
+        boltzmann, boltzmann_err, cross, bi = _boltzmann_check(result, film, frames, fmap)
+        if film.kind == "walls":
+            wprof = _wall_cross_check(result, film, frames, fmap)
 
-    lags = np.array([lag for lag in CHECK_LAGS if lag < frames.n_frames // 4])
-    measured = mean_squared_displacement(frames, lags, fit_lags=lags[:1])
-    ratio = measured.msd / (4 * measured.lag_time)
-    ratio_err = measured.msd_error / (4 * measured.lag_time)
-    model_ratio = None
     check = None
-    if model_frames.n_frames > 8:
-        sim_lags = lags[lags < model_frames.n_frames // 4]
-        sm = mean_squared_displacement(model_frames, sim_lags, fit_lags=sim_lags[:1])
-        model_ratio = np.full(len(lags), np.nan)
-        model_ratio[: len(sim_lags)] = sm.msd / (4 * sm.lag_time)
-        # the measured MSD carries 4σ² of localisation error; the model's does not
-        corrected = (measured.msd - 4 * d.sigma**2) / (4 * measured.lag_time)
-        check = {
-            "lag_time_s": measured.lag_time.tolist(),
-            "measured_msd_over_4tau_m2_s": corrected.tolist(),
-            "measured_error_m2_s": ratio_err.tolist(),
-            "model_msd_over_4tau_m2_s": model_ratio.tolist(),
-            "model_msd_over_4tau_error_m2_s": np.concatenate(
-                [sm.msd_error / (4 * sm.lag_time), np.full(len(lags) - len(sim_lags), np.nan)]
-            ).tolist(),
-            "note": "a skygas run of the inferred model (landscape, walls, pair law, D and Hall "
-            "angle) over the device's outline: its MSD(τ)/4τ against the measured one "
-            "(localisation error 4σ² removed); agreement at the longer lags checks the "
-            "landscape's effect on transport",
-        }
+    if check_length:
+        say("self-check: runs of the written model against the movie")
+        check_run = run(built, check_length, seed + 1000)
+        check = _compare(film, frames, check_run, result, fmap, bi, check_length, seed)
+
+    hall_err = float(hall_spread)
+    d_err = result.diffusion_error
+    if coarse_note is not None:
+        hall_fixed = False
+        hall_note = coarse_note
+    if correction is not None and correction.run is not None:
+        _, run_hall = correction.run.jackknife(lambda f: f.hall_angle)
+        hall_err = float(np.hypot(np.hypot(hall_err, run_hall), correction.hall_spread))
+        d_err = float(
+            np.hypot(np.hypot(d_err, correction.run.diffusion_error), correction.diffusion_spread)
+        )
+    hall = numbers.hall_angle if hall_fixed else None
+
+    d_msd = diff.estimate_diffusion(frames)
     summary = {
         "skygas_version": __version__,
         "input": {
@@ -325,112 +480,304 @@ def infer(
             "frames": int(frames.n_frames),
             "positions": int(len(frames.x)),
             "tracks": int(len(np.unique(frames.ids))),
+            "steps_used": int(len(steps)),
             "mean_skyrmions_per_frame": float(np.mean(frames.count)),
             "temperature_K": float(temperature),
-            "outline": str(outline),
+            "outline": None if outline is None else str(outline),
+            "walls": walls,
+            "pair": pair,
+            "periodic": None if data.box is None else [list(data.box[0]), list(data.box[1])],
             "drift_subtracted": data.drift_subtracted,
             "drift_end_to_end_m": float(np.hypot(*(data.drift[-1] - data.drift[0]))),
             "base_material": base.name,
             "seed": seed,
         },
-        **d.as_dict(),
-        **hall.as_dict(),
-        "diffusion_constant": d_value,
-        "diffusion_constant_error": d_error,
-        "hall_angle": hall.angle,
-        "hall_angle_error": hall.error,
-        "diffusion_constant_systematic_error": bias.SYSTEMATIC_SHARE
-        * abs(d.diffusion_constant - d_value),
-        "diffusion_constant_as_read": d.diffusion_constant,
-        "diffusion_constant_as_read_error": d.error,
-        "diffusion_constant_method": "MSD = 4σ² + 4Dτ + cτ² fitted over frame lags 1-3, errors "
-        "by blocking over 16 blocks of time; then D retuned until runs of the inferred model "
-        "read what the movie reads (the systematic error: a share of that correction, the "
-        "residual measured on the round-trip gases)",
-        "diffusion_constant_retuning": d_tuner.as_dict(),
-        "landscape": {
-            "kernel_width_m": lmap.bandwidth,
-            "kernel_candidates_m": lmap.candidates.tolist(),
-            "kernel_cv_log_likelihood": lmap.scores.tolist(),
-            "well_sampled_definition": f"bootstrap standard error of U at most "
-            f"{land.WELL_SAMPLED_ERROR} k_BT ({land.BOOT_REPLICAS} resamples of "
-            f"{land.BOOT_BLOCKS} blocks of time)",
-            "well_sampled_area_m2": float(np.sum(lmap.well_sampled) * grid.h**2),
-            "area_fixed_across_skyrmions_m2": float(
-                np.sum(lmap.fixed_across_skyrmions) * grid.h**2
-            ),
-            "fixed_across_skyrmions_definition": "well sampled, and the standard error of U "
-            f"from {land.BOOT_REPLICAS} resamples of the tracks at most "
-            f"{land.WELL_SAMPLED_ERROR} k_BT",
-            "film_area_m2": float(np.sum(grid.inside) * grid.h**2),
-            "pinning_rms_kT": rms,
-            "pinning_correlation_length_m": xi,
-            "interior_from_wall_m": reach,
-            "deepest_wells": wells,
+        "film": {
+            "kind": film.kind,
+            "reason": film_reason,
+            "bounds_m": list(film.outline.bounds),
+            "period_m": list(film.period) if film.period else None,
+            "edge_margin_m": EDGE_STEPS * step if film.kind == "open" else None,
         },
-        "wall": {
-            "distance_m": wprof.d.tolist(),
-            "potential_kT": [float(v) if np.isfinite(v) else None for v in wprof.w],
-            "potential_error_kT": [float(v) if np.isfinite(v) else None for v in wprof.error],
-            "sampled_range_m": wprof.sampled_range,
-            "bulk_from_m": wprof.bulk_from,
-            "fit_ln_potential_coefficients_nm": None
-            if wprof.coef is None
-            else list(map(float, wprof.coef)),
+        "diffusion_constant": numbers.diffusion,
+        "diffusion_constant_error": d_err,
+        "diffusion_constant_method": "the covariance estimator (Vestergaard, Blainey & "
+        "Flyvbjerg 2014) of the steps, blind to the localisation error, freed of the drift of "
+        "the inferred forces to first order in the frame interval (and, where the frames are "
+        "coarse, of the rest by runs of the model: sampling_correction); jackknife error over "
+        f"{dynamics.BLOCKS} blocks of time",
+        "diffusion_constant_fixed_by_data": coarse_note is None,
+        "diffusion_constant_note": coarse_note,
+        "diffusion_constant_as_read": result.diffusion,
+        "diffusion_constant_as_read_error": result.diffusion_error,
+        "diffusion_constant_noise_only": result.diffusion_raw,
+        "diffusion_constant_msd_fit": d_msd.diffusion_constant,
+        "diffusion_constant_msd_fit_error": d_msd.error,
+        "localisation_error_m": math.sqrt(max(result.sigma2, 0.0)),
+        "localisation_error_error_m": result.sigma2_error / (2 * math.sqrt(result.sigma2))
+        if result.sigma2 > 0
+        else None,
+        "hall_angle": hall,
+        "hall_angle_error": hall_err if hall_fixed else None,
+        "hall_angle_as_read": float(hall_value) if hall_fixed else None,
+        "hall_angle_note": hall_note,
+        "hall_angle_definition": "angle from a force to the velocity it causes, "
+        "counter-clockwise positive (atan2(G, alpha*D*k) of the Thiele equation)",
+        "hall_angle_in_model": numbers.hall_angle,
+        "skyrmion_radius_m": radius,
+        "skyrmion_radius_source": radius_source,
+        "model_selection": {
+            "terms": list(result.terms),
+            "candidates": {
+                t: {
+                    "delta_log_likelihood": c.get("delta_log_likelihood"),
+                    "error": c.get("error"),
+                    "kept": c.get("kept"),
+                    "fixed_by_user": c.get("fixed_by_user", False),
+                }
+                for t, c in result.comparisons.items()
+            },
+            "held_out_log_likelihood": result.score.total,
+            "rule": "a term stays when leaving it out lowers the held-out log-likelihood of the "
+            f"steps by more than {forces.KEEP_SIGMAS:g} standard errors ({forces.FOLDS} folds of "
+            "contiguous blocks of time)",
+        },
+        "landscape": {
+            "in_model": "landscape" in result.terms,
+            "spline_spacing_m": result.basis.landscape.ax.spacing
+            if result.basis.landscape is not None
+            else None,
+            "roughness_weight": result.roughness,
+            "roughness_weights_tried": result.roughness_grid.tolist(),
+            "roughness_scores": result.roughness_scores.tolist(),
+            "grid_spacing_m": float(fmap.grid.h),
+            "well_sampled_definition": f"jackknife error of U, relative to its mean over the "
+            f"area, at most {maps.WELL_SAMPLED_ERROR} k_BT, and at least {maps.MIN_POSITIONS} "
+            "positions within one spline spacing",
+            "sampled_area_m2": float(np.sum(fmap.sampled) * fmap.grid.h**2),
+            "well_sampled_area_m2": float(np.sum(fmap.well_sampled) * fmap.grid.h**2),
+            "film_area_m2": float(np.sum(fmap.film) * fmap.grid.h**2),
+            "pinning_rms_kT": stats["rms_kT"],
+            "pinning_rms_error_kT": stats["rms_error_kT"],
+            "pinning_correlation_length_m": stats["correlation_length_m"],
+            "statistics_over": stats_area,
+            "deepest_wells": stats["wells"],
         },
         "pair": {
-            "r_m": ibi.r.tolist(),
-            "g_measured": [float(v) for v in ibi.g],
-            "g_measured_error": [float(v) if np.isfinite(v) else None for v in ibi.g_error],
-            "range_fixed_by_data_m": ibi.fixed_range,
-            "law_in_model": "pair_table from IBI"
-            if "pair_table" in material
-            else f"the base material's ({base.name}) law: "
-            + (
-                "the data fix fewer than 3 distances"
-                if ibi.initial_force_error is None
-                else "the fit of −ln g(r) gives no repulsion in the middle of the range"
-                if not math.isfinite(ibi.initial_force_error)
-                else f"the movie's g(r) fixes the force to {100 * ibi.initial_force_error:.0f} % "
-                f"only (at most {100 * pair.MAX_FORCE_ERROR:.0f} % for a law of its own)"
+            "mode": pair,
+            "in_model": "fitted (pair_table)"
+            if "pair" in result.terms
+            else "the base material's law"
+            if "material_pair" in result.terms
+            else "none: no interaction (a zero pair_table)",
+            "fitted": _radial_summary(
+                result, "pair", kt, numbers, correction, coarse_note is not None
             ),
-            "force_relative_error_from_g": ibi.initial_force_error,
-            "iterations": [
-                {
-                    "chi2": c,
-                    "g_model": [float(v) for v in gs[0]],
-                    "potential_kT": [float(v) if np.isfinite(v) else None for v in pot],
-                }
-                for c, gs, pot in zip(ibi.chi2, ibi.simulated, ibi.potentials, strict=True)
-            ],
-            "fit_ln_potential_coefficients_nm": None
-            if ibi.coef is None
-            else list(map(float, ibi.coef)),
-            "force_over_fixed_range": _pair_force_table(ibi, kt),
+            "material_law_scale": float(numbers.theta[basis.columns["material_pair"]][0])
+            if "material_pair" in result.terms
+            else None,
+        },
+        "wall": {
+            "mode": walls,
+            "in_model": "fitted (wall_table)"
+            if "wall" in result.terms
+            else "none: a zero wall_table (the edge only stops skyrmions)",
+            "fitted": _radial_summary(
+                result, "wall", kt, numbers, correction, coarse_note is not None
+            ),
+            "density_profile": None
+            if wprof is None
+            else {
+                "distance_m": wprof.d.tolist(),
+                "potential_kT": [float(v) if np.isfinite(v) else None for v in wprof.w],
+                "potential_error_kT": [float(v) if np.isfinite(v) else None for v in wprof.error],
+                "note": "W(d) = −ln(ρ(d)/ρ_bulk) from the density against the distance to the "
+                "edge: the cross-check (it carries the neighbours' layering)",
+            },
+        },
+        "drive": _drive_summary(result, numbers, correction, kt),
+        "equilibrium": equilibrium,
+        "boltzmann_cross_check": cross,
+        "sampling_correction": {
+            "drift_share_of_raw_d": coarse,
+            "threshold": sampling.COARSE_SHARE,
+            "made": correction_used is not None,
+            "converged": None if correction_used is None else correction_used.converged,
+            "applied": correction is not None,
+            "rounds": correction_used.history if correction_used is not None else [],
+            "note": "the estimator's bias at this frame interval, read off runs of the model "
+            "and taken out of D, the Hall angle and the pair, wall and drive forces"
+            if correction is not None
+            else coarse_note
+            if coarse_note is not None
+            else "the frames resolve the motion: no correction",
         },
         "consistency_check": check,
+        "notes": list(built.notes) + ([coarse_note] if coarse_note is not None else []),
         "model": {
-            "free_diffusion_m2_s": d_value,
-            "hall_angle_rad": hall.angle,
-            "pinning_as_disorder": {
-                "kind": "disorder",
-                "rms_kT": rms,
-                "correlation_length": xi,
-            },
+            "free_diffusion_m2_s": numbers.diffusion,
+            "hall_angle_rad": numbers.hall_angle,
+            "landscape": built.potentials[0] if built.potentials else None,
+            "landscape_scale": numbers.landscape_scale,
+            "drive_force_N": list(built.drive_force),
         },
     }
     return Inference(
         summary,
-        lmap,
-        crowd,
-        pinning,
-        wprof,
-        ibi,
-        material,
-        measured.lag_time,
-        ratio,
-        ratio_err,
-        model_ratio,
+        result,
+        film,
         data,
-        shape,
+        fmap,
+        boltzmann,
+        boltzmann_err,
+        wprof,
+        built.material,
+        built.potentials,
+        built.map_values,
+        check,
+    )
+
+
+def _drive_summary(result, numbers, correction, kt: float) -> dict | None:
+    """The drive's force [N] with its error, and the drift velocity it gives [m/s]."""
+    if "drive" not in result.terms:
+        return None
+    cols = result.basis.columns["drive"]
+    fd = numbers.theta[cols]
+    _, err = result.jackknife(lambda f: f.theta[cols])
+    if correction is not None:
+        err = correction.error(lambda f: f.theta[cols], err)
+    t = math.tan(numbers.hall_angle)
+    velocity = numbers.diffusion * np.array([fd[0] - t * fd[1], fd[1] + t * fd[0]])
+    return {
+        "force_N": (fd * kt).tolist(),
+        "force_error_N": (np.asarray(err) * kt).tolist(),
+        "velocity_m_s": velocity.tolist(),
+        "note": "a uniform force (a current's push, or a tilt of the film), written as "
+        "[inference] drive_force and applied as external_force in the self-check",
+    }
+
+
+def _pair_law(result: forces.ForceInference):
+    """The kept pair law [k_BT/m] of r [m], or None."""
+    if "pair" in result.terms and result.basis.pair is not None:
+        basis, theta = result.basis.pair, result.coefficients("pair")
+        return lambda r: np.where(r < basis.hi, basis.force(np.asarray(r), theta), 0.0), basis.hi
+    if "material_pair" in result.terms and result.basis.material_pair is not None:
+        scale = float(result.coefficients("material_pair")[0])
+        law = result.basis.material_pair
+        return lambda r: scale * law(r), result.basis.material_pair_range
+    return None
+
+
+def _boltzmann_check(result, film: Film, frames: Frames, fmap: maps.ForceMap):
+    """−ln ρ (crowding taken out with the kept pair law) on the map's grid, and the comparison."""
+    seen = Frames(frames.time, frames.count, frames.ids, *film.wrap(frames.x, frames.y))
+    bi = land.boltzmann_inversion(seen, film.outline, fmap.grid.h)
+    u = bi.u.copy()
+    law = _pair_law(result)
+    crowd_note = "no pair law: −ln ρ as it is"
+    if law is not None:
+        phi, _, _ = crowding.crowding_potential(seen, bi, law[0], law[1])
+        u = u + np.nan_to_num(phi)
+        crowd_note = "the neighbours' mean push taken out with the inferred pair law"
+    err = (
+        np.fmax(bi.error, bi.error_across_skyrmions)
+        if bi.error_across_skyrmions is not None
+        else bi.error
+    )
+    area = fmap.well_sampled if fmap.well_sampled.any() else fmap.sampled
+    both = area & bi.well_sampled & np.isfinite(u) & np.isfinite(fmap.u)
+    if both.sum() < 10:
+        return (
+            u,
+            err,
+            {
+                "nodes_compared": int(both.sum()),
+                "note": "too few nodes sampled by both to compare",
+            },
+            bi,
+        )
+    a = fmap.u[both] - fmap.u[both].mean()
+    b = u[both] - u[both].mean()
+    return (
+        u,
+        err,
+        {
+            "nodes_compared": int(both.sum()),
+            "rms_difference_kT": float(np.sqrt(np.mean((a - b) ** 2))),
+            "rms_dynamics_kT": float(np.std(a)),
+            "rms_boltzmann_kT": float(np.std(b)),
+            # no correlation to speak of where either map is flat (no landscape was kept)
+            "correlation": float(np.corrcoef(a, b)[0, 1])
+            if np.std(a) > 0 and np.std(b) > 0
+            else None,
+            "kernel_width_m": bi.bandwidth,
+            "crowding": crowd_note,
+            "note": "the landscape from the forces (the model's) against −ln ρ of the positions, "
+            "over the nodes both fix; −ln ρ needs the movie to have visited the wells in "
+            "proportion to their weight, which a short movie does not",
+        },
+        bi,
+    )
+
+
+def _wall_cross_check(result, film: Film, frames: Frames, fmap: maps.ForceMap):
+    """W(d) from the density, the neighbours' mean push along the normal taken out."""
+    law = _pair_law(result)
+    normal = None
+    if law is not None:
+        fx, fy = crowding.pair_forces(frames, law[0], law[1])
+        gx, gy = np.meshgrid(fmap.grid.x, fmap.grid.y)
+        node_d = wall.wall_distance(film.outline, gx, gy)
+        normal = crowding.normal_component(frames, fmap.grid, node_d, fx, fy)
+    return wall.wall_profile(frames, film.outline, max(fmap.grid.h, 2e-9), normal_force=normal)
+
+
+def _run_model(film, built, data, result, n_frames, temperature, seed):
+    """A run of ``built`` in the movie's film (the map written to a scratch file)."""
+    import tempfile
+    from pathlib import Path
+
+    frames = data.frames
+    with tempfile.TemporaryDirectory(prefix="skygas-infer-") as scratch:
+        pots = []
+        for p in built.potentials:
+            path = Path(scratch) / p["path"]
+            np.save(path, built.map_values)
+            pots.append({**p, "path": str(path)})
+        pair_reach = result.basis.pair_range if _pair_law(result) is not None else 0.0
+        margin = max(3 * pair_reach, 10 * math.sqrt(2 * result.diffusion * frames.frame_interval()))
+        return selfcheck.run_model(
+            film,
+            built.material,
+            pots,
+            temperature=temperature,
+            frame_interval=frames.frame_interval(),
+            frames=n_frames,
+            skyrmions_seen=float(np.mean(frames.count)),
+            drive_force=built.drive_force,
+            sigma=math.sqrt(max(result.sigma2, 0.0)),
+            margin=margin,
+            seed=seed,
+            start=frames.frame(0)[1],
+        )
+
+
+def _compare(film, frames, run, result, fmap, bi, n_frames, seed):
+    """The self-check's comparisons (:func:`.selfcheck.compare`) over the movie's first frames."""
+    size = candidates.film_size(film)
+    r_max = min(size, result.basis.pair_range * 1.5 if result.basis.pair_range else size)
+    bandwidth = bi.bandwidth if bi is not None else 2 * fmap.grid.h
+    movie = frames.select(np.arange(n_frames)) if n_frames < frames.n_frames else frames
+    return selfcheck.compare(
+        movie,
+        run,
+        film,
+        bandwidth=bandwidth,
+        spacing=fmap.grid.h,
+        r_max=max(r_max, 4 * fmap.grid.h),
+        bins=15,
+        seed=seed,
+        interacting=any(t in result.terms for t in ("pair", "material_pair")),
     )

@@ -34,10 +34,11 @@ DRIFT_SIGMAS = 3.0
 class Tracks:
     """Checked tracks in SI units.
 
-    ``frames`` the positions [m] per frame (time [s] = frame · interval); ``table`` the input
-    rows kept (trackpy's DataFrame, pixels); ``pixel_size`` [m]; ``frame_interval`` [s];
-    ``drift`` (F, 2) [m] the drift trackpy found per frame (subtracted when ``drift_subtracted``);
-    ``source`` what was read; ``sha256`` a hash of the rows used.
+    ``frames`` the positions [m] per frame (time [s] = frame · interval; unwrapped in a
+    periodic box); ``table`` the input rows kept (trackpy's DataFrame, pixels); ``pixel_size``
+    [m]; ``frame_interval`` [s]; ``drift`` (F, 2) [m] the drift trackpy found per frame
+    (subtracted when ``drift_subtracted``); ``source`` what was read; ``sha256`` a hash of the
+    rows used; ``box`` ((L_x, L_y), (x₀, y₀)) [m] of a periodic box, or None.
     """
 
     frames: Frames
@@ -48,6 +49,7 @@ class Tracks:
     drift_subtracted: bool
     source: str
     sha256: str
+    box: tuple | None = None
 
 
 def read_table(source):
@@ -165,9 +167,10 @@ def load_tracks(
     frame_interval: float | None,
     *,
     subtract_drift: str = "auto",
+    period="auto",
     rough_diffusion=None,
 ) -> Tracks:
-    """Read, check and convert tracks; remove the drift where it is significant.
+    """Read, check and convert tracks; unwrap a periodic box; remove a drift of the view.
 
     Parameters
     ----------
@@ -178,7 +181,13 @@ def load_tracks(
     frame_interval : float
         Seconds between frames, > 0.
     subtract_drift : {"auto", "yes", "no"}
-        ``"auto"`` subtracts trackpy's drift when :func:`drift_is_significant`.
+        ``"auto"`` subtracts trackpy's drift when it is significant
+        (:func:`drift_is_significant`) and the positions, so moved, show a sharper landscape
+        (:func:`drift_sharpens`): a drift of the field of view moves the landscape with the
+        skyrmions, a drive (a current) moves the skyrmions across it.
+    period : "auto", None or (L_x, L_y)
+        A periodic box [m] whose wrapped positions are unwrapped; ``"auto"`` finds it from
+        tracks that wrap (:func:`~skygas.inference.film.detect_periodic`).
     rough_diffusion : callable, optional
         ``rough_diffusion(frames)`` → D [m²/s] for the significance test (default: the MSD
         slope at lag 1).
@@ -188,6 +197,8 @@ def load_tracks(
     Tracks
     """
     import trackpy
+
+    from skygas.inference.film import detect_periodic
 
     require(
         pixel_size is not None,
@@ -219,6 +230,23 @@ def load_tracks(
     table = table.sort_values(["frame", "particle"]).reset_index(drop=True)
     first = int(table["frame"].min())
     n_frames = int(table["frame"].max()) - first + 1
+    box = None
+    if isinstance(period, str):
+        require(period == "auto", "--periodic", period, "auto, or two lengths L_x L_y [m]")
+        box = detect_periodic(_frames(table, pixel_size, frame_interval, first, n_frames))
+    elif period is not None:
+        lengths = np.asarray(period, float)
+        require(
+            bool(lengths.shape == (2,) and np.all(np.isfinite(lengths)) and np.all(lengths > 0)),
+            "--periodic",
+            period,
+            "two lengths L_x L_y > 0 [m] of the periodic box",
+        )
+        x0 = float(table["x"].min()) * pixel_size
+        y0 = float(table["y"].min()) * pixel_size
+        box = ((float(lengths[0]), float(lengths[1])), (x0, y0))
+    if box is not None:
+        table = _unwrapped(table, np.asarray(box[0]) / pixel_size)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # trackpy's own pandas deprecations, not the user's
         drift_px = trackpy.compute_drift(table[list(REQUIRED_COLUMNS)].copy())
@@ -237,19 +265,75 @@ def load_tracks(
         if rough_diffusion is not None
         else _lag_one_diffusion(raw, frame_interval)
     )
-    subtract = subtract_drift == "yes" or (
-        subtract_drift == "auto"
-        and drift_is_significant(drift, d, duration, float(np.mean(raw.count)))
-    )
-    if subtract:
+    subtract = subtract_drift == "yes"
+    moved = None
+    if subtract_drift != "no" and (
+        subtract or drift_is_significant(drift, d, duration, float(np.mean(raw.count)))
+    ):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            table = trackpy.subtract_drift(table.copy(), drift_px)
-        table = table.reset_index(drop=True)
+            moved = trackpy.subtract_drift(table.copy(), drift_px).reset_index(drop=True)
+        if not subtract:
+            other = _frames(moved, pixel_size, frame_interval, first, n_frames)
+            subtract = drift_sharpens(raw, other, box)
+    if subtract:
+        assert moved is not None
+        table = moved
     frames = _frames(table, pixel_size, frame_interval, first, n_frames) if subtract else raw
     return Tracks(
-        frames, table, float(pixel_size), float(frame_interval), drift, subtract, name, _hash(table)
+        frames,
+        table,
+        float(pixel_size),
+        float(frame_interval),
+        drift,
+        subtract,
+        name,
+        _hash(table),
+        box,
     )
+
+
+def _unwrapped(table, period_px: np.ndarray):
+    """The table with each track's jumps across the periodic box undone (pixels)."""
+    table = table.sort_values(["particle", "frame"]).copy()
+    for axis, length in zip(("x", "y"), period_px, strict=True):
+        pos = table[axis].to_numpy(float)
+        step = np.diff(pos)
+        same = table["particle"].to_numpy()[1:] == table["particle"].to_numpy()[:-1]
+        wraps = np.where(same, np.round(step / length), 0.0)
+        shift = np.concatenate([[0.0], np.cumsum(wraps)])
+        # the shift accumulates within a track only
+        track_start = np.concatenate([[True], ~same])
+        base = np.maximum.accumulate(np.where(track_start, np.arange(len(pos)), 0))
+        table[axis] = pos - length * (shift - shift[base])
+    return table.sort_values(["frame", "particle"]).reset_index(drop=True)
+
+
+def drift_sharpens(raw: Frames, moved: Frames, box=None) -> bool:
+    """Whether the drift-corrected positions show a sharper landscape than the raw ones.
+
+    Sharper: a higher held-out log-likelihood of the positions' density (the kernel density of
+    :mod:`skygas.inference.landscape`, each on its own field of view; folded into the box if
+    periodic). A drift of the stage moves the landscape with the skyrmions, and taking it out
+    sharpens it; a drive moves the skyrmions across a landscape that stays, and taking it out
+    blurs it.
+    """
+    from skygas.inference.film import field_of_view
+    from skygas.inference.landscape import best_density_score
+
+    def score(frames: Frames) -> float:
+        if box is not None:
+            (lx, ly), (x0, y0) = box
+            frames = Frames(
+                frames.time,
+                frames.count,
+                frames.ids,
+                x0 + np.mod(frames.x - x0, lx),
+                y0 + np.mod(frames.y - y0, ly),
+            )
+        return best_density_score(frames, field_of_view(frames, 1e-12))
+
+    return score(moved) > score(raw)
 
 
 def _lag_one_diffusion(frames: Frames, dt: float) -> float:

@@ -1,20 +1,17 @@
-"""The wall potential from the density against the distance to the outline.
+"""The film's edge: distances to it, and the wall potential read off the density (a cross-check).
 
-Positions are binned by their distance d to the outline's boundary (shapely); each bin's density
-is its share of positions over the area of the band of the film at that distance (the exact
-area between the outline shrunk by d₁ and by d₂), so the geometry does not enter. Then
+:func:`wall_distance` and :func:`inradius` are the geometry every part of the inference uses.
+:func:`wall_profile` is the equilibrium cross-check of the wall force the steps show
+(:mod:`skygas.inference.forces`): positions are binned by their distance d to the outline's
+boundary (shapely); each bin's density is its share of positions over the area of the band of
+the film at that distance (the exact area between the outline shrunk by d₁ and by d₂), so the
+geometry does not enter, and
 
     W(d) = −k_BT ln(ρ(d) / ρ_bulk),
 
-with ρ_bulk the density over the distances beyond :data:`BULK_FRACTION` of the film's inradius
-(the pinning averages out along the boundary, W → 0 there). Errors are blocked over contiguous
-blocks of time. The wall law for the engine is the force −dW/dd of a smooth fit
-(:mod:`skygas.inference.laws`) over the distances the data fix: the bins with at least
-:data:`MIN_COUNT` positions and W known within :data:`MAX_ERROR` k_BT, closer than the first
-such bin where W is not above zero by more than two standard errors. Farther, W is
-indistinguishable from the bulk and a fit of ln W there would only fit noise (on a dilute gas,
-bins out to 300 nm pulled the fit at 60 nm to 2.4 k_BT where the bins read 5.9 ± 0.6 and the
-wall law gives 5.7; fitted over 78–148 nm, 4.6).
+with ρ_bulk the density beyond :data:`BULK_FRACTION` of the film's inradius. Errors are blocked
+over contiguous blocks of time. In a gas W(d) also carries the neighbours' layering against the
+wall (:mod:`skygas.inference.crowding` takes their mean push out).
 """
 
 from __future__ import annotations
@@ -26,26 +23,18 @@ import numpy as np
 from skygas.analysis.frames import Frames
 from skygas.core.units import M_TO_NM
 from skygas.inference.diffusion import blocked, time_blocks
-from skygas.inference.laws import first_run, fit_exp_quadratic, potential
 from skygas.physics.geometry import Outline
 
 #: The bulk starts at this fraction of the film's inradius from the boundary.
 BULK_FRACTION = 0.5
-#: A bin counts as sampled with at least this many positions ...
-MIN_COUNT = 50
-#: ... and W known within this standard error [k_BT].
-MAX_ERROR = 0.5
 #: Blocks of time for the errors.
 BLOCKS = 16
-#: Below this [k_BT] the fitted wall potential counts as zero.
-NEGLIGIBLE = 0.05
 
 
 @dataclass(frozen=True)
 class WallProfile:
-    """W(d) [k_BT] ± ``error`` at bin centres ``d`` [m]; ``sampled`` bins; the fit ``coef``.
+    """W(d) [k_BT] ± ``error`` at bin centres ``d`` [m] with ``counts`` positions per bin.
 
-    ``coef`` (c₀, c₁, c₂) of ln W = c₀ + c₁ d + c₂ d², d in nm (None if it cannot be fitted);
     ``bulk_from`` [m] where the bulk starts.
     """
 
@@ -53,38 +42,7 @@ class WallProfile:
     w: np.ndarray
     error: np.ndarray
     counts: np.ndarray
-    sampled: np.ndarray
-    coef: np.ndarray | None
     bulk_from: float
-
-    @property
-    def reach(self) -> float:
-        """Where the fitted W first falls below :data:`NEGLIGIBLE` k_BT [m] (≤ ``bulk_from``).
-
-        The wall potential is applied (to the pinning map, and as the engine's wall table) up
-        to here and is 0 beyond: the fit is not carried into distances where it would only
-        extrapolate.
-        """
-        if self.coef is None:
-            return 0.0
-        d = np.linspace(0.0, self.bulk_from, 400)
-        weak = np.flatnonzero(potential(self.coef, d * M_TO_NM) < NEGLIGIBLE)
-        return float(d[weak[0]]) if len(weak) else self.bulk_from
-
-    def at(self, d: np.ndarray) -> np.ndarray:
-        """W(d) [k_BT] of the fit at distances ``d`` [m], 0 beyond :attr:`reach` (or no fit)."""
-        d = np.asarray(d, float)
-        if self.coef is None:
-            return np.zeros_like(d)
-        return np.where(d < self.reach, potential(self.coef, d * M_TO_NM), 0.0)
-
-    @property
-    def sampled_range(self) -> tuple[float, float] | None:
-        """(first, last) sampled distance [m], or None."""
-        if not self.sampled.any():
-            return None
-        d = self.d[self.sampled]
-        return float(d.min()), float(d.max())
 
 
 def wall_distance(outline: Outline, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -95,15 +53,19 @@ def wall_distance(outline: Outline, x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 
 def inradius(outline: Outline) -> float:
-    """The largest distance [m] from the boundary inside the outline (to 1 % of it)."""
+    """The largest distance [m] from the boundary inside the outline.
+
+    Shapely's largest inscribed circle, to 0.1 % of the outline's size.
+    """
     import shapely
 
     region = outline.region
-    lo, hi = 0.0, max(region.bounds[2] - region.bounds[0], region.bounds[3] - region.bounds[1])
-    for _ in range(20):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if not shapely.is_empty(region.buffer(-mid)) else (lo, mid)
-    return lo / M_TO_NM
+    size = max(region.bounds[2] - region.bounds[0], region.bounds[3] - region.bounds[1])
+    parts = getattr(region, "geoms", [region])
+    radius = max(
+        shapely.maximum_inscribed_circle(part, tolerance=1e-3 * size).length for part in parts
+    )
+    return float(radius) / M_TO_NM
 
 
 def wall_profile(
@@ -117,12 +79,15 @@ def wall_profile(
     force on the skyrmions at distance s (without it a crowded gas pressed against the wall
     reads a wall softer than it is).
     """
+    from skygas.inference.landscape import make_grid
+
     reach = inradius(outline)
     edges = np.arange(0.0, reach + bin_width, bin_width)
-    edges_nm = edges * M_TO_NM
-    region = outline.region
-    shrunk = np.array([region.buffer(-e).area if e > 0 else region.area for e in edges_nm])
-    band_area = -np.diff(shrunk)  # nm²
+    # the area of each band of distance to the edge, from a grid four times finer than the bins
+    grid = make_grid(outline, bin_width / 4)
+    gx, gy = np.meshgrid(grid.x, grid.y)
+    node_d = wall_distance(outline, gx, gy)
+    band_area = np.histogram(node_d, edges, weights=grid.inside * grid.h**2)[0]
     d = wall_distance(outline, frames.x, frames.y)
     bulk_from = BULK_FRACTION * reach
     bulk = edges[:-1] >= bulk_from
@@ -154,8 +119,4 @@ def wall_profile(
         [blocked(per_block_arr[:, k]) if np.isfinite(w[k]) else np.inf for k in range(len(w))]
     )
     centres = 0.5 * (edges[1:] + edges[:-1])
-    sampled = first_run(
-        (counts >= MIN_COUNT) & np.isfinite(w) & (error <= MAX_ERROR) & (w > 2 * error) & ~bulk
-    )
-    coef = fit_exp_quadratic(centres[sampled] * M_TO_NM, w[sampled], error[sampled])
-    return WallProfile(centres, w, error, counts, sampled, coef, bulk_from)
+    return WallProfile(centres, w, error, counts, bulk_from)
