@@ -519,7 +519,8 @@ def infer(
         else None,
         "hall_angle": hall,
         "hall_angle_error": hall_err if hall_fixed else None,
-        "hall_angle_as_read": float(hall_value) if hall_fixed else None,
+        # what the steps read, also where the frames are too coarse to fix it
+        "hall_angle_as_read": float(hall_value) if result.hall_angle_fixed else None,
         "hall_angle_note": hall_note,
         "hall_angle_definition": "angle from a force to the velocity it causes, "
         "counter-clockwise positive (atan2(G, alpha*D*k) of the Thiele equation)",
