@@ -771,6 +771,13 @@ def _compare(film, frames, run, result, fmap, bi, n_frames, seed):
     r_max = min(size, result.basis.pair_range * 1.5 if result.basis.pair_range else size)
     bandwidth = bi.bandwidth if bi is not None else 2 * fmap.grid.h
     movie = frames.select(np.arange(n_frames)) if n_frames < frames.n_frames else frames
+    pair_error = None
+    if "pair" in result.terms and result.basis.pair is not None:
+        basis, cols = result.basis.pair, result.basis.columns["pair"]
+
+        def pair_error(r: np.ndarray) -> np.ndarray:
+            return result.jackknife(lambda f: _potential(basis, r, f.theta[cols]))[1]
+
     return selfcheck.compare(
         movie,
         run,
@@ -781,4 +788,5 @@ def _compare(film, frames, run, result, fmap, bi, n_frames, seed):
         bins=15,
         seed=seed,
         interacting=any(t in result.terms for t in ("pair", "material_pair")),
+        pair_potential_error=pair_error,
     )

@@ -316,8 +316,12 @@ def compare(
     bins: int,
     seed: int,
     interacting: bool = True,
+    pair_potential_error=None,
 ) -> dict:
     """The three comparisons of the module's text, with a verdict each and overall.
+
+    ``pair_potential_error(r)``: the jackknife error of a fitted pair potential [k_BT] at
+    distances r [m], added to the model's g(r) error to first order (δg = g δV).
 
     ``interacting``: whether the model has a pair law. Without one, g(r) is shown but not
     judged: it then carries only the landscape's density correlations, which the density map
@@ -352,6 +356,11 @@ def compare(
     seen_model = _folded(film, run.frames)
     g_movie, g_movie_err = _pair_correlation(seen_movie, region, r_max, bins)
     g_model, g_model_err = _pair_correlation(seen_model, region, r_max, bins)
+    if pair_potential_error is not None:
+        # the model's g(r) is as uncertain as its pair law: to first order g ∝ exp(−V(r)),
+        # δg = g δV. With strong pairs a percent of the force moves g(r) at its first peak by
+        # more than the movie's errors there, which alone are no evidence of a wrong law.
+        g_model_err = np.hypot(g_model_err, g_model.g * pair_potential_error(g_model.r))
     use = g_movie.pairs >= MIN_PAIRS
     with np.errstate(invalid="ignore", divide="ignore"):
         z_g = (g_model.g - g_movie.g) / np.hypot(g_movie_err, g_model_err)
