@@ -13,8 +13,8 @@ with the truth:
 - landscape: the share of the film well sampled, the RMS of (inferred − true) over it (both
   with their mean over it removed) [k_BT], and the pinning strength (rms of U over it)
   inferred / true; for a flat truth, whether the model has a landscape;
-- pair and wall: whether the model has the term, and where the force is reported as fixed
-  (its jackknife error within 5 %), the largest |F/F_true − 1|; for the wall also the
+- pair and wall: whether the model has the term, and over the range infer reports the force
+  as fixed (``fixed_range_m``), the largest |F/F_true − 1|; for the wall also the
   potential W at the closest distance against the truth, in units of its error;
 - self-check: passed, or what failed;
 - the inference's wall time.
@@ -228,12 +228,10 @@ def compare(spec: ig.GasSpec, summary: dict, result) -> dict:
             continue
         r = np.array(fitted["r_m"])
         f = np.array(fitted["force_N"]) / kt
-        err = np.array(fitted["force_error_N"]) / kt
-        fixed = (f > 0) & (err <= 0.05 * f)
+        # judged where infer reports the force as fixed (none where the frames are too coarse)
+        span = fitted["fixed_range_m"]
+        fixed = np.zeros(len(r), bool) if span is None else (r >= span[0]) & (r <= span[1])
         text = "kept, fixed nowhere"
-        if fitted["fixed_range_m"] is None:
-            # infer says no distance is fixed (the frames are too coarse for the forces)
-            fixed[:] = False
         if fixed.any():
             ratio = f[fixed] / truth_f(r[fixed])
             text = (

@@ -27,7 +27,7 @@ gives ``error_across_skyrmions``, and the nodes where it too is at most
 profile, :mod:`skygas.inference.wall`) over the well-sampled nodes; the correlation length ξ is
 where the radially averaged autocorrelation falls to e^(−1/2) (ξ of a Gaussian covariance
 rms²·exp(−r²/2ξ²), the convention of :class:`~skygas.fields.landscape.Disorder`). The deepest
-local minima, with the mean time a skyrmion dwells within ξ/2 of each.
+local minima.
 """
 
 from __future__ import annotations
@@ -328,27 +328,3 @@ def deepest_wells(
     order = np.argsort(u[j, i])[:count]
     mean = float(np.mean(u[mask]))
     return [(float(grid.x[i[k]]), float(grid.y[j[k]]), float(mean - u[j[k], i[k]])) for k in order]
-
-
-def dwell_time(frames: Frames, centre: tuple[float, float], radius: float) -> tuple[float, int]:
-    """Mean time [s] of the visits of skyrmions within ``radius`` [m] of ``centre``, and visits.
-
-    A visit is a run of consecutive frames of one skyrmion inside the disc; visits cut by the
-    start or end of a track are left out (their length is unknown).
-    """
-    dt = frames.frame_interval()
-    f = frames.frame_of_entry
-    order = np.lexsort((f, frames.ids))
-    ids, f = frames.ids[order], f[order]
-    inside = np.hypot(frames.x[order] - centre[0], frames.y[order] - centre[1]) <= radius
-    linked = (ids[1:] == ids[:-1]) & (f[1:] == f[:-1] + 1)  # entry k continues into k + 1
-    before = np.concatenate([[False], linked & inside[:-1]])
-    after = np.concatenate([linked & inside[1:], [False]])
-    starts = np.flatnonzero(inside & ~before)
-    ends = np.flatnonzero(inside & ~after)
-    has_before = np.concatenate([[False], linked])[starts]
-    has_after = np.concatenate([linked, [False]])[ends]
-    lengths = (ends - starts + 1)[has_before & has_after]
-    if len(lengths) == 0:
-        return float("nan"), 0
-    return float(np.mean(lengths) * dt), int(len(lengths))
