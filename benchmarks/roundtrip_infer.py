@@ -12,7 +12,7 @@ with the truth:
 - Hall angle: inferred ± error against the truth [°] (``none`` where the data cannot fix it);
 - landscape: the share of the film well sampled, the RMS of (inferred − true) over it (both
   with their mean over it removed) [k_BT], and the pinning strength (rms of U over it)
-  inferred / true; for a flat truth, whether the model has a landscape;
+  inferred / true, ± its jackknife error; for a flat truth, whether the model has a landscape;
 - pair and wall: whether the model has the term, and over the range infer reports the force
   as fixed (``fixed_range_m``), the largest |F/F_true − 1|; for the wall also the
   potential W at the closest distance against the truth, in units of its error;
@@ -166,6 +166,13 @@ def peer_spec(folder: Path) -> tuple[ig.GasSpec, dict]:
     return spec, truth
 
 
+def _jackknife(values) -> float:
+    """The jackknife error of leave-one-out replicas."""
+    from skygas.inference.forces import jackknife_error
+
+    return float(jackknife_error(np.asarray(values, float)))
+
+
 def compare(spec: ig.GasSpec, summary: dict, result) -> dict:
     """The table's numbers for one case."""
     s = summary
@@ -193,21 +200,34 @@ def compare(spec: ig.GasSpec, summary: dict, result) -> dict:
         out["landscape"] = (
             "none (flat: right)" if "landscape" not in terms else "kept (flat: wrong)"
         )
-    elif area.sum() >= 4:
-        scale = s["model"]["landscape_scale"]
-        a = scale * (fmap.u[area] - fmap.u[area].mean())
-        b = true_u[area] - true_u[area].mean()
-        out["landscape"] = (
-            f"{100 * area.mean() / max(fmap.film.mean(), 1e-12):.0f} % well sampled, "
-            f"RMS {np.sqrt(np.mean((a - b) ** 2)):.2f} k_BT, strength {np.std(a) / np.std(b):.2f}"
-        )
     else:
-        sampled = fmap.sampled
-        a = fmap.u[sampled] - fmap.u[sampled].mean()
-        b = true_u[sampled] - true_u[sampled].mean()
+        # judged over the well-sampled area, or over the sampled one where nothing is well
+        # sampled (the map's errors are then relative to the sampled area's mean)
+        well = area.sum() >= 4
+        judged = area if well else fmap.sampled
+        scale = s["model"]["landscape_scale"]
+        a = scale * (fmap.u[judged] - fmap.u[judged].mean())
+        b = true_u[judged] - true_u[judged].mean()
+        rms = np.sqrt(np.mean((a - b) ** 2))
+        in_errors = np.sqrt(np.mean(((a - b) / (scale * fmap.error[judged])) ** 2))
+        # the strength's error: the larger jackknife of the rms over the area (maps.statistics)
+        strength_err = (
+            max(
+                _jackknife([np.std(r[judged] - r[judged].mean()) for r in reps])
+                for reps in fmap.replicas
+            )
+            * scale
+            / np.std(b)
+        )
+        numbers = (
+            f"RMS {rms:.2f} k_BT ({in_errors:.1f} of its errors), "
+            f"strength {np.std(a) / np.std(b):.2f} ± {strength_err:.2f}"
+        )
+        share = 100 * area.mean() / max(fmap.film.mean(), 1e-12)
         out["landscape"] = (
-            f"0 % well sampled (sampled: RMS {np.sqrt(np.mean((a - b) ** 2)):.2f} k_BT, "
-            f"strength {np.std(a) / np.std(b):.2f})"
+            f"{share:.0f} % well sampled, {numbers}"
+            if well
+            else f"0 % well sampled (sampled: {numbers})"
         )
     kt = ig.BOLTZMANN * spec.temperature
     for term, truth_f, has in (

@@ -59,6 +59,11 @@ from skygas.inference.force_basis import ForceBasis, neighbour_pairs
 
 #: Contiguous blocks of time: the folds of the cross-validation and of the jackknife.
 BLOCKS = 16
+#: Groups of tracks: a second jackknife, over which skyrmions are seen. Where skyrmions stay in
+#: their wells for the whole movie, the blocks of time all see the same skyrmions in the same
+#: places (and the same neighbours), and a jackknife over time alone misses that the landscape
+#: there rests on one skyrmion's visit. Used where there are at least this many tracks.
+TRACK_GROUPS = 16
 #: Rounds of (forces → D → forces).
 D_ITERATIONS = 3
 #: The landscape coefficients' ridge, relative to the Gram matrix's mean diagonal.
@@ -70,7 +75,8 @@ class Steps:
     """The displacements used: entry ``a`` at frame t, ``b`` at t + 1, ``c`` at t − 1.
 
     ``dx``, ``dy`` [m] the step a → b, ``px``, ``py`` the step c → a (unwrapped);
-    ``block`` the block of time of each step; ``dt`` [s].
+    ``block`` the block of time of each step; ``group`` its group of tracks (0 … ``groups`` − 1;
+    ``groups`` = 0 where there are too few tracks); ``dt`` [s].
     """
 
     a: np.ndarray
@@ -83,6 +89,8 @@ class Steps:
     block: np.ndarray
     blocks: int
     dt: float
+    group: np.ndarray
+    groups: int
 
     def __len__(self) -> int:
         return len(self.a)
@@ -106,7 +114,21 @@ def make_steps(frames: Frames, film: Film, keep=None, blocks: int = BLOCKS) -> S
     dx, dy = unwrapped_steps(film, frames, a, b)
     px, py = unwrapped_steps(film, frames, c, a)
     block = block_of_frame(frames.n_frames, blocks)[frames.frame_of_entry[a]]
-    return Steps(a, b, c, dx, dy, px, py, block, blocks, frames.frame_interval())
+    group, groups = track_groups(frames.ids[a])
+    return Steps(a, b, c, dx, dy, px, py, block, blocks, frames.frame_interval(), group, groups)
+
+
+def track_groups(ids: np.ndarray, groups: int = TRACK_GROUPS) -> tuple[np.ndarray, int]:
+    """(the group of each step's track, the number of groups).
+
+    Tracks are dealt to ``groups`` groups in a fixed shuffled order (neighbouring ids are often
+    neighbouring skyrmions); no groups (all −1, 0) with fewer tracks than groups.
+    """
+    uniq, inverse = np.unique(ids, return_inverse=True)
+    if len(uniq) < groups:
+        return np.full(len(ids), -1), 0
+    order = np.random.default_rng(0).permutation(len(uniq))
+    return (order * groups // len(uniq))[inverse], groups
 
 
 @dataclass
@@ -127,6 +149,8 @@ class Moments:
     gram: list
     lag: list
     dt: float
+    #: the same sums per group of tracks (:data:`TRACK_GROUPS`), or None with too few tracks
+    by_track: Moments | None = None
 
     def total(self, part: str, blocks: np.ndarray):
         """The sum of ``part`` over the chosen blocks (a boolean mask).
@@ -155,10 +179,8 @@ class Moments:
         self._whole: dict = {}
 
 
-def accumulate(frames: Frames, steps: Steps, basis: ForceBasis, progress=None) -> Moments:
-    """The per-block sums of :class:`Moments` for ``basis`` over ``steps``."""
-    k, nb = basis.size, steps.blocks
-    out = Moments(
+def _empty_moments(k: int, nb: int, dt: float) -> Moments:
+    return Moments(
         np.zeros(nb),
         np.zeros(nb),
         np.zeros(nb),
@@ -167,8 +189,37 @@ def accumulate(frames: Frames, steps: Steps, basis: ForceBasis, progress=None) -
         np.zeros((nb, k)),
         [sparse.csr_matrix((k, k)) for _ in range(nb)],
         [sparse.csr_matrix((k, k)) for _ in range(nb)],
-        steps.dt,
+        dt,
     )
+
+
+def _add_sums(out: Moments, i: int, rows, g, ia, ib, ic, steps: Steps, sel) -> None:
+    """Add the sums over ``rows`` (of ``sel``) to slot ``i`` of ``out``."""
+    dx, dy = steps.dx[sel][rows], steps.dy[sel][rows]
+    ia, ib, ic = ia[rows], ib[rows], ic[rows]
+    ax, ay = g.gx[ia], g.gy[ia]
+    sx, sy = ax + g.gx[ib], ay + g.gy[ib]
+    out.count[i] += len(dx)
+    out.square[i] += float(np.sum(dx * dx + dy * dy))
+    out.lagged[i] += float(np.sum(dx * steps.px[sel][rows] + dy * steps.py[sel][rows]))
+    out.strat[i] += 0.5 * (sx.T @ dx + sy.T @ dy)
+    out.rot[i] += 0.5 * (sy.T @ dx - sx.T @ dy)
+    out.div[i] += np.asarray(g.div[ia].sum(axis=0)).ravel()
+    out.gram[i] = (out.gram[i] + (ax.T @ ax + ay.T @ ay)).tocsr()
+    cx, cy = g.gx[ic], g.gy[ic]
+    cross = ax.T @ cx + ay.T @ cy
+    out.lag[i] = (out.lag[i] + 0.5 * (cross + cross.T)).tocsr()
+
+
+def accumulate(frames: Frames, steps: Steps, basis: ForceBasis, progress=None) -> Moments:
+    """The per-block sums of :class:`Moments` for ``basis`` over ``steps``.
+
+    Also per group of tracks (``by_track``), where there are enough tracks.
+    """
+    k, nb = basis.size, steps.blocks
+    out = _empty_moments(k, nb, steps.dt)
+    if steps.groups:
+        out.by_track = _empty_moments(k, steps.groups, steps.dt)
     fof = frames.frame_of_entry
     for blk in range(nb):
         sel = np.flatnonzero(steps.block == blk)
@@ -181,19 +232,12 @@ def accumulate(frames: Frames, steps: Steps, basis: ForceBasis, progress=None) -
         pairs = neighbour_pairs(frames, basis.film, first, last, basis.pair_range)
         g = basis.fields(frames, entries, pairs)
         ia, ib, ic = (np.searchsorted(entries, e) for e in (a, b, c))
-        dx, dy = steps.dx[sel], steps.dy[sel]
-        ax, ay = g.gx[ia], g.gy[ia]
-        sx, sy = ax + g.gx[ib], ay + g.gy[ib]
-        out.count[blk] = len(sel)
-        out.square[blk] = float(np.sum(dx * dx + dy * dy))
-        out.lagged[blk] = float(np.sum(dx * steps.px[sel] + dy * steps.py[sel]))
-        out.strat[blk] = 0.5 * (sx.T @ dx + sy.T @ dy)
-        out.rot[blk] = 0.5 * (sy.T @ dx - sx.T @ dy)
-        out.div[blk] = np.asarray(g.div[ia].sum(axis=0)).ravel()
-        out.gram[blk] = (ax.T @ ax + ay.T @ ay).tocsr()
-        cx, cy = g.gx[ic], g.gy[ic]
-        cross = ax.T @ cx + ay.T @ cy
-        out.lag[blk] = (0.5 * (cross + cross.T)).tocsr()
+        _add_sums(out, blk, slice(None), g, ia, ib, ic, steps, sel)
+        if out.by_track is not None:
+            group = steps.group[sel]
+            for grp in np.unique(group):
+                rows = np.flatnonzero(group == grp)
+                _add_sums(out.by_track, int(grp), rows, g, ia, ib, ic, steps, sel)
         if progress is not None:
             progress(blk + 1, nb)
     return out

@@ -36,11 +36,19 @@ D_BOUNDS = (0.25, 1.5)
 FOLDS = 8
 
 
+def jackknife_error(replicas: np.ndarray) -> np.ndarray:
+    """The jackknife standard error from leave-one-out replicas (along axis 0)."""
+    nb = len(replicas)
+    return np.sqrt((nb - 1) / nb * np.sum((replicas - replicas.mean(axis=0)) ** 2, axis=0))
+
+
 @dataclass
 class ForceInference:
     """The force model the data support, with D, the Hall angle and their jackknife errors.
 
     ``fit`` on all data; ``folds`` the leave-one-block-out fits (the jackknife replicates);
+    ``track_folds`` the leave-one-group-of-tracks-out fits (empty with too few tracks): every
+    error is the larger of the two jackknifes, over time and over which skyrmions are seen;
     ``terms`` the terms kept; ``comparisons`` per candidate term: the held-out log-likelihood
     it adds (nats), its standard error, and whether it was kept; ``roughness`` λ with the
     ``roughness_scores`` of ``roughness_grid``.
@@ -62,14 +70,25 @@ class ForceInference:
     roughness_scores: np.ndarray
     score: dyn.Score
     fixed: tuple[str, ...] = field(default=())
+    track_folds: list = field(default_factory=list)
+
+    @property
+    def replica_sets(self) -> list[list]:
+        """The jackknife's replicate fits: over blocks of time, and over groups of tracks."""
+        return [reps for reps in (self.folds, self.track_folds) if reps]
 
     def jackknife(self, quantity) -> tuple[np.ndarray, np.ndarray]:
-        """``quantity(fit)`` on all data and its jackknife standard error over the blocks."""
+        """``quantity(fit)`` on all data and its jackknife standard error.
+
+        The error is the larger of the jackknifes over blocks of time and over groups of tracks
+        (elementwise).
+        """
         value = np.asarray(quantity(self.fit), float)
-        reps = np.array([np.asarray(quantity(f), float) for f in self.folds])
-        nb = len(reps)
-        err = np.sqrt((nb - 1) / nb * np.sum((reps - reps.mean(axis=0)) ** 2, axis=0))
-        return value, err
+        errors = [
+            jackknife_error(np.array([np.asarray(quantity(f), float) for f in reps]))
+            for reps in self.replica_sets
+        ]
+        return value, np.max(errors, axis=0)
 
     @property
     def hall_angle_fixed(self) -> bool:
@@ -235,24 +254,29 @@ def fit_terms(
         return f, bounded(d, raw), s2
 
     f, d, s2 = converged(everything)
-    folds, d_folds, s2_folds = [], [], []
-    for blk in range(nb):
-        train = everything.copy()
-        train[blk] = False
-        # one round from the whole's D: the replicas differ from the whole by little
-        fk = dyn.fit(mom, cols, train, d, pen, lam, cons)
-        dk, s2k = dyn.diffusion_constant(mom, fk, train)
-        dk = bounded(dk, dyn.diffusion_constant(mom, None, train)[0])
-        fk = dyn.fit(mom, cols, train, dk, pen, lam, cons)
-        folds.append(fk)
-        d_folds.append(dk)
-        s2_folds.append(s2k)
+
+    def leave_one_out(m: dyn.Moments):
+        fits, ds, s2s = [], [], []
+        for left in range(len(m.count)):
+            train = np.ones(len(m.count), bool)
+            train[left] = False
+            # one round from the whole's D: the replicas differ from the whole by little
+            fk = dyn.fit(m, cols, train, d, pen, lam, cons)
+            dk, s2k = dyn.diffusion_constant(m, fk, train)
+            dk = bounded(dk, dyn.diffusion_constant(m, None, train)[0])
+            fits.append(dyn.fit(m, cols, train, dk, pen, lam, cons))
+            ds.append(dk)
+            s2s.append(s2k)
+        return fits, np.array(ds), np.array(s2s)
+
+    folds, d_folds, s2_folds = leave_one_out(mom)
+    track_folds: list = []
+    d_err, s2_err = jackknife_error(d_folds), jackknife_error(s2_folds)
+    if mom.by_track is not None:
+        track_folds, d_tracks, s2_tracks = leave_one_out(mom.by_track)
+        d_err = max(d_err, jackknife_error(d_tracks))
+        s2_err = max(s2_err, jackknife_error(s2_tracks))
     score = _score(mom, basis, terms, d, pen, lam)
-
-    def jack(values):
-        v = np.asarray(values)
-        return float(np.sqrt((nb - 1) / nb * np.sum((v - v.mean()) ** 2)))
-
     return ForceInference(
         basis,
         mom,
@@ -262,12 +286,13 @@ def fit_terms(
         comparisons or {},
         d_raw,
         d,
-        jack(d_folds),
+        float(d_err),
         s2,
-        jack(s2_folds),
+        float(s2_err),
         lam,
         grid,
         scores,
         score,
         tuple(fixed),
+        track_folds,
     )

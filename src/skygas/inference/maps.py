@@ -2,7 +2,10 @@
 
 U(x, y) [k_BT] is the landscape term of the force model (:mod:`skygas.inference.forces`)
 evaluated on the nodes of a grid over the film, defined up to a constant. Its error is the
-jackknife over blocks of time. An error of U needs a reference: the map's constant is set by
+larger of two jackknifes: over blocks of time and over groups of tracks (where skyrmions sit
+in their wells all movie long, every block of time sees the same skyrmion in a well, and only
+leaving that skyrmion out shows how much the map there rests on it). An error of U needs a
+reference: the map's constant is set by
 U's mean over the **well-sampled** area, and that area is where the error, so referenced, is at
 most :data:`WELL_SAMPLED_ERROR` k_BT and a node's neighbourhood (one spline spacing) holds at
 least :data:`MIN_POSITIONS` tracked positions. The two depend on each other, so the area is
@@ -21,7 +24,7 @@ import numpy as np
 from scipy import ndimage
 
 from skygas.analysis.frames import Frames
-from skygas.inference.forces import ForceInference
+from skygas.inference.forces import ForceInference, jackknife_error
 from skygas.inference.landscape import Grid, correlation_length, deepest_wells, make_grid
 
 #: A node is well sampled where U's jackknife error, relative to the area's mean, is at most
@@ -37,7 +40,8 @@ AREA_ITERATIONS = 10
 class ForceMap:
     """U [k_BT] on ``grid`` (NaN off the film) with its jackknife ``error`` on ``well_sampled``.
 
-    ``replicas`` (B, ny, nx) the leave-one-block-out maps; ``sampled`` the nodes with enough
+    ``replicas``: one (B, ny, nx) array of leave-one-out maps per jackknife (blocks of time,
+    and groups of tracks where there are enough); ``sampled`` the nodes with enough
     positions nearby; ``film`` the nodes on the film.
     """
 
@@ -47,7 +51,7 @@ class ForceMap:
     well_sampled: np.ndarray
     sampled: np.ndarray
     film: np.ndarray
-    replicas: np.ndarray
+    replicas: tuple[np.ndarray, ...]
 
 
 def landscape_on_grid(result: ForceInference, x: np.ndarray, y: np.ndarray, fit=None):
@@ -67,19 +71,25 @@ def sampled_nodes(frames: Frames, grid: Grid, film, spacing: float) -> np.ndarra
     return near * size * size >= MIN_POSITIONS
 
 
-def well_sampled(replicas: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def well_sampled(replicas, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(the well-sampled mask, the error of U relative to its mean over it) from the replicas.
+
+    ``replicas``: a sequence of (B, ny, nx) arrays, one per jackknife; the larger error is taken.
 
     Iterated from ``start`` (see the module's text); the error is NaN off ``start``.
     """
-    nb = len(replicas)
     area = start.copy()
     error = np.full(start.shape, np.nan)
     for _ in range(AREA_ITERATIONS):
         if not area.any():
             break
-        rel = replicas - replicas[:, area].mean(axis=1)[:, None, None]
-        error = np.sqrt((nb - 1) / nb * np.sum((rel - rel.mean(axis=0)) ** 2, axis=0))
+        error = np.max(
+            [
+                jackknife_error(reps - reps[:, area].mean(axis=1)[:, None, None])
+                for reps in replicas
+            ],
+            axis=0,
+        )
         error = np.where(start, error, np.nan)
         with np.errstate(invalid="ignore"):
             new = start & (error <= WELL_SAMPLED_ERROR)
@@ -96,7 +106,10 @@ def force_map(result: ForceInference, frames: Frames, spacing: float) -> ForceMa
     grid = make_grid(film.outline, spacing)
     on_film = grid.inside > 0
     u = landscape_on_grid(result, grid.x, grid.y)
-    replicas = np.array([landscape_on_grid(result, grid.x, grid.y, f) for f in result.folds])
+    replicas = tuple(
+        np.array([landscape_on_grid(result, grid.x, grid.y, f) for f in reps])
+        for reps in result.replica_sets
+    )
     h = result.basis.landscape.ax.spacing if result.basis.landscape is not None else spacing
     sampled = on_film & sampled_nodes(frames, grid, film, h)
     well, error = well_sampled(replicas, sampled)
@@ -119,9 +132,10 @@ def statistics(fmap: ForceMap, interior: np.ndarray | None = None) -> dict:
     if area.sum() < 4:
         return {"rms_kT": None, "rms_error_kT": None, "correlation_length_m": None, "wells": []}
     rms, xi = correlation_length(np.nan_to_num(fmap.u), area, fmap.grid.h)
-    reps = [float(np.std(r[area] - r[area].mean())) for r in fmap.replicas]
-    nb = len(reps)
-    rms_err = float(np.sqrt((nb - 1) / nb * np.sum((np.array(reps) - np.mean(reps)) ** 2)))
+    rms_err = max(
+        float(jackknife_error(np.array([np.std(r[area] - r[area].mean()) for r in reps])))
+        for reps in fmap.replicas
+    )
     radius = 0.5 * xi if math.isfinite(xi) else 2 * fmap.grid.h
     wells = [
         {"x_m": x, "y_m": y, "depth_kT": depth}
