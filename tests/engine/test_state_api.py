@@ -124,3 +124,38 @@ def test_validate_positions_takes_metres():
     assert err.value.field == "skyrmions[1]"
     with pytest.raises(InputError):
         sim.validate_positions([[0.0, 0.0], [1e-9, 0.0]])  # on top of each other
+
+
+def test_an_operation_whose_schedule_does_not_move_forward_is_refused_by_name():
+    """An operation may act now (next_step ≤ step), but one that asks for a past step for ever
+    would hold the run: it is refused, named, instead of hanging."""
+
+    class Stuck:
+        name = "stuck-sensor"
+        acted = 0
+
+        def next_step(self, step):
+            return step - 5
+
+        def act(self, sim):
+            self.acted += 1
+
+    class Twice:  # acts twice at its step, then moves on: allowed
+        name = "twice"
+        acted = 0
+
+        def next_step(self, step):
+            return step if self.acted % 2 else step + 10
+
+        def act(self, sim):
+            self.acted += 1
+
+    sim = Simulation(disk(diameter=800e-9), "S2", temperature=300.0, seed=1)
+    twice = Twice()
+    sim.operations.append(twice)
+    sim.run(50 * sim.time_step)
+    # twice at steps 10, 20, 30 and 40; once at 50, where the run ends
+    assert sim.step == 50 and twice.acted == 9
+    sim.operations.append(Stuck())
+    with pytest.raises(InputError, match="stuck-sensor.*must move forward"):
+        sim.run(10 * sim.time_step)

@@ -149,15 +149,75 @@ def test_a_configured_census_on_a_reshuffler_run_resumes_bit_identically(tmp_pat
     assert 0 < census["max_count"] <= reference.run.injector.n_injected
 
 
-@pytest.mark.parametrize("name", ["injector", "controller"])
-def test_a_user_operation_may_not_take_a_device_operation_s_name(tmp_path, capsys, name):
-    config = tmp_path / "neuron.toml"
+@pytest.mark.parametrize(
+    "command, name",
+    [("neuron", "injector"), ("neuron", "controller"), ("simulate", "annihilator")],
+)
+def test_a_user_operation_may_not_take_a_device_operation_s_name(tmp_path, capsys, command, name):
+    """Refused in every device (a configuration moves between devices), when it is read."""
+    config = tmp_path / "run.toml"
     config.write_text(
         f'duration = 2e-8\n[[operations]]\nkind = "census"\nname = "{name}"\ninterval = 1e-9\n'
     )
-    assert main(["neuron", str(config), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    assert main([command, str(config), "--out", str(tmp_path / "out"), "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "operation name" in err[0] and name in err[0]
+    assert len(err) == 1 and "operations.0.name" in err[0] and name in err[0]
+    assert not (tmp_path / "out").exists()
+
+
+BROKEN = """\
+class Raises:
+    def next_step(self, step):
+        return (step // 3 + 1) * 3
+
+    def act(self, sim):
+        raise ZeroDivisionError("my own bug")
+
+
+class Past:
+    def next_step(self, step):
+        return step - 1
+
+    def act(self, sim):
+        pass
+
+
+class BadData:
+    def next_step(self, step):
+        return (step // 3 + 1) * 3
+
+    def act(self, sim):
+        pass
+
+    def data(self):
+        return {"x": "not an array of numbers"}
+"""
+
+
+@pytest.mark.parametrize(
+    "target, words",
+    [
+        ("Raises", ["operations.mine.act()", "ZeroDivisionError", "my own bug", "broken.py"]),
+        ("Past", ["'mine'", "next_step", "must move forward"]),
+        ("BadData", ["'mine'", "data()", "dimension names"]),
+    ],
+)
+def test_a_user_operation_that_breaks_its_contract_is_one_line_naming_it(
+    tmp_path, capsys, target, words
+):
+    (tmp_path / "broken.py").write_text(BROKEN)
+    config = tmp_path / "run.toml"
+    head = SIMULATE.split("[[operations]]")[0]
+    config.write_text(
+        head + f'[[operations]]\nkind = "python"\nname = "mine"\ntarget = "broken.py:{target}"\n'
+    )
+    out = tmp_path / "out"
+    assert main(["simulate", str(config), "--out", str(out), "--quiet", "--no-report"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("skygas: error:"), err
+    for word in words:
+        assert word in err[0], (word, err[0])
+    assert not (out / "trajectories.nc").exists()
 
 
 def test_a_neuron_run_reports_and_saves_its_configured_census(tmp_path):

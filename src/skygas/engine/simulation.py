@@ -712,8 +712,10 @@ class Simulation:
         if record_every and self.step % record_every == 0:
             self._record_start()
         end = self.step + n_total
+        idle = 0  # passes in a row that acted without stepping
         while self.step < end:
             due = [op.next_step(self.step) for op in self.operations]
+            idle = _check_forward(self.operations, due, self.step, idle)
             planner, plan = first_plan(
                 self.operations, due, self.step, min(end, self.step + chunk_steps)
             )
@@ -957,11 +959,8 @@ class Simulation:
         data: dict[str, tuple[tuple[str, ...], np.ndarray]] = {}
         for name, op in named_operations(self.operations).items():
             if hasattr(op, "data"):
-                for variable, (dims, array) in op.data().items():
-                    data[f"{name}_{variable}"] = (
-                        tuple(f"{name}_{d}" for d in dims),
-                        np.asarray(array),
-                    )
+                for variable, dims, array in _operation_variables(name, op.data()):
+                    data[f"{name}_{variable}"] = (tuple(f"{name}_{d}" for d in dims), array)
         return data
 
     # -- results -------------------------------------------------------------------------------
@@ -1063,3 +1062,63 @@ class Simulation:
             },
             self.parameters(),
         )
+
+
+#: Passes of the run loop in a row at one step (operations acting, nothing stepping) after which
+#: an operation that keeps asking for that step is taken to be stuck.
+STUCK_PASSES = 100
+
+
+def _check_forward(operations, due: list[int], step: int, idle: int) -> int:
+    """The count of passes in a row at ``step`` with an operation due; refuse a stuck one.
+
+    An operation may ask for the present step (``next_step(step) <= step``: act now) and act
+    several times at one step, but one that never asks for a later step would hold the run
+    at ``step`` for ever: after :data:`STUCK_PASSES` passes it is refused, by name.
+    """
+    now = [op for op, when in zip(operations, due, strict=True) if when <= step]
+    if not now:
+        return 0
+    idle += 1
+    if idle > STUCK_PASSES:
+        op = now[0]
+        name = getattr(op, "name", None) or type(op).__name__
+        raise InputError(
+            f"operation {name!r}: next_step({step})",
+            due[operations.index(op)],
+            f"a step after {step} once it has acted (it asked for step {step} or earlier "
+            f"{STUCK_PASSES} times in a row): an operation's schedule must move forward",
+        )
+    return idle
+
+
+def _operation_variables(name: str, returned) -> list[tuple[str, tuple[str, ...], np.ndarray]]:
+    """(variable, dims, array) of an operation's ``data()``, checked.
+
+    A dict of ``{variable: (dims, array)}`` with as many dimension names as the array has axes.
+    """
+    expected = "a dict {variable: (dimension names, array)}, e.g. {'n': (('time',), counts)}"
+    field = f"operation {name!r}: data()"
+    if not isinstance(returned, dict):
+        raise InputError(field, type(returned).__name__, expected)
+    out = []
+    for variable, entry in returned.items():
+        ok = isinstance(variable, str) and isinstance(entry, tuple) and len(entry) == 2
+        dims, array = entry if ok else ((), None)
+        if isinstance(dims, str):
+            dims = (dims,)
+        ok = ok and all(isinstance(d, str) for d in dims)
+        try:
+            values = np.asarray(array)
+        except Exception:
+            ok = False
+        ok = ok and values.dtype.kind in "biufcUSM" and values.ndim == len(dims)
+        if not ok:
+            raise InputError(f"{field}[{variable!r}]", _short(entry), expected)
+        out.append((variable, tuple(dims), values))
+    return out
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."

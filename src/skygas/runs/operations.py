@@ -57,9 +57,17 @@ if TYPE_CHECKING:
     from skygas.engine import Simulation
 
 
+#: Names the devices' own operations use (the reshuffler's and the neuron's injector, the
+#: neuron's annihilator and controller): a configuration's operation may not take them, in any
+#: device, so that a configuration moves from one device to another unchanged.
+RESERVED_NAMES = ("injector", "annihilator", "controller")
+
+
 def _check_name(name: str) -> str:
     if not OPERATION_NAME.fullmatch(name):
         raise ValueError("letters, digits, '-' and '_'")
+    if name.lower() in RESERVED_NAMES:
+        raise ValueError(f"a name other than {', '.join(RESERVED_NAMES)} (the devices' own)")
     return name
 
 
@@ -246,7 +254,57 @@ class PythonSpec(StrictModel):
                 )
         if getattr(op, "name", None) is None:
             op.name = self.name
-        return op
+        return UserOperation(op, self.target)
+
+
+class UserOperation:
+    """The user's operation under the run loop's contract: its errors are one line.
+
+    An exception in ``next_step``, ``act``, ``summary``, ``data``, ``state_dict`` or
+    ``load_state_dict`` becomes an :class:`~skygas.core.errors.InputError` naming the
+    operation, the method and the error (the CLI prints it as one line, exit status 2; under
+    ``--debug`` the user's own traceback follows, chained); ``next_step`` must return a whole
+    number. Optional methods stay optional: the wrapper has one only where the operation has.
+    """
+
+    _OPTIONAL = ("summary", "data", "state_dict", "load_state_dict")
+
+    def __init__(self, op: Any, target: str):
+        self.operation = op
+        self.name = op.name
+        self.target = target
+
+    def _call(self, method: str, *args):
+        try:
+            return getattr(self.operation, method)(*args)
+        except Exception as err:  # the user's code: one line naming the operation
+            raise InputError(
+                f"operations.{self.name}.{method}()",
+                f"{type(err).__name__}: {err}",
+                "to run without an error",
+                f"the error is in {self.target}; rerun with --debug for its traceback",
+            ) from err
+
+    def next_step(self, step: int) -> int:
+        """The operation's next step, checked to be a whole number."""
+        when = self._call("next_step", step)
+        if isinstance(when, bool) or not isinstance(when, (int, np.integer)):
+            raise InputError(
+                f"operations.{self.name}.next_step()",
+                when,
+                "a whole number of steps (the step at which it next acts)",
+            )
+        return int(when)
+
+    def act(self, sim: Simulation) -> None:
+        """The operation's action."""
+        self._call("act", sim)
+
+    def __getattr__(self, attr: str):
+        if attr not in self._OPTIONAL:
+            raise AttributeError(attr)
+        getattr(self.operation, attr)  # AttributeError where the operation has none
+        return lambda *args: self._call(attr, *args)
 
 
 OperationSpec = Annotated[CensusSpec | PythonSpec, Field(discriminator="kind")]
