@@ -127,7 +127,7 @@ def test_neuron_figures(faults, tmp_path):
 
 def _scores(accuracy: float, chance: float, n_test: int) -> dict:
     se = float(np.sqrt(chance * (1 - chance) / n_test))
-    return {"accuracy": accuracy, "chance": chance, "n_test": n_test, "standard_error": se}
+    return {"accuracy": accuracy, "chance": chance, "n_test": n_test, "chance_standard_error": se}
 
 
 def test_reservoir_figures(faults, tmp_path):

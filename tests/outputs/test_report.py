@@ -358,7 +358,9 @@ def test_headlines_state_the_papers_quantities(command_reports):
     assert "energy per bit" in headline("reshuffle") and "fJ" in headline("reshuffle")
     assert "output spike rate" in headline("neuron")
     assert "N_sat in a 150 nm chamber" in headline("saturation")
-    assert "XOR test accuracy" in headline("reservoir") and " ± " in headline("reservoir")
+    # an accuracy with its own 68 % interval, not the chance level's standard error
+    assert "XOR test accuracy" in headline("reservoir") and " ± " not in headline("reservoir")
+    assert re.search(r"\d % \(\d+\.\d–\d+\.\d %\)", headline("reservoir"))
     assert "short-time D₀" in headline("simulate")
     assert "SCC of x and its copy" in headline("sc demo")
     assert "pair law" in headline("micromag fit") and "F₀ = " in headline("micromag fit")

@@ -144,15 +144,15 @@ def neuron(s: dict) -> Results:
 
 # -- the reservoir -----------------------------------------------------------------------------
 def reservoir(s: dict) -> Results:
-    """XOR and the mean of the 16 functions, the temporal tasks (± errors), energy per operation.
+    """XOR, the mean of the 16 functions, the temporal tasks (68 % intervals), the energy.
 
     With the tables of ``report.md`` (:mod:`skygas.reservoir.report`).
     """
-    from skygas.reservoir.report import boolean_table, describe, temporal_table
+    from skygas.reservoir.report import accuracy_text, boolean_table, describe, temporal_table
 
     r = Results()
     xor = s.get("xor") or {}
-    text = format_value(xor.get("accuracy"), xor.get("standard_error"), kind="percent", digits=3)
+    text = accuracy_text(xor) if xor.get("accuracy") is not None else None
     if text is not None:
         chance = format_value(xor["chance"], kind="percent")
         text += f" on {xor['n_test']} test inputs (chance {chance})"
@@ -163,8 +163,7 @@ def reservoir(s: dict) -> Results:
         r.rows.append(
             (
                 f"recall of input a, {k} input(s) back",
-                format_value(t["accuracy"], t.get("standard_error"), kind="percent", digits=3)
-                or none("no test input"),
+                accuracy_text(t) if t.get("accuracy") is not None else none("no test input"),
             )
         )
     if temporal.get("parity_last_two"):
@@ -172,15 +171,14 @@ def reservoir(s: dict) -> Results:
         r.rows.append(
             (
                 "parity of the last two inputs",
-                format_value(t["accuracy"], t.get("standard_error"), kind="percent", digits=3)
-                or none("no test input"),
+                accuracy_text(t) if t.get("accuracy") is not None else none("no test input"),
             )
         )
     r.add("energy_per_operation_J", s.get("energy_per_operation_J"), reason="no drive")
     r.keys |= {"xor", "accuracy", "temporal", "boolean"}
     if "device" in s and "boolean" in s:
         r.notes += describe(s)
-        r.tables.append(("Boolean functions (test accuracy ± standard error)", boolean_table(s)))
+        r.tables.append(("Boolean functions (test accuracy, 68 % interval)", boolean_table(s)))
         if temporal:
             r.tables.append(("Temporal tasks", temporal_table(s)))
     return r

@@ -118,7 +118,7 @@ def plot_accuracies(summary: dict, path: Path) -> Path:
     ax.errorbar(
         xs,
         chance,
-        yerr=[boolean[n]["standard_error"] for n in names],
+        yerr=[boolean[n]["chance_standard_error"] for n in names],
         fmt="_",
         color="k",
         ms=10,

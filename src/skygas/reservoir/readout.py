@@ -66,7 +66,7 @@ def fit_and_score(
         "chance": chance,
         "n_train": int(train.size),
         "n_test": int(test.size),
-        "standard_error": se,
+        "chance_standard_error": se,
         "margin_standard_errors": (accuracy - chance) / se if se > 0 else None,
     }
 

@@ -17,6 +17,21 @@ def _percent(value, error=None) -> str:
     return format_value(value, error, kind="percent", digits=3) or "n/a"
 
 
+def accuracy_text(r: dict) -> str:
+    """A test accuracy with its 68 % Wilson interval over the test inputs.
+
+    E.g. "98.3 % (97.6–98.8 %)". The interval is the accuracy's own uncertainty
+    (:func:`~skygas.reservoir.readout.accuracy_interval`), which stays inside [0, 100 %];
+    the standard error at chance is a property of the chance level, not of the accuracy.
+    """
+    from skygas.reservoir.readout import accuracy_interval
+
+    lo, hi = (float(v) for v in accuracy_interval(r["accuracy"], r["n_test"]))
+    return (
+        f"{format_value(r['accuracy'], kind='percent', digits=3)} ({100 * lo:.1f}–{100 * hi:.1f} %)"
+    )
+
+
 def _margin(r: dict) -> str:
     m = r["margin_standard_errors"]
     return "n/a (chance is 100 %)" if m is None else f"{m:.1f}"
@@ -43,13 +58,19 @@ def describe(summary: dict) -> list[str]:
 
 
 def boolean_table(summary: dict) -> Table:
-    """The 16 functions: name, truth table, accuracy ± standard error, chance, margin."""
-    header = ["function", "truth table", "test accuracy", "chance", "margin (standard errors)"]
+    """The 16 functions: name, truth table, accuracy (68 % interval), chance, margin."""
+    header = [
+        "function",
+        "truth table",
+        "test accuracy (68 % interval)",
+        "chance",
+        "margin (standard errors at chance)",
+    ]
     rows = [
         [
             name,
             str(r["truth_table"]),
-            _percent(r["accuracy"], r.get("standard_error")),
+            accuracy_text(r),
             _percent(r["chance"]),
             _margin(r),
         ]
@@ -59,8 +80,13 @@ def boolean_table(summary: dict) -> Table:
 
 
 def temporal_table(summary: dict) -> Table:
-    """The temporal tasks (recall k inputs back, parity): accuracy ± error, chance, margin."""
-    header = ["task", "test accuracy", "chance", "margin (standard errors)"]
+    """The temporal tasks (recall k inputs back, parity): accuracy, chance, margin."""
+    header = [
+        "task",
+        "test accuracy (68 % interval)",
+        "chance",
+        "margin (standard errors at chance)",
+    ]
     t = summary["temporal"]
     rows = []
     if t:
@@ -69,7 +95,7 @@ def temporal_table(summary: dict) -> Table:
         rows = [
             [
                 name,
-                _percent(r["accuracy"], r.get("standard_error")),
+                accuracy_text(r),
                 _percent(r["chance"]),
                 _margin(r),
             ]
