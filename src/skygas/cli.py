@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import re
+import signal
 import sys
 import time
 from contextlib import nullcontext
@@ -302,6 +303,17 @@ def describe_error(err: BaseException, args: argparse.Namespace | None = None) -
     ), EXIT_INTERNAL
 
 
+def _honour_interrupts() -> None:
+    """Make SIGINT raise KeyboardInterrupt even when the shell started skygas with it ignored.
+
+    A non-interactive shell starts ``skygas ... &`` with SIGINT ignored, and Python then keeps
+    it ignored: ``kill -INT`` (or a scheduler's interrupt) would be lost, and the command would
+    run on. Every command saves or discards its work on KeyboardInterrupt, so take it back.
+    """
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the exit status.
 
@@ -311,6 +323,7 @@ def main(argv: list[str] | None = None) -> int:
     """
     parser = build_parser()
     args = parser.parse_args(argv)
+    _honour_interrupts()
     from skygas.runs import folder_lock, manifest
 
     manifest.set_command(command_name(args), sys.argv[1:] if argv is None else list(argv))

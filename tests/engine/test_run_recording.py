@@ -85,3 +85,39 @@ def test_a_run_resumed_from_its_state_continues_the_same_frames():
     resumed.run(3e-9, record_interval=1e-9)
     np.testing.assert_array_equal(first.trajectories().x.values, resumed.trajectories().x.values)
     assert len(resumed.trajectories().time) == 7
+
+
+def test_a_burn_in_then_a_recorded_run_refits_the_chosen_step():
+    """``sim.run(1 µs)`` then ``sim.run(…, record_interval=…)``: the step the library chose is
+    re-chosen to divide the interval, the clock moves on by less than one new step, and the
+    frames fall on the interval's multiples."""
+    sim = _sim()
+    suggested = sim.time_step
+    sim.run(1e-6)
+    burned = sim.time
+    with pytest.warns(UserWarning, match="time step shortened"):
+        sim.run(200e-9, record_interval=10e-9)
+    assert sim.time_step <= suggested
+    assert 10e-9 / sim.time_step == pytest.approx(round(10e-9 / sim.time_step), abs=1e-6)
+    ds = sim.trajectories()
+    frames = ds.time.values / 10e-9
+    np.testing.assert_allclose(frames, np.round(frames), atol=1e-6)
+    assert frames[0] * 10e-9 >= burned
+    assert sim.time == pytest.approx(burned + 200e-9, abs=sim.time_step)
+
+
+def test_the_refitted_run_diffuses_as_the_fluctuation_dissipation_theorem_says():
+    """After the refit the noise goes on with the new step: free skyrmions spread with
+    ⟨Δr²⟩ = 4 D Δt per frame, D = k_B T α𝒟 / ((α𝒟)² + G²) of the Thiele equation."""
+    sim = Simulation(disk(diameter=4e-6), "S2", temperature=300.0, seed=5)
+    grid = (np.arange(8) - 3.5) * 300e-9  # 8 × 8 skyrmions 300 nm apart, 0.9 µm off the wall
+    sim.add_skyrmions(np.array([(x, y) for x in grid for y in grid]))
+    sim.run(0.2e-6)
+    with pytest.warns(UserWarning, match="time step shortened"):
+        sim.run(2e-6, record_interval=0.1e-6)
+    ds = sim.trajectories()
+    dr2 = np.diff(ds.x.values, axis=0) ** 2 + np.diff(ds.y.values, axis=0) ** 2
+    expected = 4 * sim.thiele.diffusion_constant(300.0) * 0.1e-6
+    # 64 walks × 20 frames: Δr² of a 2-D Gaussian step has its mean as standard deviation, so
+    # the mean of 1280 is known to 1/√1280 = 2.8 %; allowed: 4 of those
+    assert float(np.mean(dr2)) == pytest.approx(expected, rel=4 / np.sqrt(dr2.size))

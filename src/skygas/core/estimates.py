@@ -38,6 +38,13 @@ from skygas.core.resources import format_bytes, require_memory
 MAX_SECONDS = 24 * 3600.0
 #: Shortest expected time [s] that is announced on stderr.
 ANNOUNCE_SECONDS = 60.0
+#: Skyrmions in the gas whose step sets the price of all (the demonstration's).
+CALIBRATION_SKYRMIONS = 45
+#: The per-step cost that does not grow with N, in skyrmions' worth (docs/performance.md).
+OVERHEAD_SKYRMIONS = 8.0
+#: Seconds per step of the 45-skyrmion gas on the measuring machine (docs/performance.md);
+#: :mod:`skygas.runs.machine_speed` measures this machine's own figure.
+REFERENCE_STEP_SECONDS = 2.2e-6
 
 
 @dataclass(frozen=True)
@@ -49,6 +56,8 @@ class RunLimits:
 
 
 _limits: ContextVar[RunLimits] = ContextVar("skygas_run_limits", default=RunLimits())  # noqa: B039 - frozen
+#: whether a :func:`run_limits` block is open: its builder checked the job before it started
+_inside: ContextVar[bool] = ContextVar("skygas_inside_run_limits", default=False)
 _announced: set[str] = set()  # lines already printed (a study builds several equal runs)
 _pending: list[str] = []  # lines waiting for the run to be accepted (announce_pending)
 
@@ -71,6 +80,7 @@ def run_limits(*, force: bool = False, announce: bool = False) -> Iterator[RunLi
     """
     limits = RunLimits(force=force, announce=announce)
     token = _limits.set(limits)
+    inside = _inside.set(True)
     try:
         yield limits
     except BaseException:
@@ -79,7 +89,41 @@ def run_limits(*, force: bool = False, announce: bool = False) -> Iterator[RunLi
     else:
         announce_pending()
     finally:
+        _inside.reset(inside)
         _limits.reset(token)
+
+
+def inside_limits() -> bool:
+    """Whether a :func:`run_limits` block is open (its device or command checked the job).
+
+    A :class:`~skygas.engine.Simulation` run from plain Python, outside any, checks itself.
+    """
+    return _inside.get()
+
+
+def step_seconds(skyrmions: float, per_calibration_step: float = REFERENCE_STEP_SECONDS) -> float:
+    """Wall time [s] of one step of ``skyrmions`` skyrmions.
+
+    The engine's cost per Heun step grows as (8 + N) (docs/performance.md: 4.5 µs at 100
+    skyrmions, 42 µs at 1 000 on the measuring machine), so one figure fixes it.
+
+    Parameters
+    ----------
+    skyrmions : float
+        Skyrmions in the device (a mean where it varies).
+    per_calibration_step : float
+        Seconds per step of the 45-skyrmion gas (default: the measuring machine's).
+
+    Returns
+    -------
+    float
+        ``per_calibration_step`` × (8 + N) / (8 + 45).
+    """
+    return (
+        per_calibration_step
+        * (OVERHEAD_SKYRMIONS + max(0.0, skyrmions))
+        / (OVERHEAD_SKYRMIONS + CALIBRATION_SKYRMIONS)
+    )
 
 
 def announce_pending() -> None:

@@ -13,6 +13,7 @@ It owns the parts that each do one job and wires them together:
 from __future__ import annotations
 
 import math
+import sys
 import warnings
 from collections.abc import Callable
 from typing import TYPE_CHECKING
@@ -20,9 +21,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from skygas._version import __version__
-from skygas.core import units
+from skygas.core import estimates, units
 from skygas.core.errors import InputError, require
 from skygas.core.memo import Memo, frozen
+from skygas.core.resources import require_memory
 from skygas.core.state_keys import from_arrays, nest, to_arrays, unnest
 from skygas.engine import terms as T
 from skygas.engine.force_model import (
@@ -70,6 +72,17 @@ if TYPE_CHECKING:
 #: skyrmions was rebuilt every 3 steps, with 1.0 every 25, and the step was 15-20 % faster
 #: (benchmarks/bench_engine.py, 100 and 1000 skyrmions).
 NEIGHBOR_SKIN = 1.0
+#: The most skyrmion diameters one term may move a free skyrmion in one step: beyond it a
+#: skyrmion jumps over its neighbours' range and through walls, and the integration means
+#: nothing (the sanity check of a run warns from half of it, docs/physics.md §5).
+MAX_STEP_DIAMETERS = 1.0
+#: The largest share of skyrmion-steps that may be undone at a wall: the wall law is a force,
+#: and when a drive or the step overpowers it, the undone steps leave skyrmions frozen at the
+#: wall (a 300 m/s drift in a 500 nm disk: 99.9 % undone, no thermal motion left).
+MAX_UNDONE_SHARE = 0.01
+#: Skyrmion-steps of one call of run() before its share of undone steps is judged.
+MIN_STEPS_TO_JUDGE_UNDONE = 10_000
+
 #: A skyrmion that drifts fast gets a wider margin in the neighbour list, room for this many
 #: steps of its motion (a current pushes skyrmions along a conduit by several nm per step,
 #: which would otherwise force a rebuild at every step) ...
@@ -666,7 +679,8 @@ class Simulation:
         With a ``record_interval``, the interval and ``duration`` must be whole numbers of
         time steps, so that the frames and the end fall exactly where they are asked for. A
         step the simulation chose itself (``time_step=None``) is shortened once, before the
-        first step, to the next one that divides ``record_interval``, with a warning (pass
+        first recorded step (a burn-in may come before), to the next one that divides
+        ``record_interval``, with a warning (pass
         ``step_interval=record_interval`` to the constructor to have it chosen so from the
         start, as ``skygas simulate`` does); a step given explicitly is never changed.
 
@@ -709,11 +723,15 @@ class Simulation:
                 f"e.g. a multiple of record_interval ({record_interval:g} s)",
             )
         n_total = int(round(duration / self.time_step))
+        if not estimates.inside_limits():  # a device or command checked its run already
+            self._check_estimate(duration, n_total, record_every)
         if record_every and self.step % record_every == 0:
             self._record_start()
         end = self.step + n_total
         idle = 0  # passes in a row that acted without stepping
+        escapes, moved = self.wall_escapes, self.skyrmion_steps
         while self.step < end:
+            self.check_integrable()  # each pass: an operation may have changed the drive
             due = [op.next_step(self.step) for op in self.operations]
             idle = _check_forward(self.operations, due, self.step, idle)
             planner, plan = first_plan(
@@ -723,6 +741,7 @@ class Simulation:
             made = 0
             if target > self.step:
                 made = self._advance(target - self.step, record_every, plan)
+                self._check_undone(self.wall_escapes - escapes, self.skyrmion_steps - moved)
             if planner is not None:  # the index of the planning operation
                 op = self.operations[planner]
                 op.planned_insertions_made(self, plan.ids[:made])
@@ -733,11 +752,98 @@ class Simulation:
             if progress is not None:
                 progress(self.time)
 
+    def _check_estimate(self, duration: float, steps: int, record_every: int) -> None:
+        """The estimate of a run called from plain Python, checked as the command line does.
+
+        Memory of the frames above the machine's share is refused; a run expected to take
+        longer than a day (at the measuring machine's speed, docs/performance.md) is refused
+        unless run inside ``skygas.core.estimates.run_limits(force=True)``; one of a minute
+        or more is announced on stderr (``skygas: estimate: ...``) before it starts.
+        """
+        slots = max(1, self.store.capacity)
+        frames = steps // record_every + 1 if record_every else 0
+        # x, y (float64) and ids (int64) per slot and frame: what trajectories() holds
+        memory = frames * slots * 24.0
+        estimate = estimates.Estimate(
+            steps=float(steps),
+            memory=memory,
+            seconds=steps * estimates.step_seconds(self.count),
+        )
+        require_memory(
+            "duration", duration, memory, f"{frames} recorded frames", "record less often"
+        )
+        if estimate.seconds > estimates.MAX_SECONDS and not estimates.current_limits().force:
+            raise InputError(
+                "duration",
+                duration,
+                f"a run of at most {estimates.format_duration(estimates.MAX_SECONDS)} (this "
+                f"one: {steps:.3g} steps of {self.time_step:.3g} s, about "
+                f"{estimates.format_duration(estimate.seconds)})",
+                f"durations are in seconds (did you mean {duration:g}e-9?); to run it anyway, "
+                "call run() inside skygas.core.estimates.run_limits(force=True)",
+            )
+        if estimate.seconds >= estimates.ANNOUNCE_SECONDS:
+            print(estimate.line(), file=sys.stderr, flush=True)
+
+    def check_integrable(self) -> None:
+        """Refuse a force term that moves a free skyrmion over :data:`MAX_STEP_DIAMETERS` per step.
+
+        :meth:`run` checks it before every kernel call (an operation may change the drive);
+        the command line's sanity check calls it before the run starts.
+
+        Raises
+        ------
+        InputError
+            Naming the term (``drift_velocity``, ``external_force``, ...), its setting, and
+            how far it moves a skyrmion in one step.
+        """
+        d_sk = self.thiele.skyrmion_diameter_internal
+        for term in self.term_rules:
+            per_step = term.per_step(self._mobility, self._dt_ns, d_sk)
+            require(
+                per_step <= MAX_STEP_DIAMETERS,
+                term.name,
+                term.setting(),
+                f"a term that moves a free skyrmion at most {MAX_STEP_DIAMETERS:g} skyrmion "
+                f"diameter per time step: it moves {per_step:.3g} in one step of "
+                f"{self.time_step:.3g} s, which the engine cannot integrate",
+                "lower it (a velocity is in m/s, a force in N), or give a shorter time_step",
+            )
+
+    def _check_undone(self, escapes: int, moved: int) -> None:
+        """Refuse a run in which walls undid over :data:`MAX_UNDONE_SHARE` of the steps.
+
+        The share is of the skyrmion-steps since the run began, judged after
+        :data:`MIN_STEPS_TO_JUDGE_UNDONE`.
+
+        Raises
+        ------
+        InputError
+            Naming the term that moves skyrmions most per step (or the time step).
+        """
+        if moved < MIN_STEPS_TO_JUDGE_UNDONE or escapes <= MAX_UNDONE_SHARE * moved:
+            return
+        d_sk = self.thiele.skyrmion_diameter_internal
+        moves = {t.name: t.per_step(self._mobility, self._dt_ns, d_sk) for t in self.term_rules}
+        name = max(moves, key=lambda k: moves[k])
+        term = next(t for t in self.term_rules if t.name == name)
+        field, value = (name, term.setting()) if moves[name] > 0 else ("time_step", self.time_step)
+        raise InputError(
+            field,
+            value,
+            f"a drive the walls can hold: {100 * escapes / moved:.3g} % of the skyrmion-steps "
+            f"({escapes} of {moved}) would have carried a skyrmion through a wall and were "
+            "undone, so skyrmions sit frozen at the wall",
+            f"lower it, or shorten the time step ({self.time_step:.3g} s); at most "
+            f"{100 * MAX_UNDONE_SHARE:g} % may be undone",
+        )
+
     def recording_steps(self, record_interval: float) -> int:
         """The time steps between two frames recorded every ``record_interval`` [s].
 
-        A step the simulation chose itself is shortened first, if nothing has run yet and no
-        operation is attached, to the longest one that divides the interval (see :meth:`run`).
+        A step the simulation chose itself is shortened first, unless an operation is attached,
+        to the longest one that divides the interval (see :meth:`run`); after a run without
+        frames (a burn-in), the clock moves on to the next multiple of the new step.
 
         Raises
         ------
@@ -753,7 +859,6 @@ class Simulation:
         if (
             whole_steps(record_interval, self.time_step) is None
             and self._step_chosen
-            and self.step == 0
             and not self.operations
         ):
             # the longest step up to the present one that divides the interval
@@ -764,7 +869,7 @@ class Simulation:
                 f"(Simulation(..., step_interval={record_interval:g}) chooses it so)",
                 stacklevel=3,
             )
-            self._set_time_step(fitted)
+            self._refit_time_step(fitted)
         every = whole_steps(record_interval, self.time_step)
         require(
             every is not None,
@@ -775,6 +880,20 @@ class Simulation:
             "that divides it",
         )
         return max(1, every or 0)
+
+    def _refit_time_step(self, time_step: float) -> None:
+        """Change a step the simulation chose itself to ``time_step`` [s] (shorter), mid-run too.
+
+        The time is the step count times the step, and the noise of a step depends on (seed,
+        id, step). After a run with the old step (a burn-in), the count moves to the first
+        step of the new length at or after the present time, so the clock stays right to
+        less than one new step (the skyrmions do not move over that sliver) and, the new step
+        being the shorter, no step's noise is drawn twice.
+        """
+        elapsed = self.time
+        self._set_time_step(time_step)
+        if self.step:
+            self.step = max(self.step, math.ceil(elapsed / self.time_step - 1e-9))
 
     def _set_time_step(self, time_step: float) -> None:
         """Change dt [s] before the first step (the noise and neighbour margins follow it)."""

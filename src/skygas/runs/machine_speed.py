@@ -3,7 +3,7 @@
 (:mod:`skygas.core.estimates`.)
 
 The engine's cost per Heun step grows linearly with the number of skyrmions N: about
-(:data:`OVERHEAD_SKYRMIONS` + N) × a constant (docs/performance.md: 4.5 µs at 100 skyrmions,
+(:data:`~skygas.core.estimates.OVERHEAD_SKYRMIONS` + N) × a constant (docs/performance.md: 4.5 µs at 100 skyrmions,
 42 µs at 1 000 on the measuring machine). One figure fixes the constant: the wall time of a step
 of the demonstration's gas (45 skyrmions in the paper's closed 1024 nm chamber),
 :func:`measured_step_seconds`, measured by running :data:`CALIBRATION_STEPS` steps once per
@@ -22,19 +22,23 @@ from __future__ import annotations
 import json
 import os
 import platform
+import sys
 import time
 
 from skygas.core import disk_cache
-from skygas.core.estimates import ANNOUNCE_SECONDS, Estimate
+from skygas.core.estimates import (
+    ANNOUNCE_SECONDS,
+    REFERENCE_STEP_SECONDS,
+    Estimate,
+    step_seconds,
+)
 
-#: Skyrmions in the calibration gas (the demonstration's).
-CALIBRATION_SKYRMIONS = 45
+#: What a command says before the first run of an installation compiles the kernels.
+COMPILING_LINE = (
+    "skygas: compiling the engine's kernels (once per installation, about half a minute)..."
+)
 #: Steps timed (after a few untimed ones that load the kernels).
 CALIBRATION_STEPS = 3000
-#: The per-step cost that does not grow with N, in skyrmions' worth (docs/performance.md).
-OVERHEAD_SKYRMIONS = 8.0
-#: Seconds per step of the calibration gas on the measuring machine (docs/performance.md).
-REFERENCE_STEP_SECONDS = 2.2e-6
 #: How much slower than the reference a machine may be before a run is worth measuring.
 SLOW_MARGIN = 10.0
 #: How much faster than the reference a machine may be (the early checks price steps at that).
@@ -68,6 +72,20 @@ def _calibrate() -> float:
     return (time.perf_counter() - started) / CALIBRATION_STEPS
 
 
+def _say_compiling() -> None:
+    """Say so before the measurement compiles the engine's kernels (half a minute, once).
+
+    The measurement runs before the run driver's progress bar, which would otherwise say it:
+    without this line, the first long run of an installation sat silent for that time. Said
+    only where estimates are announced (the command line, except under --json or --quiet).
+    """
+    from skygas.core.estimates import current_limits
+    from skygas.core.kernel_cache import engine_compiled
+
+    if current_limits().announce and not engine_compiled():
+        print(COMPILING_LINE, file=sys.stderr, flush=True)
+
+
 def measured_step_seconds() -> float:
     """Seconds per step of the calibration gas on this machine.
 
@@ -93,6 +111,7 @@ def measured_step_seconds() -> float:
             return _measured
     except (OSError, ValueError, KeyError, TypeError):
         pass
+    _say_compiling()
     _measured = _calibrate()
     if path is not None:
         try:
@@ -103,28 +122,6 @@ def measured_step_seconds() -> float:
         except OSError:
             pass  # not kept: measured again by the next process
     return _measured
-
-
-def step_seconds(skyrmions: float, per_calibration_step: float) -> float:
-    """Wall time [s] of one step of ``skyrmions`` skyrmions.
-
-    Parameters
-    ----------
-    skyrmions : float
-        Skyrmions in the device (a mean where it varies).
-    per_calibration_step : float
-        Seconds per step of the 45-skyrmion calibration gas.
-
-    Returns
-    -------
-    float
-        ``per_calibration_step`` × (8 + N) / (8 + 45).
-    """
-    return (
-        per_calibration_step
-        * (OVERHEAD_SKYRMIONS + max(0.0, skyrmions))
-        / (OVERHEAD_SKYRMIONS + CALIBRATION_SKYRMIONS)
-    )
 
 
 def run_estimate(

@@ -403,16 +403,13 @@ def _progress_bar(job: Job, enabled: bool):
     from tqdm import tqdm
 
     from skygas.core.kernel_cache import engine_compiled
+    from skygas.runs.machine_speed import COMPILING_LINE
 
     # a run of the engine whose time loop is not in the cache yet compiles it in its first piece
     steps_the_engine = getattr(getattr(job, "run", None), "sim", None) is not None
     compiling = steps_the_engine and not engine_compiled()
     if compiling:
-        print(
-            "skygas: compiling the engine's kernels (once per installation, about half a "
-            "minute)...",
-            file=sys.stderr,
-        )
+        print(COMPILING_LINE, file=sys.stderr)
 
     bar = tqdm(
         total=round(job.work_total, 6),

@@ -15,7 +15,9 @@ Checked before the run (:func:`before_run`):
   device holds skyrmions back (the neuron's closed gate), a skyrmion is pressed closer than
   one diameter to the one it pushes;
 - the drift per time step: above :data:`MAX_DRIFT_PER_STEP` skyrmion diameters a skyrmion
-  crosses the range of its neighbours' forces in one step.
+  crosses the range of its neighbours' forces in one step; above
+  :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` the engine cannot integrate it, and the
+  run is refused with or without ``strict``.
 
 Checked after the run (:func:`after_run`): wall escapes, steps that would have carried a
 skyrmion through a wall (undone by the kernel, counted). More than :data:`MAX_WALL_ESCAPE_RATE`
@@ -36,6 +38,7 @@ import sys
 from typing import Any
 
 from skygas.core.errors import InputError
+from skygas.engine.simulation import MAX_STEP_DIAMETERS
 
 #: Highest temperature [K] the wall law holds at (docs/physics.md §5, Temperature).
 MAX_TEMPERATURE = 600.0
@@ -110,12 +113,15 @@ def findings_before_run(config: Any, sim: Any = None) -> list[InputError]:
         per_step = speed * sim.time_step / d_sk
         if per_step > MAX_DRIFT_PER_STEP:
             found.append(
-                InputError(
-                    "time_step",
-                    sim.time_step,
-                    f"a drift of at most {MAX_DRIFT_PER_STEP:g} skyrmion "
-                    f"diameters per step (v_s = {speed:.3g} m/s moves {per_step:.3g} diameters)",
-                    "shorten the time step or lower the current",
+                _integrable(
+                    InputError(
+                        "time_step",
+                        sim.time_step,
+                        f"a drift of at most {MAX_DRIFT_PER_STEP:g} skyrmion diameters per "
+                        f"step (v_s = {speed:.3g} m/s moves {per_step:.3g} diameters)",
+                        "shorten the time step or lower the current",
+                    ),
+                    per_step,
                 )
             )
     if sim is not None:  # the force terms a configuration sets (a constant force)
@@ -123,16 +129,38 @@ def findings_before_run(config: Any, sim: Any = None) -> list[InputError]:
         for name, per_step in sim.term_steps().items():
             if per_step > MAX_DRIFT_PER_STEP:
                 found.append(
-                    InputError(
-                        name,
-                        settings[name],
-                        f"a force that moves a free skyrmion at most {MAX_DRIFT_PER_STEP:g} "
-                        f"diameters per step (it moves {per_step:.3g} at a time step of "
-                        f"{sim.time_step:.3g} s)",
-                        "shorten the time step or weaken the force",
+                    _integrable(
+                        InputError(
+                            name,
+                            settings[name],
+                            f"a force that moves a free skyrmion at most "
+                            f"{MAX_DRIFT_PER_STEP:g} diameters per step (it moves "
+                            f"{per_step:.3g} at a time step of {sim.time_step:.3g} s)",
+                            "shorten the time step or weaken the force",
+                        ),
+                        per_step,
                     )
                 )
     return found
+
+
+def _integrable(finding: InputError, per_step: float) -> InputError:
+    """``finding``, marked as one the engine cannot integrate when over the limit.
+
+    Over :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` diameters per step, a finding is
+    refused even without strict.
+    """
+    if per_step <= MAX_STEP_DIAMETERS:
+        return finding
+    hard = InputError(
+        finding.field,
+        finding.value,
+        f"{finding.allowed}; beyond {MAX_STEP_DIAMETERS:g} diameter per step the engine "
+        "cannot integrate it",
+        finding.hint,
+    )
+    hard.cannot_integrate = True  # type: ignore[attr-defined]
+    return hard
 
 
 def drift_speed(config: Any) -> float:
@@ -153,7 +181,14 @@ def drift_speed(config: Any) -> float:
 
 
 def report(findings: list[InputError], strict: bool) -> None:
-    """Refuse the first finding (``strict``) or print each as a warning line."""
+    """Refuse the first finding (``strict``) or print each as a warning line.
+
+    A drift or force the engine cannot integrate (over
+    :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` per step) is refused in any case.
+    """
+    beyond = [f for f in findings if getattr(f, "cannot_integrate", False)]
+    if beyond:
+        raise beyond[0]
     if strict and findings:
         raise findings[0]
     for finding in findings:
