@@ -391,3 +391,19 @@ def test_the_former_nanometre_names_warn_and_still_answer():
         assert outline.bounds_nm == outline._bounds_nm
     with pytest.warns(DeprecationWarning, match="Outline.wall_distance"):
         assert outline.wall_distance_nm(0.0, 0.0) == pytest.approx(100.0, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    "make, field",
+    [
+        (lambda: chamber_with_conduits(800), "chamber_diameter"),
+        (lambda: disk(diameter=800), "diameter"),
+        (lambda: rectangle(1e-15, 1e-6), "width"),
+    ],
+)
+def test_a_length_in_another_unit_is_named_as_from_the_command_line(make, field):
+    """800 for 800 nm gets the command line's words, not a port's 'segment' error."""
+    with pytest.raises(InputError) as err:
+        make()
+    assert err.value.field == field
+    assert "lengths are in metres: did you mean" in str(err.value)

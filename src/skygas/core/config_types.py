@@ -55,16 +55,38 @@ MIN_LENGTH = 1e-12
 MAX_LENGTH = 1.0
 
 
+def length_problem(value: float) -> str | None:
+    """What is wrong with ``value`` as a length in metres (None: nothing).
+
+    Outside :data:`MIN_LENGTH` … :data:`MAX_LENGTH` the number was almost surely given in
+    another unit; the text says what was probably meant.
+    """
+    if MIN_LENGTH <= value <= MAX_LENGTH:
+        return None
+    hint = (
+        f"did you mean {value:g}e-9 (nanometres)?"
+        if value > MAX_LENGTH
+        else "did you mean nanometres (e.g. 2e-9)?"
+    )
+    return f"a length between {MIN_LENGTH:g} m and {MAX_LENGTH:g} m; lengths are in metres: {hint}"
+
+
+def require_length(field: str, value: float) -> float:
+    """``value`` [m] if it is a length a device can have, else an InputError naming ``field``.
+
+    The check of every length given outside a configuration file (options, Python arguments),
+    the same as :data:`Length`'s.
+    """
+    problem = length_problem(value)
+    if problem is not None:
+        raise InputError(field, value, problem)
+    return value
+
+
 def _metres(value: float) -> float:
-    if not MIN_LENGTH <= value <= MAX_LENGTH:
-        hint = (
-            f"did you mean {value:g}e-9 (nanometres)?"
-            if value > MAX_LENGTH
-            else "did you mean nanometres (e.g. 2e-9)?"
-        )
-        raise ValueError(
-            f"a length between {MIN_LENGTH:g} m and {MAX_LENGTH:g} m; lengths are in metres: {hint}"
-        )
+    problem = length_problem(value)
+    if problem is not None:
+        raise ValueError(problem)
     return value
 
 

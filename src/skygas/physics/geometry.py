@@ -28,7 +28,12 @@ import shapely.validation
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
 from shapely.ops import unary_union
 
-from skygas.core.config_types import CHAMBER_DIAMETER, CONDUIT_LENGTH, CONDUIT_WIDTH
+from skygas.core.config_types import (
+    CHAMBER_DIAMETER,
+    CONDUIT_LENGTH,
+    CONDUIT_WIDTH,
+    require_length,
+)
 from skygas.core.errors import InputError, require
 from skygas.core.units import M_TO_NM
 
@@ -258,7 +263,7 @@ def _positive(name: str, value: float) -> float:
         value,
         "a length > 0 in metres",
     )
-    return float(value)
+    return require_length(name, float(value))  # 800 for 800 nm: "did you mean 800e-9?"
 
 
 # Circles become polygons whose chords stray at most this far from the true circle (nm).
