@@ -35,9 +35,7 @@ def run(
     )
 
 
-def assert_one_line(
-    proc: subprocess.CompletedProcess, *expected: str, status: int = 2
-) -> str:
+def assert_one_line(proc: subprocess.CompletedProcess, *expected: str, status: int = 2) -> str:
     """The process ended with ``status`` and one ``skygas: error:`` line holding ``expected``."""
     lines = proc.stderr.strip().splitlines()
     assert proc.returncode == status, proc.stderr
