@@ -58,6 +58,8 @@ class RunLimits:
 _limits: ContextVar[RunLimits] = ContextVar("skygas_run_limits", default=RunLimits())  # noqa: B039 - frozen
 #: whether a :func:`run_limits` block is open: its builder checked the job before it started
 _inside: ContextVar[bool] = ContextVar("skygas_inside_run_limits", default=False)
+#: whether :func:`check` stops at the first exact estimate (:func:`estimate_only`)
+_estimate_only: ContextVar[bool] = ContextVar("skygas_estimate_only", default=False)
 _announced: set[str] = set()  # lines already printed (a study builds several equal runs)
 _pending: list[str] = []  # lines waiting for the run to be accepted (announce_pending)
 
@@ -91,6 +93,32 @@ def run_limits(*, force: bool = False, announce: bool = False) -> Iterator[RunLi
     finally:
         _inside.reset(inside)
         _limits.reset(token)
+
+
+class EstimateOnly(BaseException):
+    """Raised by :func:`check` inside :func:`estimate_only`: the job's estimate, before its run.
+
+    A ``BaseException``, so that no command's error handling turns it into an error line.
+    """
+
+    def __init__(self, estimate: Estimate):
+        super().__init__(estimate.line())
+        self.estimate = estimate
+
+
+@contextmanager
+def estimate_only() -> Iterator[None]:
+    """Stop every job built inside the block at its exact estimate (raising :class:`EstimateOnly`).
+
+    For the estimator's own checks (``benchmarks/estimates.py``): a device or command is built
+    as for a run, checked, and stopped before its first step, whatever :func:`run_limits` its
+    command line sets inside.
+    """
+    token = _estimate_only.set(True)
+    try:
+        yield
+    finally:
+        _estimate_only.reset(token)
 
 
 def inside_limits() -> bool:
@@ -226,6 +254,8 @@ def check(
             + f", about {format_duration(estimate.seconds)})",
             f"{hint}, or give --force to run it anyway",
         )
+    if announce and _estimate_only.get():
+        raise EstimateOnly(estimate)
     if announce and limits.announce and estimate.seconds >= ANNOUNCE_SECONDS:
         line = estimate.line()
         if line not in _announced:

@@ -302,6 +302,8 @@ class Simulation:
         self.state = StateView(self)
         self.step = 0
         self.wall_escapes = 0
+        #: the (terms, step) that check_integrable last accepted
+        self._integrable_checked: tuple | None = None
         #: steps of one skyrmion taken, summed over the skyrmions (what wall escapes are
         #: counted against)
         self.skyrmion_steps = 0
@@ -797,6 +799,10 @@ class Simulation:
             Naming the term (``drift_velocity``, ``external_force``, ...), its setting, and
             how far it moves a skyrmion in one step.
         """
+        checked = (self._terms, self._dt_ns)
+        last = self._integrable_checked
+        if last is not None and last[0] is self._terms and last[1] == self._dt_ns:
+            return  # the same terms (replaced whenever a drive changes) and step: nothing new
         d_sk = self.thiele.skyrmion_diameter_internal
         for term in self.term_rules:
             per_step = term.per_step(self._mobility, self._dt_ns, d_sk)
@@ -809,6 +815,7 @@ class Simulation:
                 f"{self.time_step:.3g} s, which the engine cannot integrate",
                 "lower it (a velocity is in m/s, a force in N), or give a shorter time_step",
             )
+        self._integrable_checked = checked
 
     def _check_undone(self, escapes: int, moved: int) -> None:
         """Refuse a run in which walls undid over :data:`MAX_UNDONE_SHARE` of the steps.

@@ -21,6 +21,9 @@ from skygas.fields.landscape.kinds import SampleContext, Samples
 
 #: Sub-stream of the run's seed for the random kinds (one child per term).
 LANDSCAPE_STREAM = 0x4C414E44
+#: The most memory [bytes] the landscape's kept sets of enabled terms may hold (see
+#: ``LandscapeField._sum``): a gate's two sets on a device of a few µm.
+KEPT_SETS_BYTES = 256 * 2**20
 
 
 def _aligned_cells(ny: int, nx: int) -> np.ndarray:
@@ -89,9 +92,30 @@ class LandscapeField:
         #: cell somewhere in a grid of up to hundreds of MB: the page-table misses, not the
         #: arithmetic, set the cost)
         self.coefficients = _aligned_cells(max(grid.ny - 1, 1), max(grid.nx - 1, 1))
+        #: nodes and coefficients of the sets of enabled terms seen so far (see _sum)
+        self._kept: dict[tuple[bool, ...], tuple[np.ndarray, np.ndarray]] = {}
         self._sum()
 
     def _sum(self) -> None:
+        """Rebuild the nodes and the interpolant from the enabled terms.
+
+        A gate switches between a few sets of enabled terms many times a run (the neuron's:
+        about 40 times per µs), and each rebuild costs a pass of the interpolant over the whole
+        grid (0.4 s at 1 µm); so the sets seen are kept (up to :data:`KEPT_SETS_BYTES`) and a
+        switch back copies its arrays: the same values, bit for bit.
+        """
+        key = tuple(self.enabled)
+        kept = self._kept.get(key)
+        if kept is not None:
+            np.copyto(self.nodes, kept[0])
+            np.copyto(self.coefficients, kept[1])
+            return
+        self._fill()
+        size = self.nodes.nbytes + self.coefficients.nbytes
+        if size * (len(self._kept) + 1) <= KEPT_SETS_BYTES:
+            self._kept[key] = (self.nodes.copy(), self.coefficients.copy())
+
+    def _fill(self) -> None:
         h = self.grid.spacing
         self.nodes[...] = 0.0
         for on, s in zip(self.enabled, self._samples, strict=True):

@@ -1,0 +1,122 @@
+"""How well the estimate a command announces matches the time its run takes.
+
+For each case (the shipped examples, the reshuffler with every material preset, and a
+calibrated model when one is given), the command is built as for a run and stopped at its
+exact estimate (:func:`skygas.core.estimates.estimate_only`), its kernels are compiled by a
+short run, then it runs for real. The script prints, per case, the estimate, the measured
+wall time of the stepping (the summary's ``wall_time_s``) and their ratio, against the step
+rate of the 45-skyrmion gas measured here first (:mod:`skygas.runs.machine_speed`).
+``--record FILE`` writes them as JSON. Measure on a quiet machine: another process on the same
+cores changes the gas's rate and the runs' differently.
+
+Run: ``.venv/bin/python benchmarks/estimates.py [--quick] [--record FILE] [--model TOML]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import json
+import os
+import platform
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+EX = ROOT / "examples"
+PRESETS = ["S1", "S2", "S3", "S4", "S5", "S6", "S7"]
+
+
+def cases(model: str | None) -> dict[str, tuple[list[str], float]]:
+    """Name → (the command line without --out and --duration, a nominal duration [s])."""
+    c = {
+        "simulate closed chamber": (["simulate", str(EX / "closed-chamber.toml")], 200e-6),
+        "reshuffle default (demo)": (["reshuffle"], 100e-6),
+        "neuron example": (["neuron", str(EX / "neuron.toml")], 3e-6),
+    }
+    for name in PRESETS:
+        c[f"reshuffle {name}"] = (["reshuffle", "--material", name], 20e-6)
+    if model:
+        c[f"reshuffle {Path(model).parent.name}"] = (["reshuffle", "--material", model], 20e-6)
+    return c
+
+
+def estimate(args: list[str], out: Path):
+    """The command's exact estimate and the seconds it took to reach it."""
+    from skygas import cli
+    from skygas.core.estimates import EstimateOnly, estimate_only
+
+    started = time.perf_counter()
+    with estimate_only(), contextlib.redirect_stderr(io.StringIO()):
+        try:
+            cli.main([*args, "--out", str(out), "--quiet", "--overwrite", "--force"])
+        except EstimateOnly as stop:
+            return stop.estimate, time.perf_counter() - started
+    raise RuntimeError(f"{args}: no estimate was checked")
+
+
+def measure(args: list[str], out: Path) -> float:
+    """Wall seconds of the command's run, run for real: its summary's ``wall_time_s`` (the
+    stepping, without set-up and results), or the whole command's time where it has none."""
+    from skygas import cli
+
+    started = time.perf_counter()
+    with contextlib.redirect_stdout(io.StringIO()):
+        status = cli.main(
+            [*args, "--out", str(out), "--quiet", "--overwrite", "--no-report", "--force"]
+        )
+    if status:
+        raise RuntimeError(f"{args}: exit status {status}")
+    total = time.perf_counter() - started
+    summary = json.loads((out / "summary.json").read_text())
+    return float(summary.get("wall_time_s", total))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="runs of 5e4 steps, not 2e5")
+    parser.add_argument("--record", help="write the cases, estimates and times as JSON")
+    parser.add_argument("--model", help="a calibrated model.toml to include")
+    parser.add_argument("--only", help="run only the cases whose name holds this text")
+    opts = parser.parse_args()
+
+    from skygas.runs import machine_speed
+
+    rate = machine_speed._calibrate()  # this machine, now; not the cached figure
+    os.environ["SKYGAS_STEP_SECONDS"] = repr(rate)
+    print(f"45-skyrmion gas: {rate * 1e6:.2f} µs per step on {platform.node()}")
+    print(f"{'case':34s} {'steps':>9s} {'estimate':>9s} {'measured':>9s} {'ratio':>6s}")
+    rows = []
+    target = 5e4 if opts.quick else 2e5  # steps of each measured run
+    with tempfile.TemporaryDirectory() as tmp:
+        for i, (name, (args, nominal)) in enumerate(cases(opts.model).items()):
+            if opts.only and opts.only not in name:
+                continue
+            out = Path(tmp) / f"run{i}"
+            est, _ = estimate([*args, "--duration", f"{nominal:g}"], out)
+            dt = nominal / est.steps
+            # the kernels this device uses, compiled (or loaded) before anything is timed
+            measure([*args, "--duration", f"{max(200 * dt, nominal / 100):.6g}"], out)
+            duration = f"{min(nominal, target * dt):.6g}"
+            est, setup = estimate([*args, "--duration", duration], out)
+            run = measure([*args, "--duration", duration], out)
+            rows.append(
+                {"case": name, "args": [*args, "--duration", duration], "steps": est.steps,
+                 "estimate_s": est.seconds, "run_s": run, "setup_s": setup}
+            )  # fmt: skip
+            print(
+                f"{name:34s} {est.steps:9.3g} {est.seconds:8.3g}s {run:8.3g}s "
+                f"{est.seconds / run:6.2f}",
+                flush=True,
+            )
+    if opts.record:
+        Path(opts.record).write_text(
+            json.dumps({"step_seconds": rate, "machine": platform.node(), "cases": rows}, indent=1)
+            + "\n"
+        )
+
+
+if __name__ == "__main__":
+    main()
