@@ -365,6 +365,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"skygas: {err}", file=sys.stderr)
         return 0
     except KeyboardInterrupt:
+        if out is not None:
+            _remove_if_empty(created, out)  # a folder made for this run and left empty
         print("skygas: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:  # stdout closed early (``skygas ... | head``): nothing to say

@@ -20,21 +20,23 @@ def _check_track_out(args) -> None:
 
 
 def _track(args: argparse.Namespace) -> int:
+    from skygas.commands.run_options import limits_from_flags
     from skygas.movies.track_run import track_movie
 
-    result = track_movie(
-        args.movie,
-        args.out,
-        pixel_size=args.pixel_size,
-        frame_interval=args.frame_interval,
-        contrast=args.contrast,
-        diameter=args.diameter,
-        minmass=args.minmass,
-        search_range=args.search_range,
-        memory=args.memory,
-        drift=args.drift == "on",
-        progress=not args.quiet,
-    )
+    with limits_from_flags(args):  # --force: a movie expected to take over a day
+        result = track_movie(
+            args.movie,
+            args.out,
+            pixel_size=args.pixel_size,
+            frame_interval=args.frame_interval,
+            contrast=args.contrast,
+            diameter=args.diameter,
+            minmass=args.minmass,
+            search_range=args.search_range,
+            memory=args.memory,
+            drift=args.drift == "on",
+            progress=not args.quiet,
+        )
     s = result.summary
     c, n = s["choices"], s["counts"]
     print(
@@ -129,6 +131,8 @@ def _render(args: argparse.Namespace) -> int:
 
 def register(subparsers) -> None:
     """Add ``skygas track`` and ``skygas render`` to ``subparsers``."""
+    from skygas.commands.run_options import add_force_option
+
     p = subparsers.add_parser(
         "track",
         help="locate and link the skyrmions of a microscope movie (trackpy)",
@@ -191,6 +195,7 @@ def register(subparsers) -> None:
         "closed device the gas's mean position moves for real)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_force_option(p)
     p.set_defaults(func=_track, check_out=_check_track_out)
 
     r = subparsers.add_parser(

@@ -50,13 +50,26 @@ DEFAULT_MEMORY = 3
 CLIP_FRACTION = 1e-3
 #: the variance of a standard normal law cut to its central 80 %: 1 − 2 z φ(z)/0.8, z = 1.2816
 TRIMMED_VARIANCE = 0.437725
+#: the smallest side [px] of a frame whose feature size is found from the data: the
+#: autocorrelation is fitted at lags 1 … ``MAX_LAG`` px from the centre
+AUTO_MIN_SIDE = 2 * MAX_LAG + 1
+
+
+def required_side(diameter: int | None) -> int:
+    """The smallest frame side [px] that holds a skyrmion of ``diameter`` px with film around it.
+
+    trackpy drops the features within ``diameter // 2`` of an edge, and its band pass needs
+    the film around a spot: 2 × diameter + 1 px. Without a diameter, :data:`AUTO_MIN_SIDE`.
+    """
+    return AUTO_MIN_SIDE if diameter is None else 2 * int(diameter) + 1
 
 
 @dataclass
 class Choices:
     """The tracker's settings (pixels and frames) and the statistics they came from.
 
-    ``sources`` names, per setting, ``"given"`` or ``"from the data"``.
+    ``sources`` names, per setting, ``"given"`` or ``"from the data"``;
+    ``most_per_sample_frame`` is the most skyrmions found in one of the sample frames.
     """
 
     contrast: str
@@ -71,6 +84,7 @@ class Choices:
     step_sigma_px: float
     neighbour_distance_px: float
     memory: int
+    most_per_sample_frame: int = 0
     sources: dict[str, str] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
 
@@ -146,9 +160,12 @@ def feature_sigma(images: list[np.ndarray]) -> float:
     lag = np.rint(r).astype(int)
     keep = (lag >= 1) & (lag <= MAX_LAG)
     counts = np.bincount(lag[keep], minlength=MAX_LAG + 1)[1:]
-    profile = np.bincount(lag[keep], weights=auto[keep], minlength=MAX_LAG + 1)[1:] / counts
-    lags = np.arange(1, MAX_LAG + 1, dtype=float)
+    sums = np.bincount(lag[keep], weights=auto[keep], minlength=MAX_LAG + 1)[1:]
+    if not (np.all(counts > 0) and sums[0] > 0):  # frames too small, or flat at 1 px
+        raise _no_feature_size()
+    profile = sums / counts
     profile = profile / profile[0]
+    lags = np.arange(1, MAX_LAG + 1, dtype=float)
 
     def model(r, a, s, b):
         return a * np.exp(-(r**2) / (4 * s**2)) + b
@@ -158,14 +175,18 @@ def feature_sigma(images: list[np.ndarray]) -> float:
     except RuntimeError:
         s, a = float("nan"), 0.0
     if not (np.isfinite(s) and a > 0 and 0.3 < abs(s) < min(shape) / 4):
-        raise InputError(
-            "MOVIE",
-            "(feature size)",
-            "spots whose size the autocorrelation of the frames shows "
-            "(none was found: are there skyrmions in the movie?)",
-            "give --diameter in pixels (odd, a little larger than a skyrmion's image)",
-        )
+        raise _no_feature_size()
     return float(abs(s))
+
+
+def _no_feature_size() -> InputError:
+    return InputError(
+        "MOVIE",
+        "(feature size)",
+        "spots whose size the autocorrelation of the frames shows "
+        "(none was found: are there skyrmions in the movie?)",
+        "give --diameter in pixels (odd, a little larger than a skyrmion's image)",
+    )
 
 
 def spots_bright(image: np.ndarray, contrast: str) -> np.ndarray:
@@ -179,16 +200,14 @@ def spots_bright(image: np.ndarray, contrast: str) -> np.ndarray:
 
 
 def _locate(image: np.ndarray, diameter: int, separation: int, minmass: float, noise: float):
-    import trackpy
+    from skygas.movies.tracking import locate_frame
 
-    return trackpy.locate(
+    return locate_frame(
         image,
-        diameter,
+        diameter=diameter,
         minmass=minmass,
         separation=separation,
         threshold=CLIP_FRACTION * noise,
-        engine="python",
-        preprocess=True,
     )
 
 
@@ -340,6 +359,7 @@ def choose(
         step_sigma_px=step_sigma,
         neighbour_distance_px=nn,
         memory=int(memory),
+        most_per_sample_frame=max(len(f) for f in found),
         sources=sources,
         warnings=warnings,
     )

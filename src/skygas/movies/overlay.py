@@ -5,14 +5,21 @@ The circles are drawn where the skyrmions are in the picture: a subtracted drift
 Every located skyrmion gets a circle of trackpy's ``diameter`` in its track's colour and a tail
 through its last ``TAIL`` positions; frames are scaled up by a whole factor (nearest
 neighbour) to at least ``MIN_WIDTH`` pixels and their grey levels stretched between the
-0.5th and 99.5th percentiles of the first frame. Encoded as H.264 MP4 by the writer of
-``skygas animate`` (:func:`skygas.outputs.movie.write_mp4`); long movies are shown every
-N-th frame, at most ``MAX_FRAMES`` of them.
+0.5th and 99.5th percentiles of the first frame. Encoded as H.264 MP4 with ffmpeg, with the
+settings of ``skygas animate`` (:func:`skygas.outputs.movie.write_mp4`), but with ffmpeg's
+messages kept off the terminal and its failure (a full disk, found only when it writes the
+trailer) raised as an :class:`OSError`; long movies are shown every N-th frame, at most
+``MAX_FRAMES`` of them.
 """
 
 from __future__ import annotations
 
+import errno
 import math
+import os
+import subprocess
+import tempfile
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -61,7 +68,11 @@ def overlay_frames(movie, tracks, diameter: float, indices):
     scale = _scale(movie.shape)
     radius = 0.5 * diameter * scale
     by_frame = {f: g for f, g in table.groupby("frame")}
-    by_particle = {p: g.set_index("frame") for p, g in table.groupby("particle")}
+    # each track's frames (sorted) and positions as arrays: a tail is a slice found by bisection
+    by_particle = {
+        p: (g["frame"].to_numpy(), g[["x", "y"]].to_numpy())
+        for p, g in table.sort_values("frame").groupby("particle")
+    }
     for f in indices:
         image = Image.fromarray(_grey(movie.frame(int(f)), lo, hi, scale))
         draw = ImageDraw.Draw(image)
@@ -69,9 +80,9 @@ def overlay_frames(movie, tracks, diameter: float, indices):
         if here is not None:
             for particle, x, y in here[["particle", "x", "y"]].itertuples(index=False):
                 colour = COLOURS[int(particle) % len(COLOURS)]
-                path = by_particle[particle]
-                tail = path.loc[(path.index > f - TAIL) & (path.index <= f), ["x", "y"]]
-                points = [((px + 0.5) * scale, (py + 0.5) * scale) for px, py in tail.to_numpy()]
+                frames, xy = by_particle[particle]
+                start, end = np.searchsorted(frames, [f - TAIL, f], side="right")
+                points = [((px + 0.5) * scale, (py + 0.5) * scale) for px, py in xy[start:end]]
                 if len(points) > 1:
                     draw.line(points, fill=colour, width=max(1, scale // 3))
                 cx, cy = (x + 0.5) * scale, (y + 0.5) * scale
@@ -92,7 +103,6 @@ def write_overlay(path: str | Path, movie, tracks, diameter: float) -> dict:
     dict
         ``path``, ``frames``, ``stride``, ``fps``, ``width_px``, ``height_px``, ``bytes``.
     """
-    from skygas.outputs.movie import write_mp4
     from skygas.runs.run_driver import write_atomic
 
     path = Path(path)
@@ -109,12 +119,11 @@ def write_overlay(path: str | Path, movie, tracks, diameter: float) -> dict:
         out[:h, :w] = image
         return out
 
-    write_atomic(
-        path,
-        lambda tmp: write_mp4(
-            tmp, padded(first), (padded(i) for i in images), (W, H), FPS, preset="veryfast", crf=32
-        ),
-    )
+    def frames():
+        yield padded(first)
+        yield from (padded(i) for i in images)
+
+    write_atomic(path, lambda tmp: encode_mp4(tmp, frames(), (W, H)))
     return {
         "path": path.name,
         "frames": len(indices),
@@ -124,3 +133,78 @@ def write_overlay(path: str | Path, movie, tracks, diameter: float) -> dict:
         "height_px": H,
         "bytes": path.stat().st_size,
     }
+
+
+def encode_mp4(path: Path, images: Iterable[np.ndarray], size: tuple[int, int]) -> None:
+    """Encode RGB ``images`` (height, width, 3) uint8 as H.264 MP4 at ``path`` with ffmpeg.
+
+    ``size`` (width, height) [px], multiples of 16. ffmpeg's messages go to a temporary file,
+    not the terminal; when it fails, the last of them becomes the :class:`OSError` raised
+    (``ENOSPC`` for a full disk), and :func:`~skygas.runs.run_driver.write_atomic` removes
+    the partial file. ffmpeg runs in a process group of its own: a Ctrl-C interrupts Python,
+    which stops ffmpeg and lets the interrupt go on.
+    """
+    import imageio_ffmpeg
+
+    width, height = size
+    # the settings of skygas animate's writer: yuv420p with the index at the front (+faststart)
+    # is what browsers play inline; "veryfast" at crf 32 keeps the overlay small
+    command = [
+        imageio_ffmpeg.get_ffmpeg_exe(),
+        "-y",
+        "-v",
+        "error",
+        "-f",
+        "rawvideo",
+        "-pix_fmt",
+        "rgb24",
+        "-s",
+        f"{width}x{height}",
+        "-r",
+        str(FPS),
+        "-i",
+        "-",
+        "-vcodec",
+        "libx264",
+        "-pix_fmt",
+        "yuv420p",
+        "-preset",
+        "veryfast",
+        "-crf",
+        "32",
+        "-movflags",
+        "+faststart",
+        str(path),
+    ]
+    with tempfile.TemporaryFile() as log:
+        ffmpeg = subprocess.Popen(
+            command,
+            stdin=subprocess.PIPE,
+            stdout=subprocess.DEVNULL,
+            stderr=log,
+            process_group=0,
+        )
+        assert ffmpeg.stdin is not None  # stdin=PIPE
+        try:
+            for image in images:
+                ffmpeg.stdin.write(np.ascontiguousarray(image, dtype=np.uint8).tobytes())
+            ffmpeg.stdin.close()
+        except BrokenPipeError:  # ffmpeg stopped reading: its log says why
+            pass
+        except BaseException:  # an error while drawing, or Ctrl-C: stop ffmpeg, pass it on
+            ffmpeg.kill()
+            ffmpeg.wait()
+            raise
+        if ffmpeg.wait() != 0:
+            log.seek(0)
+            raise _ffmpeg_error(log.read().decode(errors="replace"), ffmpeg.returncode)
+
+
+def _ffmpeg_error(text: str, status: int) -> OSError:
+    """The OSError of a failed ffmpeg: ENOSPC for a full disk, else its last message."""
+    lines = [line.split("] ", 1)[-1].strip() for line in text.splitlines() if line.strip()]
+    for code in (errno.ENOSPC, errno.EDQUOT, errno.EACCES, errno.EROFS):
+        if any(os.strerror(code) in line for line in lines):
+            return OSError(code, os.strerror(code))
+    last = lines[-1] if lines else f"ffmpeg ended with status {status}"
+    return OSError(errno.EIO, f"ffmpeg: {last}")

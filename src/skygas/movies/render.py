@@ -66,9 +66,13 @@ class RenderSettings:
 
     def checked(self) -> RenderSettings:
         """These settings, each refused (:class:`InputError`) when outside its range."""
+        from skygas.movies.track_run import check_length
+
         _positive("--pixel-size", self.pixel_size, "a pixel size > 0 in metres, e.g. 14e-9")
+        check_length("--pixel-size", self.pixel_size)
         if self.psf_sigma is not None:
             _positive("--psf-sigma", self.psf_sigma, "a PSF standard deviation > 0 in metres")
+            check_length("--psf-sigma", self.psf_sigma)
         if self.contrast not in ("dark", "bright"):
             raise InputError("--contrast", self.contrast, "dark or bright")
         if self.dtype not in DTYPES:
@@ -90,6 +94,8 @@ class RenderSettings:
             )
         if self.margin is not None and not (np.isfinite(self.margin) and self.margin >= 0):
             raise InputError("--margin", self.margin, "a margin >= 0 in metres")
+        if self.margin:
+            check_length("--margin", self.margin)
         return self
 
 

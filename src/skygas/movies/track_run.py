@@ -32,10 +32,59 @@ class TrackResult:
     tracks: object
 
 
+#: the shortest search range [px]: a skyrmion's position is known to ~0.1 px (0.08 px RMS
+#: measured, docs/tracking.md), so a shorter range cannot link even a skyrmion at rest; a
+#: number this small is a length in metres given where pixels are meant
+MIN_SEARCH_RANGE = 0.1
+
+
 def check_scale(field: str, value: float | None, unit: str) -> None:
     """Refuse a pixel size or frame interval that is not a finite number > 0."""
     if value is not None and not (math.isfinite(value) and value > 0):
         raise InputError(field, value, f"a number > 0 in {unit}", f"e.g. {field} 14e-9")
+
+
+def check_length(field: str, value: float | None) -> None:
+    """Refuse a length [m] that is not > 0, or outside 1 pm … 1 m as every device length is."""
+    from skygas.core.config_types import require_length
+
+    check_scale(field, value, "metres")
+    if value is not None:
+        require_length(field, value)
+
+
+def _check_options(pixel_size, frame_interval, diameter, minmass, search_range, memory) -> None:
+    """Refuse the options given (before the movie is opened)."""
+    check_length("--pixel-size", pixel_size)
+    check_scale("--frame-interval", frame_interval, "seconds")
+    if diameter is not None and (diameter < 3 or diameter % 2 == 0):
+        raise InputError("--diameter", diameter, "an odd number of pixels >= 3")
+    if minmass is not None and not (math.isfinite(minmass) and minmass >= 0):
+        raise InputError("--minmass", minmass, "a mass >= 0")
+    if search_range is not None and not (
+        math.isfinite(search_range) and search_range >= MIN_SEARCH_RANGE
+    ):
+        raise InputError(
+            "--search-range",
+            search_range,
+            f"a distance of at least {MIN_SEARCH_RANGE:g} px (a skyrmion's position is known "
+            "to about 0.1 px)",
+            "the search range is in pixels, not metres: e.g. --search-range 3",
+        )
+    if memory is not None and memory < 0:
+        raise InputError("--memory", memory, "a number of frames >= 0")
+
+
+def _check_search_range(movie, search_range: float | None) -> None:
+    """Refuse a search range beyond the frame's diagonal: every skyrmion would be a candidate."""
+    diagonal = math.hypot(*movie.shape)
+    if search_range is not None and search_range > diagonal:
+        raise InputError(
+            "--search-range",
+            search_range,
+            f"a distance within the frame, at most its diagonal of {diagonal:.4g} px",
+            "the search range is in pixels: the farthest a skyrmion moves between two frames",
+        )
 
 
 def track_movie(
@@ -78,22 +127,26 @@ def track_movie(
     -------
     TrackResult
         The summary written to track.json and the tracks.
+
+    Raises
+    ------
+    InputError
+        Before any tracking: an option out of range, a movie refused when opened or when its
+        frames are read (:mod:`skygas.movies.reading`), too large for memory or, unless
+        forced, for a day (:mod:`skygas.movies.estimate`).
+    WriteFailed
+        A file could not be written (a full disk); no file is left half-written.
     """
     from skygas.movies.choices import choose
-    from skygas.movies.reading import open_movie
+    from skygas.movies.estimate import check_features, check_size
+    from skygas.movies.reading import check_frames, open_movie
     from skygas.movies.tracking import link, locate_all
 
-    check_scale("--pixel-size", pixel_size, "metres")
-    check_scale("--frame-interval", frame_interval, "seconds")
-    if diameter is not None and (diameter < 3 or diameter % 2 == 0):
-        raise InputError("--diameter", diameter, "an odd number of pixels >= 3")
-    if minmass is not None and not (math.isfinite(minmass) and minmass >= 0):
-        raise InputError("--minmass", minmass, "a mass >= 0")
-    if search_range is not None and not (math.isfinite(search_range) and search_range > 0):
-        raise InputError("--search-range", search_range, "a distance > 0 in pixels")
-    if memory is not None and memory < 0:
-        raise InputError("--memory", memory, "a number of frames >= 0")
-    movie = open_movie(movie_path)
+    _check_options(pixel_size, frame_interval, diameter, minmass, search_range, memory)
+    movie = open_movie(movie_path, diameter)
+    _check_search_range(movie, search_range)
+    seconds = check_size(movie)
+    check_frames(movie, progress=progress)
     sources = dict(movie.sources)
     if pixel_size is not None:
         sources["pixel_size"] = "given"
@@ -109,6 +162,7 @@ def track_movie(
         search_range=search_range,
         memory=memory,
     )
+    check_features(movie, choices.most_per_sample_frame, seconds)
     features = locate_all(movie, choices, progress=progress)
     tracks = link(features, choices, drift=drift)
     out = Path(out)
@@ -159,13 +213,24 @@ def _summary(movie, choices, tracks, pixel_size, frame_interval, sources, drift)
 
 
 def _write(out: Path, movie, choices, tracks, summary: dict) -> None:
+    """Write the results, each under a temporary name renamed when complete, track.json last.
+
+    A failed write (a full disk) leaves the files finished before it, none half-written, and
+    no track.json: the folder says it is incomplete.
+    """
+    from skygas.core.errors import WriteFailed
     from skygas.movies.overlay import write_overlay
     from skygas.movies.report import track_report, write_figures
     from skygas.runs.run_driver import write_atomic, write_json
 
-    write_atomic(out / "tracks.csv", lambda tmp: tracks.table.to_csv(tmp, index=False))
-    summary["overlay"] = write_overlay(out / "overlay.mp4", movie, tracks, choices.diameter)
-    write_figures(out, movie, tracks, choices, summary)
-    write_json(out / "track.json", summary)
-    text = track_report(out, summary)
-    write_atomic(out / "report.html", lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    try:
+        write_atomic(out / "tracks.csv", lambda tmp: tracks.table.to_csv(tmp, index=False))
+        summary["overlay"] = write_overlay(out / "overlay.mp4", movie, tracks, choices.diameter)
+        write_figures(out, movie, tracks, choices, summary)
+        text = track_report(out, summary)
+        write_atomic(out / "report.html", lambda tmp: tmp.write_text(text, encoding="utf-8"))
+        write_json(out / "track.json", summary)
+    except WriteFailed as err:
+        raise err.with_hint(
+            "no file is left half-written; make room (or choose another --out) and track again"
+        ) from None

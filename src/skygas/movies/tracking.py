@@ -51,6 +51,30 @@ class Tracks:
         return np.bincount(frames, minlength=n_frames)
 
 
+#: what trackpy warns, once per frame, when it finds no candidate in a frame (a frame without
+#: skyrmions, or all of them in its margins): a frame of a movie may well be empty, and the
+#: skyrmions found in each frame are counted in track.json, so these say nothing new
+_EMPTY_FRAME_WARNINGS = (
+    "Image is completely black|Image contains no local maxima|"
+    "All local maxima were in the margins|No maxima survived mass- and size-based filtering"
+)
+
+
+def locate_frame(image: np.ndarray, **options):
+    """``trackpy.locate`` on one frame (python engine), without its warnings for an empty frame.
+
+    ``options``: ``diameter``, ``minmass``, ``separation``, ``threshold``
+    (:meth:`~skygas.movies.choices.Choices.locate_options`).
+    """
+    import warnings
+
+    import trackpy
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", _EMPTY_FRAME_WARNINGS, UserWarning)
+        return trackpy.locate(image, engine="python", preprocess=True, **options)
+
+
 def locate_all(movie, choices, progress: bool = True):
     """Trackpy's features of every frame of ``movie`` (a DataFrame with ``frame``).
 
@@ -69,7 +93,6 @@ def locate_all(movie, choices, progress: bool = True):
         One row per feature.
     """
     import pandas as pd
-    import trackpy
     from tqdm import tqdm
 
     from skygas.movies.choices import spots_bright
@@ -79,9 +102,7 @@ def locate_all(movie, choices, progress: bool = True):
     for i in tqdm(
         range(movie.n_frames), unit="frame", desc="located", leave=False, disable=not progress
     ):
-        f = trackpy.locate(
-            spots_bright(movie.frame(i), choices.contrast), engine="python", **options
-        )
+        f = locate_frame(spots_bright(movie.frame(i), choices.contrast), **options)
         f["frame"] = i
         found.append(f)
     return pd.concat(found, ignore_index=True)
