@@ -3,13 +3,14 @@
 (:mod:`skygas.core.estimates`.)
 
 The engine's cost per Heun step grows linearly with the number of skyrmions N: about
-(:data:`~skygas.core.estimates.OVERHEAD_SKYRMIONS` + N) × a constant (docs/performance.md: 4.5 µs at 100 skyrmions,
-42 µs at 1 000 on the measuring machine). One figure fixes the constant: the wall time of a step
-of the demonstration's gas (45 skyrmions in the paper's closed 1024 nm chamber),
-:func:`measured_step_seconds`, measured by running :data:`CALIBRATION_STEPS` steps once per
-process (~0.3 s with the kernels compiled; their first compilation on a new install is paid once)
-and kept on disk (``machine-speed.json`` in the set-up cache, :mod:`skygas.core.disk_cache`) for
-the same code on the same machine, so later processes pay nothing.
+(:data:`~skygas.core.estimates.OVERHEAD_SKYRMIONS` + N) × a constant (docs/performance.md:
+4.5 µs at 100 skyrmions, 42 µs at 1 000 on the measuring machine). One figure fixes the
+constant: the wall time of a step of the demonstration's gas (45 skyrmions in the paper's
+closed 1024 nm chamber), :func:`measured_step_seconds`, measured by running
+:data:`CALIBRATION_STEPS` steps once per process (~0.3 s with the kernels compiled; their
+first compilation on a new install is paid once) and kept on disk (``machine-speed.json`` in
+the set-up cache, :mod:`skygas.core.disk_cache`) for the same code on the same machine, so
+later processes pay nothing.
 
 It is measured only when it matters: :func:`run_estimate` first prices a run at
 :data:`REFERENCE_STEP_SECONDS` × :data:`SLOW_MARGIN` and measures only if that could reach
