@@ -80,18 +80,10 @@ def _plot(args) -> int:
     if args.json:
         print_json(result)
         return 0
-    if "current" in result:
-        b = result["current"]["beta"]
-        print(
-            f"ρ/(1−ρ) ∝ J^β: β = {b['exponent']:.3f} ± {b['exponent_error']:.3f} "
-            f"(paper 3/2, {b['n_points']} points)"
-        )
-    if "chamber" in result:
-        g = result["chamber"]["gamma"]
-        print(
-            f"ρ/(1−ρ) ∝ L^γ: γ = {g['exponent']:.3f} ± {g['exponent_error']:.3f} "
-            f"(paper −1/2, {g['n_points']} points)"
-        )
+    from skygas.sweep.figures import exponent_lines
+
+    for line in exponent_lines(result):
+        print(line)
     print("wrote " + ", ".join(result["figures"]))
     return 0
 

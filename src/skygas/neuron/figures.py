@@ -38,10 +38,13 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
         else:
             xy = sim.state.positions * 1e6
             axis.plot(xy[:, 0], xy[:, 1], "o", color="tab:red", ms=3)
+    tracks = ds.sizes.get("skyrmion", 0)
     what = (
-        f"{ds.sizes['skyrmion']} trajectories"
-        if ds.sizes.get("skyrmion", 0)
-        else f"{sim.count} skyrmions at the end"
+        f"{sim.count} skyrmions at the end"
+        if not tracks
+        else f"{tracks} trajectories"
+        if tracks <= max_tracks
+        else f"the first {max_tracks} of {tracks} trajectories"  # as draw_tracks draws them
     )
     # the magnified view: the output conduit and its gate, a few skyrmion diameters around them
     dev = run.device.config.device

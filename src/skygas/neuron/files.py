@@ -1,11 +1,11 @@
 """Neuron and saturation runs to files, through the run driver (:mod:`skygas.runs.run_driver`).
 
 :func:`run_neuron_to_files` (``skygas neuron``) writes into ``out_dir``: ``trace.npz`` (count
-trace, spikes, emissions, injections; with the configuration, the seed and the version),
-``count_trace.png``, ``device.png`` (the device over its energy landscape), ``summary.json``
-(with the LIF fit), ``frames.nc`` when positions were recorded and, unless ``transfer=False``,
-``transfer_curve.png`` and the transfer curve in the summary (its runs are pieces of the job
-too: they show progress and resume).
+trace, spikes, emissions, injections, annihilations; with the configuration, the seed and the
+version), ``count_trace.png``, ``device.png`` (the device over its energy landscape),
+``summary.json`` (with the LIF fit), ``frames.nc`` when positions were recorded and, unless
+``transfer=False``, ``transfer_curve.png`` and the transfer curve in the summary (its runs are
+pieces of the job too: they show progress and resume).
 
 :func:`run_saturation_to_files` (``skygas saturation``) writes ``summary.json`` and
 ``max_density.png``.
@@ -139,6 +139,8 @@ class NeuronJob(PiecewiseRunJob):
             "spikes": run.spike_times(),
             "emissions": run.emission_times(),
             "injections": run.injection_times(),
+            # the leak time τ of the summary is counted from these (with the count trace)
+            "annihilations": np.asarray(run.annihilator.annihilation_times, dtype=float),
             "config_json": np.array(self.config_json()),
             "seed": np.array(config.seed),
             "skygas_version": np.array(__version__),

@@ -48,8 +48,67 @@ def _get(summary: dict, key: str) -> Any:
 
 
 # -- the reshuffler ----------------------------------------------------------------------------
-def reshuffler(s: dict) -> Results:
-    """ρ (± jackknife error), p_in and p_out, energy per bit, transit time, the skyrmion count."""
+def signed(lag: float) -> str:
+    """A lag as a reader writes it: ``−2``, ``3``, ``0`` (never ``−0`` nor ``+0``); ``−16.5``."""
+    text = format_value(abs(lag), digits=3) or "?"
+    return text if text == "0" or lag > 0 else f"−{text}"
+
+
+def _pairs_at_lag(n_in: int, n_out: int, lag: int) -> int:
+    """Pairs of input bit k and read-out k + ``lag`` (0 ≤ k < n_in, 0 ≤ k + lag < n_out)."""
+    return max(0, min(n_in, n_out - lag) - max(0, -lag))
+
+
+def _noise_of_largest(pairs: int, lags: int) -> float:
+    """The |ρ| that independent streams exceed at one of ``lags`` lags in half of all runs.
+
+    Each lag's ρ of ``pairs`` independent bit pairs is about normal with standard deviation
+    1/√pairs, and the lags are nearly independent: the median of the largest of ``lags``
+    such |ρ|.
+    """
+    from statistics import NormalDist
+
+    return NormalDist().inv_cdf((1 + 0.5 ** (1 / lags)) / 2) / math.sqrt(pairs)
+
+
+def _lag_rows(r: Results, s: dict, config: dict) -> None:
+    """The lag scan's largest |ρ(ℓ)|, its pairs and the noise level, and what a lag means."""
+    lag, rho = s.get("correlation_best_lag"), s.get("correlation_max_lag")
+    n_in, n_out = s.get("n_injected"), s.get("n_detected")
+    max_lag = (config.get("output") or {}).get("max_lag")
+    if missing(rho) or lag is None or n_in is None or n_out is None or max_lag is None:
+        return
+    max_lag = min(int(max_lag), max(min(n_in, n_out) - 2, 0))
+    pairs = _pairs_at_lag(n_in, n_out, int(lag))
+    if max_lag < 1 or pairs < 2:
+        return
+    lags = 2 * max_lag + 1
+    noise = format_value(_noise_of_largest(pairs, lags), digits=2)
+    r.rows.append(
+        (
+            f"largest |ρ(ℓ)| over the lags ℓ = −{max_lag} … {max_lag}",
+            f"ρ({signed(lag)}) = {format_value(rho, digits=3)} over {pairs} pairs; independent "
+            f"streams reach {noise} at one of the {lags} lags in half of all runs",
+        )
+    )
+    interval = format_value((config.get("injection") or {}).get("interval"), unit="s")
+    r.notes.append(
+        "ρ(ℓ) pairs the k-th bit injected with the (k+ℓ)-th bit read out: ℓ counts bits, one per "
+        f"injection interval ({interval or 'not recorded'}), and ρ(0) is ρ above. A large "
+        "|ρ(ℓ)| at ℓ ≠ 0 means the output still copies the input, shifted by |ℓ| bits: each "
+        "skyrmion carries its bit across a chamber in its transit time, and skyrmions that "
+        "overtake others shift the order of the read-outs. ℓ < 0: the m-th read-out carries "
+        "the bit injected (m+|ℓ|)-th, |ℓ| skyrmions injected before it being still in a chamber; "
+        "ℓ > 0: it carries the (m−ℓ)-th bit, ℓ skyrmions injected after it having overtaken it."
+    )
+
+
+def reshuffler(s: dict, config: dict | None = None) -> Results:
+    """ρ (± jackknife error), p_in and p_out, energy per bit, transit time, the skyrmion count.
+
+    With the run's ``config``, the lag scan too: the largest |ρ(ℓ)|, its pairs, the level noise
+    alone reaches, and what a lag means.
+    """
     r = Results()
     detected = s.get("n_detected", 0)
     too_few = f"{detected} skyrmion(s) read out: too few to pair with the input"
@@ -85,6 +144,9 @@ def reshuffler(s: dict) -> Results:
             "ρ pairs the k-th bit injected with the k-th bit read out; its error is the "
             "delete-one-block jackknife over 20 blocks of those pairs."
         )
+    if config is not None:
+        _lag_rows(r, s, config)
+        r.keys |= {"correlation_best_lag", "correlation_max_lag"}
     r.keys |= {"correlation_error"}
     return r
 
@@ -262,15 +324,41 @@ def diffusion_rows(r: Results, analysis: dict) -> None:
 
 
 # -- a sweep -----------------------------------------------------------------------------------
-def _constrained(value: Any, error: Any) -> bool:
-    """Whether a fitted ``value`` is fixed by the data: 0 < error < |value|, both finite."""
+def constrained(value: Any, error: Any) -> bool:
+    """Whether a fitted ``value`` is fixed by the data: 0 < error < |value|, both finite.
+
+    The sweep's figures draw a fit only where this holds for each of its coefficients.
+    """
     if missing(value) or missing(error):
         return False
     return 0 < float(error) < abs(float(value))
 
 
+def _paper_fit_text(fit: dict) -> str:
+    """The paper's fit: c_A and c_B ± errors and its χ²/dof, or why it is not stated."""
+    if not all(constrained(fit.get(c), fit.get(f"{c}_error")) for c in ("c_A", "c_B")):
+        return none(
+            "the points do not constrain it: a coefficient's error is zero (at its bound) or "
+            "larger than the coefficient; not drawn"
+        )
+    a = format_value(fit.get("c_A"), fit.get("c_A_error"), digits=3)
+    b = format_value(fit.get("c_B"), fit.get("c_B_error"), digits=3)
+    text = f"c_A = {a}, c_B = {b}"
+    chi2 = fit.get("chi2_dof")
+    if chi2 is not None and not missing(chi2):
+        from skygas.sweep.figures import MISSES
+
+        judged = f"χ²/dof = {format_value(chi2, digits=3)}"
+        text += f": misses the data ({judged})" if float(chi2) > MISSES else f" ({judged})"
+    return text
+
+
 def sweep(fits: dict) -> Results:
-    """The scaling fits: the free exponent (β or γ) and the paper's fit, with errors."""
+    """The scaling fits: the free exponent (β or γ) and the paper's fit, with errors.
+
+    A fit is stated only where the points constrain it (:func:`constrained`), with its χ²/dof
+    about the replica means (recorded by :func:`skygas.sweep.figures.plot_sweep`).
+    """
     r = Results()
     for key, name, power, paper in (
         ("current", "beta", "Jᵝ", "paper_beta"),
@@ -283,7 +371,7 @@ def sweep(fits: dict) -> Results:
         n = exponent.get("n_points", 0)
         text = (
             format_value(exponent.get("exponent"), exponent.get("exponent_error"), digits=3)
-            if _constrained(exponent.get("exponent"), exponent.get("exponent_error"))
+            if constrained(exponent.get("exponent"), exponent.get("exponent_error"))
             else None
         )
         r.rows.append(
@@ -296,27 +384,18 @@ def sweep(fits: dict) -> Results:
                 else f"{text} over {n} points (paper: {f.get(paper):g})",
             )
         )
-        fit = f.get("paper_fit") or {}
-        a = b = None
-        if all(_constrained(fit.get(c), fit.get(f"{c}_error")) for c in ("c_A", "c_B")):
-            a = format_value(fit.get("c_A"), fit.get("c_A_error"), digits=3)
-            b = format_value(fit.get("c_B"), fit.get("c_B_error"), digits=3)
         model = "ρ = c_A/(c_B + (J/J₀)⁻¹·⁵)" if key == "current" else "ρ = c_A + c_B/√(L/1 µm)"
-        r.rows.append(
-            (
-                f"paper's fit {model}",
-                none(
-                    "the points do not constrain it: a coefficient's error is zero (at its "
-                    "bound) or larger than the coefficient"
-                )
-                if a is None or b is None
-                else f"c_A = {a}, c_B = {b}"
-                + (
-                    f" (J₀ = {format_value(fit['J_unit_A_m2'], unit='A/m²')})"
-                    if "J_unit_A_m2" in fit
-                    else ""
-                ),
-            )
+        r.rows.append((f"paper's fit {model}", _paper_fit_text(f.get("paper_fit") or {})))
+    if "current" in fits:
+        r.notes.append(
+            "J₀ = 10¹¹ A/m²: the fits take the current density J in units of J₀, so that c_A "
+            "and c_B are plain numbers."
+        )
+    if fits.keys() & {"current", "chamber"}:
+        r.notes.append(
+            "The paper argues β = 3/2 and γ = −1/2; docs/paper-reproduction.md compares them "
+            "with what this model gives. A fit the points do not constrain is neither stated "
+            "nor drawn."
         )
     if "note" in fits:
         r.notes.append(str(fits["note"]))

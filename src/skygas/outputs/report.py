@@ -70,8 +70,9 @@ p.made{color:#444}
 FIGURE_CAPTIONS: dict[str, str] = {
     "running_correlation.png": "Input–output correlation ρ of the bits read out so far, "
     "against time.",
-    "occupancy.png": "Skyrmions present in each chamber against time, and the distribution of "
-    "transit times.",
+    "occupancy.png": "Skyrmions present in each chamber against time, counted at every read-out "
+    "and injection (the legend gives each chamber's largest), and the distribution of transit "
+    "times.",
     "count_trace.png": "Skyrmions counted in the neuron's chamber against time, with the "
     "threshold, the gate's openings and the output spikes.",
     "transfer_curve.png": "Transfer curve: output spike rate against input rate, with the "
@@ -94,8 +95,8 @@ FIGURE_CAPTIONS: dict[str, str] = {
     "quartile bars) and the fitted curve.",
     "sc_reshuffler.png": "The skyrmion reshuffler as a decorrelator: AND-gate squaring, and "
     "beside two CMOS decorrelators.",
-    "reshuffler.png": "ρ against the current density J, with the paper's fit and the free "
-    "power law, and the running ρ.",
+    "reshuffler.png": "ρ against the current density J, with the paper's fit (J₀ = 10¹¹ A/m²) "
+    "and the free power law, and the running ρ.",
     "reshuffler_details.png": "p_out − p_in, the fullest chamber, the transit time and the lag "
     "scan, against the current density.",
     "chamber_size.png": "ρ against the chamber diameter L, with the paper's fit and the free "
@@ -105,8 +106,13 @@ FIGURE_CAPTIONS: dict[str, str] = {
 }
 _DEVICE_CAPTIONS = {
     "reshuffle": "The reshuffler: current density |j| in both chambers (colour), the walls, the "
-    "read-out lines and the first skyrmion trajectories.",
-    "neuron": "The neuron over its energy landscape, with the skyrmions' trajectories.",
+    "read-out lines and the trajectories of the first skyrmions injected (their time span in "
+    "the title).",
+    # a neuron run draws trajectories only when it recorded positions (--animate)
+    "neuron": "The neuron over its energy landscape, with the skyrmions present at the end of "
+    "the run (no trajectories: the run recorded no positions; --animate records them).",
+    "neuron recorded": "The neuron over its energy landscape, with the recorded trajectories "
+    "(start ○, end ●).",
 }
 
 #: the command that wrote a summary, told by a key only its summary has (a folder without a
@@ -135,8 +141,13 @@ _TITLES = {
 }
 
 
-def caption(name: str, kind: str | None = None) -> str:
-    """What the figure ``name`` of a ``kind`` run shows (:data:`FIGURE_CAPTIONS`)."""
+def caption(name: str, kind: str | None = None, *, recorded: bool = False) -> str:
+    """What the figure ``name`` of a ``kind`` run shows (:data:`FIGURE_CAPTIONS`).
+
+    ``recorded``: the run recorded positions (its device figure draws their trajectories).
+    """
+    if name == "device.png" and recorded and f"{kind} recorded" in _DEVICE_CAPTIONS:
+        return _DEVICE_CAPTIONS[f"{kind} recorded"]
     if name == "device.png" and kind in _DEVICE_CAPTIONS:
         return _DEVICE_CAPTIONS[kind]
     if name in FIGURE_CAPTIONS:
@@ -637,7 +648,7 @@ def run_report(record, *, analysis: dict | None = None) -> str:
     page = _Page(f"{_TITLES.get(kind, 'skygas ' + kind)} — {record.directory.name}")
     found = _made_by(page, record.directory, record.version, record.seed)
     if kind == "reshuffle":
-        results = H.reshuffler(summary)
+        results = H.reshuffler(summary, record.config)
     elif kind == "neuron":
         results = H.neuron(summary)
         H.diffusion_rows(results, analysis)
@@ -678,8 +689,9 @@ def run_report(record, *, analysis: dict | None = None) -> str:
 
 
 def _figures_inline(page: _Page, directory: Path, kind: str) -> None:
+    """The figures of a run that recorded positions (its result file is read here)."""
     for path in sorted(directory.glob("*.png")):
-        page.image(path.read_bytes(), caption(path.name, kind))
+        page.image(path.read_bytes(), caption(path.name, kind, recorded=True))
 
 
 def _observable_rows(a: dict):
@@ -801,7 +813,18 @@ def _analysis_figures(a: dict):
         ax.set_ylabel("skyrmions present")
         ax.legend(fontsize=8)
         fig.tight_layout()
-        yield _figure_png(fig), "Skyrmions present against time (all, and per chamber)."
+        yield _figure_png(fig), _occupancy_caption(occ)
+
+
+def _occupancy_caption(occ: dict) -> str:
+    """What the occupancy figure of the recorded frames draws: the frames only, how often."""
+    t = np.asarray(occ["time_s"], float)
+    steps = np.diff(t)
+    every = format_value(float(np.median(steps)), unit="s", digits=3)
+    even = bool(np.allclose(steps, steps[0], rtol=1e-6))
+    sampled = f"at each recorded frame ({'every' if even else 'median spacing'} {every})"
+    groups = " (all, and per chamber)" if "up" in occ else ""
+    return f"Skyrmions present{groups} {sampled}: a change between two frames is not drawn."
 
 
 # -- sweeps -----------------------------------------------------------------------------------
@@ -832,6 +855,48 @@ def _sweep_made(page: _Page, ds) -> None:
     )
 
 
+#: the sweep figures that draw a field's fits: (field, what is against what, the paper's law,
+#: the free law, what else the figure shows)
+_FIT_FIGURES = {
+    "reshuffler.png": (
+        "current",
+        "ρ against the current density J",
+        "the paper's fit ρ = c_A/(c_B + (J/J₀)⁻¹·⁵), J₀ = 10¹¹ A/m²",
+        "the free power law ρ/(1−ρ) ∝ Jᵝ",
+        ", and the running ρ",
+    ),
+    "chamber_size.png": (
+        "chamber",
+        "ρ against the chamber diameter L",
+        "the paper's fit ρ = c_A + c_B/√(L/1 µm)",
+        "the free power law ρ/(1−ρ) ∝ Lᵞ",
+        "",
+    ),
+}
+
+
+def _sweep_caption(name: str, fits: dict) -> str:
+    """A sweep figure's caption: the fits it draws, and those the points do not constrain."""
+    if name not in _FIT_FIGURES or _FIT_FIGURES[name][0] not in fits:
+        return caption(name)
+    key, what, paper_law, free_law, rest = _FIT_FIGURES[name]
+    fit = fits[key]
+    paper = fit.get("paper_fit") or {}
+    exponent = fit.get("beta") or fit.get("gamma") or {}
+    laws = {
+        paper_law: all(
+            H.constrained(paper.get(c), paper.get(f"{c}_error")) for c in ("c_A", "c_B")
+        ),
+        free_law: H.constrained(exponent.get("exponent"), exponent.get("exponent_error")),
+    }
+    drawn = [law for law, ok in laws.items() if ok]
+    left_out = [law for law, ok in laws.items() if not ok]
+    text = what + (f", with {' and '.join(drawn)}" if drawn else "") + rest + "."
+    if left_out:
+        text += f" Not drawn: {' and '.join(left_out)}, which the points do not constrain."
+    return text
+
+
 def sweep_report(store: Path | list[Path]) -> str:
     """The HTML text of a sweep store's report (or of several stores drawn together).
 
@@ -856,7 +921,7 @@ def sweep_report(store: Path | list[Path]) -> str:
     _results(page, H.sweep(fits))
     page.heading("Figures")
     for name, png in figures:
-        page.image(png, caption(name))
+        page.image(png, _sweep_caption(name, fits))
     page.heading("Sweep file")
     page.pre(str(ds.attrs.get("sweep_file", "")) or "(not recorded)")
     try:

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from skygas.reshuffler.device import drift_field_on_grid
-from skygas.runs.plotting import draw_landscape, draw_outline, landscape_energy
+from skygas.runs.plotting import draw_landscape, draw_outline, landscape_energy, log_ticks
 
 
 def plot_device(run, path: Path, max_tracks: int = 40) -> Path:
@@ -148,16 +148,48 @@ def plot_running_correlation(ds, path: Path) -> Path:
     return path
 
 
+def occupancy_steps(ds) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Skyrmions in the UP and DOWN chambers after every injection and read-out, and the times [s].
+
+    Counted from the run's event lists (the injected events' times and bits, the read-outs'
+    times and chambers), so the peaks are exact: the dataset's own ``occupancy_up`` samples a
+    fixed grid of 500 times, which in a long run falls between injections and misses them.
+    Starts at t = 0 (empty chambers) and ends at the grid's last time, the end of the run.
+    """
+    from skygas.reshuffler.correlation import occupancy
+
+    injected = ds.event_skyrmion.values >= 0
+    counts = occupancy(
+        ds.event_injection_time.values[injected],
+        ds.input_bit.values[injected].astype(bool),
+        ds.detection_time.values,
+        ds.detection_up.values.astype(bool),
+    )
+    last = [float(ds.occupancy_time.values[-1])] if ds.sizes.get("occupancy_time", 0) else []
+    end = max([0.0, *counts.times[-1:], *last])
+    # empty chambers at t = 0; the last counts held to the end of the run
+    times = np.concatenate([[0.0], counts.times, [end]])
+    up = np.concatenate([[0], counts.up, [counts.up[-1] if len(counts.up) else 0]])
+    down = np.concatenate([[0], counts.down, [counts.down[-1] if len(counts.down) else 0]])
+    return times, up, down
+
+
 def plot_occupancy(ds, path: Path) -> Path:
-    """Skyrmions present in each chamber against time, and the transit-time distribution."""
+    """Skyrmions present in each chamber against time, and the transit-time distribution.
+
+    The occupancy changes at every injection and read-out, all drawn
+    (:func:`occupancy_steps`); the legend gives each chamber's peak, the report's "largest
+    occupancy of a chamber".
+    """
     from matplotlib.figure import Figure
     from matplotlib.ticker import MaxNLocator
 
     fig = Figure(figsize=(9, 3.8), dpi=110)
     ax, hx = fig.subplots(1, 2)
-    t = ds.occupancy_time.values * 1e6
-    ax.step(t, ds.occupancy_up.values, where="post", label="UP")
-    ax.step(t, ds.occupancy_down.values, where="post", label="DOWN")
+    times, up, down = occupancy_steps(ds)
+    t = times * 1e6
+    ax.step(t, up, where="post", label=f"UP (largest {int(up.max())})")
+    ax.step(t, down, where="post", label=f"DOWN (largest {int(down.max())})")
     ax.set_xlabel("time (µs)")
     ax.set_ylabel("skyrmions in chamber")
     ax.legend()
@@ -170,6 +202,7 @@ def plot_occupancy(ds, path: Path) -> Path:
         edges = np.geomspace(lo, hi * 1.0001, 40) if hi > lo * 1.01 else [lo * 0.9, hi * 1.1]
         hx.hist(transit, bins=edges, color="tab:gray")
         hx.set_xscale("log")
+        log_ticks(hx.xaxis, lo, hi)
     hx.set_xlabel("transit time (ns, log scale)")
     hx.set_ylabel("skyrmions")
     for axis in (ax.yaxis, hx.yaxis):  # counts: whole numbers on the axes

@@ -134,6 +134,33 @@ def draw_tracks(ax, ds: xr.Dataset, max_tracks: int, color=None, ends: bool = Tr
             ax.plot(x[ok, k][-1], y[ok, k][-1], "o", color=line.get_color(), ms=3)
 
 
+def _tick_label(value: float, _position=None) -> str:
+    """A log-axis tick: ``200``, ``0.5``; ``10¹¹`` or ``2×10¹¹`` beyond 10⁴ or below 10⁻²."""
+    if value <= 0:
+        return ""
+    if 1e-2 <= value < 1e4:
+        return f"{value:g}"
+    exponent = int(np.floor(np.log10(value) + 1e-9))
+    mantissa = value / 10.0**exponent
+    power = "10" + str(exponent).translate(str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻"))
+    return power if abs(mantissa - 1) < 1e-6 else f"{mantissa:g}×{power}"
+
+
+def log_ticks(axis, low: float, high: float) -> None:
+    """Labels of a log ``axis`` over [low, high] that stand apart.
+
+    Matplotlib labels the minor ticks of an axis narrower than a decade, and their long labels
+    (``1.4×10¹¹``) run into each other: here the labelled ticks are 1, 2 and 5 times the powers
+    of ten (1, 1.5, 2, 3, 5 and 7 times them over less than a decade), the others unlabelled.
+    """
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    narrow = high <= 10 * low
+    axis.set_major_locator(LogLocator(subs=(1.0, 1.5, 2.0, 3.0, 5.0, 7.0) if narrow else (1, 2, 5)))
+    axis.set_major_formatter(FuncFormatter(_tick_label))
+    axis.set_minor_formatter(NullFormatter())
+
+
 def draw_skyrmions(ax, positions, diameter: float, color="tab:blue") -> None:
     """Skyrmions as discs of their ``diameter`` [m] at ``positions`` [m] (n, 2), in µm."""
     from matplotlib.collections import EllipseCollection
@@ -184,16 +211,20 @@ def trajectories_figure(
     draw_landscape(ax, landscape, outline)
     draw_outline(ax, outline)
     draw_tracks(ax, ds, max_tracks)
-    ax.set_title(
-        title
-        or f"{ds.sizes.get('skyrmion', 0)} skyrmions, "
-        f"{ds.attrs.get('temperature_K', '?')} K, "
-        f"{ds.time.values[-1] * 1e9:.0f} ns"
-        if len(ds.time)
-        else "no frames"
-    )
+    ax.set_title(title or _trajectories_title(ds, max_tracks))
     fig.tight_layout()
     return fig
+
+
+def _trajectories_title(ds: xr.Dataset, max_tracks: int) -> str:
+    """How many skyrmions, the temperature and the time span; which tracks are drawn."""
+    if not len(ds.time):
+        return "no frames"
+    n = ds.sizes.get("skyrmion", 0)
+    drawn = f" (the first {max_tracks} drawn)" if n > max_tracks else ""
+    temperature = ds.attrs.get("temperature_K")
+    kelvin = "?" if temperature is None else f"{float(temperature):g}"
+    return f"{n} skyrmions{drawn}, {kelvin} K, {ds.time.values[-1] * 1e9:.0f} ns"
 
 
 def plot_trajectories(

@@ -1,8 +1,8 @@
 """The paper's reshuffler figures from a sweep store (matplotlib, Agg).
 
 - ``reshuffler.png`` (paper, reshuffler figure): left, ρ against J for each p-value with replica
-  error bars and the fit ρ = c_A/(c_B + J^(−3/2)); right, the running ρ against time for the
-  p-value nearest 0.62 at each J;
+  error bars and the fit ρ = c_A/(c_B + (J/J₀)^(−3/2)), J₀ = 10¹¹ A/m²; right, the running ρ
+  against time for the p-value nearest 0.62 at each J;
 - ``chamber_size.png`` (paper, chamber-size figure): ρ against the chamber diameter L with the
   fit ρ = c_A + c_B/√L;
 - ``reshuffler_details.png`` / ``chamber_size_details.png``: per point, p_out − p_in with
@@ -17,7 +17,9 @@ root seed and fingerprint, the command line): the PNGs in their text chunks, ``f
 its ``provenance`` entry, ``points.csv`` in a leading ``# key: value`` block. All are written
 through a temporary file.
 
-Both ρ figures draw the paper's fit law and the free-exponent fit ρ/(1 − ρ) ∝ x^e.
+Both ρ figures draw the paper's fit law and the free-exponent fit ρ/(1 − ρ) ∝ x^e, each only
+where the points constrain it (every coefficient's error below the coefficient, as the report's
+headline requires to state it): a fit the report calls not constrained is not drawn.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ import numpy as np
 import xarray as xr
 
 from skygas.core.errors import InputError
+from skygas.outputs.headlines import constrained, signed
+from skygas.runs.plotting import log_ticks
 from skygas.sweep.analysis import (
     CHAMBER,
     CURRENT,
@@ -50,19 +54,31 @@ PAPER_MAX_OCCUPANCY = 51  # the paper's fullest chamber at its lowest current ..
 PAPER_LOWEST_CURRENT = 1e10  # ... J [A/m²]
 
 
+#: χ²/dof above which a fit "misses the data" (a miss far beyond the replicas' scatter)
+MISSES = 3.0
+#: the paper's current law as the legends write it, J₀ defined
+CURRENT_LAW = "c_A/(c_B + (J/J₀)^(−3/2)), J₀ = 10¹¹ A/m²"
+
+
 def _fmt(fit: dict, key: str) -> str:
-    return (
-        f"{fit[key]:.2f} ± {fit[key + '_error']:.2f}"
-        if np.isfinite(fit.get(key + "_error", np.nan))
-        else f"{fit[key]:.2f}"
-    )
+    """A fitted exponent for a title: ``1.50 ± 0.06``; "none (not constrained)" when not fixed."""
+    if not constrained(fit.get(key), fit.get(key + "_error")):
+        return "none (not constrained)"
+    return f"{fit[key]:.2f} ± {fit[key + '_error']:.2f}"
 
 
-def fit_label(name: str, model_at_points, mean, sem) -> tuple[str, str]:
-    """Legend text and line style of a fitted curve, saying how well it meets its points.
+def paper_fit_constrained(fit: dict) -> bool:
+    """Whether the points fix both coefficients of the paper's fit (:func:`constrained`).
 
-    The points it is drawn over: χ²/dof of the replica means (errors = their standard errors), with
-    "misses the data" and a dashed line when χ²/dof > 3 (a miss far beyond the scatter).
+    A fit that is not constrained is neither drawn nor stated (the report says why).
+    """
+    return all(constrained(fit.get(c), fit.get(f"{c}_error")) for c in ("c_A", "c_B"))
+
+
+def chi2_per_dof(model_at_points, mean, sem) -> float | None:
+    """χ²/dof of the replica means (errors: their standard errors) about a 2-parameter model.
+
+    None with fewer than three points that have an error.
     """
     model_at_points, mean, sem = (
         np.ravel(np.asarray(a, float)) for a in (model_at_points, mean, sem)
@@ -70,11 +86,45 @@ def fit_label(name: str, model_at_points, mean, sem) -> tuple[str, str]:
     ok = np.isfinite(model_at_points) & np.isfinite(mean) & np.isfinite(sem) & (sem > 0)
     dof = int(ok.sum()) - 2
     if dof < 1:
+        return None
+    return float(np.sum(((mean[ok] - model_at_points[ok]) / sem[ok]) ** 2)) / dof
+
+
+def fit_label(name: str, model_at_points, mean, sem) -> tuple[str, str]:
+    """Legend text and line style of a fitted curve, saying how well it meets its points.
+
+    The points it is drawn over: χ²/dof of the replica means (errors = their standard errors), with
+    "misses the data" and a dashed line when χ²/dof > :data:`MISSES`.
+    """
+    chi2 = chi2_per_dof(model_at_points, mean, sem)
+    if chi2 is None:
         return f"{name} (too few points to judge the fit)", "--"
-    chi2 = float(np.sum(((mean[ok] - model_at_points[ok]) / sem[ok]) ** 2)) / dof
-    if chi2 > 3:
+    if chi2 > MISSES:
         return f"{name}: misses the data (χ²/dof = {chi2:.3g})", "--"
     return f"{name} (χ²/dof = {chi2:.2g})", "-"
+
+
+def _current_model(fit: dict, current):
+    """The paper's current law ρ = c_A/(c_B + (J/J₀)^(−3/2)) at ``current`` [A/m²]."""
+    return fit["c_A"] / (fit["c_B"] + (current / CURRENT_UNIT) ** -1.5)
+
+
+def _chamber_model(fit: dict, length):
+    """The paper's chamber law ρ = c_A + c_B/√L at ``length`` [µm]."""
+    return fit["c_A"] + fit["c_B"] / np.sqrt(length)
+
+
+def paper_fit_chi2(ds: xr.Dataset, x_dim: str, fit: dict) -> float | None:
+    """χ²/dof of the paper's fit about the replica means it is drawn over (None: cannot tell)."""
+    if not np.isfinite(fit.get("c_A", np.nan)):
+        return None
+    stats = replica_mean(ds)
+    if x_dim == CURRENT:
+        model = _current_model(fit, stats[CURRENT])
+    else:
+        model = _chamber_model(fit, stats[CHAMBER] / LENGTH_UNIT)
+    at_points = model.broadcast_like(stats["mean"]).transpose(*stats["mean"].dims)
+    return chi2_per_dof(at_points, stats["mean"].values, stats["sem"].values)
 
 
 def dodge(x, k: int, n: int, log: bool, width: float = 0.3) -> np.ndarray:
@@ -125,21 +175,19 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
             label=f"p = {p:g}" if p is not None else "ρ",
         )
     paper = fits["paper_fit"]
-    if np.isfinite(paper["c_A"]):
-
-        def model(current):
-            return paper["c_A"] / (paper["c_B"] + (current / CURRENT_UNIT) ** -1.5)
-
+    if paper_fit_constrained(paper):  # the report states no fit the points leave free
         grid = np.geomspace(j.min(), j.max(), 200)
         at_points = (
-            model(stats[CURRENT]).broadcast_like(stats["mean"]).transpose(*stats["mean"].dims)
+            _current_model(paper, stats[CURRENT])
+            .broadcast_like(stats["mean"])
+            .transpose(*stats["mean"].dims)
         )
         label, style = fit_label(
-            "paper's fit c_A/(c_B + J^(−3/2))", at_points, stats["mean"].values, stats["sem"].values
+            f"paper's fit {CURRENT_LAW}", at_points, stats["mean"].values, stats["sem"].values
         )
-        left.plot(grid, model(grid), color="b", ls=style, label=label)
+        left.plot(grid, _current_model(paper, grid), color="b", ls=style, label=label)
     beta = fits["beta"]
-    if np.isfinite(beta["exponent"]):
+    if constrained(beta["exponent"], beta["exponent_error"]):
         grid = np.geomspace(j.min(), j.max(), 200)
         left.plot(
             grid,
@@ -150,6 +198,7 @@ def plot_current_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
         )
     left.set_title(f"ρ/(1−ρ) ∝ J^β: β = {_fmt(beta, 'exponent')} (paper 3/2)", fontsize=9)
     left.set_xscale("log")
+    log_ticks(left.xaxis, j.min(), j.max())
     left.set_xlabel("current density J in the conduits (A/m²)")
     left.set_ylabel("correlation ρ (output vs input)")
     # below the axes: the fits' long labels inside would cover the points and curves
@@ -202,23 +251,17 @@ def plot_chamber_figure(ds: xr.Dataset, path: Path, fits: dict) -> Path:
         label="sweep (replica mean ± s.e.)",
     )
     paper = fits["paper_fit"]
-    if np.isfinite(paper["c_A"]):
+    if paper_fit_constrained(paper):  # the report states no fit the points leave free
         grid = np.linspace(length.min(), length.max(), 200)
         label, style = fit_label(
-            "paper's fit c_A + c_B/√L",
-            paper["c_A"] + paper["c_B"] / np.sqrt(length),
+            "paper's fit c_A + c_B/√(L/1 µm)",
+            _chamber_model(paper, length),
             stats["mean"].values,
             stats["sem"].values,
         )
-        ax.plot(
-            grid * 1e3,
-            paper["c_A"] + paper["c_B"] / np.sqrt(grid),
-            color="b",
-            ls=style,
-            label=label,
-        )
+        ax.plot(grid * 1e3, _chamber_model(paper, grid), color="b", ls=style, label=label)
     gamma = fits["gamma"]
-    if np.isfinite(gamma["exponent"]):
+    if constrained(gamma["exponent"], gamma["exponent_error"]):
         grid = np.linspace(length.min(), length.max(), 200)
         ax.plot(
             grid * 1e3,
@@ -276,11 +319,11 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
             best = replica_mean(sub, "correlation_max_lag")["mean"].values
             lag = sub["correlation_best_lag"].where(ok).median("replica").values
             ax_lag.plot(x, rho0, "o-", ms=3, label="ρ at lag 0")
-            ax_lag.plot(x, best, "s--", ms=3, label="largest ρ over lags")
+            ax_lag.plot(x, best, "s--", ms=3, label="ρ at the lag of the largest |ρ|")
             for xi, yi, li in zip(x, best, lag, strict=True):
                 if np.isfinite(yi) and np.isfinite(li):
                     ax_lag.annotate(
-                        f"{li:+.0f}",
+                        signed(float(li)),  # the replicas' median: may be a half
                         (xi, yi),
                         fontsize=7,
                         textcoords="offset points",
@@ -300,13 +343,19 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
         )
     ax_n.set_ylabel("fullest chamber (skyrmions)")
     ax_t.set_ylabel("mean transit time (ns)")
-    if any(np.nanmax(line.get_ydata(), initial=0) > 0 for line in ax_t.lines):
+    drawn = [np.asarray(line.get_ydata(), float) for line in ax_t.lines]
+    transit = np.concatenate(drawn) if drawn else np.empty(0)
+    transit = transit[np.isfinite(transit) & (transit > 0)]
+    if transit.size:
         ax_t.set_yscale("log")
-    ax_lag.set_ylabel("correlation ρ (numbers: best lag, events)")
+        log_ticks(ax_t.yaxis, transit.min(), transit.max())
+    # a lag ℓ pairs input bit k with read-out k + ℓ: one bit per injection interval
+    ax_lag.set_ylabel("correlation ρ (numbers: its lag ℓ, bits)")
     for ax in (ax_p, ax_n, ax_t, ax_lag):
         ax.set_xlabel(label)
         if log:
             ax.set_xscale("log")
+            log_ticks(ax.xaxis, x_all.min(), x_all.max())
     # one legend above the panels for the series they share (inside, it would cover points)
     handles, labels = ax_n.get_legend_handles_labels()
     top = 1.0
@@ -317,6 +366,36 @@ def plot_details(ds: xr.Dataset, x_dim: str, path: Path) -> Path:
     fig.tight_layout(rect=(0, 0, 1, top))
     fig.savefig(path)
     return path
+
+
+#: where the exponents of this model are compared with the paper's
+PAPER_DOCS = "docs/paper-reproduction.md"
+
+
+def exponent_lines(result: dict) -> list[str]:
+    """The free exponents of :func:`plot_sweep`'s ``result``, one line each, for a person.
+
+    Each beside the paper's value, with where the two are compared (:data:`PAPER_DOCS`); an
+    exponent the points do not fix is said to be absent.
+    """
+    lines = []
+    for key, name, power, paper in (
+        ("current", "beta", "J^β: β", "3/2"),
+        ("chamber", "gamma", "L^γ: γ", "−1/2"),
+    ):
+        if key not in result:
+            continue
+        e = result[key][name]
+        value = (
+            f"{e['exponent']:.3f} ± {e['exponent_error']:.3f}"
+            if constrained(e["exponent"], e["exponent_error"])
+            else "none (the points do not constrain it)"
+        )
+        lines.append(
+            f"ρ/(1−ρ) ∝ {power} = {value} over {e['n_points']} points with 0 < ρ < 1 (paper "
+            f"{paper}; see {PAPER_DOCS} for what this model gives)"
+        )
+    return lines
 
 
 def sweep_provenance(ds: xr.Dataset) -> dict[str, str]:
@@ -427,12 +506,16 @@ def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
     if CURRENT in dims:
         grid = _grid_only(ds, (CURRENT, P_VALUE))
         result["current"] = fit_current_scaling(grid)
+        fit = result["current"]["paper_fit"]
+        fit["chi2_dof"] = paper_fit_chi2(grid, CURRENT, fit)
         figure("reshuffler.png", lambda tmp: plot_current_figure(ds, tmp, result["current"]))
         if "p_out_low" in ds:
             figure("reshuffler_details.png", lambda tmp: plot_details(grid, CURRENT, tmp))
     if CHAMBER in dims:
         grid = _grid_only(ds, (CHAMBER,))
         result["chamber"] = fit_chamber_scaling(grid)
+        fit = result["chamber"]["paper_fit"]
+        fit["chi2_dof"] = paper_fit_chi2(grid, CHAMBER, fit)
         figure("chamber_size.png", lambda tmp: plot_chamber_figure(ds, tmp, result["chamber"]))
         if "p_out_low" in ds:
             figure("chamber_size_details.png", lambda tmp: plot_details(grid, CHAMBER, tmp))
