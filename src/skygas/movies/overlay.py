@@ -14,12 +14,7 @@ trailer) raised as an :class:`OSError`; long movies are shown every N-th frame, 
 
 from __future__ import annotations
 
-import errno
 import math
-import os
-import subprocess
-import tempfile
-from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -104,6 +99,7 @@ def write_overlay(path: str | Path, movie, tracks, diameter: float) -> dict:
         ``path``, ``frames``, ``stride``, ``fps``, ``width_px``, ``height_px``, ``bytes``.
     """
     from skygas.runs.run_driver import write_atomic
+    from skygas.runs.video import encode_mp4
 
     path = Path(path)
     stride = max(1, math.ceil(movie.n_frames / MAX_FRAMES))
@@ -123,7 +119,8 @@ def write_overlay(path: str | Path, movie, tracks, diameter: float) -> dict:
         yield padded(first)
         yield from (padded(i) for i in images)
 
-    write_atomic(path, lambda tmp: encode_mp4(tmp, frames(), (W, H)))
+    # "veryfast" at crf 32 keeps the overlay small
+    write_atomic(path, lambda tmp: encode_mp4(tmp, frames(), (W, H), FPS))
     return {
         "path": path.name,
         "frames": len(indices),
@@ -133,78 +130,3 @@ def write_overlay(path: str | Path, movie, tracks, diameter: float) -> dict:
         "height_px": H,
         "bytes": path.stat().st_size,
     }
-
-
-def encode_mp4(path: Path, images: Iterable[np.ndarray], size: tuple[int, int]) -> None:
-    """Encode RGB ``images`` (height, width, 3) uint8 as H.264 MP4 at ``path`` with ffmpeg.
-
-    ``size`` (width, height) [px], multiples of 16. ffmpeg's messages go to a temporary file,
-    not the terminal; when it fails, the last of them becomes the :class:`OSError` raised
-    (``ENOSPC`` for a full disk), and :func:`~skygas.runs.run_driver.write_atomic` removes
-    the partial file. ffmpeg runs in a process group of its own: a Ctrl-C interrupts Python,
-    which stops ffmpeg and lets the interrupt go on.
-    """
-    import imageio_ffmpeg
-
-    width, height = size
-    # the settings of skygas animate's writer: yuv420p with the index at the front (+faststart)
-    # is what browsers play inline; "veryfast" at crf 32 keeps the overlay small
-    command = [
-        imageio_ffmpeg.get_ffmpeg_exe(),
-        "-y",
-        "-v",
-        "error",
-        "-f",
-        "rawvideo",
-        "-pix_fmt",
-        "rgb24",
-        "-s",
-        f"{width}x{height}",
-        "-r",
-        str(FPS),
-        "-i",
-        "-",
-        "-vcodec",
-        "libx264",
-        "-pix_fmt",
-        "yuv420p",
-        "-preset",
-        "veryfast",
-        "-crf",
-        "32",
-        "-movflags",
-        "+faststart",
-        str(path),
-    ]
-    with tempfile.TemporaryFile() as log:
-        ffmpeg = subprocess.Popen(
-            command,
-            stdin=subprocess.PIPE,
-            stdout=subprocess.DEVNULL,
-            stderr=log,
-            process_group=0,
-        )
-        assert ffmpeg.stdin is not None  # stdin=PIPE
-        try:
-            for image in images:
-                ffmpeg.stdin.write(np.ascontiguousarray(image, dtype=np.uint8).tobytes())
-            ffmpeg.stdin.close()
-        except BrokenPipeError:  # ffmpeg stopped reading: its log says why
-            pass
-        except BaseException:  # an error while drawing, or Ctrl-C: stop ffmpeg, pass it on
-            ffmpeg.kill()
-            ffmpeg.wait()
-            raise
-        if ffmpeg.wait() != 0:
-            log.seek(0)
-            raise _ffmpeg_error(log.read().decode(errors="replace"), ffmpeg.returncode)
-
-
-def _ffmpeg_error(text: str, status: int) -> OSError:
-    """The OSError of a failed ffmpeg: ENOSPC for a full disk, else its last message."""
-    lines = [line.split("] ", 1)[-1].strip() for line in text.splitlines() if line.strip()]
-    for code in (errno.ENOSPC, errno.EDQUOT, errno.EACCES, errno.EROFS):
-        if any(os.strerror(code) in line for line in lines):
-            return OSError(code, os.strerror(code))
-    last = lines[-1] if lines else f"ffmpeg ended with status {status}"
-    return OSError(errno.EIO, f"ffmpeg: {last}")

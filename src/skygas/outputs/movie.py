@@ -342,29 +342,16 @@ def write_mp4(
     """Encode RGB frames (``first``, then the iterable ``images``) as H.264 MP4 at ``path``.
 
     ``size`` (width, height) [px], whole multiples of 16; ``fps`` frames per second; the x264
-    ``preset`` and constant rate factor ``crf`` (higher: smaller and coarser).
+    ``preset`` and constant rate factor ``crf`` (higher: smaller and coarser). A failure (a
+    full disk) is one :class:`OSError` (:func:`skygas.runs.video.encode_mp4`).
     """
-    import imageio_ffmpeg
+    import itertools
 
-    # H.264 in yuv420p with the index at the front (+faststart): what browsers play inline.
+    from skygas.runs.video import encode_mp4
+
     # "ultrafast" encodes ~2x faster than "veryfast" for ~3x the bytes (~3.5 kB a frame of
     # this mostly still picture): the run-time budget binds, the size limit (20 MB) does not
-    writer = imageio_ffmpeg.write_frames(
-        str(path),
-        size,
-        fps=fps,
-        codec="libx264",
-        pix_fmt_out="yuv420p",
-        macro_block_size=16,
-        quality=None,
-        ffmpeg_log_level="error",
-        output_params=["-preset", preset, "-crf", str(crf), "-movflags", "+faststart"],
-    )
-    writer.send(None)
-    writer.send(np.ascontiguousarray(first))
-    for image in images:
-        writer.send(np.ascontiguousarray(image))
-    writer.close()
+    encode_mp4(path, itertools.chain([first], images), size, fps, preset=preset, crf=crf)
 
 
 def _write_gif(path: Path, first, images, fps: int) -> None:
