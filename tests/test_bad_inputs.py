@@ -1041,11 +1041,6 @@ SIMULATE_CASES = {
         _replace_line(CHAMBER, "record_interval", "record_interval = 1e-9\ntime_step = 3e-12"),
         "time_step",
     ),
-    # 3000 m/s moves a skyrmion 8 diameters per step: refused without --strict
-    "a drift the engine cannot integrate": (
-        CHAMBER + "\n[drift]\nvelocity = [3000.0, 0.0]\n",
-        "the engine cannot integrate",
-    ),
 }
 
 

@@ -1,7 +1,7 @@
 """The engine refuses what it cannot integrate, from plain Python as from the command line.
 
 A drive that moves a free skyrmion more than a diameter per step, a run in which the walls undo
-more than 1 % of the skyrmion-steps (the skyrmions then sit frozen at the wall), and a run
+more than 10 % of the skyrmion-steps (the skyrmions then sit frozen at the wall), and a run
 that would last days (seconds given where nanoseconds were meant) are each one InputError,
 naming the term or the duration and its value.
 """

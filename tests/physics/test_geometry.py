@@ -398,7 +398,7 @@ def test_the_former_nanometre_names_warn_and_still_answer():
     [
         (lambda: chamber_with_conduits(800), "chamber_diameter"),
         (lambda: disk(diameter=800), "diameter"),
-        (lambda: rectangle(1e-15, 1e-6), "width"),
+        (lambda: disk(diameter=1e-15), "diameter"),
     ],
 )
 def test_a_length_in_another_unit_is_named_as_from_the_command_line(make, field):

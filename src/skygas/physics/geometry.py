@@ -256,14 +256,19 @@ def _deprecated(old: str, new: str) -> None:
     )
 
 
-def _positive(name: str, value: float) -> float:
+def _positive(name: str, value: float, device: bool = False) -> float:
+    """``value`` if a finite length > 0; a ``device`` size also within 1 pm … 1 m.
+
+    A disk or chamber of 800 is 800 nm given in the wrong unit ("did you mean 800e-9?"); a
+    rectangle also serves as a box in other units (the periodic box of tracks in pixels).
+    """
     require(
         isinstance(value, (int, float)) and value > 0 and math.isfinite(value),
         name,
         value,
         "a length > 0 in metres",
     )
-    return require_length(name, float(value))  # 800 for 800 nm: "did you mean 800e-9?"
+    return require_length(name, float(value)) if device else float(value)
 
 
 # Circles become polygons whose chords stray at most this far from the true circle (nm).
@@ -309,7 +314,7 @@ def disk(*, diameter: float, center=(0.0, 0.0)) -> Outline:
     >>> round(skygas.disk(diameter=1e-6).area() * 1e12, 3)  # π (0.5 µm)² in µm²
     0.785
     """
-    r = _positive("diameter", diameter) / 2 * M_TO_NM
+    r = _positive("diameter", diameter, device=True) / 2 * M_TO_NM
     cx, cy = np.asarray(center, float) * M_TO_NM
     return Outline(_circle(cx, cy, r))
 
@@ -441,9 +446,9 @@ def chamber_with_conduits(
         If a length is not > 0, the conduit is not narrower than the chamber, or ``corner_radius``
         is negative.
     """
-    d = _positive("chamber_diameter", chamber_diameter)
-    w = _positive("conduit_width", conduit_width)
-    length = _positive("conduit_length", conduit_length)
+    d = _positive("chamber_diameter", chamber_diameter, device=True)
+    w = _positive("conduit_width", conduit_width, device=True)
+    length = _positive("conduit_length", conduit_length, device=True)
     require(w < d, "conduit_width", w, f"a width smaller than the chamber diameter ({d} m)")
     r = d / 2 * M_TO_NM
     half_w = w / 2 * M_TO_NM

@@ -83,7 +83,8 @@ def _say_compiling() -> None:
     from skygas.core.estimates import current_limits
     from skygas.core.kernel_cache import engine_compiled
 
-    if current_limits().announce and not engine_compiled():
+    # a line for a person at a terminal: a refusal that follows stays the only line elsewhere
+    if current_limits().announce and sys.stderr.isatty() and not engine_compiled():
         print(COMPILING_LINE, file=sys.stderr, flush=True)
 
 

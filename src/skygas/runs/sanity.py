@@ -16,8 +16,8 @@ Checked before the run (:func:`before_run`):
   one diameter to the one it pushes;
 - the drift per time step: above :data:`MAX_DRIFT_PER_STEP` skyrmion diameters a skyrmion
   crosses the range of its neighbours' forces in one step; above
-  :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` the engine cannot integrate it, and the
-  run is refused with or without ``strict``.
+  :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` the finding says that the engine cannot
+  integrate it (a uniform drive that far is refused by the engine itself).
 
 Checked after the run (:func:`after_run`): wall escapes, steps that would have carried a
 skyrmion through a wall (undone by the kernel, counted). More than :data:`MAX_WALL_ESCAPE_RATE`
@@ -145,10 +145,9 @@ def findings_before_run(config: Any, sim: Any = None) -> list[InputError]:
 
 
 def _integrable(finding: InputError, per_step: float) -> InputError:
-    """``finding``, marked as one the engine cannot integrate when over the limit.
+    """``finding``, saying that the engine cannot integrate it when over the limit.
 
-    Over :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` diameters per step, a finding is
-    refused even without strict.
+    Over :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` diameters per step.
     """
     if per_step <= MAX_STEP_DIAMETERS:
         return finding
@@ -181,14 +180,7 @@ def drift_speed(config: Any) -> float:
 
 
 def report(findings: list[InputError], strict: bool) -> None:
-    """Refuse the first finding (``strict``) or print each as a warning line.
-
-    A drift or force the engine cannot integrate (over
-    :data:`~skygas.engine.simulation.MAX_STEP_DIAMETERS` per step) is refused in any case.
-    """
-    beyond = [f for f in findings if getattr(f, "cannot_integrate", False)]
-    if beyond:
-        raise beyond[0]
+    """Refuse the first finding (``strict``) or print each as a warning line."""
     if strict and findings:
         raise findings[0]
     for finding in findings:
