@@ -119,3 +119,31 @@ def test_a_wrong_model_fails_its_self_check_loudly(tmp_path):
     assert abs(summary["pair"]["material_law_scale"]) < 0.3
     report = (tmp_path / "out" / "report.html").read_text()
     assert "FAILED" in report
+
+
+def test_a_successful_infer_is_quiet_and_leaves_only_its_files(tmp_path):
+    """Five free walkers: the run succeeds with nothing on stderr, warnings shown (-W default:
+    no library's warning reaches the user), and the folder holds its files, no partial one."""
+    rng = np.random.default_rng(1)
+    n, frames = 5, 60
+    x, y = np.cumsum(rng.normal(0, 1, (2, frames, n)), axis=1) + 50 + 10 * np.arange(n)
+    f, p = np.meshgrid(np.arange(frames), np.arange(n), indexing="ij")
+    table = {"frame": f.ravel(), "particle": p.ravel(), "x": x.ravel(), "y": y.ravel()}
+    pd.DataFrame(table).to_csv(tmp_path / "tracks.csv", index=False)
+    args = [
+        sys.executable, "-W", "default", "-m", "skygas.cli", "infer", "tracks.csv",
+        "--pixel-size", "1e-7", "--frame-interval", "0.01", "--temperature", "300",
+        "--check-frames", "50", "--quiet", "--out", "out",
+    ]  # fmt: skip
+    proc = subprocess.run(args, cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""
+    names = {p.name for p in (tmp_path / "out").iterdir()}
+    assert names == {
+        "inference.json",
+        "landscape.nc",
+        "landscape-map.npy",
+        "model.toml",
+        "report.html",
+        "manifest.json",
+    }

@@ -33,7 +33,12 @@ def register(subparsers) -> None:
         "landscape-map.npy, model.toml (use it as --material DIR/model.toml) and report.html. "
         "See docs/inference.md.",
     )
-    p.add_argument("tracks", metavar="TRACKS", help="a .csv, .h5 or .parquet file of tracks")
+    p.add_argument(
+        "tracks",
+        metavar="TRACKS",
+        help="a .csv, .h5 or .parquet file of tracks, or the output folder of skygas track "
+        "(its tracks.csv)",
+    )
     p.add_argument("--pixel-size", type=float, default=None, help="metres per pixel (required)")
     p.add_argument(
         "--frame-interval", type=float, default=None, help="seconds between frames (required)"
@@ -118,7 +123,9 @@ def _periodic(values: list[str]):
         raise InputError(
             "--periodic", " ".join(values), "auto, none, or two lengths L_x L_y [m] of the box"
         )
-    return lengths
+    from skygas.inference.tracks import metres
+
+    return tuple(metres("--periodic", side) for side in lengths)
 
 
 def _infer(args: argparse.Namespace) -> int:

@@ -8,18 +8,26 @@
 - ``model.toml``: the model, every number of which is in inference.json;
 - ``report.html`` (:mod:`skygas.inference.report`).
 
-Everything is made before the first file is written, and each file is written atomically
-(:func:`skygas.runs.run_driver.write_atomic`), so an interrupted inference leaves no partial
-file; each carries the provenance record (version, command line, the input's hash).
+Everything is made before the first file is written; then every file is written under a
+temporary name (:func:`skygas.runs.run_driver.partial_path`) and, once all are complete, all
+are renamed (:func:`write_all`): an inference stopped by a full disk, an error or Ctrl-C leaves
+no file under its real name. Each carries the provenance record (version, command line, the
+input's hash).
 """
 
 from __future__ import annotations
 
+import errno
 import io
+import os
+import shutil
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from skygas.core.errors import WriteFailed
 from skygas.inference.pipeline import MAP_FILE, Inference
 from skygas.runs.provenance import provenance
 
@@ -110,26 +118,104 @@ def model_sections(result: Inference) -> tuple[dict, list[str], dict[str, str]]:
     return sections, header, comments
 
 
-def write_outputs(result: Inference, out) -> list[Path]:
-    """Write the files into ``out``; returns their paths."""
+#: Free space [bytes] beyond a file's own size under which a failed write is the disk's doing.
+DISK_HEADROOM = 2**20
+#: What the library says when it could not write a netCDF file, whatever the reason (a full
+#: disk among them): HDF5 does not pass the operating system's error on.
+HDF_WORDS = ("HDF error", "NetCDF")
+#: Said after a failed write: what is left and what to do.
+WRITE_HINT = "no file of the inference was kept: free some space, or choose another --out"
+
+
+@dataclass(frozen=True)
+class OutputFile:
+    """One file of the inference: ``write(path)`` writes it; ``size`` [bytes] about its size."""
+
+    write: Callable[[Path], Path]
+    size: int
+
+
+def output_files(result: Inference) -> dict[str, OutputFile]:
+    """The files of the inference by name, made in memory (nothing written yet)."""
     from skygas.calibration.model_file import write_model
     from skygas.inference.report import report_html
     from skygas.runs.run_driver import write_atomic, write_json, write_netcdf
 
-    out = Path(out)
-    # everything is made before the first file is written: a failure leaves no file behind
     summary = {**result.summary, "provenance": record(result)}
     dataset = landscape_dataset(result)
-    text = report_html(result)
+    text = report_html(result).encode("utf-8")
     sections, header, comments = model_sections(result)
     buffer = io.BytesIO()
     np.save(buffer, result.map_values)
+    data = buffer.getvalue()
+    return {
+        MAP_FILE: OutputFile(
+            lambda p: write_atomic(p, lambda tmp: tmp.write_bytes(data)), len(data)
+        ),
+        "model.toml": OutputFile(
+            lambda p: write_model(p, result.material, sections, header, comments), 0
+        ),
+        "inference.json": OutputFile(lambda p: write_json(p, summary), 0),
+        "landscape.nc": OutputFile(lambda p: write_netcdf(dataset, p), int(dataset.nbytes)),
+        "report.html": OutputFile(
+            lambda p: write_atomic(p, lambda tmp: tmp.write_bytes(text)), len(text)
+        ),
+    }
+
+
+def write_outputs(result: Inference, out) -> list[Path]:
+    """Write the files into ``out``, all or none (:func:`write_all`); returns their paths."""
+    return write_all(out, output_files(result))
+
+
+def write_all(out, files: dict[str, OutputFile]) -> list[Path]:
+    """Write ``files`` into folder ``out``: each under a temporary name, then all renamed.
+
+    Raises
+    ------
+    WriteFailed
+        Naming the file that could not be written and why ("No space left on device" for a
+        netCDF file HDF5 could not write on a full disk); no file of ``files`` is then left,
+        under its real name or a temporary one.
+    """
+    from skygas.runs.run_driver import partial_path
+
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    paths = [write_atomic(out / MAP_FILE, lambda tmp: tmp.write_bytes(buffer.getvalue()))]
-    paths.append(write_model(out / "model.toml", result.material, sections, header, comments))
-    paths.append(write_json(out / "inference.json", summary))
-    paths.append(write_netcdf(dataset, out / "landscape.nc"))
-    paths.append(
-        write_atomic(out / "report.html", lambda tmp: tmp.write_text(text, encoding="utf-8"))
-    )
-    return paths
+    staged: list[tuple[Path, Path]] = []
+    renamed: list[Path] = []
+    try:
+        for name, file in files.items():
+            path = out / name
+            staged.append((partial_path(path), path))
+            _write_as(path, partial_path(path), file)
+        for tmp, path in staged:
+            try:
+                os.replace(tmp, path)
+            except OSError as err:
+                raise WriteFailed(path, err.strerror or str(err), WRITE_HINT) from None
+            renamed.append(path)
+    except BaseException:  # a failure or Ctrl-C: no result under its real name
+        for path in [*(tmp for tmp, _ in staged), *renamed]:
+            path.unlink(missing_ok=True)
+        raise
+    return [path for _, path in staged]
+
+
+def _write_as(path: Path, tmp: Path, file: OutputFile) -> None:
+    """Write ``file`` at ``tmp``; a failure is reported for ``path``, the file it stands for."""
+    try:
+        file.write(tmp)
+    except WriteFailed as err:
+        cause = err.cause
+        if any(w in cause for w in HDF_WORDS) and _disk_full(path.parent, file.size):
+            cause = os.strerror(errno.ENOSPC)
+        raise WriteFailed(path, cause, WRITE_HINT) from None
+
+
+def _disk_full(folder: Path, size: int) -> bool:
+    """Whether ``folder``'s disk has no room for ``size`` bytes (and a little more)."""
+    try:
+        return shutil.disk_usage(folder).free < size + DISK_HEADROOM
+    except OSError:
+        return False

@@ -48,7 +48,7 @@ from skygas.inference import diffusion as diff
 from skygas.inference import landscape as land
 from skygas.inference.film import EDGE_STEPS, Film, box_film, field_of_view, tracks_leave
 from skygas.inference.outline import read_outline
-from skygas.inference.tracks import Tracks, load_tracks
+from skygas.inference.tracks import Tracks, load_tracks, metres
 from skygas.physics.materials import derive_thiele, load_material
 
 #: Largest share of positions allowed outside the outline (by more than a pixel).
@@ -246,13 +246,12 @@ def infer(
     require(pair in PAIR_MODES, "--pair", pair, " or ".join(PAIR_MODES))
     base = load_material(base_material)
     if skyrmion_radius is not None:
-        require(
-            np.isfinite(skyrmion_radius) and skyrmion_radius > 0,
-            "--skyrmion-radius",
-            skyrmion_radius,
-            "a radius > 0 [m]",
-        )
+        metres("--skyrmion-radius", skyrmion_radius)
     kt = units.BOLTZMANN * temperature
+    # the outline's file is judged before the tracks are worked on (a mask needs the pixel size)
+    shape = None
+    if outline is not None and pixel_size is not None:
+        shape = read_outline(outline, metres("--pixel-size", pixel_size))
 
     data = load_tracks(
         source, pixel_size, frame_interval, subtract_drift=subtract_drift, period=periodic
@@ -265,8 +264,7 @@ def infer(
         f"at least {2 * dynamics.BLOCKS} frames (errors are blocked over {dynamics.BLOCKS} "
         "blocks of time)",
     )
-    shape = None
-    if outline is not None:
+    if shape is not None:
         require(
             data.box is None,
             "--outline",
@@ -274,7 +272,6 @@ def infer(
             "no outline for tracks in a periodic box (they wrap: the box is the film)",
             "leave --outline out, or give --periodic none if the tracks do not wrap",
         )
-        shape = read_outline(outline, data.pixel_size)
         _check_inside(frames, Film("walls", shape), data.pixel_size, str(outline))
     loose = Film("open", field_of_view(frames, data.pixel_size))
     first_steps = dynamics.make_steps(frames, loose if data.box is None else box_film(*data.box))

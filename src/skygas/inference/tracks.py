@@ -22,9 +22,16 @@ import numpy as np
 
 from skygas.analysis.frames import Frames
 from skygas.core.errors import InputError, require
+from skygas.core.resources import require_memory
 
 #: The columns a track table must have.
 REQUIRED_COLUMNS = ("frame", "particle", "x", "y")
+#: The table ``skygas track`` writes into its output folder, read when that folder is given.
+TRACK_FOLDER_TABLE = "tracks.csv"
+#: Bytes the inference holds per position of the movie (its tables, steps and force fields):
+#: 0.65 KiB measured on the shipped chamber movie repeated four times (48 000 positions), with
+#: room to spare. A table is refused before any work when its frames, full, would not fit.
+BYTES_PER_POSITION = 1024
 #: A drift is subtracted when its end-to-end displacement exceeds this many standard deviations
 #: of the random wandering of the centre of mass of N independent skyrmions, √(4 D T / N).
 DRIFT_SIGMAS = 3.0
@@ -64,8 +71,7 @@ def read_table(source):
 
     if isinstance(source, pd.DataFrame):
         return source
-    path = Path(str(source))
-    require(path.is_file(), "tracks", str(source), "an existing .csv, .h5 or .parquet file")
+    path = track_file(source)
     suffix = path.suffix.lower()
     try:
         if suffix in (".csv", ".txt"):
@@ -89,14 +95,54 @@ def read_table(source):
     raise InputError("tracks", str(path), "a .csv, .h5/.hdf5 or .parquet file (trackpy's formats)")
 
 
-def check_table(table, source: str):
-    """The rows of ``table`` with finite positions, checked.
+def track_file(source) -> Path:
+    """The file of tracks ``source`` names: itself, or the tracks.csv of a ``skygas track`` folder.
 
-    Raises :class:`InputError` for a missing column, non-numeric values, no finite position or
-    fewer than two frames.
+    Raises
+    ------
+    InputError
+        If there is no such file.
     """
-    import pandas as pd
+    path = Path(str(source))
+    if path.is_dir():
+        table = path / TRACK_FOLDER_TABLE
+        require(
+            table.is_file(),
+            "tracks",
+            str(source),
+            f"a track table, or a folder of `skygas track` that holds {TRACK_FOLDER_TABLE} "
+            "(this folder has none)",
+            "run skygas track MOVIE --out FOLDER first, or give the table's file",
+        )
+        return table
+    require(path.is_file(), "tracks", str(source), "an existing .csv, .h5 or .parquet file")
+    return path
 
+
+def metres(field: str, value: float, hint: str | None = None) -> float:
+    """``value`` [m], checked as the devices check every length they are given.
+
+    Outside 1 pm … 1 m (:func:`skygas.core.config_types.length_problem`) a number was almost
+    surely given in another unit; the refusal says which it probably was ("did you mean
+    14e-9?"). ``hint`` says what the length is, where the field alone does not.
+    """
+    from skygas.core.config_types import length_problem
+
+    require(bool(np.isfinite(value) and value > 0), field, value, "a length > 0 in metres", hint)
+    problem = length_problem(value)
+    require(problem is None, field, value, str(problem), hint)
+    return float(value)
+
+
+def check_table(table, source: str):
+    """``table``, checked row by row before any work.
+
+    Refused (:class:`InputError`, one line naming the column, the first bad row and the file):
+    a missing column, no rows, a value that is not a number, a position or number that is not
+    finite, a frame or particle number that is not whole, a negative frame, frames that would
+    not fit in memory (:data:`BYTES_PER_POSITION`), fewer than two frames, a particle twice in a
+    frame. Rows are counted from 1 after the header.
+    """
     missing = [c for c in REQUIRED_COLUMNS if c not in table.columns]
     require(
         not missing,
@@ -106,21 +152,30 @@ def check_table(table, source: str):
         f"this one has {', '.join(map(str, table.columns)) or 'no columns'}",
         "link the features with trackpy.link first, or rename the columns",
     )
-    for c in REQUIRED_COLUMNS:
-        require(
-            pd.api.types.is_numeric_dtype(table[c]),
-            f"tracks.{c}",
-            str(table[c].dtype),
-            "numbers",
-        )
-    table = table.loc[np.isfinite(table["x"]) & np.isfinite(table["y"])]
-    frame = table["frame"].to_numpy()
     require(
-        bool(len(frame) > 0 and np.all(frame == np.round(frame)) and frame.min() >= 0),
-        "tracks.frame",
+        len(table) > 0,
+        "tracks",
         source,
-        "whole frame numbers >= 0 and at least one finite position",
+        "a table with at least one row of frame, particle, x, y (this one has its header only)",
+        "track the movie first (skygas track, or trackpy.locate and trackpy.link)",
     )
+    for column in REQUIRED_COLUMNS:
+        _require_numbers(table, column, source)
+        _require_rows(
+            table,
+            column,
+            source,
+            np.isfinite(table[column].to_numpy(float, na_value=np.nan)),
+            "finite numbers",
+            "remove or fix those rows (pandas: tracks.dropna()); a tracker writes finite "
+            "positions and frame and particle numbers only",
+        )
+    frame = table["frame"].to_numpy(float)
+    _require_rows(table, "frame", source, frame == np.round(frame), "whole frame numbers")
+    _require_rows(table, "frame", source, frame >= 0, "frame numbers >= 0")
+    particle = table["particle"].to_numpy(float)
+    _require_rows(table, "particle", source, particle == np.round(particle), "whole numbers")
+    _require_fits(table, source)
     n_frames = int(np.unique(frame).size)
     require(
         n_frames >= 2,
@@ -138,6 +193,72 @@ def check_table(table, source: str):
         "link the features with trackpy.link",
     )
     return table
+
+
+def _require_numbers(table, column: str, source: str) -> None:
+    """Refuse a column holding something that is not a number, naming its first such row."""
+    import pandas as pd
+
+    if pd.api.types.is_numeric_dtype(table[column]) and not pd.api.types.is_bool_dtype(
+        table[column]
+    ):
+        return
+    values = table[column]
+    bad = pd.to_numeric(values, errors="coerce").isna().to_numpy() | values.map(
+        lambda v: isinstance(v, bool)
+    ).to_numpy(bool)
+    if not bad.any():  # numbers written as text (a DataFrame's strings)
+        raise InputError(f"tracks.{column}", str(values.dtype), f"numbers, not text ({source})")
+    row = int(np.argmax(bad))
+    raise InputError(
+        f"tracks.{column}",
+        _plain(values.iloc[row]),
+        f"numbers in every row (row {row + 1} of {source} holds this)",
+        "fix that row, or remove it",
+    )
+
+
+def _require_rows(
+    table, column: str, source: str, ok: np.ndarray, allowed: str, hint: str | None = None
+) -> None:
+    """Refuse ``column`` unless ``ok`` holds in every row, naming the first row where not."""
+    if ok.all():
+        return
+    bad = np.flatnonzero(~ok)
+    more = f", and {len(bad) - 1} more row(s)" if len(bad) > 1 else ""
+    raise InputError(
+        f"tracks.{column}",
+        _plain(table[column].iloc[bad[0]]),
+        f"{allowed} in every row (row {bad[0] + 1} of {source}{more})",
+        hint or "fix those rows, or remove them",
+    )
+
+
+def _plain(value):
+    """A table's value as Python writes it (``True``, not ``np.True_``)."""
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def _require_fits(table, source: str) -> None:
+    """Refuse frames that, each as full as the fullest, would not fit in memory.
+
+    The inference's arrays grow with the positions, and its frames run from the first frame
+    number to the last: a stray frame number (10¹² in a movie of 400 frames) would ask for
+    terabytes. Checked before anything is allocated.
+    """
+    frame = table["frame"].to_numpy(float)
+    first, last = float(frame.min()), float(frame.max())
+    span = last - first + 1
+    fullest = int(table.groupby("frame", sort=False).size().max())
+    row = int(np.argmax(frame)) + 1
+    require_memory(
+        "tracks.frame",
+        last,
+        span * fullest * BYTES_PER_POSITION,
+        f"frames {first:.0f} to {last:.0f} (row {row} of {source}) with up to {fullest} "
+        "skyrmions each",
+        "frames are numbered one per image of the movie: fix the frame column",
+    )
 
 
 def drift_is_significant(drift: np.ndarray, diffusion: float, duration: float, n: float) -> bool:
@@ -177,7 +298,7 @@ def load_tracks(
     source : DataFrame or path
         trackpy's table (``frame``, ``particle``, ``x``, ``y`` in pixels).
     pixel_size : float
-        Metres per pixel, > 0.
+        Metres per pixel, 1 pm … 1 m (:func:`metres`).
     frame_interval : float
         Seconds between frames, > 0.
     subtract_drift : {"auto", "yes", "no"}
@@ -196,10 +317,6 @@ def load_tracks(
     -------
     Tracks
     """
-    import trackpy
-
-    from skygas.inference.film import detect_periodic
-
     require(
         pixel_size is not None,
         "--pixel-size",
@@ -208,9 +325,7 @@ def load_tracks(
         "give --pixel-size, e.g. --pixel-size 10e-9",
     )
     assert pixel_size is not None
-    require(
-        np.isfinite(pixel_size) and pixel_size > 0, "--pixel-size", pixel_size, "a length > 0 [m]"
-    )
+    metres("--pixel-size", pixel_size)
     require(
         frame_interval is not None and np.isfinite(frame_interval) and frame_interval > 0,
         "--frame-interval",
@@ -225,23 +340,21 @@ def load_tracks(
         subtract_drift,
         "auto, yes or no",
     )
-    name = "DataFrame" if not isinstance(source, (str, Path)) else str(source)
+    lengths = _period(period)
+    name = "DataFrame" if not isinstance(source, (str, Path)) else str(track_file(source))
     table = check_table(read_table(source), name)
+    # imported once the input is judged: trackpy alone takes seconds to import
+    import trackpy
+
+    from skygas.inference.film import detect_periodic
+
     table = table.sort_values(["frame", "particle"]).reset_index(drop=True)
     first = int(table["frame"].min())
     n_frames = int(table["frame"].max()) - first + 1
     box = None
     if isinstance(period, str):
-        require(period == "auto", "--periodic", period, "auto, or two lengths L_x L_y [m]")
         box = detect_periodic(_frames(table, pixel_size, frame_interval, first, n_frames))
-    elif period is not None:
-        lengths = np.asarray(period, float)
-        require(
-            bool(lengths.shape == (2,) and np.all(np.isfinite(lengths)) and np.all(lengths > 0)),
-            "--periodic",
-            period,
-            "two lengths L_x L_y > 0 [m] of the periodic box",
-        )
+    elif lengths is not None:
         x0 = float(table["x"].min()) * pixel_size
         y0 = float(table["y"].min()) * pixel_size
         box = ((float(lengths[0]), float(lengths[1])), (x0, y0))
@@ -291,6 +404,20 @@ def load_tracks(
         _hash(table),
         box,
     )
+
+
+def _period(period) -> np.ndarray | None:
+    """The sides (L_x, L_y) [m] of a periodic box given, checked; None for "auto" or none."""
+    if isinstance(period, str):
+        require(period == "auto", "--periodic", period, "auto, or two lengths L_x L_y [m]")
+        return None
+    if period is None:
+        return None
+    lengths = np.asarray(period, float)
+    require(
+        lengths.shape == (2,), "--periodic", period, "two lengths L_x L_y [m] of the periodic box"
+    )
+    return np.array([metres("--periodic", float(side)) for side in lengths])
 
 
 def _unwrapped(table, period_px: np.ndarray):
