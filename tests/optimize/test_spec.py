@@ -73,6 +73,12 @@ def test_the_fingerprint_follows_what_defines_the_trials():
         ({"x": {"low": 0.0, "high": 1.0}}, {"sampler": "cmaes"}, "study.sampler"),
         ({"x": {"low": 0.0, "high": 1.0}}, {"replicas": 0}, "study.replicas"),
         ({"x": {"low": 0.0, "high": 1.0}}, {"trials": 3}, "study.trials"),
+        ({"x": {"low": -1e308, "high": 1e308}}, {}, "space.x = .*width high − low"),
+        ({"x": {"low": 0.0, "high": 1e200}}, {}, "space.x.high = 1e.200: expected a number <="),
+        ({"x": {"low": 0.0, "high": 1.0}}, {"replicas": 10**9}, "study.replicas = 1000000000"),
+        ({"x": {"low": 0.0, "high": 1.0}}, {"reevaluate": 10**9}, "study.reevaluate = "),
+        ({"x": {"low": 0.0, "high": 1.0}}, {"reevaluate_replicas": 10**9}, "from 1 to 1000"),
+        ({"x": {"low": 0.0, "high": 1.0}}, {"startup_trials": 10**9}, "study.startup_trials"),
     ],
 )
 def test_bad_spaces_and_settings_are_refused(space, head, expected):
@@ -81,8 +87,8 @@ def test_bad_spaces_and_settings_are_refused(space, head, expected):
 
 
 def test_every_corner_of_the_space_is_validated_before_any_run():
-    # a conduit as wide as the largest chamber is refused for the reshuffler's geometry
-    with pytest.raises(InputError, match="corner of \\[space\\]"):
+    # a conduit wider than any chamber: the range's end is at fault, and named
+    with pytest.raises(InputError, match="space.device.conduit_width.high = 2e-06: expected a w"):
         parse_study(
             _study(
                 {
@@ -93,7 +99,20 @@ def test_every_corner_of_the_space_is_validated_before_any_run():
                 base={"preset": "paper"},
             )
         )
-    with pytest.raises(InputError, match="corner of \\[space\\].*noise"):
+    # each end fits the middle of the other range, but the widest conduit not the smallest
+    # chamber: the corner is named
+    with pytest.raises(InputError, match="corner of \\[space\\]"):
+        parse_study(
+            _study(
+                {
+                    "device.chamber_diameter": {"low": 5e-7, "high": 1e-6},
+                    "device.conduit_width": {"low": 5e-8, "high": 7e-7},
+                },
+                device="reshuffler",
+                base={"preset": "paper"},
+            )
+        )
+    with pytest.raises(InputError, match="space.noise.low = -1.0: expected a number >= 0"):
         parse_study(_study({"noise": {"low": -1.0, "high": 1.0}}))
 
 
@@ -116,3 +135,12 @@ def test_the_examples_are_valid_studies():
     ]
     samplers = {name: load_study(folder / name).sampler for name in names}
     assert samplers["reshuffler-front.toml"] == "nsga2"
+
+
+@pytest.mark.parametrize("name", ["reshuffler", "neuron", "reservoir", "analytic"])
+def test_every_device_prices_one_run_before_anything_is_built(name):
+    from skygas.optimize.devices import DEVICES
+
+    dev = DEVICES[name]
+    estimate = dev.estimate(dev.build(dict(dev.default_base), {}, "base"))
+    assert estimate.steps >= 1 and estimate.memory >= 0 and estimate.seconds >= 0

@@ -194,3 +194,30 @@ def test_a_half_written_last_journal_line_is_dropped_and_the_study_goes_on(write
     after = _params(out, study)
     assert after[:5] == before
     assert [t[1] for t in after] == ["COMPLETE"] * 8
+
+
+def test_a_study_longer_than_a_day_is_refused_before_its_folder_is_made(write_study, tmp_path):
+    from skygas.core.estimates import run_limits
+    from skygas.optimize.execute import check_study
+
+    text = "replicas = 10\nreevaluate = 1000\nreevaluate_replicas = 1000"
+    study = load_study(write_study(study=text, delay=60.0))
+    with pytest.raises(InputError, match="1000000 re-evaluation runs.*give --force"):
+        run_study(study, tmp_path / "out", 1000, serial=True, progress=False)
+    assert not (tmp_path / "out").exists()
+    with run_limits(force=True):  # forced, the same study is accepted
+        estimate = check_study(study, 1000, 4)
+    assert estimate.runs == 1000 * 10 + 1000 * 1000
+    assert estimate.seconds == pytest.approx(estimate.runs * (60.0 + 0.02) / 4)
+
+
+def test_the_estimate_of_a_resumed_study_counts_only_the_trials_left(write_study, tmp_path):
+    from skygas.optimize.execute import _finished_before
+
+    study = load_study(write_study(study="reevaluate = 2"))
+    out = tmp_path / "out"
+    assert _finished_before(out, study) == 0
+    run_study(study, out, 4, serial=True, progress=False)
+    assert _finished_before(out, study) == 4
+    other = load_study(write_study("other.toml", study="reevaluate = 2", noise=0.5))
+    assert _finished_before(out, other) == 0  # another study's folder: refused later

@@ -35,9 +35,10 @@ class AnalyticConfig(StrictModel):
     """The point :math:`(x, y, z)`, the two centres, the noise σ, a choice and a delay [s]."""
 
     seed: int = Field(0, ge=0, lt=2**63)
-    x: float = 0.0
-    y: float = 0.0
-    z: float = 0.0
+    # |r| up to 1e100: the squared distance stays a finite number
+    x: float = Field(0.0, ge=-1e100, le=1e100)
+    y: float = Field(0.0, ge=-1e100, le=1e100)
+    z: float = Field(0.0, ge=-1e100, le=1e100)
     center: tuple[float, float, float] = (0.3, -0.2, 0.0)
     second_center: tuple[float, float, float] = (-0.5, 0.4, 0.0)
     noise: float = Field(0.0, ge=0)

@@ -24,6 +24,7 @@ from typing import Any
 from pydantic import BaseModel
 
 from skygas.core.errors import InputError, require
+from skygas.core.estimates import Estimate
 from skygas.optimize.analytic import QUANTITIES as ANALYTIC_QUANTITIES
 from skygas.sweep.worker import QUANTITIES as SWEEP_QUANTITIES
 
@@ -61,6 +62,8 @@ class Device:
     model: Callable[[], type[BaseModel]]
     build: Callable[[dict, dict[str, Any], str], BaseModel]
     default_base: dict
+    #: the estimate of one run of a built configuration, priced as the device prices it
+    estimate: Callable[[Any], Estimate]
     #: seeds are taken modulo this (the reservoir derives its streams' seeds as 1000·seed + k)
     seed_limit: int = 2**63
 
@@ -137,21 +140,74 @@ def _analytic(base: dict, overrides: dict[str, Any], what: str) -> BaseModel:
     return _named(what, overrides, build)
 
 
+# -- one run's estimate, before anything is built (skygas.core.estimates) ---------------------
+def _reshuffler_estimate(config) -> Estimate:
+    """As a sweep prices its runs: its steps at least its injection events."""
+    from skygas.reshuffler.run import STEP_COST_FACTOR, expected_population, reshuffler_memory
+    from skygas.runs.machine_speed import run_estimate
+
+    events = config.duration / config.injection.interval
+    population = expected_population(config)
+    memory = sum(reshuffler_memory(config, events, population).values())
+    return run_estimate(events, STEP_COST_FACTOR * population, memory)
+
+
+#: The step [s] a neuron run is priced at when its configuration leaves the step to the engine
+#: (``time_step = None``; the configuration's default).
+NEURON_TIME_STEP = 2.5e-10
+
+
+def _neuron_estimate(config) -> Estimate:
+    """As the neuron prices its run: its steps, at most ``rule.threshold`` skyrmions."""
+    from skygas.runs.machine_speed import run_estimate
+
+    skyrmions = max(1.0, float(config.rule.threshold))
+    steps = config.duration / (config.time_step or NEURON_TIME_STEP)
+    return run_estimate(steps, skyrmions, 24.0 * skyrmions)  # a study records no frames
+
+
+def _reservoir_estimate(config) -> Estimate:
+    """As the reservoir prices its study's Boolean streams (one step per held input at least)."""
+    from skygas.runs.machine_speed import optimistic_estimate, run_estimate
+
+    st = config.study
+    inputs = st.n_inputs + st.warmup_inputs
+    frames = config.hold_time / config.sensors.sample_interval
+    skyrmions = max(1, config.n_skyrmions)
+    memory = 8.0 * len(config.drive.input_contacts) * inputs + 24.0 * (frames + 1) * skyrmions
+    if config.time_step is None:  # the engine's step is known once the device is built
+        return optimistic_estimate(inputs, skyrmions, memory)
+    return run_estimate(inputs * config.hold_time / config.time_step, skyrmions, memory)
+
+
+def _analytic_estimate(config) -> Estimate:
+    """A known function: its ``delay`` [s] and nothing else."""
+    return Estimate(steps=1.0, memory=0.0, seconds=float(config.delay))
+
+
 #: The devices by name.
 DEVICES: dict[str, Device] = {
     "reshuffler": Device(
-        "reshuffler", RESHUFFLER_QUANTITIES, _reshuffler_model, _reshuffler, {"preset": "default"}
+        "reshuffler",
+        RESHUFFLER_QUANTITIES,
+        _reshuffler_model,
+        _reshuffler,
+        {"preset": "default"},
+        _reshuffler_estimate,
     ),
-    "neuron": Device("neuron", NEURON_QUANTITIES, _neuron_model, _neuron, {}),
+    "neuron": Device("neuron", NEURON_QUANTITIES, _neuron_model, _neuron, {}, _neuron_estimate),
     "reservoir": Device(
         "reservoir",
         RESERVOIR_QUANTITIES,
         _reservoir_model,
         _reservoir,
         {},
+        _reservoir_estimate,
         seed_limit=(2**63 - 1) // 1000 - 1000,
     ),
-    "analytic": Device("analytic", ANALYTIC_QUANTITIES, _analytic_model, _analytic, {}),
+    "analytic": Device(
+        "analytic", ANALYTIC_QUANTITIES, _analytic_model, _analytic, {}, _analytic_estimate
+    ),
 }
 
 

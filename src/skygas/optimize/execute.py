@@ -42,7 +42,8 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import InputError, require
-from skygas.optimize.spec import Study
+from skygas.core.estimates import Estimate, announce_pending, check
+from skygas.optimize.spec import MAX_TRIALS, Study
 from skygas.optimize.worker import run_trial
 
 STUDY_FILE = "study.json"
@@ -541,14 +542,14 @@ def _reevaluate(
     study: Study, out: Path, ostudy, executor, report: OptimizeReport, progress: bool
 ) -> None:
     """Run the best candidates again (new seeds), keeping each run in ``runs/``."""
-    todo = []
+    # each run's configuration is built as it is handed out: only those in flight are held
+    todo: list[tuple[tuple[int, int, str], int, dict]] = []
     for t in candidates(study, ostudy):
         key = int(t.user_attrs.get("rerun_of", t.number))
         seeds = study.run_seeds(key, study.reevaluate_replicas, stage=1)
         for r, seed in enumerate(seeds):
             if not run_file(out, key, r, "reeval").exists():
-                config_json = study.config(t.params, seed).model_dump_json()
-                todo.append(((key, r, "reeval"), seed, config_json))
+                todo.append(((key, r, "reeval"), seed, t.params))
     if not todo:
         return
     bar = None
@@ -556,18 +557,21 @@ def _reevaluate(
         from tqdm import tqdm
 
         bar = tqdm(total=len(todo), unit="run", desc="re-evaluate")
-    configs = {tag: (seed, config_json) for tag, seed, config_json in todo}
-    queue = list(todo)
+    configs: dict[tuple[int, int, str], tuple[int, str]] = {}
+    queue = todo[::-1]  # popped from the end, in order
     try:
         while queue or executor.in_flight:
             while queue and executor.in_flight < executor.capacity:
-                tag, _, config_json = queue.pop(0)
+                tag, seed, params = queue.pop()
+                config_json = study.config(params, seed).model_dump_json()
+                configs[tag] = (seed, config_json)
                 executor.submit(tag, study.device.name, config_json)
             tag, result, error = executor.next()
             if error is not None:
+                configs.pop(tag)
                 report.failed.append((tag[0], f"re-evaluation run {tag[1]}: {error}"))
             else:
-                seed, config_json = configs[tag]
+                seed, config_json = configs.pop(tag)
                 _write_run(
                     run_file(out, tag[0], tag[1], "reeval"),
                     study.device.name,
@@ -583,24 +587,65 @@ def _reevaluate(
             bar.close()
 
 
-def check_study(study: Study, trials: int, workers: int) -> None:
-    """Refuse a study that cannot fit or finish; announce a long one (reshuffler trials).
+#: Wall time [s] the study spends on each run besides the run itself: optuna's ask and tell,
+#: the journal's lines and the run's files (12 analytic trials took 0.4 s, serial).
+RUN_OVERHEAD_SECONDS = 0.02
+#: Memory [bytes] the study holds per trial (optuna's record of it: parameters, attributes,
+#: distributions) and per re-evaluation run waiting for a worker.
+TRIAL_BYTES = 16 * 2**10
+WAITING_RUN_BYTES = 512
 
-    Each reshuffler run is priced as a sweep prices its runs
-    (:func:`skygas.sweep.execute.check_sweep`), half at the space's lowest corner (every
-    parameter at its low end or first choice), half at its highest.
+
+def study_runs(study: Study, trials: int, done: int = 0) -> tuple[int, int]:
+    """(runs of ``trials`` trials, re-evaluation runs at most) of ``study``.
+
+    ``done`` trials are finished already: their best may be re-evaluated too.
     """
-    if study.device.name != "reshuffler":
-        return
-    from skygas.sweep.execute import check_sweep
-    from skygas.sweep.spec import Run
+    candidates = min(study.reevaluate, done + trials)
+    return trials * study.replicas, candidates * study.reevaluate_replicas
 
+
+def check_study(study: Study, trials: int, workers: int, done: int = 0) -> Estimate:
+    """Refuse a study that cannot fit or finish; announce a long one (:mod:`skygas.core.estimates`).
+
+    ``trials`` still to run (``done`` already finished) on ``workers`` processes. Each run is
+    priced as its device prices one (:attr:`~skygas.optimize.devices.Device.estimate`), half of
+    them at the space's lowest corner (every parameter at its low end or first choice) and half
+    at its highest; the re-evaluation runs count as the trials' own.
+    """
     low = study.config({p.field: p.ends()[0] for p in study.parameters})
     high = study.config({p.field: p.ends()[-1] for p in study.parameters})
-    # half of the runs priced at the space's lowest corner, half at its highest
-    half = max(1, trials * study.replicas // 2)
-    runs = [Run((0,), 0, 0, c) for c in (low, high) for _ in range(half)]  # type: ignore[arg-type]
-    check_sweep(runs, workers)
+    one = [study.device.estimate(c) for c in (low, high)]
+    trial_runs, reevaluation_runs = study_runs(study, trials, done)
+    runs = trial_runs + reevaluation_runs
+    parallel = max(1, min(workers, runs))
+    per_run = 0.5 * (one[0].seconds + one[1].seconds) + RUN_OVERHEAD_SECONDS
+    memory = (
+        parallel * max(e.memory for e in one)
+        + (done + trials) * TRIAL_BYTES
+        + reevaluation_runs * WAITING_RUN_BYTES
+    )
+    steps = max(e.steps for e in one)
+    estimate = Estimate(steps, memory, runs * per_run / parallel, runs=max(1, runs))
+    check(
+        estimate,
+        "study",
+        f"{trial_runs} runs of {trials} trials + {reevaluation_runs} re-evaluation runs",
+        f"{runs} runs on {parallel} workers",
+        "run fewer --trials, replicas or re-evaluations (reevaluate × reevaluate_replicas), "
+        "or shorter runs",
+    )
+    announce_pending()  # the study is accepted: its estimate, if it is long, now
+    return estimate
+
+
+def _finished_before(out: Path, study: Study) -> int:
+    """Trials already finished in ``out`` if it is this study's folder (0 otherwise)."""
+    if not (is_study_folder(out) and (out / JOURNAL).exists()):
+        return 0
+    if read_study_record(out).get("fingerprint") != study.fingerprint():
+        return 0  # another study's folder: open_folder refuses it
+    return finished_count(open_optuna(out, study, sampler=False).get_trials(deepcopy=False))
 
 
 def run_study(
@@ -623,17 +668,20 @@ def run_study(
     """
     from skygas.sweep.execute import connect
 
-    require(trials >= 1, "--trials", trials, "at least 1 trial")
+    require(
+        1 <= trials <= MAX_TRIALS, "--trials", trials, f"a number of trials from 1 to {MAX_TRIALS}"
+    )
     require(workers is None or workers >= 1, "--workers", workers, "at least 1 worker")
     start = time.perf_counter()
+    # the estimate before anything is written: a refused study leaves its folder as it was
+    done = _finished_before(Path(out), study)
+    parallel = 1 if serial else workers or os.cpu_count() or 1
+    check_study(study, max(0, trials - done), parallel, done)
     out = open_folder(out, study)
     ostudy = open_optuna(out, study)
     report = OptimizeReport(out)
     report.recovered = _recover(ostudy)
     report.already = finished_count(ostudy.get_trials(deepcopy=False))
-    check_study(
-        study, max(0, trials - report.already), 1 if serial else workers or os.cpu_count() or 1
-    )
     client = connect(scheduler) if scheduler is not None and not serial else None
     executor: _Serial | _Dask = _Serial() if serial else _Dask(client, workers)
     bar = _progress(progress, trials, report.already)

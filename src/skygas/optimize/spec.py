@@ -89,6 +89,12 @@ _DIRECTIONS = {"minimize": "minimize", "minimise": "minimize", "maximize": "maxi
 _DIRECTIONS["maximise"] = "maximize"
 #: at most this many corners of the space are built and checked (else each parameter's ends)
 MAX_CORNERS = 256
+#: Most trials a study runs (``--trials``, ``startup_trials``): the sampler weighs every earlier
+#: trial at each proposal, and the journal holds them all.
+MAX_TRIALS = 100_000
+#: Most runs per trial (``replicas``), candidates re-evaluated (``reevaluate``) and runs per
+#: candidate (``reevaluate_replicas``): a mean's error shrinks only as 1/√runs.
+MAX_REPLICAS = 1000
 
 
 @dataclass(frozen=True)
@@ -244,6 +250,13 @@ def _parameter(field: str, spec: Any) -> Parameter:
         require(_number(v), f"{where}.{name}", v, "a finite number")
     assert isinstance(low, (int, float)) and isinstance(high, (int, float))  # checked above
     require(
+        math.isfinite(float(high) - float(low)),
+        where,
+        spec,
+        "a range whose width high − low is a finite number (this one's overflows)",
+        "give the range the field can take",
+    )
+    require(
         low < high,
         where,
         spec,
@@ -271,6 +284,56 @@ def _parameter(field: str, spec: Any) -> Parameter:
     if kind == "float":
         low, high = float(low), float(high)
     return Parameter(field, kind, low, high, log, step)
+
+
+def _middle(p: Parameter) -> Any:
+    """A value inside ``p``'s range (its first choice): the other ends are tried from it."""
+    if p.kind == "categorical":
+        return p.choices[0]
+    assert p.low is not None and p.high is not None  # a range has both
+    if p.log:
+        middle = math.sqrt(float(p.low)) * math.sqrt(float(p.high))
+    else:
+        middle = 0.5 * float(p.low) + 0.5 * float(p.high)
+    return int(round(middle)) if p.kind == "int" else middle
+
+
+def _reference(study: Study) -> dict[str, Any] | None:
+    """The point the ends are tried from: the space's middle, else the base (None: neither)."""
+    for point in ({p.field: _middle(p) for p in study.parameters}, {}):
+        try:
+            study.device.build(study.base, point, "[space]")
+        except InputError:
+            continue
+        return point
+    return None
+
+
+def _check_ends(study: Study) -> None:
+    """Refuse a range whose end the device's configuration refuses, naming that end.
+
+    Each parameter goes to each of its ends (or choices) while the others sit in the middle of
+    their ranges (or, if the configuration refuses that point, at the base's values); a point
+    refused there is the end's fault. Where neither is accepted, the corners name the
+    combination.
+    """
+    reference = _reference(study)
+    if reference is None:
+        return
+    for p in study.parameters:
+        names = ["choices"] * len(p.choices) if p.kind == "categorical" else ["low", "high"]
+        for name, value in zip(names, p.ends(), strict=True):
+            try:
+                study.device.build(study.base, {**reference, p.field: value}, "end of [space]")
+            except InputError as err:
+                raise InputError(
+                    f"space.{p.field}.{name}",
+                    value,
+                    err.allowed
+                    if err.field.endswith(p.field.rsplit(".", 1)[-1])
+                    else f"a value the {study.device.name} configuration accepts ({err})",
+                    "keep the search inside the field's own allowed values",
+                ) from None
 
 
 def _check_corners(study: Study) -> None:
@@ -318,15 +381,18 @@ def parse_study(
     )
     dev = device(head.get("device"))
     counts = {}
-    for key, default, least in (
-        ("replicas", 1, 1),
-        ("startup_trials", 10, 1),
-        ("reevaluate", 0, 0),
-        ("reevaluate_replicas", 4, 1),
+    for key, default, least, most in (
+        ("replicas", 1, 1, MAX_REPLICAS),
+        ("startup_trials", 10, 1, MAX_TRIALS),
+        ("reevaluate", 0, 0, MAX_REPLICAS),
+        ("reevaluate_replicas", 4, 1, MAX_REPLICAS),
     ):
         value = head.get(key, default)
         require(
-            _whole(value) and value >= least, f"study.{key}", value, f"a whole number >= {least}"
+            _whole(value) and least <= value <= most,
+            f"study.{key}",
+            value,
+            f"a whole number from {least} to {most}",
         )
         counts[key] = value
     root = head.get("seed", 0) if seed is None else seed
@@ -447,6 +513,7 @@ def parse_study(
         source_text,
         name,
     )
+    _check_ends(study)
     _check_corners(study)
     return study
 
