@@ -1,7 +1,12 @@
 """MkDocs hooks of the documentation site (mkdocs.yml, ``hooks:``).
 
-- The home page is the README: ``index.md`` is replaced by its text, with its links into
-  ``docs/`` made relative to the site's pages.
+Three pages are written at build time, so that none of them is a copy that can fall behind:
+
+- the home page (``index.md``) is the README, with its links into ``docs/`` made relative to
+  the site's pages;
+- the command-line reference (``cli.md``) is generated from ``skygas.cli.build_parser()``
+  (:mod:`cli_reference`, beside this file);
+- the changelog (``changelog.md``) is the repository's ``CHANGELOG.md``.
 """
 
 from __future__ import annotations
@@ -9,12 +14,35 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+# MkDocs puts this file's folder on sys.path while it loads the hook.
+from cli_reference import cli_reference
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def on_page_markdown(markdown: str, page, config, files) -> str:
+def _home() -> str:
     """The README as the home page."""
-    if page.file.src_uri != "index.md":
-        return markdown
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     return re.sub(r"\]\(docs/", "](", readme)
+
+
+def _cli() -> str:
+    """The command-line reference, from the parser the ``skygas`` command runs."""
+    from skygas.cli import build_parser
+
+    return cli_reference(build_parser())
+
+
+def _changelog() -> str:
+    """CHANGELOG.md as it is in the repository."""
+    return (ROOT / "CHANGELOG.md").read_text(encoding="utf-8")
+
+
+#: the pages written here, by their path under docs/
+GENERATED = {"index.md": _home, "cli.md": _cli, "changelog.md": _changelog}
+
+
+def on_page_markdown(markdown: str, page, config, files) -> str:
+    """The generated pages' text in place of their placeholders."""
+    make = GENERATED.get(page.file.src_uri)
+    return markdown if make is None else make()
