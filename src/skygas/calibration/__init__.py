@@ -15,6 +15,9 @@ from skygas.runs.checkpoint_interval import CHECKPOINT_SECONDS
 
 __all__ = ["calibrate", "CalibrationConfig", "MicromagneticMaterial", "load_micromagnetic_material"]
 
+#: Most solver processes a calibration starts (each holds torch and its films' solvers).
+MAX_WORKERS = 256
+
 
 def __getattr__(name: str):
     if name in ("CalibrationConfig", "ValidationSpec"):
@@ -81,25 +84,28 @@ def calibrate(
     """
     from pydantic import ValidationError
 
-    from skygas.calibration.material import load_micromagnetic_material
+    from skygas.calibration.estimate import check_calibration
+    from skygas.calibration.material import load_micromagnetic_material, split_error
     from skygas.calibration.pipeline import CalibrationJob
     from skygas.calibration.plan import CalibrationConfig
-    from skygas.calibration.solver import default_workers, require_installed
-    from skygas.core.config_types import to_input_error
+    from skygas.calibration.solver import cpu_workers, default_workers, require_installed
     from skygas.core.errors import require
     from skygas.runs.run_driver import drive
 
     try:
         config = CalibrationConfig(material=load_micromagnetic_material(material), **settings)
     except ValidationError as err:
-        raise to_input_error(err) from None
+        raise split_error(err) from None
     require(
-        workers is None or (isinstance(workers, int) and workers >= 0),
+        workers is None or (isinstance(workers, int) and 0 <= workers <= MAX_WORKERS),
         "--workers",
         workers,
-        "an integer >= 0 (0: solve in this process, as on a GPU)",
+        f"an integer from 0 to {MAX_WORKERS} (0: solve in this process, as on a GPU)",
     )
     require_installed()
+    # memory and time, before any solver starts (and before torch is imported to find a GPU:
+    # the CPU's processes, more than the one that drives a GPU)
+    check_calibration(config, cpu_workers() if workers is None else workers)
     job = CalibrationJob(config, workers=default_workers() if workers is None else workers)
     try:
         return drive(

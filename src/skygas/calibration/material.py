@@ -199,7 +199,7 @@ class MicromagneticMaterial(StrictModel):
         }
 
 
-def _split_error(err: ValidationError, source: str) -> InputError:
+def split_error(err: ValidationError, source: str = "") -> InputError:
     """A validation error as an :class:`InputError`.
 
     A validator's own message is ``field|value|allowed`` (several fields at once, so it cannot be
@@ -209,8 +209,16 @@ def _split_error(err: ValidationError, source: str) -> InputError:
     message = first["msg"].removeprefix("Value error, ")
     if first["type"] == "value_error" and message.count("|") == 2:
         field, value, allowed = message.split("|")
-        return InputError(f"{source}{field}", value, allowed)
+        return InputError(f"{source}{field}", _number_or_text(value), allowed)
     return to_input_error(err, source)
+
+
+def _number_or_text(text: str) -> float | str:
+    """The number a validator's message wrote (``"1e-08"``), or the text if it is none."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
 def _preset_parameters(name: str) -> dict[str, Any]:
@@ -245,7 +253,7 @@ def micromagnetic_material(data: dict[str, Any], source: str = "") -> Micromagne
     try:
         return MicromagneticMaterial(**data)
     except ValidationError as err:
-        raise _split_error(err, source) from None
+        raise split_error(err, source) from None
 
 
 def load_micromagnetic_material(

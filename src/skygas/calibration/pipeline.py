@@ -17,8 +17,12 @@ from __future__ import annotations
 
 import json
 import math
+import multiprocessing
 import os
+import signal
 import time
+from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -27,11 +31,13 @@ import numpy as np
 from skygas.calibration import plan
 from skygas.calibration.plan import CalibrationConfig, Relaxation
 from skygas.calibration.solver import Film
+from skygas.core.errors import InputError
 from skygas.core.state_keys import nest, unnest
 from skygas.runs.run_driver import from_json_array, json_array
 
 if TYPE_CHECKING:
-    from multiprocessing.pool import Pool
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing.process import BaseProcess
 
 #: LLG snapshots per piece of the validation run.
 SNAPSHOTS_PER_PIECE = 5
@@ -75,8 +81,11 @@ class CalibrationJob:
         #: wall time of the run so far: its earlier sessions' (checkpointed), then this one's
         self._seconds_before = 0.0
         self._session_start: float | None = None
-        self._pool: Pool | None = None
-        self._in_flight: dict[str, Any] = {}
+        self._pool: ProcessPoolExecutor | None = None
+        self._in_flight: dict[str, Future] = {}
+        #: the pool's processes by pid, and the children this process had before it
+        self._workers: dict[int, BaseProcess] = {}
+        self._children_before: set[int | None] = set()
         self._measured: dict[str, tuple | None] = {}
 
     # -- what is known ------------------------------------------------------------------------
@@ -306,19 +315,54 @@ class CalibrationJob:
                 self._record(key, getattr(worker, kind)(*args))
             return
         if self._pool is None:
+            self._children_before = {p.pid for p in multiprocessing.active_children()}
             self._pool = worker.start_pool(self.workers, self.threads, self.config.compile)
         for key, kind, args in self._ready():
             if len(self._in_flight) >= self.workers:
                 break
-            self._in_flight[key] = self._pool.apply_async(getattr(worker, kind), args)
+            self._in_flight[key] = self._pool.submit(getattr(worker, kind), *args)
+        self._note_workers()
         deadline = time.perf_counter() + 1.0  # return within a second: Ctrl-C is honoured
         while time.perf_counter() < deadline:
-            finished = [k for k, r in self._in_flight.items() if r.ready()]
+            finished = [k for k, r in self._in_flight.items() if r.done()]
             if finished:
                 for key in finished:
-                    self._record(key, self._in_flight.pop(key).get())
+                    self._record(key, self._result(self._in_flight.pop(key)))
                 return
             time.sleep(0.02)
+
+    def _note_workers(self) -> None:
+        """Remember the pool's processes (started as solves are handed out), to say how one died."""
+        for process in multiprocessing.active_children():
+            if process.pid is not None and process.pid not in self._children_before:
+                self._workers.setdefault(process.pid, process)
+
+    def _result(self, future: Future) -> dict[str, Any]:
+        """A finished solve's result; one line if its worker died (it never comes otherwise)."""
+        try:
+            return future.result()
+        except BrokenProcessPool:
+            raise self._worker_died() from None
+
+    def _worker_died(self) -> InputError:
+        """The error of a worker that died: by which signal, and what to do."""
+        self._note_workers()
+        codes = [p.exitcode for p in self._workers.values() if p.exitcode is not None]
+        code = next((c for c in codes if c != 0), codes[0] if codes else None)
+        if code is not None and code < 0:
+            name = signal.Signals(-code).name
+            how = f"was killed by {name}" + (
+                ", most likely by the kernel for lack of memory" if -code == signal.SIGKILL else ""
+            )
+        else:
+            how = "stopped" if code is None else f"exited with status {code}"
+        return InputError(
+            "--workers",
+            self.workers,
+            f"solver processes that this machine can hold (one {how}, and its solve with it)",
+            "use fewer --workers or a larger --cell-size; --resume continues from the last "
+            "checkpoint",
+        )
 
     def _record(self, key: str, result: dict[str, Any]) -> None:
         stage = key.split("/")[0]
@@ -344,10 +388,14 @@ class CalibrationJob:
     def close(self) -> None:
         """Stop the worker processes (at once: a solve in flight is recomputed on resume)."""
         if self._pool is not None:
-            self._pool.terminate()
-            self._pool.join()
+            self._note_workers()
+            for process in self._workers.values():
+                if process.exitcode is None:
+                    process.kill()
+            self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
         self._in_flight.clear()
+        self._workers.clear()
 
     def state_dict(self) -> dict[str, np.ndarray]:
         """The results, LLG chain, timeline, run time and kept textures, as arrays."""

@@ -142,6 +142,15 @@ class CalibrationConfig(StrictModel):
                 f"pair_range|{list(self.pair_range)}|two distances 0.6 ≤ closest < "
                 "farthest ≤ 12 skyrmion diameters"
             )
+        # the laws are for a device's interior: a device narrower than the film that one
+        # skyrmion needs alone has none (its stray field would crush the skyrmion instead)
+        side = isolated_side(self.material)
+        if self.reference_diameter < side:
+            raise ValueError(
+                f"reference_diameter|{self.reference_diameter:g}|a device at least as wide as "
+                f"the film one skyrmion of this material needs alone, {side:.3g} m (20 × the "
+                "longer of the wall width and A/D)"
+            )
         return self
 
     def seed(self) -> int:
@@ -226,6 +235,11 @@ def reference_film(
     )
 
 
+def isolated_side(material: MicromagneticMaterial) -> float:
+    """Side [m] of the first isolated-skyrmion film: 20 × the longer of Δ_eff and A/|D|."""
+    return 20.0 * max(material.wall_width, material.dmi_length)
+
+
 def isolated_film(
     config: CalibrationConfig,
     radius: float | None = None,
@@ -235,7 +249,7 @@ def isolated_film(
 ) -> Film:
     """The square film of stage 1 (``radius``: the measured one, if known)."""
     material = config.material
-    side = 20.0 * max(material.wall_width, material.dmi_length)
+    side = isolated_side(material)
     if radius is not None:
         side = max(side, ISOLATED_SIDE * radius)
     cell = cell or material.cell_size

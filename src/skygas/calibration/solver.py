@@ -88,7 +88,12 @@ def default_workers() -> int:
     On a CPU each has one torch thread (two threads per process with another busy process beside it
     made a relaxation 25 times slower); on a GPU one process drives it.
     """
-    return 0 if gpu_available() else max(1, min(2, os.cpu_count() or 1))
+    return 0 if gpu_available() else cpu_workers()
+
+
+def cpu_workers() -> int:
+    """Solver processes on a CPU: two, or as many as there are cores if fewer."""
+    return max(1, min(2, os.cpu_count() or 1))
 
 
 def backend():

@@ -25,9 +25,11 @@ from skygas.calibration.plan import Relaxation
 from skygas.calibration.solver import Film
 
 if TYPE_CHECKING:
-    from multiprocessing.pool import Pool
+    from concurrent.futures import ProcessPoolExecutor
 
 _solvers: dict[tuple[str, Film], solver.FilmSolver] = {}
+#: Solvers a worker keeps: it sees few films, and each keeps its stray-field kernel (memory).
+SOLVERS_KEPT = 4
 
 #: A held skyrmion's guiding centre is taken over the cells within this many radii of its
 #: target (and nearer to it than to another target): all of its charge but e⁻⁶ or so.
@@ -37,7 +39,7 @@ HOLD_REACH = 2.5
 def _film_solver(material_json: str, film: Film) -> solver.FilmSolver:
     key = (material_json, film)
     if key not in _solvers:
-        if len(_solvers) >= 4:  # a worker sees few films; keep the memory bounded
+        if len(_solvers) >= SOLVERS_KEPT:
             _solvers.pop(next(iter(_solvers)))
         _solvers[key] = solver.FilmSolver(
             MicromagneticMaterial.model_validate_json(material_json), film
@@ -158,11 +160,19 @@ def init_worker(threads: int, compile: bool) -> None:
     solver.configure(threads=threads, compile=compile)
 
 
-def start_pool(workers: int, threads: int, compile: bool) -> Pool:
-    """A pool of ``workers`` fresh processes (spawned: torch and fork do not mix)."""
-    import multiprocessing
+def start_pool(workers: int, threads: int, compile: bool) -> ProcessPoolExecutor:
+    """A pool of ``workers`` fresh processes (spawned: torch and fork do not mix).
 
-    context = multiprocessing.get_context("spawn")
-    return context.Pool(
-        workers, initializer=init_worker, initargs=(threads, compile), maxtasksperchild=None
+    A worker that dies (the kernel kills the largest process when memory runs out) breaks the
+    pool: every solve in flight then fails with ``BrokenProcessPool`` instead of waiting for
+    ever, as it would in a :class:`multiprocessing.pool.Pool`.
+    """
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(
+        workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=init_worker,
+        initargs=(threads, compile),
     )

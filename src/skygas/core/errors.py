@@ -13,6 +13,26 @@ import signal
 from pathlib import Path
 from typing import Any
 
+#: Longest text [characters] an error line gives a value: a table or a long list (a calibrated
+#: model's force table, kilobytes of numbers) is cut there, so that the line stays readable.
+VALUE_CHARS = 120
+
+
+def brief(value: Any) -> str:
+    """``repr(value)``, cut to :data:`VALUE_CHARS` characters.
+
+    A long table is named by its keys, a long list says its length.
+    """
+    text = repr(value)
+    if len(text) <= VALUE_CHARS:
+        return text
+    size = ""
+    if isinstance(value, dict):
+        text = "a table of " + ", ".join(map(str, value))
+    elif isinstance(value, (list, tuple, set)):
+        size = f" ({len(value)} entries)"
+    return text if len(text) <= VALUE_CHARS else f"{text[: VALUE_CHARS - 3]}...{size}"
+
 
 class InputError(ValueError):
     """Invalid user input.
@@ -40,7 +60,7 @@ class InputError(ValueError):
         self.value = value
         self.allowed = allowed
         self.hint = hint
-        text = f"{field} = {value!r}: expected {allowed}"
+        text = f"{field} = {brief(value)}: expected {allowed}"
         super().__init__(text if hint is None else f"{text}; {hint}")
 
 
