@@ -15,3 +15,26 @@ def private_disk_cache(tmp_path_factory):
     mp.delenv("SKYGAS_DISK_CACHE", raising=False)
     yield
     mp.undo()
+
+
+def pytest_collection_modifyitems(config, items):
+    """Keep together only the tests that share a costly fixture; spread the rest one by one.
+
+    The suite runs on two workers with ``--dist loadgroup`` (Makefile). A test that uses a
+    module- or class-scoped fixture (a calibration, a run whose files several tests read) goes
+    into its module's group, so that the fixture is built once, on one worker; every other
+    test is handed to whichever worker is free. Kept by module instead (``loadscope``), the
+    largest modules decided the suite's length: one worker ran on for minutes after the other
+    had finished.
+    """
+    for item in items:
+        info = getattr(item, "_fixtureinfo", None)
+        if info is None:
+            continue
+        shared = any(
+            d.scope in ("module", "class", "package")
+            for defs in info.name2fixturedefs.values()
+            for d in defs
+        )
+        if shared:
+            item.add_marker(pytest.mark.xdist_group(item.module.__name__))

@@ -573,7 +573,7 @@ ESTIMATE_FILES = {
         '"signal.p" = { start = 0.2, stop = 0.8, num = 300000 }\n'
     ),
     "endless.toml": (
-        '[sweep]\nreplicas = 800\n[base]\nduration = 3e-2\n[grid]\n"signal.p" = [0.2, 0.5, 0.8]\n'
+        '[sweep]\nreplicas = 800\n[base]\nduration = 3e-1\n[grid]\n"signal.p" = [0.2, 0.5, 0.8]\n'
     ),
     "quick.toml": (EXAMPLES / "sweeps" / "quick-current.toml").read_text(),
 }

@@ -45,6 +45,17 @@ OVERHEAD_SKYRMIONS = 8.0
 #: Seconds per step of the 45-skyrmion gas on the measuring machine (docs/performance.md);
 #: :mod:`skygas.runs.machine_speed` measures this machine's own figure.
 REFERENCE_STEP_SECONDS = 2.2e-6
+#: Seconds, on the measuring machine, of one operation's turn: the engine stops its kernel,
+#: the operation acts in Python (a sensor read, a gate rule, an annihilation check) and the
+#: kernel starts again. The neuron's controller and annihilator act every 4 and every step:
+#: its example's command (3 µs, 8.4e4 steps and 1.05e5 turns with its transfer curve) stepped
+#: for 5.1 s with the 45-skyrmion gas at 7.4 µs per step: its seven builds
+#: (:data:`BUILD_SECONDS`) left about 10 µs per turn at the measuring machine's speed (two busy
+#: cores: an order of magnitude, against 1 µs for the step itself).
+OPERATION_TURN_SECONDS = 1e-5
+#: Seconds, on the measuring machine, of building a device's simulation with its landscape
+#: (the neuron's gate: 0.26–0.38 s on two busy cores, 0.08–0.15 s at the measuring one's speed).
+BUILD_SECONDS = 0.1
 
 
 @dataclass(frozen=True)
@@ -60,6 +71,8 @@ _limits: ContextVar[RunLimits] = ContextVar("skygas_run_limits", default=RunLimi
 _inside: ContextVar[bool] = ContextVar("skygas_inside_run_limits", default=False)
 #: whether :func:`check` stops at the first exact estimate (:func:`estimate_only`)
 _estimate_only: ContextVar[bool] = ContextVar("skygas_estimate_only", default=False)
+#: the last exact estimate checked in this context: the run that is about to start
+_checked: ContextVar[Estimate | None] = ContextVar("skygas_checked_estimate", default=None)
 _announced: set[str] = set()  # lines already printed (a study builds several equal runs)
 _pending: list[str] = []  # lines waiting for the run to be accepted (announce_pending)
 
@@ -152,6 +165,11 @@ def step_seconds(skyrmions: float, per_calibration_step: float = REFERENCE_STEP_
         * (OVERHEAD_SKYRMIONS + max(0.0, skyrmions))
         / (OVERHEAD_SKYRMIONS + CALIBRATION_SKYRMIONS)
     )
+
+
+def checked_estimate() -> Estimate | None:
+    """The last exact estimate :func:`check` accepted in this context (None: none yet)."""
+    return _checked.get()
 
 
 def announce_pending() -> None:
@@ -254,6 +272,8 @@ def check(
             + f", about {format_duration(estimate.seconds)})",
             f"{hint}, or give --force to run it anyway",
         )
+    if announce:
+        _checked.set(estimate)
     if announce and _estimate_only.get():
         raise EstimateOnly(estimate)
     if announce and limits.announce and estimate.seconds >= ANNOUNCE_SECONDS:

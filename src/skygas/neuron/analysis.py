@@ -90,8 +90,14 @@ def measure_leak(device, initial_count: int, duration: float, seed: int = 0) -> 
     }
 
 
-def transfer_curve(device, rates, duration: float, seed: int = 0, progress=None) -> dict:
-    """Firing rate against input rate: one run per Poisson input rate [Hz] (same seed)."""
+def transfer_curve(
+    device, rates, duration: float, seed: int = 0, progress=None, priced: bool = True
+) -> dict:
+    """Firing rate against input rate: one run per Poisson input rate [Hz] (same seed).
+
+    ``priced``: each run's estimate is checked as it is built (False: a job that priced them
+    with its own run, :class:`~skygas.neuron.files.NeuronJob`).
+    """
     from skygas.neuron.inputs import InputSpec
 
     rates = np.asarray(rates, float)
@@ -105,7 +111,10 @@ def transfer_curve(device, rates, duration: float, seed: int = 0, progress=None)
     firing, injected, annihilated = [], [], []
     for r in rates:
         run = device.build(
-            inputs=[InputSpec(kind="poisson", rate=float(r))], duration=duration, seed=seed
+            inputs=[InputSpec(kind="poisson", rate=float(r))],
+            duration=duration,
+            seed=seed,
+            priced_runs=None if priced else 0,
         ).run()
         firing.append(len(run.spike_times()) / run.sim.time)
         injected.append(run.injector.n_injected)

@@ -250,7 +250,14 @@ class NeuronDevice:
 
     # -- building ------------------------------------------------------------------------------
     def build(
-        self, inputs=None, duration=None, seed=None, record_interval=None, brownian_substeps=1
+        self,
+        inputs=None,
+        duration=None,
+        seed=None,
+        record_interval=None,
+        brownian_substeps=1,
+        *,
+        priced_runs=None,
     ) -> NeuronRun:
         """A ready :class:`NeuronRun`: simulation, gate, read element and operations.
 
@@ -268,6 +275,10 @@ class NeuronDevice:
         brownian_substeps
             The engine's (:class:`~skygas.engine.Simulation`): 2 draws each step's noise as
             two half steps, the time-step check's coarse run (:mod:`skygas.runs.timestep`).
+        priced_runs
+            What the estimate checked at the build prices, in runs as long as this one
+            (default 1: this run; a job that runs a transfer curve after it prices them all
+            at its first build, and 0 builds its curve's runs unchecked).
         """
         c = self.config
         seed = c.seed if seed is None else seed
@@ -346,11 +357,18 @@ class NeuronDevice:
             record_interval=record_interval,
         )
         run.attach_operations(c.operations)
-        self._check_estimate(run, injector)
+        runs = 1.0 if priced_runs is None else float(priced_runs)
+        if runs > 0:
+            self._check_estimate(run, runs)
         return run
 
-    def _check_estimate(self, run: NeuronRun, injector) -> None:
-        """Refuse a run expected to take too long; announce a long one (core.estimates)."""
+    def _check_estimate(self, run: NeuronRun, runs: float) -> None:
+        """Refuse a run expected to take too long; announce a long one (core.estimates).
+
+        ``runs`` runs as long as ``run`` are priced: each its steps, its controller's and
+        annihilator's turns (every sensor interval and every check interval: on the example,
+        the turns cost 50 times the steps) and its build.
+        """
         from skygas.core.estimates import check
         from skygas.runs.machine_speed import run_estimate
 
@@ -358,12 +376,23 @@ class NeuronDevice:
         if run.record_interval:
             frames = run.duration / run.record_interval + 1
         memory = 24.0 * frames * max(1.0, self.config.rule.threshold)
+        turns = sum(
+            run.total_steps / op.interval_steps
+            for op in (run.controller, run.annihilator)
+            if op.next_step(0) < np.iinfo(np.int64).max  # a disabled rule never acts
+        )
         check(
-            run_estimate(run.total_steps, max(1.0, self.config.rule.threshold), memory),
+            run_estimate(
+                runs * run.total_steps,
+                max(1.0, self.config.rule.threshold),
+                memory,
+                turns=runs * turns,
+                builds=runs,
+            ),
             "duration",
             run.duration,
-            "the run",
-            "use a shorter duration",
+            "the run" if runs == 1 else f"the run and its transfer curve ({runs:.3g} runs)",
+            "use a shorter duration" + ("" if runs == 1 else " or transfer.duration"),
         )
 
 

@@ -53,9 +53,13 @@ class NeuronJob(PiecewiseRunJob):
         self, config: NeuronConfig, transfer: bool = True, record_interval: float | None = None
     ):
         self.device = NeuronDevice(config)  # validates everything before any run
-        super().__init__(config, self.device.build(record_interval=record_interval))
         self.transfer_duration = config.transfer.duration or config.duration
         self.n_rates = (len(config.transfer.rates) or len(RHEOBASE_MULTIPLES)) if transfer else 0
+        # the estimate prices the transfer curve's runs too: with six points, 7/8 of the job
+        priced = 1.0 + self.n_rates * self.transfer_duration / config.duration
+        super().__init__(
+            config, self.device.build(record_interval=record_interval, priced_runs=priced)
+        )
         self.work_total += self._transfer_work(self.n_rates)
         #: transfer-curve points done: (firing rate [Hz], injected, annihilated) per rate
         self.points: list[list] = []
@@ -96,7 +100,9 @@ class NeuronJob(PiecewiseRunJob):
         from skygas.neuron.analysis import transfer_curve
 
         rate = self.transfer_rates()[len(self.points)]
-        point = transfer_curve(self.device, [rate], self.transfer_duration, seed=self.config.seed)
+        point = transfer_curve(
+            self.device, [rate], self.transfer_duration, seed=self.config.seed, priced=False
+        )
         self.points.append(
             [point["firing_rate_Hz"][0], point["n_injected"][0], point["n_annihilated"][0]]
         )

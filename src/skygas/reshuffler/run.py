@@ -61,10 +61,11 @@ BYTES_PER_SNAPSHOT_SKYRMION = 8 + 16
 
 
 #: Cost of a reshuffler step per skyrmion against the closed chamber's (drift field, injection,
-#: read-out): a 400 µs run of the default preset took 23 µs per step with ~70 skyrmions where
-#: the chamber's gas takes 2.2 µs per 45 (docs/runs.md, "Estimates before a run").
-STEP_COST_FACTOR = 5.0
-#: Skyrmions in a half-full 1024 nm chamber (the demonstration's gas).
+#: read-out): the demonstration (the default preset, 100 µs, 9e5 steps, 45 skyrmions in a
+#: chamber at most) took 6.8 µs per step where the chamber's 45-skyrmion gas took 7.4 µs on the
+#: same machine at the same time (benchmarks/estimates.py; docs/performance.md).
+STEP_COST_FACTOR = 1.0
+#: Skyrmions in a half-full 1024 nm chamber (the demonstration's gas, at its fullest).
 HALF_FULL_CHAMBER = 45.0
 
 
@@ -72,10 +73,13 @@ def expected_population(config: ReshufflerConfig) -> float:
     """Mean skyrmions in the device during a run (for its memory and expected time).
 
     One enters per injection interval and stays for the time it takes to cross a chamber and
-    its conduits at the spin-drift speed ξJ, but the chambers hold a crowd: at least two
-    half-full chambers (:data:`HALF_FULL_CHAMBER` per 1024 nm), at most as many as fill both
-    (one per skyrmion diameter squared). A step costs as much as a closed chamber's with
-    :data:`STEP_COST_FACTOR` times as many.
+    its conduits at the spin-drift speed ξJ, but the chambers hold a crowd: at least one
+    half-full chamber's (:data:`HALF_FULL_CHAMBER` per 1024 nm; the demonstration's two
+    chambers hold 45 at their fullest, about as many together on average), at most as many
+    as fill both (one per skyrmion diameter squared). A step costs as much as a closed
+    chamber's with :data:`STEP_COST_FACTOR` times as many. A gas that jams (a chamber that
+    fills faster than it empties) costs more: the run says so as it goes
+    (:mod:`skygas.runs.pace`).
     """
     device = config.device
     speed = config.drift_coefficient() * config.current_density  # v_s [m/s]
@@ -83,7 +87,7 @@ def expected_population(config: ReshufflerConfig) -> float:
         (device.chamber_diameter + 2 * device.conduit_length) / speed / config.injection.interval
     )
     d_sk = config.thiele_parameters().skyrmion_diameter
-    crowd = 2 * HALF_FULL_CHAMBER * (device.chamber_diameter / 1024e-9) ** 2
+    crowd = HALF_FULL_CHAMBER * (device.chamber_diameter / 1024e-9) ** 2
     full = 2.0 * (device.chamber_diameter / d_sk) ** 2
     return min(max(present, crowd), max(full, crowd))
 

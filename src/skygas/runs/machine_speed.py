@@ -29,6 +29,8 @@ import time
 from skygas.core import disk_cache
 from skygas.core.estimates import (
     ANNOUNCE_SECONDS,
+    BUILD_SECONDS,
+    OPERATION_TURN_SECONDS,
     REFERENCE_STEP_SECONDS,
     Estimate,
     step_seconds,
@@ -127,7 +129,13 @@ def measured_step_seconds() -> float:
 
 
 def run_estimate(
-    steps: float, skyrmions: float, memory: float, runs: int = 1, workers: int = 1
+    steps: float,
+    skyrmions: float,
+    memory: float,
+    runs: int = 1,
+    workers: int = 1,
+    turns: float = 0.0,
+    builds: float = 0.0,
 ) -> Estimate:
     """The :class:`~skygas.core.estimates.Estimate` of ``runs`` runs of ``steps`` steps each.
 
@@ -141,19 +149,30 @@ def run_estimate(
         Bytes of the largest arrays.
     runs, workers : int
         Number of runs and of processes running them at once.
+    turns : float
+        Operations' turns in one run (an operation acting every k steps takes steps/k), each
+        priced at :data:`~skygas.core.estimates.OPERATION_TURN_SECONDS`.
+    builds : float
+        Simulations built for one run (a device that builds one per point of a curve),
+        each priced at :data:`~skygas.core.estimates.BUILD_SECONDS`.
 
     Returns
     -------
     Estimate
         With the expected wall time from :func:`measured_step_seconds`, measured only when
-        the run could last :data:`~skygas.core.estimates.ANNOUNCE_SECONDS` or more.
+        the run could last :data:`~skygas.core.estimates.ANNOUNCE_SECONDS` or more: the
+        reference machine's prices times this machine's step over the reference step.
     """
-    total = float(steps) * runs / max(1, min(workers, runs))
-    rough = total * step_seconds(skyrmions, REFERENCE_STEP_SECONDS)
-    if rough * SLOW_MARGIN < ANNOUNCE_SECONDS and not os.environ.get("SKYGAS_STEP_SECONDS"):
-        seconds = rough
+    share = runs / max(1, min(workers, runs))
+    reference = share * (
+        float(steps) * step_seconds(skyrmions, REFERENCE_STEP_SECONDS)
+        + turns * OPERATION_TURN_SECONDS
+        + builds * BUILD_SECONDS
+    )
+    if reference * SLOW_MARGIN < ANNOUNCE_SECONDS and not os.environ.get("SKYGAS_STEP_SECONDS"):
+        seconds = reference
     else:
-        seconds = total * step_seconds(skyrmions, measured_step_seconds())
+        seconds = reference * measured_step_seconds() / REFERENCE_STEP_SECONDS
     return Estimate(steps=float(steps), memory=float(memory), seconds=seconds, runs=runs)
 
 

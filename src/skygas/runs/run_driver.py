@@ -48,10 +48,11 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import InputError, RunInterrupted, WriteFailed
-from skygas.core.estimates import announce_pending
+from skygas.core.estimates import announce_pending, checked_estimate, current_limits
 from skygas.core.json_values import plain
 from skygas.runs import folder_lock
 from skygas.runs.checkpoint_interval import CHECKPOINT_SECONDS
+from skygas.runs.pace import Pace
 
 CHECKPOINT = "checkpoint.npz"
 
@@ -545,12 +546,15 @@ def _run_in_folder(
         load_checkpoint(job, resume_from)
     manifest.write(out, command, config_hash, started_at=started)
     announce_pending()  # the run is accepted: its estimate, if it is long, before the progress
+    # said only where the estimate was (a long run, announced): a quiet run stays quiet
+    pace = Pace(checked_estimate() if current_limits().announce else None, job.work_total)
     last_save = time.perf_counter()
     try:
         with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
             while job.work_done() < job.work_total:
                 job.advance_piece()
                 update()
+                pace.after_piece(job.work_done())
                 sanity.during_run(job, strict)  # --strict refuses as soon as it is certain
                 if signals.received is not None:
                     save_checkpoint(job, ckpt)
