@@ -81,3 +81,31 @@ def test_constraints_give_their_violation_and_contradictions_are_refused():
     ):
         with pytest.raises(InputError):
             parse_constraint(bad, "c", NAMES)
+
+
+@pytest.mark.parametrize(
+    ("text", "unit"),
+    [
+        ("throughput_Hz", "Hz"),
+        ("abs(correlation)", ""),
+        ("mean_transit_s - median_transit_s", "s"),
+        ("max(mean_transit_s, median_transit_s)", "s"),
+        ("power_W / power_W", ""),
+        ("-log10(abs(correlation))", ""),
+        ("2 * correlation - 1", ""),
+        # not derived: a change of unit, a count per second, a time against a bare number, the
+        # root of a power, a sum of two units
+        ("energy_per_bit_J * 1e15", None),
+        ("n_detected / simulated_time_s", None),
+        ("min(mean_transit_s, 1e-6)", None),
+        ("sqrt(power_W)", None),
+        ("mean_transit_s + power_W", None),
+    ],
+)
+def test_the_unit_of_an_objective_follows_from_its_quantities(text, unit):
+    from skygas.core.quantities import quantity
+    from skygas.optimize.devices import RESHUFFLER_QUANTITIES
+    from skygas.optimize.expressions import unit_of
+
+    expression = parse_expression(text, "objective", RESHUFFLER_QUANTITIES)
+    assert unit_of(expression, lambda name: quantity(name).unit) == unit

@@ -3,7 +3,10 @@
 ``skygas optimize STUDY.toml --out DIR [--workers N | --scheduler ADDRESS | --serial]
 [--trials K] [--seed S]`` runs the study until K trials have finished (resuming a study folder
 that holds fewer), re-evaluates its best candidates and writes trials.csv, best.json, the Pareto
-front, the figures and report.html into DIR (``docs/optimize.md``).
+front, the figures and report.html into DIR (``docs/optimize.md``). It then prints what
+best.json says, the rows that open the report (:func:`skygas.optimize.verdict.statement`): the
+best trial, its value after re-evaluation, the candidates within noise of it, its parameters on
+a search bound.
 """
 
 from __future__ import annotations
@@ -15,7 +18,9 @@ from skygas.commands.run_options import add_dask_options, add_force_option
 
 
 def _optimize(args) -> int:
+    import json
     import time
+    from pathlib import Path
 
     from skygas.commands.run_options import limits_from_flags
     from skygas.optimize.execute import run_study
@@ -35,11 +40,14 @@ def _optimize(args) -> int:
             serial=args.serial,
             progress=not args.quiet,
         )
+    # this invocation's command line and start, for the report's "Made by" line
+    manifest.write(args.out, "optimize", study.fingerprint(), started_at=started)
     result = write_results(args.out)
     manifest.write(
         args.out, "optimize", study.fingerprint(), started_at=started, finished_at=time.time()
     )
-    best = result["best"]
+    # what best.json says, as the report shows it: the file is the one answer
+    best = json.loads((Path(args.out) / "best.json").read_text())
     if args.json:
         print_json({**result, "finished_now": report.finished_now, "already": report.already})
     else:
@@ -49,47 +57,18 @@ def _optimize(args) -> int:
             + (f", {report.reevaluated} re-evaluation runs" if report.reevaluated else "")
             + f" in {report.wall_time_s:.1f} s; results in {report.out.resolve()}"
         )
-        _print_best(study, best)
+        _print_best(best)
     for number, error in report.failed:
         print(f"skygas: trial {number} failed: {error}", file=sys.stderr)
     return 0
 
 
-def _print_best(study, best: dict) -> None:
-    from skygas.outputs.report import format_number
+def _print_best(best: dict) -> None:
+    """The rows of :func:`skygas.optimize.verdict.statement`, as the report's headline has them."""
+    from skygas.optimize.verdict import statement
 
-    def line(entry: dict) -> str:
-        params = ", ".join(
-            f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
-            for k, v in entry["params"].items()
-        )
-        means = entry["objectives"]
-        values = ", ".join(
-            f"{o.name} = {format_number(means[o.name]['mean'], means[o.name]['error'])}"
-            for o in study.objectives
-        )
-        again = entry.get("reevaluated")
-        if again:
-            values += (
-                " (re-evaluated: "
-                + ", ".join(
-                    f"{o.name} = {format_number(again[o.name]['mean'], again[o.name]['error'])}"
-                    for o in study.objectives
-                )
-                + ")"
-            )
-        return f"trial {entry['trial']}: {params}: {values}"
-
-    if "pareto_set" in best:
-        print(f"Pareto set: {len(best['pareto_set'])} trials")
-        for entry in best["pareto_set"]:
-            print("  " + line(entry))
-    elif best.get("best") is None:
-        print("no complete trial meets the constraints yet")
-    else:
-        print("best " + line(best["best"]))
-        if best.get("best_after_reevaluation"):
-            print("best after re-evaluation: " + line(best["best_after_reevaluation"]))
+    for label, text in statement(best):
+        print(f"{label}: {text}")
 
 
 def register(subparsers) -> None:

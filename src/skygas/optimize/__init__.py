@@ -5,7 +5,11 @@
 - :func:`~skygas.optimize.execute.run_study`: run its trials (serially or on Dask) into a study
   folder, resuming what a previous invocation left;
 - :func:`~skygas.optimize.results.write_results`: trials.csv, best.json, the Pareto front,
-  optuna's figures and report.html from a study folder.
+  the figures (:mod:`~skygas.optimize.figures`) and report.html
+  (:mod:`~skygas.optimize.report`) from a study folder;
+- :mod:`~skygas.optimize.verdict`: the best trial chosen on its re-evaluation runs, the
+  candidates within noise of it, its parameters on a search bound, and the statement of all
+  that which the terminal and the report share.
 
 See ``docs/optimize.md``.
 """

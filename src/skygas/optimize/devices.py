@@ -158,12 +158,22 @@ NEURON_TIME_STEP = 2.5e-10
 
 
 def _neuron_estimate(config) -> Estimate:
-    """As the neuron prices its run: its steps, at most ``rule.threshold`` skyrmions."""
+    """As the neuron prices its run.
+
+    Its steps with at most ``rule.threshold`` skyrmions, the turns of its controller (every
+    sensor read) and annihilator (every check), and its build.
+    """
     from skygas.runs.machine_speed import run_estimate
 
     skyrmions = max(1.0, float(config.rule.threshold))
-    steps = config.duration / (config.time_step or NEURON_TIME_STEP)
-    return run_estimate(steps, skyrmions, 24.0 * skyrmions)  # a study records no frames
+    dt = config.time_step or NEURON_TIME_STEP
+    steps = config.duration / dt
+    model = config.annihilation_model()
+    turns = steps / max(1.0, round(config.sensor.read_interval / dt))
+    if model.enabled:
+        turns += steps / max(1.0, round(model.check_interval / dt))
+    # a study records no frames
+    return run_estimate(steps, skyrmions, 24.0 * skyrmions, turns=turns, builds=1)
 
 
 def _reservoir_estimate(config) -> Estimate:

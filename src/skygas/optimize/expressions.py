@@ -255,3 +255,59 @@ def check_consistent(constraints: list[Constraint], field: str = "study.constrai
             "constraints that some value can meet (these two contradict each other)",
             "loosen or remove one of them",
         )
+
+
+def _unit(node: ast.AST, unit_of_name: Callable[[str], str]) -> str | None:
+    """The unit of ``node``'s value ("" for a pure number), or None where it is not derived."""
+    if isinstance(node, ast.Constant):
+        return ""
+    if isinstance(node, ast.Name):
+        return unit_of_name(node.id)
+    if isinstance(node, ast.UnaryOp):
+        return _unit(node.operand, unit_of_name)
+    if isinstance(node, ast.BinOp):
+        left, right = _unit(node.left, unit_of_name), _unit(node.right, unit_of_name)
+        if left is None or right is None:
+            return None
+        if isinstance(node.op, (ast.Add, ast.Sub)):
+            return left if left == right else None
+        if left == right == "":
+            return ""  # any arithmetic of pure numbers
+        if isinstance(node.op, ast.Div) and left == right:
+            return ""  # a quantity over one of its own unit
+        # a product or quotient with a number may be a change of unit (energy_per_bit_J * 1e15
+        # in fJ): not derived, rather than a unit that may be wrong
+        return None
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+        units = {_unit(a, unit_of_name) for a in node.args}
+        if None in units or len(units) != 1:
+            return None  # min(t, 1e-6): the number has no unit of its own
+        (unit,) = units
+        if node.func.id in ("abs", "min", "max"):
+            return unit
+        return "" if unit == "" else None  # sqrt, log, exp of a pure number only
+    return None
+
+
+def unit_of(expression: Expression, unit_of_name: Callable[[str], str]) -> str | None:
+    """The unit of ``expression``'s value, from the units of the quantities it uses.
+
+    Sums and differences of one unit keep it, as do ``abs``, ``min`` and ``max`` of it; a
+    quotient of two quantities of one unit is a pure number (""), as is any arithmetic of pure
+    numbers. Anything else is not derived (None; the value is then shown without a unit): a
+    product with a number may be a change of unit (``energy_per_bit_J * 1e15``, in fJ), and a
+    count per second (``n_detected / simulated_time_s``) has no unit in the table.
+
+    Parameters
+    ----------
+    expression : Expression
+        A checked expression.
+    unit_of_name : callable
+        The unit of each quantity name ("" for a pure number or a count).
+
+    Returns
+    -------
+    str or None
+        The unit as a reader writes it ("Hz", "" for a pure number), or None.
+    """
+    return _unit(expression.tree, unit_of_name)

@@ -5,18 +5,20 @@
 - ``trials.csv``: one row per finished trial (complete or failed): its number, state,
   parameters, each objective's mean and standard error over the trial's replicas, each
   constraint's mean and whether it was met, the error of a failed trial;
-- ``best.json``: one objective: the best complete trial that meets every constraint, its
-  parameters and objective (mean ± standard error over its replicas), then the re-evaluated
-  candidates with the mean and standard error over all their runs (the trial's and the
-  re-evaluation's); several objectives: the Pareto set of such trials, each with its
-  re-evaluation where it had one;
+- ``best.json``: one objective: the best trial (:func:`best`; chosen on the re-evaluated means
+  where re-evaluation ran, :mod:`skygas.optimize.verdict`), the search's own best, the
+  re-evaluated candidates (mean ± standard error over their re-evaluation runs), which of them
+  are within noise of the best, and the parameters of the best that sit on a search bound;
+  several objectives: the Pareto set, each member with its re-evaluation where it had one;
 - ``pareto.csv`` and ``pareto.png`` (several objectives): the Pareto set's objectives;
-- ``history.png`` (``history-NAME.png`` per objective with several), ``importances.png`` and
-  ``slice.png``: optuna's own figures (:mod:`optuna.visualization.matplotlib`); importances are
-  fANOVA's, seeded with the study's seed.
+- ``history.png``, ``slice.png``, ``importances.png`` (one of each per objective with several):
+  :mod:`skygas.optimize.figures`;
+- ``report.html``: :mod:`skygas.optimize.report`.
 
-Every file carries the provenance record (:mod:`skygas.runs.provenance`): the skygas version,
-the study's seed and fingerprint, the command line.
+``best.json`` is the one answer: the report and the terminal show what the file says
+(:func:`skygas.optimize.verdict.statement`). Every file carries the provenance record
+(:mod:`skygas.runs.provenance`): the skygas version, the study's seed and fingerprint, the
+command line.
 """
 
 from __future__ import annotations
@@ -24,23 +26,18 @@ from __future__ import annotations
 import csv
 import io
 import math
-import warnings
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from skygas.optimize.execute import (
+    RUNS,
     iter_trial_summaries,
     read_study_record,
     reevaluation_runs,
 )
+from skygas.optimize.verdict import LEVEL, RULE, at_bounds, compare, run_statistics
 
 FIGURES = ("history.png", "importances.png", "slice.png", "pareto.png")
-
-
-def _finite(value: Any) -> float:
-    return math.nan if value is None else float(value)
 
 
 def _feasible(summary: dict) -> bool:
@@ -71,46 +68,98 @@ def pareto_set(record: dict, summaries: list[dict]) -> list[dict]:
     ]
 
 
-def _combined(record: dict, summary: dict, out: Path) -> dict | None:
-    """A trial's objectives over its runs and its re-evaluation runs together."""
-    from skygas.optimize.expressions import parse_expression
+def objectives_with_units(record: dict) -> list[dict]:
+    """The study's objectives, each with the ``unit`` of its value (None: not derived)."""
+    from skygas.core.quantities import quantity
+    from skygas.optimize.devices import device
+    from skygas.optimize.expressions import parse_expression, unit_of
 
-    extra = reevaluation_runs(out, summary["seed_key"])
-    if not extra:
+    names = device(record["device"]).quantities
+    return [
+        {
+            **o,
+            "unit": unit_of(
+                parse_expression(o["expression"], o["name"], names), lambda n: quantity(n).unit
+            ),
+        }
+        for o in record["objectives"]
+    ]
+
+
+def _reevaluated(record: dict, summary: dict, out: Path) -> tuple[dict, dict] | None:
+    """A candidate's objectives and constraints over its re-evaluation runs alone.
+
+    Each a mean with its standard error (:func:`~skygas.optimize.verdict.run_statistics`); a
+    constraint also its mean violation and whether that is ≤ 0. None without such runs.
+    """
+    from skygas.optimize.expressions import parse_constraint, parse_expression
+
+    runs = reevaluation_runs(out, summary["seed_key"])
+    if not runs:
         return None
-    runs = [{k: _finite(v) for k, v in r.items()} for r in summary["runs"]] + extra
     names = list(runs[0])
-    combined = {}
+    objectives = {}
     for o in record["objectives"]:
         expression = parse_expression(o["expression"], o["name"], names)
-        values = np.array([expression(r) for r in runs])
-        n = len(values)
-        combined[o["name"]] = {
-            "mean": float(values.mean()),
-            "error": float(values.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
-            "runs": n,
-        }
-    return combined
+        objectives[o["name"]] = run_statistics([expression(r) for r in runs])
+    constraints = {}
+    for text in record["constraints"]:
+        c = parse_constraint(text, text, names)
+        stats = run_statistics([c.expression(r) for r in runs])
+        violation = run_statistics([c.violation(r) for r in runs])["mean"]
+        met = violation is not None and violation <= 0
+        constraints[text] = {**stats, "violation": violation, "met": met}
+    return objectives, constraints
 
 
 def _entry(record: dict, summary: dict, out: Path) -> dict:
+    again = _reevaluated(record, summary, out)
     return {
         "trial": summary["number"],
         "params": summary["params"],
         "objectives": summary["objectives"],
         "constraints": summary.get("constraints", {}),
         "replicas": len(summary["runs"]),
-        "reevaluated": _combined(record, summary, out),
+        "reevaluated": again[0] if again else None,
+        "reevaluated_constraints": again[1] if again else None,
+        "at_bounds": at_bounds(summary["params"], record["parameters"]),
     }
 
 
+def _noise(best: dict, others: list[dict], name: str) -> dict:
+    """Each other candidate against the best (:func:`~skygas.optimize.verdict.compare`)."""
+    verdicts: dict[str, list[dict]] = {"within_noise": [], "distinguishable": [], "undecided": []}
+    for other in others:
+        test = compare(best["reevaluated"][name], other["reevaluated"][name])
+        kind = {True: "within_noise", False: "distinguishable", None: "undecided"}
+        verdicts[kind[test["within_noise"]]].append(
+            {
+                "trial": other["trial"],
+                "params": other["params"],
+                **other["reevaluated"][name],
+                **test,
+            }
+        )
+    return {"rule": RULE, "level": LEVEL, **verdicts}
+
+
 def best(out: Path, record: dict, summaries: list[dict]) -> dict:
-    """What ``best.json`` holds (see the module docstring)."""
+    """What ``best.json`` holds (see the module docstring and :mod:`skygas.optimize.verdict`).
+
+    One objective: ``best`` is the re-evaluated candidate of the best mean over its
+    re-evaluation runs (``chosen_on = "re-evaluation"``; those that meet the constraints on
+    those runs first) or, without re-evaluation, the feasible trial of the best mean of its own
+    runs (``"search"``); ``search_best`` the latter in either case; ``candidates`` the
+    re-evaluated ones, best first; ``noise`` each of them against the best (None without
+    re-evaluation). Several objectives: ``pareto_set``.
+    """
     complete = [s for s in summaries if s["state"] == "COMPLETE"]
     feasible = [s for s in complete if _feasible(s)]
     result: dict[str, Any] = {
-        "objectives": record["objectives"],
+        "objectives": objectives_with_units(record),
         "constraints": record["constraints"],
+        "reevaluate": record.get("reevaluate", 0),
+        "reevaluate_replicas": record.get("reevaluate_replicas"),
         "trials_finished": len(summaries),
         "trials_complete": len(complete),
         "trials_feasible": len(feasible),
@@ -121,13 +170,30 @@ def best(out: Path, record: dict, summaries: list[dict]) -> dict:
     o = record["objectives"][0]
     sign = 1.0 if o["direction"] == "minimize" else -1.0
     ranked = sorted(feasible, key=lambda s: sign * s["objectives"][o["name"]]["mean"])
-    result["best"] = _entry(record, ranked[0], out) if ranked else None
-    reevaluated = [e for e in (_entry(record, s, out) for s in ranked) if e["reevaluated"]]
-    # after re-evaluation, the candidate whose mean over all its runs is best
-    result["candidates"] = sorted(
-        reevaluated, key=lambda e: sign * e["reevaluated"][o["name"]]["mean"]
+    result["search_best"] = _entry(record, ranked[0], out) if ranked else None
+    # every trial re-evaluated (a resumed study may have re-evaluated others before)
+    entries = [
+        _entry(record, s, out)
+        for s in ranked
+        if any((out / RUNS / f"trial-{s['seed_key']}").glob("reeval-*.json"))
+    ]
+
+    def again(e: dict) -> float:
+        mean = e["reevaluated"][o["name"]]["mean"]
+        return math.inf if mean is None else sign * mean
+
+    candidates = [e for e in entries if e["reevaluated"]]
+    # those meeting the constraints on their re-evaluation runs first, then by their mean there
+    candidates.sort(
+        key=lambda e: (not all(c["met"] for c in e["reevaluated_constraints"].values()), again(e))
     )
-    result["best_after_reevaluation"] = result["candidates"][0] if reevaluated else None
+    result["candidates"] = candidates
+    if candidates:
+        result["best"], result["chosen_on"] = candidates[0], "re-evaluation"
+        result["noise"] = _noise(candidates[0], candidates[1:], o["name"])
+    else:
+        result["best"], result["chosen_on"] = result["search_best"], "search"
+        result["noise"] = None
     return result
 
 
@@ -177,225 +243,22 @@ def _write_csv(path: Path, header: list[str], rows: list[list[Any]], record: dic
     write_atomic(path, lambda tmp: tmp.write_text(text))
 
 
-def _load_optuna(out: Path, record: dict):
-    import optuna
-    from optuna.storages import JournalStorage
-    from optuna.storages.journal import JournalFileBackend
-
-    from skygas.optimize.execute import JOURNAL, STUDY_NAME
-
-    optuna.logging.set_verbosity(optuna.logging.WARNING)
-    storage = JournalStorage(JournalFileBackend(str(out / JOURNAL)))
-    return optuna.load_study(study_name=STUDY_NAME, storage=storage)
-
-
-def _figures(out: Path, record: dict, provenance: dict[str, str]) -> dict[str, str]:
-    """Draw optuna's figures; returns the names written, and why others were not."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import optuna
-    import optuna.visualization.matplotlib as ov
-    from optuna.trial import TrialState
-
-    from skygas.optimize.execute import constraint_values
-    from skygas.runs.run_driver import write_figure
-
-    study = _load_optuna(out, record)
-    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
-    objectives = record["objectives"]
-    notes: dict[str, str] = {}
-
-    def save(name: str, draw) -> None:
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                drawn = draw()
-        except (ValueError, RuntimeError, ZeroDivisionError) as err:
-            notes[name] = f"not drawn: {err}"
-            plt.close("all")
-            return
-        axes = np.ravel(drawn)
-        figure = axes[0].figure
-        figure.set_size_inches(max(6.4, 3.6 * len(axes) + 1.0), 4.4)
-        write_figure(
-            out / name,
-            lambda tmp: figure.savefig(tmp, dpi=100, bbox_inches="tight"),
-            provenance,
-        )
-        plt.close(figure)
-        notes[name] = "written"
-
-    def target(i: int):
-        return lambda t: t.values[i]
-
-    if len(complete) < 2:
-        return {f: "not drawn: fewer than 2 complete trials" for f in FIGURES}
-    evaluator = optuna.importance.FanovaImportanceEvaluator(seed=int(record["seed"]) % 2**32)
-    for i, o in enumerate(objectives):
-        suffix = "" if len(objectives) == 1 else f"-{o['name']}"
-        save(
-            f"history{suffix}.png",
-            lambda i=i, o=o: ov.plot_optimization_history(
-                study, target=target(i), target_name=o["name"]
-            ),
-        )
-        save(
-            f"importances{suffix}.png",
-            lambda i=i, o=o: ov.plot_param_importances(
-                study, evaluator=evaluator, target=target(i), target_name=o["name"]
-            ),
-        )
-        save(
-            f"slice{suffix}.png",
-            lambda i=i, o=o: ov.plot_slice(study, target=target(i), target_name=o["name"]),
-        )
-    if 2 <= len(objectives) <= 3:
-        save(
-            "pareto.png",
-            lambda: ov.plot_pareto_front(
-                study,
-                target_names=[o["name"] for o in objectives],
-                constraints_func=constraint_values if record["constraints"] else None,
-            ),
-        )
-    return notes
-
-
-def _best_rows(record: dict, entry: dict) -> list[tuple[str, str]]:
-    from skygas.outputs.report import format_number
-
-    rows = [("trial", str(entry["trial"]))]
-    rows += [(f"parameter {k}", format_number(v)) for k, v in entry["params"].items()]
-    for o in record["objectives"]:
-        value = entry["objectives"][o["name"]]
-        rows.append(
-            (
-                f"{o['name']} ({o['direction']}; mean of {entry['replicas']} runs ± s.e.)",
-                format_number(value["mean"], value["error"]),
-            )
-        )
-        again = (entry.get("reevaluated") or {}).get(o["name"])
-        if again:
-            rows.append(
-                (
-                    f"{o['name']} re-evaluated (mean of {again['runs']} runs ± s.e.)",
-                    format_number(again["mean"], again["error"]),
-                )
-            )
-    for text, c in entry["constraints"].items():
-        rows.append(
-            (
-                f"constraint {text}",
-                f"{format_number(c['mean'], c['error'])} ({'met' if c['met'] else 'not met'})",
-            )
-        )
-    return rows
-
-
-def _report(out: Path, record: dict, result: dict, table, notes: dict[str, str]) -> str:
-    import html
-
-    from skygas._version import __version__
-    from skygas.outputs import headlines as H
-    from skygas.outputs.report import Page
-
-    page = Page(f"skygas optimize — {record.get('name') or out.name}")
-    page.paragraph(f"Report written by skygas {__version__} from the study folder {out}.")
-    # the answer first: the best trial (after re-evaluation where there was one), or the front
-    headline = H.Results()
-    if "pareto_set" in result:
-        headline.rows.append(("trials on the Pareto front", str(len(result["pareto_set"]))))
-        headline.notes.append("Each trial of the front is listed under “Pareto set” below.")
-    elif result["best"] is None:
-        headline.rows.append(("best trial", H.none("no complete trial meets the constraints yet")))
-    else:
-        chosen = result.get("best_after_reevaluation") or result["best"]
-        headline.rows += _best_rows(record, chosen)
-        if result.get("best_after_reevaluation"):
-            headline.notes.append(
-                "The best trial after the best candidates were run again (re-evaluation)."
-            )
-    page.headline(headline)
-    page.heading("Study")
-    page.table(
-        [
-            ("device", record["device"]),
-            ("sampler", record["sampler"]),
-            ("seed", record["seed"]),
-            ("replicas per trial", record["replicas"]),
-            ("fingerprint", record["fingerprint"]),
-            ("skygas version of the study", record["skygas_version"]),
-            (
-                "trials finished (complete)",
-                f"{result['trials_finished']} ({result['trials_complete']})",
-            ),
-            ("complete trials meeting the constraints", result["trials_feasible"]),
-            ("constraints", html.escape("; ".join(record["constraints"]) or "none")),
-        ]
-    )
-    if "pareto_set" in result:
-        page.heading(f"Pareto set ({len(result['pareto_set'])} trials)")
-        for entry in result["pareto_set"]:
-            page.table(_best_rows(record, entry))
-    elif result.get("best_after_reevaluation"):  # the headline holds the re-evaluated best
-        page.heading("Best trial of the search, before re-evaluation")
-        page.table(_best_rows(record, result["best"]))
-    page.heading("Figures")
-    for name in sorted(notes):
-        if notes[name] == "written" and (out / name).exists():
-            page.image((out / name).read_bytes(), _caption(name))
-        else:
-            page.paragraph(f"{_caption(name)}: {notes[name]}")
-    header, rows = table
-    page.heading(f"Trials ({len(rows)})")
-    cells = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
-    body = "".join(
-        "<tr>" + "".join(f"<td class=n>{html.escape(_cell(v))}</td>" for v in row) + "</tr>"
-        for row in rows
-    )
-    page.parts.append(f"<table><tr>{cells}</tr>{body}</table>")
-    page.heading("Study file")
-    page.pre(record.get("study_file", ""))
-    page.heading("Data")
-    page.json_block("best", result)
-    return page.html()
-
-
-#: what each of optuna's figures shows (a caption, not the file name)
-_CAPTIONS = {
-    "history": "Optimisation history: each trial's objective and the best so far",
-    "importances": "Parameter importances (fANOVA) for the objective",
-    "slice": "Slice plot: the objective against each parameter, one point per trial",
-    "pareto": "The Pareto front of the objectives (trials not dominated by any other)",
-}
-
-
-def _caption(name: str) -> str:
-    """The caption of figure file ``name`` (``history-rho.png`` → its objective named too)."""
-    stem = name.removesuffix(".png")
-    kind, _, objective = stem.partition("-")
-    text = _CAPTIONS.get(kind, stem)
-    return f"{text} ({objective})" if objective else text
-
-
-def _cell(value: Any) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return f"{value:.5g}"
-    return str(value)
-
-
 def write_results(out: str | Path) -> dict:
     """Write every result file of the study folder ``out`` (see the module docstring).
+
+    ``best.json`` is written first and read back: the figures, the report and the terminal
+    (``skygas optimize``) all show what the file says.
 
     Returns
     -------
     dict
-        ``best``: what best.json holds; ``files``: the paths written.
+        ``best``: what best.json holds; ``files``: the paths written; ``figures``: by figure
+        file, ``"written"`` or why it was not drawn.
     """
+    import json
+
+    from skygas.optimize.figures import draw_figures
+    from skygas.optimize.report import study_report
     from skygas.outputs.report import check_report_path
     from skygas.runs.run_driver import write_atomic, write_json
 
@@ -404,12 +267,11 @@ def write_results(out: str | Path) -> dict:
     provenance = _provenance(out, record)
     summaries = list(iter_trial_summaries(out))
     files = []
-    table = trials_table(record, summaries)
-    _write_csv(out / "trials.csv", *table, provenance)
+    _write_csv(out / "trials.csv", *trials_table(record, summaries), provenance)
     files.append(out / "trials.csv")
-    result = best(out, record, summaries)
-    write_json(out / "best.json", {**result, "provenance": provenance})
+    write_json(out / "best.json", {**best(out, record, summaries), "provenance": provenance})
     files.append(out / "best.json")
+    result = json.loads((out / "best.json").read_text())
     if "pareto_set" in result:
         names = [o["name"] for o in record["objectives"]]
         fields = [p["field"] for p in record["parameters"]]
@@ -424,9 +286,9 @@ def write_results(out: str | Path) -> dict:
             rows.append(row)
         _write_csv(out / "pareto.csv", header, rows, provenance)
         files.append(out / "pareto.csv")
-    notes = _figures(out, record, provenance)
+    notes, captions = draw_figures(out, record, summaries, result, provenance)
     files += [out / n for n, v in notes.items() if v == "written"]
-    text = _report(out, record, result, table, notes)
+    text = study_report(out, record, result, summaries, notes, captions)
     report = check_report_path(out / "report.html")
     write_atomic(report, lambda tmp: tmp.write_text(text, encoding="utf-8"))
     files.append(report)
