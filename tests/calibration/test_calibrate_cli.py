@@ -21,13 +21,6 @@ from skygas.physics.materials import load_material  # noqa: E402
 pytestmark = pytest.mark.slow
 
 
-@pytest.fixture(scope="module")
-def calibrated(tmp_path_factory):
-    out = tmp_path_factory.mktemp("cal") / "s6"
-    assert cli.main(["calibrate", "S6", "--out", str(out), "--quiet"]) == 0
-    return out
-
-
 def test_writes_the_model_report_and_numbers(calibrated):
     for name in (
         "model.toml",

@@ -39,6 +39,17 @@ if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
     from multiprocessing.process import BaseProcess
 
+#: The stages as the progress bar names them, by the first part of their solves' names.
+STAGE_NAMES = {
+    "isolated": "isolated skyrmion",
+    "laws": "pair and edge laws",
+    "enlarged": "film-size check",
+    "sensitivity": "field sensitivity",
+    "stray": "edge stray field",
+    "mesh": "mesh check",
+    "validation": "validation start",
+    "llg": "validation run (LLG)",
+}
 #: LLG snapshots per piece of the validation run.
 SNAPSHOTS_PER_PIECE = 5
 
@@ -56,7 +67,6 @@ class CalibrationJob:
     #: isolated-skyrmion relaxation), a number that means nothing to a user: the bar shows
     #: the percentage and the times only
     work_unit = "cost"
-    work_description = "calibrating"
     progress_format = "{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
     result_files = RESULT_FILES
 
@@ -87,6 +97,15 @@ class CalibrationJob:
         self._workers: dict[int, BaseProcess] = {}
         self._children_before: set[int | None] = set()
         self._measured: dict[str, tuple | None] = {}
+        #: the last solve handed out or recorded (its stage names the progress bar)
+        self._last_key = "isolated"
+
+    @property
+    def work_description(self) -> str:
+        """The progress bar's label: the stage being solved (``calibrating: mesh check``)."""
+        key = next(iter(self._in_flight), self._last_key)
+        stage = key.split("/")[0]
+        return f"calibrating: {STAGE_NAMES.get(stage, stage)}"
 
     # -- what is known ------------------------------------------------------------------------
     def _stage1(self) -> tuple[list[Relaxation], Relaxation | None]:
@@ -321,6 +340,7 @@ class CalibrationJob:
             if len(self._in_flight) >= self.workers:
                 break
             self._in_flight[key] = self._pool.submit(getattr(worker, kind), *args)
+            self._last_key = key
         self._note_workers()
         deadline = time.perf_counter() + 1.0  # return within a second: Ctrl-C is honoured
         while time.perf_counter() < deadline:
@@ -365,6 +385,7 @@ class CalibrationJob:
         )
 
     def _record(self, key: str, result: dict[str, Any]) -> None:
+        self._last_key = key
         stage = key.split("/")[0]
         now = self.run_seconds()
         began = max(0.0, now - result.get("seconds", 0.0))

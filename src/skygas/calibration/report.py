@@ -1,7 +1,9 @@
-"""report.html of a calibration: a summary in sentences, the tables behind it, the figures.
+"""report.html of a calibration: its quality checks, a summary in sentences, the figures.
 
 One self-contained file (figures embedded, no network), built from the numbers of
-summary.json only.
+summary.json only. The headline starts with the calibration's checks against their stated
+tolerances (summary.json's ``quality_checks``, :func:`skygas.calibration.results.quality_checks`),
+each ``passed`` or ``FAILED``; every figure has a caption that says what it draws.
 """
 
 from __future__ import annotations
@@ -12,14 +14,19 @@ from typing import Any
 
 from skygas._version import __version__
 from skygas.calibration.analysis import Calibration
-from skygas.calibration.results import FIGURES, _paper_laws
+from skygas.calibration.results import (
+    FIGURES,
+    VALIDATION_GOAL,
+    _paper_laws,
+    mesh_distance_words,
+)
+from skygas.core.quantities import format_value
 from skygas.core.units import MU_0
 from skygas.outputs.headlines import Results
-from skygas.outputs.report import Page
+from skygas.outputs.report import Page, _made_by
 from skygas.runs.run_driver import write_atomic
 
-#: The goal of the validation: RMS centre error below this many diameters.
-VALIDATION_GOAL = 0.1
+__all__ = ["VALIDATION_GOAL", "check_rows", "figure_caption", "summary_sentences", "write_report"]
 
 
 def _nm(x: float) -> str:
@@ -27,7 +34,12 @@ def _nm(x: float) -> str:
 
 
 def _pn(x: float) -> str:
-    return f"{x * 1e12:.3g} pN"
+    return _q(x, "N", 3)
+
+
+def _q(x: float, unit: str = "", digits: int = 4) -> str:
+    """``x`` in ``unit`` as the reports write numbers (an SI prefix, or ×10ⁿ; no e-notation)."""
+    return format_value(x, None, unit, digits=digits) or "n/a"
 
 
 def _percent(x: float) -> str:
@@ -40,11 +52,12 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
     iso = cal.isolated
     d = cal.diameter
     out = [
-        f"{m.name}: M_s = {m.saturation_magnetization:.4g} A/m, A = "
-        f"{m.exchange_stiffness:.4g} J/m, D = {m.total_dmi:.4g} J/m², K_u = {m.anisotropy:.4g} "
-        f"J/m³, B_z = {m.applied_field * 1e3:g} mT, in a {m.film_thickness * 1e9:g} nm film "
-        f"on {m.cell_size * 1e9:g} nm cells, α = {m.damping:g}. The laws are those of "
-        f"skyrmions in the interior of a {cal.config.reference_diameter * 1e9:g} nm device: "
+        f"{m.name}: M_s = {_q(m.saturation_magnetization, 'A/m')}, A = "
+        f"{_q(m.exchange_stiffness, 'J/m')}, D = {_q(m.total_dmi, 'J/m²')}, K_u = "
+        f"{_q(m.anisotropy, 'J/m³')}, B_z = {m.applied_field * 1e3:g} mT, in a "
+        f"{m.film_thickness * 1e9:g} nm film on {m.cell_size * 1e9:g} nm cells, α = "
+        f"{m.damping:g}. The laws are those of skyrmions in the interior of a "
+        f"{cal.config.reference_diameter * 1e9:g} nm device: "
         f"its edges' stray field adds {MU_0 * cal.config.reference_field * 1e3:.2f} mT to B_z "
         "there (the particle model adds the rest of the device's stray field itself)."
     ]
@@ -52,12 +65,13 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
     table = f" (the paper's table: {paper[1] / 2 * 1e9:.1f} nm)" if paper else ""
     out.append(
         f"The isolated skyrmion has a radius of {_nm(iso.radius)}{table}, a wall width of "
-        f"{_nm(iso.wall_width)} and an energy {abs(iso.energy):.4g} J "
+        f"{_nm(iso.wall_width)} and an energy {_q(abs(iso.energy), 'J')} "
         f"{'above' if iso.energy >= 0 else 'below'} that of the uniform film; "
-        f"Q = {iso.charge:+.4f}, so G = −4πQk = {iso.gyrocoupling:.4g} kg/s (k = {iso.k:.4g} "
-        f"kg/s). Its dissipation is 𝒟 = {iso.dissipation:.3f}; the thin-wall estimate of the "
-        f"presets, 2π(R/Δ₀ + Δ₀/R) with Δ₀ = √(A/K_u) = {_nm(m.bare_wall_width)}, gives "
-        f"{iso.thin_wall_dissipation:.3f}, and the 360° wall ansatz with the fitted Δ "
+        f"Q = {iso.charge:+.4f}, so G = −4πQk = {_q(iso.gyrocoupling, 'kg/s')} (k = "
+        f"{_q(iso.k, 'kg/s')}). Its dissipation is 𝒟 = {iso.dissipation:.3f}; the thin-wall "
+        f"estimate of the presets, 2π(R/Δ₀ + Δ₀/R) with Δ₀ = √(A/K_u) = "
+        f"{_nm(m.bare_wall_width)}, gives {iso.thin_wall_dissipation:.3f}, and the 360° wall "
+        "ansatz with the fitted Δ "
         f"{iso.ansatz_dissipation:.3f}. Its diameter d_sk = {_nm(d)} is the length unit of the "
         f"fitted laws; F₀ = A t/d_sk = {_pn(cal.force_scale)}."
     )
@@ -99,10 +113,12 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
         )
     if checks.get("mesh"):
         e = checks["mesh"]
+        how = mesh_distance_words(e, d)
+        how = f" ({how})" if how else ""
         out.append(
             f"Halving the cells ({m.cell_size * 1e9:g} → {m.cell_size * 5e8:g} nm) "
             f"changes the pair energy at {e['coarse']['distance_m'] / d:.2f} d_sk by "
-            f"{_percent(e['energy_change'])} and the radius by "
+            f"{_percent(e['energy_change'])}{how} and the radius by "
             f"{_percent(e['radius_change'])}."
         )
     if checks.get("sensitivity"):
@@ -211,18 +227,95 @@ def _speed_ratio(v) -> float | None:
     return None if mm <= 0 else float(pm / mm)
 
 
+def check_rows(data: dict[str, Any]) -> list[tuple[str, str]]:
+    """The headline's first rows: each quality check of summary.json, passed or FAILED."""
+    return [
+        (c["name"], ("passed: " if c["passed"] else "FAILED: ") + c["what"])
+        for c in data.get("quality_checks", [])
+    ]
+
+
+def figure_caption(name: str, cal: Calibration) -> str:
+    """What the figure ``name`` (one of :data:`~skygas.calibration.results.FIGURES`) draws."""
+    d = cal.diameter
+    paper = _paper_laws(cal)
+    paper_words = (
+        f"; green dash-dotted, the paper's {paper[0].name} law for the same material (its "
+        f"table's d_sk = {paper[1] * 1e9:.1f} nm and F₀)"
+        if paper
+        else ""
+    )
+    if name == "profile.png":
+        iso = cal.isolated
+        return (
+            "The isolated skyrmion's m_z against the distance r from its centre: the azimuthal "
+            "mean of the relaxed texture (dots) and the 360° wall ansatz fitted to it (red, "
+            f"R = {_nm(iso.radius)}, Δ = {_nm(iso.wall_width)}); the dashed vertical line marks "
+            "R, where m_z = 0."
+        )
+    if name in ("pair.png", "wall.png"):
+        law = cal.pair if name == "pair.png" else cal.wall
+        lo, hi = (x / d for x in law.measured)
+        fitted = bool(cal.fits["pair" if name == "pair.png" else "wall"].get("coefficients"))
+        if name == "pair.png":
+            first = (
+                "Left: the pair law |F| against the centre distance (log scale): the calibrated "
+                f"table over its measured range, {lo:.2f}–{hi:.2f} d_sk (black), and its "
+                "exponential continuation (dotted)"
+            )
+            fit = "; red dashed, the paper's form fitted to the table" if fitted else ""
+            energies = "the measured pair energies E(d)"
+        else:
+            first = (
+                "Left: the short-range edge law |F| against the distance to the edge (log "
+                f"scale): the calibrated table over its measured range, {lo:.2f}–{hi:.2f} d_sk "
+                "(black), and its exponential continuation (dotted); blue, the force at a "
+                "straight edge of a real film (the short-range law plus the edge's stray field)"
+            )
+            fit = "; red dashed, the paper's form fitted to that straight edge" if fitted else ""
+            energies = "the measured edge energies E(x) relative to the film's centre"
+        return (
+            f"{first}{fit}{paper_words}. Right: {energies} in units of F₀ d_sk "
+            f"(d_sk = {_nm(d)}, F₀ = {_pn(cal.force_scale)}; log scale)."
+        )
+    if name == "validation.png" and cal.validation is not None:
+        v = cal.validation
+        worst = float(v.error.max())
+        r = cal.validation_restarted
+        restarted = (
+            f", and from the model restarted {(v.times[-1] - r.times[-1]) * 1e9:.2f} ns after "
+            "the release (blue dashed)"
+            if r is not None
+            else ""
+        )
+        verdict = (
+            "above the goal: the validation check failed"
+            if worst > VALIDATION_GOAL
+            else "within the goal"
+        )
+        return (
+            f"Left: the {v.micromagnetic.shape[1]} skyrmions' paths in the validation disk "
+            f"(grey circle, radius {_nm(v.disk_radius)}): micromagnetic LLG (solid) and the "
+            "particle model (dashed, the same colour), dots at the start. Right: the particle "
+            "model's RMS centre error [d_sk] against the time from the release (black)"
+            f"{restarted}, with the goal {VALIDATION_GOAL:g} d_sk (red dashed). Its maximum, "
+            f"{worst:.3f} d_sk, is {verdict}."
+        )
+    return name
+
+
 def write_report(cal: Calibration, data: dict[str, Any], out: Path) -> Path:
     """Write ``report.html`` into ``out``, atomically.
 
-    Summary, use of the model, isolated skyrmion, fits, figures, provenance and data.
+    Who made it and when, the quality checks and the summary, use of the model, isolated
+    skyrmion, fits, figures with their captions, provenance and data.
     """
     m = cal.config.material
     page = Page(f"skygas calibration — {m.name}")
-    page.paragraph(
-        f"Written by skygas {__version__}. The numbers below are those of "
-        "summary.json; the particle model is model.toml."
-    )
-    page.headline(Results(notes=summary_sentences(cal, data)))
+    if _made_by(page, out, __version__, None) is None:  # no manifest: from Python, say when
+        page.paragraph(f"Written on {data['provenance']['written_at'].replace('T', ' ')[:16]} UTC.")
+    page.paragraph("The numbers below are those of summary.json; the particle model is model.toml.")
+    page.headline(Results(rows=check_rows(data), notes=summary_sentences(cal, data)))
     page.heading("Use the model")
     page.pre(
         f'material = "{out.name}/model.toml"        # in any configuration\n'
@@ -235,15 +328,15 @@ def write_report(cal: Calibration, data: dict[str, Any], out: Path) -> Path:
             ("radius (m_z = 0)", _nm(iso.radius)),
             ("wall width (ansatz fit)", _nm(iso.wall_width)),
             ("topological charge Q", f"{iso.charge:+.5f}"),
-            ("G = −4πQk", f"{iso.gyrocoupling:.5g} kg/s"),
+            ("G = −4πQk", _q(iso.gyrocoupling, "kg/s", 5)),
             ("𝒟 (measured)", f"{iso.dissipation:.4f}"),
             (
                 "𝒟 tensor",
                 html.escape(str([[round(x, 4) for x in row] for row in iso.dissipation_tensor])),
             ),
             ("𝒟 thin-wall estimate (presets)", f"{iso.thin_wall_dissipation:.4f}"),
-            ("energy relative to the uniform film", f"{iso.energy:.5g} J"),
-            ("moment deficit ∫(1 − m_z) dA", f"{iso.moment_deficit:.4g} m²"),
+            ("energy relative to the uniform film", _q(iso.energy, "J", 5)),
+            ("moment deficit ∫(1 − m_z) dA", _q(iso.moment_deficit, "m²")),
         ]
     )
     page.heading("Fits of the paper's forms")
@@ -265,10 +358,16 @@ def write_report(cal: Calibration, data: dict[str, Any], out: Path) -> Path:
     for name in FIGURES:
         path = out / name
         if path.exists():
-            page.image(path.read_bytes(), name)
+            page.image(path.read_bytes(), figure_caption(name, cal))
     page.heading("Provenance")
     prov = data["provenance"]
-    page.table([(k, html.escape(str(v))) for k, v in prov.items() if not isinstance(v, dict)])
+    page.table(
+        [
+            (k.replace("_", " "), html.escape(str(v)))
+            for k, v in prov.items()
+            if not isinstance(v, dict)
+        ]
+    )
     page.heading("Data")
     page.json_block("calibration", data)
     text = page.html()

@@ -23,6 +23,25 @@ from skygas.runs.run_driver import write_figure, write_json
 
 FIGURES = ("profile.png", "pair.png", "wall.png", "validation.png")
 
+# -- the quality checks' tolerances --------------------------------------------------------------
+#: The validation's goal: the particle model's RMS centre error at most this many d_sk.
+VALIDATION_GOAL = 0.1
+#: Halving the cells may change the pair energy at ≈ 1.5 d_sk, and the isolated skyrmion's
+#: radius, by at most this share. A law F ∝ exp(−d/λ) scaled by 1 + ε takes each value at a
+#: distance shifted by λε: for the S2 law's λ = 1.46 d_sk, 5 % is 0.07 d_sk, within the
+#: validation's goal.
+MESH_TOLERANCE = 0.05
+#: A film 1.25 times larger may change the isolated skyrmion's radius by at most this share (a
+#: larger change: the film's edges still squeeze the skyrmion whose diameter is the model's
+#: length unit and whose profile its stray-field energy uses). Its energy is reported, not
+#: judged: the model uses energy differences measured in the calibration film, never it.
+FILM_SIZE_TOLERANCE = 0.02
+#: At a real straight edge the model's edge energy (short-range law plus first-order
+#: stray-field energy) may differ from the micromagnetic one by at most this share: the wall
+#: law decays over a fraction of d_sk, so a quarter off moves a skyrmion's distance from an
+#: edge by well under the validation's goal (the same λε argument as above).
+STRAY_TOLERANCE = 0.25
+
 
 def _version(package: str) -> str:
     try:
@@ -70,12 +89,158 @@ def record(cal: Calibration) -> dict[str, str]:
     return {"skygas_version": __version__, "seed": "0", "config_json": cal.config.model_dump_json()}
 
 
+# -- the quality checks ----------------------------------------------------------------------------
+def _check(
+    name: str, value: Any, tolerance: float, unit: str, what: str, passed: bool | None = None
+) -> dict[str, Any]:
+    """A quality check: ``passed`` (default: |value| ≤ tolerance) and what it measured."""
+    ok = abs(value) <= tolerance if passed is None else passed
+    return {
+        "name": name,
+        "value": value,
+        "tolerance": tolerance,
+        "unit": unit,
+        "passed": bool(ok),
+        "what": what,
+    }
+
+
+def _pct(x: float) -> str:
+    return f"{x * 100:+.2f} %"
+
+
+def mesh_distance_words(mesh: dict[str, Any], diameter: float) -> str:
+    """How the mesh check compared the meshes' pair energies where they held the pair apart.
+
+    A clause for the report; empty where both held it at the same distance (to the digits
+    shown).
+    """
+    coarse, fine = (mesh[k]["distance_m"] / diameter for k in ("coarse", "fine"))
+    if f"{fine:.2f}" == f"{coarse:.2f}":
+        return ""
+    if mesh.get("energy_at_same_distance"):
+        return (
+            f"the fine mesh held the pair at {fine:.2f} d_sk, its energy taken to "
+            f"{coarse:.2f} d_sk along the calibrated curve; as held, "
+            f"{_pct(mesh['energy_change_as_held'])}"
+        )
+    return (
+        f"the fine mesh held the pair at {fine:.2f} d_sk, outside the calibrated curve: the "
+        "energies are compared as held, at different distances"
+    )
+
+
+def quality_checks(cal: Calibration) -> list[dict[str, Any]]:
+    """The calibration's checks against their stated tolerances, each passed or failed.
+
+    Each is ``{"name", "value", "tolerance", "unit", "passed", "what"}`` (summary.json's
+    ``quality_checks``, the report's first rows, a warning line on the terminal when failed):
+    the mesh (pair energy and radius at half the cell size, :data:`MESH_TOLERANCE`), the film's
+    size (:data:`FILM_SIZE_TOLERANCE`), the edge energy at a real straight edge
+    (:data:`STRAY_TOLERANCE`) and the validation's RMS centre error (:data:`VALIDATION_GOAL`).
+    A check whose solves were not made (``--no-mesh-check``, ``--no-validate``) is left out.
+    """
+    out = []
+    checks = cal.checks
+    d = cal.diameter
+    cell = cal.config.material.cell_size
+    mesh = checks.get("mesh")
+    if mesh:
+        halved = f"halving the cells ({cell * 1e9:g} → {cell * 5e8:g} nm)"
+        coarse = mesh["coarse"]["distance_m"] / d
+        how = mesh_distance_words(mesh, d)
+        out.append(
+            _check(
+                "mesh: pair energy",
+                mesh["energy_change"],
+                MESH_TOLERANCE,
+                "relative change",
+                f"{halved} changes the pair energy at {coarse:.2f} d_sk by "
+                f"{_pct(mesh['energy_change'])} (at most ±{MESH_TOLERANCE * 100:g} %"
+                + (f"; {how})" if how else ")"),
+            )
+        )
+        out.append(
+            _check(
+                "mesh: radius",
+                mesh["radius_change"],
+                MESH_TOLERANCE,
+                "relative change",
+                f"{halved} changes the isolated skyrmion's radius by "
+                f"{_pct(mesh['radius_change'])} (at most ±{MESH_TOLERANCE * 100:g} %)",
+            )
+        )
+    enlarged = checks.get("enlarged")
+    if enlarged:
+        out.append(
+            _check(
+                "film size",
+                enlarged["radius_change"],
+                FILM_SIZE_TOLERANCE,
+                "relative change",
+                f"in a film {enlarged['enlarged_side_m'] / enlarged['film_side_m']:.2f} times "
+                f"larger the isolated skyrmion's radius changes by "
+                f"{_pct(enlarged['radius_change'])} (at most ±{FILM_SIZE_TOLERANCE * 100:g} %; "
+                f"its energy, which the model does not use, by "
+                f"{_pct(enlarged['energy_change'])})",
+            )
+        )
+    points = [p for p in checks.get("stray_field", {}).get("points", []) if p["micromagnetic_J"]]
+    if points:
+        ratios = [p["model_J"] / p["micromagnetic_J"] for p in points]
+        worst = max(range(len(points)), key=lambda k: abs(ratios[k] - 1))
+        out.append(
+            _check(
+                "edge energy at a real edge",
+                ratios[worst] - 1,
+                STRAY_TOLERANCE,
+                "relative deviation",
+                "the model's edge energy (short-range law plus first-order stray-field energy) "
+                "at a straight edge of a real film is "
+                + ", ".join(
+                    f"{r:.2f}× the micromagnetic one at {p['x_d_sk']:.2f} d_sk"
+                    for r, p in zip(ratios, points, strict=True)
+                )
+                + f" (at most ±{STRAY_TOLERANCE * 100:g} % off)",
+            )
+        )
+    if cal.config.validate_dynamics:
+        v = cal.validation
+        if v is None:
+            out.append(
+                _check(
+                    "validation",
+                    None,
+                    VALIDATION_GOAL,
+                    "d_sk",
+                    f"nothing to compare: {cal.validation_note or 'no validation run'}",
+                    passed=False,
+                )
+            )
+        else:
+            worst_error = float(v.error.max())
+            what = (
+                f"the particle model's RMS centre error against the micromagnetic run is at "
+                f"most {worst_error:.3f} d_sk over {v.times[-1] * 1e9:.2f} ns (at most "
+                f"{VALIDATION_GOAL:g} d_sk)"
+            )
+            if float(np.min(v.path_length)) < 1.0:
+                what += (
+                    "; the run stopped before every skyrmion had travelled one diameter, so "
+                    "the comparison is short"
+                )
+            out.append(_check("validation", worst_error, VALIDATION_GOAL, "d_sk", what))
+    return out
+
+
 # -- numbers -------------------------------------------------------------------------------------
 def summary(cal: Calibration, job) -> dict[str, Any]:
     """summary.json: every number of the calibration (SI units; d_sk and F₀ where said)."""
     iso = cal.isolated
     out = {
         "skygas_version": __version__,
+        # first: what a reader of the file should know before any number (report.py's headline)
+        "quality_checks": quality_checks(cal),
         "material": cal.config.material.as_record(),
         "config": json.loads(cal.config.model_dump_json()),
         "reference_field_T": MU_0 * cal.config.reference_field,
@@ -404,7 +569,9 @@ def plot_validation(cal: Calibration, path: Path) -> Path:
                 "b--",
                 label=f"model restarted at {start * 1e9:.2f} ns",
             )
-        bx.axhline(0.1, color="r", lw=0.8, ls="--", label="goal 0.1 d_sk")
+        bx.axhline(
+            VALIDATION_GOAL, color="r", lw=0.8, ls="--", label=f"goal {VALIDATION_GOAL:g} d_sk"
+        )
         bx.set(
             xlabel="t [ns]", ylabel="RMS centre error [d_sk]", title=f"max {v.error.max():.3f} d_sk"
         )

@@ -9,6 +9,7 @@ numerics); the solver (torch, magnum.np) is imported by the worker processes onl
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from skygas.commands.json_output import add_json_option, print_json
@@ -18,6 +19,9 @@ from skygas.commands.run_options import (
     named_by_flags,
     run_options,
 )
+
+#: Exit status of a calibration whose model fails a quality check under ``--strict``.
+EXIT_CHECK_FAILED = 1
 
 #: configuration fields set by an option, to name the option in an error
 _FLAGS = {
@@ -33,6 +37,8 @@ def register(subparsers) -> None:
     """Add ``skygas calibrate`` to ``subparsers``."""
     p = subparsers.add_parser(
         "calibrate",
+        # --strict is added again below with calibrate's own meaning, replacing the run options'
+        conflict_handler="resolve",
         help="micromagnetics (magnum.np) → a calibrated particle model",
         description="Relax the material's isolated skyrmion, pairs and skyrmions near an edge "
         "with magnum.np, tabulate the pair and edge laws, write DIR/model.toml (use it as "
@@ -88,6 +94,13 @@ def register(subparsers) -> None:
     )
     add_json_option(p, "the calibration's numbers")
     add_run_options(p)
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="exit with status 1 when a quality check of the model fails (the mesh, the film "
+        "size, the edge energy at a real edge, the validation's goal for the RMS centre "
+        "error: the first lines of report.html); the files are written all the same",
+    )
     p.set_defaults(func=_calibrate)
 
 
@@ -118,13 +131,19 @@ def _calibrate(args: argparse.Namespace) -> int:
     with named_by_flags(args, _FLAGS), limits_from_flags(args, announce=not args.json):
         material = load_micromagnetic_material(args.material, cell_size=args.cell_size)
         data = calibrate(material, args.out, workers=args.workers, **options, **_settings(args))
+    failed = [c for c in data.get("quality_checks", []) if not c["passed"]]
+    for check in failed:
+        print(
+            f"skygas: warning: the model fails a quality check ({check['name']}): {check['what']}",
+            file=sys.stderr,
+        )
     if args.json:
         print_json(brief(data, args.out))
     else:
         for line in lines(data):
             print(line)
         print(f"results in {Path(args.out).resolve()}: model.toml, report.html, summary.json")
-    return 0
+    return EXIT_CHECK_FAILED if failed and args.strict else 0
 
 
 def brief(data: dict, out) -> dict:
@@ -146,6 +165,7 @@ def brief(data: dict, out) -> dict:
         "wall_seconds": data["provenance"]["wall_seconds"],
         "stage_spans_s": data["provenance"]["stage_spans_s"],
         "skygas_version": data["skygas_version"],
+        "quality_checks": data.get("quality_checks", []),
     }
     validation = data.get("validation", {})
     out_data["validation"] = {
@@ -155,9 +175,19 @@ def brief(data: dict, out) -> dict:
 
 
 def lines(data: dict) -> list[str]:
-    """Readable lines of a calibration's ``summary.json`` data: skyrmion, laws, validation."""
+    """Readable lines of a calibration's ``summary.json`` data.
+
+    Its quality checks first (one line each, passed or FAILED), then the skyrmion, the laws
+    and the validation.
+    """
+    from skygas.calibration.results import VALIDATION_GOAL
+
     iso = data["isolated"]
     out = [
+        f"{c['name']}: {'passed' if c['passed'] else 'FAILED'}: {c['what']}"
+        for c in data.get("quality_checks", [])
+    ]
+    out += [
         f"isolated skyrmion: R = {iso['radius'] * 1e9:.2f} nm, Δ = "
         f"{iso['wall_width'] * 1e9:.2f} nm, Q = {iso['charge']:+.4f}, G = "
         f"{iso['gyrocoupling']:.4g} kg/s, 𝒟 = {iso['dissipation']:.3f} (thin-wall "
@@ -170,7 +200,8 @@ def lines(data: dict) -> list[str]:
     if v and "rms_error_max_d_sk" in v:
         out.append(
             f"validation: {v['skyrmions']} skyrmions, {v['duration_s'] * 1e9:.2f} ns of "
-            f"LLG; RMS centre error max {v['rms_error_max_d_sk']:.3f} d_sk (goal 0.1)"
+            f"LLG; RMS centre error max {v['rms_error_max_d_sk']:.3f} d_sk (goal "
+            f"{VALIDATION_GOAL:g})"
         )
     elif v:
         out.append(f"validation: {v.get('note', 'none')}")

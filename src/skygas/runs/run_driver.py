@@ -424,6 +424,8 @@ def _progress_bar(job: Job, enabled: bool):
     def update() -> None:
         nonlocal compiling
         bar.total = round(job.work_total, 6)  # a job may learn its size as it goes
+        # a job may say what it is doing now (a calibration's stage)
+        bar.set_description(getattr(job, "work_description", "simulated"), refresh=False)
         done = round(job.work_done(), 6)
         if compiling:
             # the first piece included the compilation: the rate, and so the remaining time,
