@@ -88,6 +88,15 @@ def test_track_refuses_a_bad_movie_in_one_line(name, tmp_path):
     refused([*args, "--out", "OUT"], tmp_path, *expected)
 
 
+def test_track_with_json_refuses_in_one_line_and_prints_nothing_on_stdout(tmp_path):
+    _write_movies(tmp_path)
+    before = snapshot(tmp_path)
+    proc = run(["track", "good.tif", "--out", "OUT", "--pixel-size", "14", "--json"], tmp_path)
+    assert_one_line(proc, "--pixel-size = 14.0", "14e-9")
+    assert proc.stdout == ""  # a reader of the JSON gets nothing, not half an object
+    assert snapshot(tmp_path) == before
+
+
 def test_track_refuses_a_movie_larger_than_memory(tmp_path):
     _write_movies(tmp_path)
     before = snapshot(tmp_path)

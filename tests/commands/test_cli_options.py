@@ -77,6 +77,7 @@ def test_every_json_option_is_the_one_helper_and_prints_indented_standard_json(c
         "skygas calibrate",
         "skygas infer",
         "skygas optimize",
+        "skygas track",
     }
     assert set(with_json) == expected
     helps = {_options(COMMANDS[name])["--json"].help for name in with_json}

@@ -173,7 +173,7 @@ def test_track_and_render_from_the_command_line(tmp_path):
         timeout=300,
     )
     assert proc.returncode == 0, proc.stderr
-    assert "30 tracks" in proc.stdout and "pixel size 1.4e-08 m" in proc.stdout
+    assert "30 tracks" in proc.stdout and "pixel size 14 nm, frame interval 2 ns" in proc.stdout
     summary = json.loads((out / "track.json").read_text())
     assert summary["frames"] == 400 and summary["choices"]["contrast"] == "dark"
     # the shipped sidecars: the outline on the movie's pixel grid and as a polygon in metres

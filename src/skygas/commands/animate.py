@@ -99,5 +99,11 @@ def register(subparsers) -> None:
         help="most frames when --stride is not given (default 1200 MP4, 300 GIF)",
     )
     p.add_argument("--fps", type=int, default=25, help="frames per second (default 25)")
-    p.add_argument("--width", type=int, default=720, help="width in pixels (default 720)")
+    p.add_argument(
+        "--width",
+        type=int,
+        default=720,
+        help="width in pixels (default 720; a tall device is drawn narrower, at most 1024 "
+        "pixels high, and a width too small for the axes and the colour bar is widened)",
+    )
     p.set_defaults(func=_animate)

@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 from skygas.commands.json_output import add_json_option
+from skygas.commands.track import DRIFT_CHOICES, add_drift_option
 
 #: Exit status of a model whose self-check failed under ``--strict``.
 EXIT_CHECK_FAILED = 1
@@ -39,7 +40,13 @@ def register(subparsers) -> None:
         help="a .csv, .h5 or .parquet file of tracks, or the output folder of skygas track "
         "(its tracks.csv)",
     )
-    p.add_argument("--pixel-size", type=float, default=None, help="metres per pixel (required)")
+    p.add_argument(
+        "--pixel-size",
+        type=float,
+        default=None,
+        help="metres per pixel (default: the one the track.json of a skygas track folder "
+        "records, for that folder or its tracks.csv; required for other tracks)",
+    )
     p.add_argument(
         "--frame-interval", type=float, default=None, help="seconds between frames (required)"
     )
@@ -87,8 +94,12 @@ def register(subparsers) -> None:
         help="R [m], the model's length unit (default: the base material's, or a quarter of the "
         "closest distance between tracked skyrmions where that is far larger)",
     )
-    p.add_argument(
-        "--drift", choices=("auto", "yes", "no"), default="auto", help="subtract trackpy's drift"
+    add_drift_option(
+        p,
+        ("auto", *DRIFT_CHOICES),
+        "auto",
+        "subtract trackpy's drift of the whole view: auto (where it is significant and "
+        "sharpens the landscape), yes or no (default auto)",
     )
     p.add_argument(
         "--check-frames",
@@ -99,10 +110,16 @@ def register(subparsers) -> None:
     p.add_argument(
         "--strict",
         action="store_true",
-        help="exit with status 1 when the self-check fails or the frames are too coarse to fix D",
+        help="exit with status 1 when the self-check fails (the model's MSD(τ)/4τ, g(r) or "
+        "density map outside its stated tolerance: the first rows of report.html) or the "
+        "frames are too coarse to fix D",
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the self-check's run")
-    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress lines on stderr and no summary on stdout (warnings are still printed)",
+    )
     add_json_option(p, "the inferred model: inference.json's numbers")
     p.set_defaults(func=_infer)
 
@@ -133,10 +150,16 @@ def _infer(args: argparse.Namespace) -> int:
     from skygas.core.errors import require
     from skygas.inference import infer
     from skygas.inference.files import write_outputs
-    from skygas.inference.selfcheck import summary_lines
+    from skygas.inference.selfcheck import frames_check, summary_lines
 
     require(args.check_frames >= 0, "--check-frames", args.check_frames, "an integer >= 0")
     periodic = _periodic(args.periodic)
+    from skygas.inference.tracks import pixel_size_for
+
+    # a skygas track folder's track.json holds the pixel size (before the outline is read)
+    pixel_size, note = pixel_size_for(args.tracks, args.pixel_size)
+    if note and not args.quiet:
+        print(f"skygas infer: {note}", file=sys.stderr, flush=True)
     started = time.time()
     quiet = args.json or args.quiet
 
@@ -146,7 +169,7 @@ def _infer(args: argparse.Namespace) -> int:
 
     result = infer(
         args.tracks,
-        pixel_size=args.pixel_size,
+        pixel_size=pixel_size,
         frame_interval=args.frame_interval,
         temperature=args.temperature,
         outline=args.outline,
@@ -170,6 +193,12 @@ def _infer(args: argparse.Namespace) -> int:
     if check is not None and not check["passed"]:
         for line in summary_lines(check):
             print(f"skygas: warning: the model fails its self-check: {line}", file=sys.stderr)
+    frames = frames_check(s)
+    # coarse frames left uncorrected (--check-frames 0): D and the forces carry a bias (a
+    # correction that did not converge was said above)
+    if not frames["passed"] and s["diffusion_constant_fixed_by_data"]:
+        failed = True
+        print(f"skygas: warning: {frames['what']}", file=sys.stderr)
     if args.json:
         print_json(
             {

@@ -7,6 +7,44 @@
 from __future__ import annotations
 
 import argparse
+import sys
+
+from skygas.commands.json_output import add_json_option
+
+#: ``--drift``'s answers in ``skygas track`` (subtract the picture's drift: yes or no);
+#: ``skygas infer`` adds ``auto``
+DRIFT_CHOICES = ("yes", "no")
+#: older spellings of ``--drift`` (``skygas track``'s before), still read as their answer
+DRIFT_ALIASES = {"on": "yes", "off": "no"}
+
+
+def drift_word(text: str) -> str:
+    """A ``--drift`` answer as typed, the older ``on``/``off`` read as ``yes``/``no``."""
+    word = text.strip().lower()
+    return DRIFT_ALIASES.get(word, word)
+
+
+def add_drift_option(parser, choices: tuple[str, ...], default: str, what: str) -> None:
+    """Add ``--drift`` (one vocabulary for ``skygas track`` and ``skygas infer``) to ``parser``.
+
+    ``choices``: the answers, from ``auto``, ``yes`` and ``no``; ``what``: the help text, which
+    gives the default. ``on`` and ``off`` are read as ``yes`` and ``no``.
+    """
+    parser.add_argument(
+        "--drift",
+        type=drift_word,
+        choices=choices,
+        default=default,
+        metavar="{" + ",".join(choices) + "}",
+        help=f"{what}; on and off, the older spellings, are read as yes and no",
+    )
+
+
+def _q(value: float | None, unit: str = "", digits: int = 4) -> str:
+    """A number as skygas writes it for a person: SI prefix or ×10ⁿ, never e-notation."""
+    from skygas.core.quantities import format_value
+
+    return format_value(value, unit=unit, digits=digits) or "not known"
 
 
 def _check_track_out(args) -> None:
@@ -20,10 +58,12 @@ def _check_track_out(args) -> None:
 
 
 def _track(args: argparse.Namespace) -> int:
+    from skygas.commands.json_output import print_json
     from skygas.commands.run_options import limits_from_flags
     from skygas.movies.track_run import track_movie
 
-    with limits_from_flags(args):  # --force: a movie expected to take over a day
+    # --force: a movie expected to take over a day; --json: no estimate line, no progress bar
+    with limits_from_flags(args, announce=not args.json):
         result = track_movie(
             args.movie,
             args.out,
@@ -34,29 +74,31 @@ def _track(args: argparse.Namespace) -> int:
             minmass=args.minmass,
             search_range=args.search_range,
             memory=args.memory,
-            drift=args.drift == "on",
-            progress=not args.quiet,
+            drift=args.drift == "yes",
+            progress=not (args.quiet or args.json),
         )
     s = result.summary
+    for warning in s["warnings"]:
+        print(f"skygas: warning: {warning}", file=sys.stderr)
+    if args.json:  # what track.json holds
+        print_json(s)
+        return 0
     c, n = s["choices"], s["counts"]
     print(
         f"skygas track: {s['frames']} frames of {s['frame_shape_px'][1]} × "
         f"{s['frame_shape_px'][0]} px; {c['contrast']} skyrmions ({c['sources']['contrast']}), "
-        f"diameter {c['diameter']} px, minmass {c['minmass']:.4g}, search range "
-        f"{c['search_range']:.3g} px, memory {c['memory']}"
+        f"diameter {c['diameter']} px, minmass {_q(c['minmass'])}, search range "
+        f"{_q(c['search_range'], digits=3)} px, memory {c['memory']}"
     )
     print(
         f"  {n['features']} features, {n['per_frame_mean']:.1f} per frame; {n['tracks']} tracks, "
         f"median length {n['track_length_median_frames']:.0f} frames, "
         f"{n['tracks_spanning_whole_movie']} spanning the whole movie"
     )
-    p, dt = s["pixel_size_m"], s["frame_interval_s"]
     print(
-        f"  pixel size {f'{p:.4g} m' if p else 'not known'}, frame interval "
-        f"{f'{dt:.4g} s' if dt else 'not known'}"
+        f"  pixel size {_q(s['pixel_size_m'], 'm')}, frame interval "
+        f"{_q(s['frame_interval_s'], 's')}"
     )
-    for warning in s["warnings"]:
-        print(f"warning: {warning}")
     print(f"results in {args.out} (tracks.csv, track.json, overlay.mp4, report.html)")
     return 0
 
@@ -121,7 +163,7 @@ def _render(args: argparse.Namespace) -> int:
     t, ny, nx = frames.shape
     print(
         f"wrote {out} ({t} frames of {nx} × {ny} px, {frames.dtype}, pixel size "
-        f"{settings.pixel_size:.4g} m, frame interval {metadata['frame_interval_s']:.4g} s, "
+        f"{_q(settings.pixel_size, 'm')}, frame interval {_q(metadata['frame_interval_s'], 's')}, "
         f"{out.stat().st_size / 1e6:.2f} MB)"
     )
     written = [out.with_suffix(".json"), png, csv, *([landscape] if landscape else [])]
@@ -187,14 +229,15 @@ def register(subparsers) -> None:
         default=None,
         help="frames a skyrmion may be missed and keep its track (default 3)",
     )
-    p.add_argument(
-        "--drift",
-        choices=["off", "on"],
-        default="off",
-        help="subtract the drift of the whole picture, e.g. a stage's (default off: in a "
-        "closed device the gas's mean position moves for real)",
+    add_drift_option(
+        p,
+        DRIFT_CHOICES,
+        "no",
+        "subtract the drift of the whole picture, e.g. a stage's (default no: in a closed "
+        "device the gas's mean position moves for real)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_json_option(p, "the summary (what track.json holds)")
     add_force_option(p)
     p.set_defaults(func=_track, check_out=_check_track_out)
 

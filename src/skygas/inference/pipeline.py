@@ -48,7 +48,7 @@ from skygas.inference import diffusion as diff
 from skygas.inference import landscape as land
 from skygas.inference.film import EDGE_STEPS, Film, box_film, field_of_view, tracks_leave
 from skygas.inference.outline import read_outline
-from skygas.inference.tracks import Tracks, load_tracks, metres
+from skygas.inference.tracks import Tracks, load_tracks, metres, pixel_size_for
 from skygas.physics.materials import derive_thiele, load_material
 
 #: Largest share of positions allowed outside the outline (by more than a pixel).
@@ -248,6 +248,10 @@ def infer(
     if skyrmion_radius is not None:
         metres("--skyrmion-radius", skyrmion_radius)
     kt = units.BOLTZMANN * temperature
+    # a track folder's track.json holds the pixel size its tracks were made with
+    pixel_size, note = pixel_size_for(source, pixel_size)
+    if note is not None:
+        say(note)
     # the outline's file is judged before the tracks are worked on (a mask needs the pixel size)
     shape = None
     if outline is not None and pixel_size is not None:
@@ -620,6 +624,8 @@ def infer(
             "drive_force_N": list(built.drive_force),
         },
     }
+    # the inference's own checks lead its summary, as they lead its report
+    summary = {"quality_checks": selfcheck.quality_checks(summary), **summary}
     return Inference(
         summary,
         result,

@@ -1,8 +1,11 @@
-"""``report.html`` of ``skygas infer``: the headline numbers, the self-check, the figures.
+"""``report.html`` of ``skygas infer``: the quality checks, the headline numbers, the figures.
 
-Every number comes from the summary (inference.json) and every figure draws the same numbers:
-the MSD figure's horizontal line is the D of the headline, the force bands are the jackknife
-errors the headline quotes.
+The headline starts with the inference's checks against their stated tolerances
+(:func:`skygas.inference.selfcheck.quality_checks`: the frames against the motion, the
+self-check's comparisons), each ``passed`` or ``FAILED``. Every number comes from the summary
+(inference.json) and every figure draws the same numbers: the MSD figure's horizontal lines are
+the Ds of the headline (the model's, and the short-lag MSD fit's), the force bands are the
+jackknife errors the headline quotes.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ import math
 
 import numpy as np
 
+from skygas.inference.diffusion import FIT_LAGS
 from skygas.inference.pipeline import Inference
 
 TERM_NAMES = {
@@ -74,28 +78,66 @@ def _length(metres: float) -> str:
     return format_value(metres, None, "m", digits=3) or "?"
 
 
+def check_rows(s: dict) -> list[tuple[str, str]]:
+    """The headline's first rows: each quality check, ``passed`` or ``FAILED``, with its numbers."""
+    from skygas.inference.selfcheck import quality_checks
+
+    rows = [
+        (c["name"], ("passed: " if c["passed"] else "FAILED: ") + c["what"])
+        for c in quality_checks(s)
+    ]
+    check = s["consistency_check"]
+    if check is None:
+        rows.append(("self-check of the model", "not run (--check-frames 0)"))
+    elif not check["pair_correlation"].get("judged", True):
+        rows.append(
+            (
+                "self-check: g(r)",
+                "shown, not judged: the model has no pair law (g(r) then carries only the "
+                "landscape, which the density map tests)",
+            )
+        )
+    return rows
+
+
+def _corrected(s: dict) -> bool:
+    """Whether the model's D is the steps' reading corrected for the frame interval."""
+    return bool(s["sampling_correction"]["applied"])
+
+
 def headline_rows(result: Inference) -> list[tuple[str, str]]:
-    """The report's headline: label, value as text."""
+    """The report's headline: label, value as text; the quality checks first."""
     s = result.summary
     land = s["landscape"]
-    check = s["consistency_check"]
-    rows = []
-    if check is not None:
-        verdict = (
-            "passed: runs of the model reproduce the movie's MSD(τ), g(r) and density map"
-            if check["passed"]
-            else "FAILED: " + "; ".join(_check_lines(check))
-        )
-        rows.append(("self-check of the model", verdict))
+    rows = check_rows(s)
     rows += [
         (
-            "diffusion constant D (from the noise)",
+            "diffusion constant D (from the noise"
+            + (", corrected for the frame interval)" if _corrected(s) else ")"),
             _fmt(s["diffusion_constant"], s["diffusion_constant_error"], 1, "m²/s")
             + (
                 ""
                 if s.get("diffusion_constant_fixed_by_data", True)
                 else " as read, NOT fixed: the frames are too coarse for the forces"
             ),
+        ),
+    ]
+    if _corrected(s):
+        rows.append(
+            (
+                "D as the steps read it (before the correction)",
+                _fmt(
+                    s["diffusion_constant_as_read"],
+                    s["diffusion_constant_as_read_error"],
+                    1,
+                    "m²/s",
+                ),
+            )
+        )
+    rows += [
+        (
+            f"D of the short-lag MSD fit (lags 1–{FIT_LAGS}, 4σ² + 4Dτ + cτ²)",
+            _fmt(s["diffusion_constant_msd_fit"], s["diffusion_constant_msd_fit_error"], 1, "m²/s"),
         ),
         (
             "Hall angle",
@@ -143,12 +185,6 @@ def headline_rows(result: Inference) -> list[tuple[str, str]]:
     return rows
 
 
-def _check_lines(check: dict) -> list[str]:
-    from skygas.inference.selfcheck import summary_lines
-
-    return summary_lines(check)
-
-
 def report_html(result: Inference) -> str:
     """One self-contained HTML page: headline numbers and the figures."""
     from skygas.inference.files import record
@@ -174,6 +210,90 @@ def report_html(result: Inference) -> str:
     return page.html()
 
 
+#: The labels of the MSD figure's horizontal lines (:func:`msd_lines`).
+MSD_MODEL_LINE = "D of the model (from the noise of the steps)"
+MSD_CORRECTED_LINE = "D of the model (from the noise, corrected for the frame interval)"
+MSD_AS_READ_LINE = "D as the steps read it (before the correction)"
+MSD_FIT_LINE = f"D of the short-lag MSD fit (lags 1–{FIT_LAGS})"
+
+
+def msd_lines(s: dict) -> list[tuple[str, float, str]]:
+    """The Ds the MSD figure draws as horizontal lines: (label, D [m²/s], line style).
+
+    The model's D; where a correction for the frame interval moved it, also D as the steps
+    read it; and the D of the short-lag fit of the movie's MSD, 4σ² + 4Dτ + cτ² through lags
+    1 … :data:`~skygas.inference.diffusion.FIT_LAGS` (its slope, which the movie's MSD(τ)/4τ
+    approaches only where the localisation error's 4σ²/4τ and the drift's cτ/4 are small).
+    """
+    lines = [
+        (
+            MSD_CORRECTED_LINE if _corrected(s) else MSD_MODEL_LINE,
+            s["diffusion_constant"],
+            "k-",
+        )
+    ]
+    if _corrected(s):
+        lines.append((MSD_AS_READ_LINE, s["diffusion_constant_as_read"], "k:"))
+    if s.get("diffusion_constant_msd_fit") is not None:
+        lines.append((MSD_FIT_LINE, s["diffusion_constant_msd_fit"], "k--"))
+    return [line for line in lines if line[1] is not None and math.isfinite(line[1])]
+
+
+def msd_figure(s: dict) -> tuple[bytes, str]:
+    """MSD(τ)/4τ of the movie and of the model's run, the Ds as lines; its caption (verdict)."""
+    from matplotlib.figure import Figure
+
+    from skygas.inference.selfcheck import comparison_checks
+
+    m = s["consistency_check"]["msd"]
+    fig = Figure(figsize=(5.4, 3.6))
+    ax = fig.add_subplot()
+    tau = np.array(m["lag_time_s"])
+    ax.errorbar(tau, m["movie_msd_over_4tau_m2_s"], m["movie_error_m2_s"], fmt="o", label="movie")
+    # the model's points a little to the right: their error bars would hide the movie's
+    ax.errorbar(
+        tau * 1.05,
+        m["model_msd_over_4tau_m2_s"],
+        m["model_error_m2_s"],
+        fmt="s",
+        label="model (skygas run)",
+    )
+    for label, value, style in msd_lines(s):
+        ax.axhline(value, color=style[0], ls=style[1:], lw=0.8, label=label)
+    ax.set_xscale("log")
+    ax.set_xlabel("lag τ [s]")
+    ax.set_ylabel("MSD/4τ [m²/s]")
+    ax.legend(fontsize=6)
+    msd_checks = [c for c in comparison_checks(s["consistency_check"]) if "MSD" in c["name"]]
+    verdict = " ".join(
+        ("Passed" if c["passed"] else "FAILED") + f" ({c['name'][len('self-check: ') :]}): "
+        f"{c['what']}."
+        for c in msd_checks
+    )
+    lines = "; ".join(_line_words(label) for label, _, _ in msd_lines(s))
+    caption = (
+        "MSD(τ)/4τ of the movie and of a run of the model, as the movie would have seen it "
+        "(localisation error included), with blocked standard errors. Horizontal lines: "
+        f"{lines}. {verdict}"
+    )
+    return _png(fig), caption
+
+
+def _line_words(label: str) -> str:
+    """What a horizontal line of the MSD figure is, for its caption."""
+    words = {
+        MSD_MODEL_LINE: "solid, the model's D, from the noise of the steps (the free D the "
+        "model's skyrmions have)",
+        MSD_CORRECTED_LINE: "solid, the model's D, from the noise of the steps corrected for "
+        "the frame interval (the free D the model's skyrmions have)",
+        MSD_AS_READ_LINE: "dotted, D as the steps read it before that correction",
+        MSD_FIT_LINE: f"dashed, the slope D of the quadratic fit 4σ² + 4Dτ + cτ² to the "
+        f"movie's MSD at lags 1–{FIT_LAGS} (the movie's MSD(τ)/4τ approaches it where the "
+        "localisation error's σ²/τ and the drift's cτ/4 are small)",
+    }
+    return words[label]
+
+
 def _figures(result: Inference) -> list[tuple[bytes, str]]:
     from matplotlib.figure import Figure
 
@@ -181,32 +301,7 @@ def _figures(result: Inference) -> list[tuple[bytes, str]]:
     out = []
     check = s["consistency_check"]
     if check is not None:
-        fig = Figure(figsize=(5, 3.4))
-        ax = fig.add_subplot()
-        m = check["msd"]
-        tau = np.array(m["lag_time_s"])
-        ax.errorbar(
-            tau, m["movie_msd_over_4tau_m2_s"], m["movie_error_m2_s"], fmt="o", label="movie"
-        )
-        ax.errorbar(
-            tau * 1.05,
-            m["model_msd_over_4tau_m2_s"],
-            m["model_error_m2_s"],
-            fmt="s",
-            label="model (skygas run)",
-        )
-        ax.axhline(s["diffusion_constant"], color="k", lw=0.8, label="D (from the noise)")
-        ax.set_xscale("log")
-        ax.set_xlabel("lag τ [s]")
-        ax.set_ylabel("MSD/4τ [m²/s]")
-        ax.legend(fontsize=7)
-        out.append(
-            (
-                _png(fig),
-                "MSD(τ)/4τ of the movie and of a run of the model, as the movie would have seen "
-                "it (localisation error included), with the free D from the noise of the steps.",
-            )
-        )
+        out.append(msd_figure(s))
     fmap = result.map
     g = fmap.grid
     ext = (g.x[0] * 1e6, g.x[-1] * 1e6, g.y[0] * 1e6, g.y[-1] * 1e6)

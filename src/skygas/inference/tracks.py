@@ -5,8 +5,9 @@ integer), ``particle`` (the track it was linked into), ``x`` and ``y`` in **pixe
 columns of their own (``mass``, ``size``, ...), which are ignored here. They come as a pandas
 DataFrame, a CSV file, an HDF5 file (pandas' ``to_hdf``, needs PyTables) or a Parquet file (needs
 pyarrow). :func:`load_tracks` checks them before any work, converts pixels to metres with the
-pixel size and frames to seconds with the frame interval, and removes a common drift of the
-whole field of view with trackpy's own :func:`trackpy.compute_drift` and
+pixel size (given, or the one the ``track.json`` of a ``skygas track`` folder records:
+:func:`pixel_size_for`) and frames to seconds with the frame interval, and removes a common
+drift of the whole field of view with trackpy's own :func:`trackpy.compute_drift` and
 :func:`trackpy.subtract_drift` when the drift is larger than the wandering of the gas's centre
 of mass (:func:`drift_is_significant`).
 """
@@ -14,6 +15,8 @@ of mass (:func:`drift_is_significant`).
 from __future__ import annotations
 
 import hashlib
+import json
+import math
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,6 +31,11 @@ from skygas.core.resources import require_memory
 REQUIRED_COLUMNS = ("frame", "particle", "x", "y")
 #: The table ``skygas track`` writes into its output folder, read when that folder is given.
 TRACK_FOLDER_TABLE = "tracks.csv"
+#: The record ``skygas track`` writes beside its table: the pixel size the tracks were made with.
+TRACK_FOLDER_RECORD = "track.json"
+#: A pixel size given and the one track.json records agree within this relative difference
+#: (14e-9 typed, 1.4000000000000001e-08 read from a TIFF's resolution tag).
+PIXEL_SIZE_RTOL = 1e-6
 #: Bytes the inference holds per position of the movie (its tables, steps and force fields):
 #: 0.65 KiB measured on the shipped chamber movie repeated four times (48 000 positions), with
 #: room to spare. A table is refused before any work when its frames, full, would not fit.
@@ -117,6 +125,103 @@ def track_file(source) -> Path:
         return table
     require(path.is_file(), "tracks", str(source), "an existing .csv, .h5 or .parquet file")
     return path
+
+
+def track_record(source) -> Path | None:
+    """The track.json of the ``skygas track`` folder that ``source`` names, or None.
+
+    ``source`` names a folder when it is the folder or the folder's tracks.csv
+    (:data:`TRACK_FOLDER_TABLE`); a table of another name, a DataFrame or a folder without
+    track.json has no record.
+    """
+    if not isinstance(source, (str, Path)):
+        return None
+    path = Path(str(source))
+    if path.is_dir():
+        folder = path
+    elif path.name == TRACK_FOLDER_TABLE:
+        folder = path.parent
+    else:
+        return None
+    record = folder / TRACK_FOLDER_RECORD
+    return record if record.is_file() else None
+
+
+def recorded_pixel_size(record: Path) -> float | None:
+    """The pixel size [m] a track.json records; None when its movie carried none.
+
+    Raises
+    ------
+    InputError
+        If ``record`` is not a track.json as ``skygas track`` writes it, or its pixel size is
+        not a length in metres.
+    """
+    try:
+        value = json.loads(record.read_text(encoding="utf-8"))["pixel_size_m"]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError):
+        raise InputError(
+            "tracks",
+            str(record),
+            "a track.json as skygas track writes it, holding pixel_size_m",
+            "give --pixel-size, or run skygas track again to write it anew",
+        ) from None
+    if value is None:
+        return None
+    require(
+        isinstance(value, (int, float)) and not isinstance(value, bool),
+        "pixel_size_m",
+        value,
+        f"a pixel size in metres in {record}",
+        "give --pixel-size, or run skygas track again to write it anew",
+    )
+    return metres("pixel_size_m", float(value), f"the pixel size {record} records")
+
+
+def pixel_size_for(source, given: float | None) -> tuple[float | None, str | None]:
+    """The pixel size [m] of the tracks ``source``, and a line saying so when track.json gave it.
+
+    For the folder of ``skygas track`` (or its tracks.csv) its track.json records the pixel size
+    the tracks were made with: used when none is ``given``, and a ``given`` one that differs
+    (by more than :data:`PIXEL_SIZE_RTOL`) is refused. Otherwise ``given`` (None when there is
+    none: :func:`load_tracks` asks for it).
+
+    Returns
+    -------
+    pixel_size : float or None
+        Metres per pixel.
+    note : str or None
+        "pixel size 14 nm from FOLDER/track.json (no --pixel-size given)" when track.json gave it.
+
+    Raises
+    ------
+    InputError
+        A ``given`` pixel size that is not the one track.json records; with none given, a
+        track.json that cannot be read.
+    """
+    from skygas.core.quantities import format_value
+
+    record = track_record(source)
+    if record is None:
+        return given, None
+    if given is None:
+        recorded = recorded_pixel_size(record)
+        if recorded is None:
+            return None, None
+        shown = format_value(recorded, unit="m", digits=4)
+        return recorded, f"pixel size {shown} from {record} (no --pixel-size given)"
+    try:
+        recorded = recorded_pixel_size(record)
+    except InputError:  # a track.json that cannot be read says nothing against a given size
+        return given, None
+    if recorded is not None and not math.isclose(given, recorded, rel_tol=PIXEL_SIZE_RTOL):
+        raise InputError(
+            "--pixel-size",
+            given,
+            f"the pixel size the tracks were made with, {recorded!r} m ({record} records it)",
+            "leave --pixel-size out to use it, or track the movie again with the right "
+            "--pixel-size",
+        )
+    return given, None
 
 
 def metres(field: str, value: float, hint: str | None = None) -> float:
@@ -298,7 +403,9 @@ def load_tracks(
     source : DataFrame or path
         trackpy's table (``frame``, ``particle``, ``x``, ``y`` in pixels).
     pixel_size : float
-        Metres per pixel, 1 pm … 1 m (:func:`metres`).
+        Metres per pixel, 1 pm … 1 m (:func:`metres`); for a ``skygas track`` folder, the one
+        its track.json records (:func:`pixel_size_for`: a different one is refused; without
+        one, the refusal names the recorded value).
     frame_interval : float
         Seconds between frames, > 0.
     subtract_drift : {"auto", "yes", "no"}
@@ -317,14 +424,19 @@ def load_tracks(
     -------
     Tracks
     """
-    require(
-        pixel_size is not None,
-        "--pixel-size",
-        pixel_size,
-        "the size of one pixel in metres (trackpy's x, y are in pixels)",
-        "give --pixel-size, e.g. --pixel-size 10e-9",
-    )
-    assert pixel_size is not None
+    # the command line takes track.json's pixel size (pixel_size_for) before it reads the
+    # outline; here a different one is refused, and a missing one asked for with its value
+    if pixel_size is None:
+        recorded, _ = pixel_size_for(source, None)
+        raise InputError(
+            "--pixel-size",
+            None,
+            "the size of one pixel in metres (trackpy's x, y are in pixels)",
+            f"give --pixel-size {recorded!r}, the pixel size {track_record(source)} records"
+            if recorded is not None
+            else "give --pixel-size, e.g. --pixel-size 10e-9",
+        )
+    pixel_size_for(source, pixel_size)
     metres("--pixel-size", pixel_size)
     require(
         frame_interval is not None and np.isfinite(frame_interval) and frame_interval > 0,

@@ -6,9 +6,11 @@ Writes into the output folder:
   ecc, signal, raw_mass, ep``), plain CSV that ``pandas.read_csv`` and ``skygas infer`` read;
 - ``track.json``: the choices (contrast sign, feature diameter, mass threshold, search range,
   memory, drift) with the statistics they came from, the counts (features, tracks, per frame,
-  track lengths), the pixel size and frame interval with their source, and the provenance
-  (skygas version, command line, SHA-256 of the input);
-- ``overlay.mp4``: the movie with the located skyrmions circled and their tails;
+  track lengths in frames: a track's length runs from its first frame to its last, gaps
+  included), the pixel size and frame interval with their source, and the provenance (skygas
+  version, command line, SHA-256 of the input);
+- ``overlay.mp4``: the movie with the located skyrmions circled and their tails, the frame's
+  number and a scale bar below the picture;
 - ``detections.png`` (the first frame and its detections), ``track_lengths.png`` (histogram)
   and ``report.html``.
 """
@@ -197,6 +199,7 @@ def _summary(movie, choices, tracks, pixel_size, frame_interval, sources, drift)
             "per_frame_mean": float(per_frame.mean()),
             "per_frame_min": int(per_frame.min()),
             "per_frame_max": int(per_frame.max()),
+            "track_length_mean_frames": float(np.mean(lengths)) if len(lengths) else 0.0,
             "track_length_median_frames": float(np.median(lengths)) if len(lengths) else 0.0,
             "track_length_max_frames": int(lengths.max()) if len(lengths) else 0,
             "tracks_spanning_whole_movie": int(np.sum(lengths == movie.n_frames)),
@@ -225,7 +228,14 @@ def _write(out: Path, movie, choices, tracks, summary: dict) -> None:
 
     try:
         write_atomic(out / "tracks.csv", lambda tmp: tracks.table.to_csv(tmp, index=False))
-        summary["overlay"] = write_overlay(out / "overlay.mp4", movie, tracks, choices.diameter)
+        summary["overlay"] = write_overlay(
+            out / "overlay.mp4",
+            movie,
+            tracks,
+            choices.diameter,
+            pixel_size=summary["pixel_size_m"],
+            frame_interval=summary["frame_interval_s"],
+        )
         write_figures(out, movie, tracks, choices, summary)
         text = track_report(out, summary)
         write_atomic(out / "report.html", lambda tmp: tmp.write_text(text, encoding="utf-8"))

@@ -5,7 +5,7 @@ GIF through Pillow.
 Each frame shows the device outline over its energy landscape (U/k_BT) when the run has one,
 else over its current density (log colour scale; plain grey without a current), the skyrmions
 as disks of their real diameter coloured by their group (the input bit they carry in the
-reshuffler), a time stamp and a scale bar.
+reshuffler) and, outside the device, a time stamp, a scale bar and the groups' legend.
 
 Speed: the static picture (outline, current, colour bar, legend, scale bar) is drawn once with
 matplotlib; every frame then only paints disks and the time stamp onto a copy of it with
@@ -112,10 +112,32 @@ def choose_frames(
     return index[::stride], stride
 
 
+#: the margins of a movie frame [px]: below the chamber its tick labels and axis label, above
+#: it the time stamp and the scale bar, left of it the y axis, right of it the colour bar
+#: (tick labels such as 6×10¹⁰ and its label) or a little air
+BOTTOM_PX = 45
+TOP_PX = 45
+LEFT_PX = 72
+RIGHT_PX = {True: 130, False: 24}
+#: the narrowest chamber drawn [px]: a narrower ``width_px`` is widened to hold it and the margins
+MIN_AXES_PX = 96
+#: the gap between the legend's band and the stamp row [px]
+LEGEND_GAP_PX = 6
+
+
 class _Canvas:
-    """The static picture and the map from positions [m] to its pixels."""
+    """The static picture and the map from positions [m] to its pixels.
+
+    The chamber's axes fill the middle; above them, outside the device, the time stamp (left,
+    painted per frame) and the scale bar (right); above those, in a band of its own at the top
+    right, the legend of the skyrmions' groups; right of them the colour bar. Nothing but the
+    skyrmions is drawn over the device. ``figure`` is the matplotlib figure the static picture
+    is drawn on; ``width_px`` the frame's width [px], at least the margins and
+    :data:`MIN_AXES_PX`.
+    """
 
     def __init__(self, record, width_px: int):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
         from matplotlib.patches import Patch
         from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
@@ -124,17 +146,48 @@ class _Canvas:
 
         x0, y0, x1, y1 = np.array(record.outline._bounds_nm) * 1e-3  # µm
         aspect = (y1 - y0) / (x1 - x0)
+        background = record.background()
         dpi = 100
+        fig = Figure(figsize=(width_px / dpi, 1.0), dpi=dpi)
+        agg = FigureCanvasAgg(fig)
+        f = record.frames
+        shown: np.ndarray | list = np.unique(record.group_of(f.ids, f.x, f.y)) if len(f.ids) else []
+        self.legend = None
+        band = 0.0
+        if len(record.group_names) > 1 and len(shown):
+            handles = [
+                Patch(color=tuple(np.array(GROUP_COLOURS[g]) / 255), label=record.group_names[g])
+                for g in shown
+            ]
+            self.legend = fig.legend(
+                handles=handles,
+                loc="upper right",
+                bbox_to_anchor=(1.0, 1.0),
+                fontsize=7,
+                frameon=False,
+            )
+            # the legend's height in pixels (its font's, whatever the figure's size): a band
+            # of that height is kept free above the stamp row, so it never covers the device
+            band = self.legend.get_window_extent(agg.get_renderer()).height + LEGEND_GAP_PX
+        margins = BOTTOM_PX + TOP_PX + band
+        sides = LEFT_PX + RIGHT_PX[background is not None]
         # sizes in whole multiples of 16 px: H.264 encoders want even sizes, and ffmpeg
         # would rescale sizes that are not multiples of its macro block
         # a tall device (the reshuffler's two chambers) is narrowed to MAX_HEIGHT: pixels are
         # what painting and encoding cost
-        width_px = min(width_px, (MAX_HEIGHT - 90) / (0.78 * aspect))
-        width = 16 * round(width_px / 16)
-        height = 16 * max(8, round((width * 0.78 * aspect + 90) / 16))
-        fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi)
-        ax = fig.add_axes((0.14, 0.07, 0.64, 0.86))
-        background = record.background()
+        inner = min(width_px - sides, (MAX_HEIGHT - margins) / aspect)
+        width = 16 * math.floor((max(inner, MIN_AXES_PX) + sides) / 16)
+        height = 16 * max(8, round(((width - sides) * aspect + margins) / 16))
+        fig.set_size_inches(width / dpi, height / dpi)
+        ax = fig.add_axes(
+            (
+                LEFT_PX / width,
+                BOTTOM_PX / height,
+                (width - sides) / width,
+                (height - margins) / height,
+            )
+        )
+        image = None
         if background is not None:
             from matplotlib.colors import LogNorm
 
@@ -153,8 +206,6 @@ class _Canvas:
                 norm=norm,
                 alpha=0.85,
             )
-            cax = fig.add_axes((0.82, 0.25, 0.03, 0.5))
-            fig.colorbar(image, cax=cax, label=label)
         else:
             regions = getattr(record.outline.region, "geoms", [record.outline.region])
             for part in regions:
@@ -163,30 +214,32 @@ class _Canvas:
         draw_outline(ax, record.outline, labels=False)
         ax.set_xlim(x0 - 0.02 * (x1 - x0), x1 + 0.02 * (x1 - x0))
         ax.set_ylim(y0 - 0.02 * (y1 - y0), y1 + 0.02 * (y1 - y0))
-        bar_um = _nice_length(0.25 * (x1 - x0))
-        ax.add_artist(
-            AnchoredSizeBar(
-                ax.transData,
-                bar_um,
-                _length_label(bar_um),
-                "lower right",
-                pad=0.4,
-                frameon=True,
-                size_vertical=0,
+        if image is not None:  # beside the chamber as drawn (its aspect kept), half as tall
+            ax.apply_aspect()
+            box = ax.get_position()
+            cax = fig.add_axes(
+                (box.x1 + 14 / width, box.y0 + 0.25 * box.height, 14 / width, 0.5 * box.height)
             )
+            fig.colorbar(image, cax=cax, label=label)
+        bar_um = nice_length(0.25 * (x1 - x0))
+        # above the axes' top right corner, outside the device (a figure's artist: one of the
+        # axes would be clipped to them)
+        self.scale_bar = AnchoredSizeBar(
+            ax.transData,
+            bar_um,
+            length_label(bar_um * 1e-6),
+            "lower right",
+            bbox_to_anchor=(1.0, 1.0),
+            bbox_transform=ax.transAxes,
+            borderpad=0.1,
+            pad=0.1,
+            frameon=False,
+            size_vertical=0,
         )
-        f = record.frames
-        shown: np.ndarray | list = np.unique(record.group_of(f.ids, f.x, f.y)) if len(f.ids) else []
-        if len(record.group_names) > 1 and len(shown):
-            handles = [
-                Patch(color=tuple(np.array(GROUP_COLOURS[g]) / 255), label=record.group_names[g])
-                for g in shown
-            ]
-            fig.legend(handles=handles, loc="upper right", fontsize=7, frameon=False)
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-        agg = FigureCanvasAgg(fig)
+        fig.add_artist(self.scale_bar)
         agg.draw()
+        self.figure = fig
+        self.axes = ax
         self.image = np.asarray(agg.buffer_rgba())[..., :3].copy()
         self.height, self.width = self.image.shape[:2]
         # data (µm) → display pixels (origin bottom left) → image rows (origin top left)
@@ -206,24 +259,28 @@ class _Canvas:
         )
 
 
-def _nice_length(um: float) -> float:
-    """1, 2 or 5 × 10ⁿ µm, at most ``um``."""
-    exponent = math.floor(math.log10(um))
+def nice_length(length: float) -> float:
+    """The longest of 1, 2 or 5 × 10ⁿ (in the unit of ``length``) not above ``length`` > 0."""
+    exponent = math.floor(math.log10(length))
     for m in (5, 2, 1):
-        if m * 10**exponent <= um:
+        if m * 10**exponent <= length:
             return m * 10**exponent
     return 10**exponent
 
 
-def _length_label(um: float) -> str:
-    return f"{um * 1e3:g} nm" if um < 1 else f"{um:g} µm"
+def length_label(metres: float) -> str:
+    """A scale bar's label: ``metres`` with an SI prefix, "200 nm", "1 µm" (no e-notation)."""
+    from skygas.core.quantities import format_value
+
+    return format_value(metres, unit="m", digits=3) or f"{metres} m"
 
 
 def _time_label(t: float) -> str:
     return f"t = {t * 1e6:.3f} µs" if t >= 1e-6 else f"t = {t * 1e9:.1f} ns"
 
 
-def _font(size: int):
+def font(size: int):
+    """The DejaVu Sans font (matplotlib's own) at ``size`` pixels, for Pillow's stamps."""
     from matplotlib import font_manager
     from PIL import ImageFont
 
@@ -236,7 +293,7 @@ def frame_images(record, indices, width_px: int = 720):
 
     canvas = _Canvas(record, width_px)
     base = Image.fromarray(canvas.image)
-    font = _font(15)
+    stamp_font = font(15)
     frames = record.frames
     r = canvas.radius_px
     fills = [tuple(c) for c in GROUP_COLOURS]
@@ -253,7 +310,7 @@ def frame_images(record, indices, width_px: int = 720):
             canvas.stamp_xy,
             f"{_time_label(frames.time[f])}   N = {len(ids)}",
             fill=(0, 0, 0),
-            font=font,
+            font=stamp_font,
         )
         yield np.asarray(image)
 
