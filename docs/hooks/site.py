@@ -42,6 +42,20 @@ def _changelog() -> str:
 GENERATED = {"index.md": _home, "cli.md": _cli, "changelog.md": _changelog}
 
 
+#: A table cell that shows a missing number as if it were one (``nan %``, ``None nm``).
+_MISSING_NUMBER = re.compile(r"<td>\s*(?:nan|NaN|None|inf)\s*(?:%|[nµm]?m|[nµm]?s|K|T|A/m²)?\s*</td>")
+
+
+def on_post_page(output: str, page, config) -> str:
+    """Refuse a page whose table shows a missing number as a value: the site is not built."""
+    from mkdocs.exceptions import PluginError
+
+    found = _MISSING_NUMBER.search(output)
+    if found:
+        raise PluginError(f"{page.file.src_uri}: a table cell shows {found.group(0)!r}")
+    return output
+
+
 def on_page_markdown(markdown: str, page, config, files) -> str:
     """The generated pages' text in place of their placeholders."""
     make = GENERATED.get(page.file.src_uri)
