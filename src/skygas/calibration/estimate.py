@@ -85,15 +85,7 @@ def planned_solves(config: CalibrationConfig) -> list[Relaxation]:
     solves = plan.isolated_stage(config, "isolated", first).solves
     if grown != first:
         solves += plan.isolated_stage(config, "isolated/grown", grown, template).solves
-    solves += plan.laws_stage(config, radius, width, template).solves
-    solves += plan.enlarged_stage(config, radius, template).solves
-    solves += plan.sensitivity_stage(config, grown, template).solves
-    solves += plan.stray_check_stage(config, radius, width, template).solves
-    if config.mesh_check:
-        solves += plan.mesh_stage(config, radius, width, template).solves
-    if config.validate_dynamics:
-        solves.append(plan.validation_start(config, radius, width, template))
-    return solves
+    return solves + plan.sized_solves(config, radius, width, template, grown)
 
 
 def llg_steps(config: CalibrationConfig) -> float:

@@ -184,14 +184,7 @@ class CalibrationJob:
         size = self.isolated_size()
         if size is not None:
             radius, width, template = size
-            solves += plan.laws_stage(config, radius, width, template).solves
-            solves += plan.enlarged_stage(config, radius, template).solves
-            solves += plan.sensitivity_stage(config, self.isolated_film(), template).solves
-            solves += plan.stray_check_stage(config, radius, width, template).solves
-            if config.mesh_check:
-                solves += plan.mesh_stage(config, radius, width, template).solves
-            if config.validate_dynamics:
-                solves.append(plan.validation_start(config, radius, width, template))
+            solves += plan.sized_solves(config, radius, width, template, self.isolated_film())
         return solves
 
     def _isolated_radius(self) -> float:

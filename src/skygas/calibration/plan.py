@@ -498,3 +498,23 @@ def validation_start(
         keep=True,
         cost=_cost(film, config.material.cell_size),
     )
+
+
+def sized_solves(
+    config: CalibrationConfig, radius: float, width: float, template: Template, isolated: Film
+) -> list[Relaxation]:
+    """Every relaxation planned once the isolated skyrmion's size is known.
+
+    The laws, the film-size and field-sensitivity checks (on ``isolated``, the isolated
+    skyrmion's film), the edge stray field, the mesh check (``config.mesh_check``) and the
+    validation's start (``config.validate_dynamics``), in that order.
+    """
+    solves = laws_stage(config, radius, width, template).solves
+    solves += enlarged_stage(config, radius, template).solves
+    solves += sensitivity_stage(config, isolated, template).solves
+    solves += stray_check_stage(config, radius, width, template).solves
+    if config.mesh_check:
+        solves += mesh_stage(config, radius, width, template).solves
+    if config.validate_dynamics:
+        solves.append(validation_start(config, radius, width, template))
+    return solves
