@@ -548,8 +548,12 @@ def _run_in_folder(
         load_checkpoint(job, resume_from)
     manifest.write(out, command, config_hash, started_at=started)
     announce_pending()  # the run is accepted: its estimate, if it is long, before the progress
-    # said only where the estimate was (a long run, announced): a quiet run stays quiet
-    pace = Pace(checked_estimate() if current_limits().announce else None, job.work_total)
+    # for a run of the engine, whose work is simulated time at a cost per step that only a
+    # crowding gas changes (a calibration's units of work take unequal times by design); not
+    # under --quiet or --json
+    steps_the_engine = getattr(getattr(job, "run", None), "sim", None) is not None
+    watched = steps_the_engine and current_limits().announce
+    pace = Pace(checked_estimate() if watched else None, job.work_total)
     last_save = time.perf_counter()
     try:
         with _DeferredSignals() as signals, _progress_bar(job, progress) as update:
