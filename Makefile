@@ -31,11 +31,10 @@ $(DOCS_STAMP): $(STAMP) pyproject.toml
 demo: $(STAMP)
 	$(BIN)/skygas demo --out $(DEMO_OUT) --overwrite
 
-# Two workers, each test handed to the one that is free; the tests that share a module-scoped
-# fixture (calibrate's: minutes of micromagnetics) stay on one, so that it is built once
-# (tests/conftest.py puts them in their module's xdist group).
+# Two workers; each test module stays on one (--dist loadscope), so that a module's shared
+# fixture (calibrate's, minutes of micromagnetics) is built once, not once per worker.
 test: $(STAMP)
-	$(BIN)/python -m pytest -n 2 --dist loadgroup -q
+	$(BIN)/python -m pytest -n 2 --dist loadscope -q
 
 # The quality gate (.ci/run runs it before the tests): lint rules and layout (pyproject.toml,
 # [tool.ruff]) and types (mypy with the pydantic plugin, [tool.mypy]). `make format` applies

@@ -1,7 +1,7 @@
 """The calibration that several modules read (S6 on 2 nm cells, with its checks and validation).
 
 Session-scoped and defined here, so that every module that reads it shares one run per test
-worker; tests/conftest.py puts its users in one xdist group, so that it is one run in all.
+worker (two modules on two workers still make two runs).
 """
 
 from __future__ import annotations
