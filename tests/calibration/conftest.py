@@ -1,7 +1,9 @@
-"""The calibration that several modules read (S6 on 2 nm cells, with its checks and validation).
+"""The calibration the report and CLI tests read (S6 on 2 nm cells, with its checks and validation).
 
-Session-scoped and defined here, so that every module that reads it shares one run per test
-worker (two modules on two workers still make two runs).
+Session-scoped, so one run per test worker; every test that reads it is in
+test_calibrate_cli.py, and ``--dist loadscope`` keeps a module on one worker, so the suite makes
+it once (with its tests in two modules, two workers made it twice). A test that reads it belongs
+in that module.
 """
 
 from __future__ import annotations

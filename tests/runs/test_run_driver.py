@@ -231,3 +231,41 @@ def test_resume_of_a_finished_run_has_nothing_to_do(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "nothing to resume" in err[0], err
     assert (out / "summary.json").read_bytes() == before
+
+
+def test_a_bar_shows_no_remaining_time_until_the_job_can_measure_its_rate(monkeypatch):
+    """A calibration's first solves are start-up: no projection from them, clock restarts."""
+    import tqdm
+
+    from skygas.runs import run_driver
+
+    class Job:
+        work_total = 10.0
+        work_unit = "cost"
+        progress_format = "{desc}{percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
+        rate_measured = False
+        done = 0.0
+
+        def work_done(self):
+            return self.done
+
+    made = []
+
+    class Recorded(tqdm.tqdm):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            made.append(self)
+
+    monkeypatch.setattr(tqdm, "tqdm", Recorded)
+    job = Job()
+    with run_driver._progress_bar(job, True) as update:
+        (bar,) = made
+        assert "{remaining}" not in bar.bar_format  # no projection yet
+        job.done = 1.0
+        update()
+        assert "{remaining}" not in bar.bar_format
+        job.rate_measured = True
+        job.done = 2.0
+        update()
+        assert bar.bar_format == Job.progress_format  # the remaining time is back
+        assert bar.n == bar.initial == 2.0  # and the rate is measured from here

@@ -49,7 +49,12 @@ class Calibration:
     validation: Any = None
     validation_restarted: Any = None
     validation_note: str = ""
+    #: the validation of each particle model the calibration measured ("rigid", "breathing")
+    validation_models: dict[str, Any] = field(default_factory=dict)
     provenance: dict[str, Any] = field(default_factory=dict)
+    #: the breathing measurement and the model's choice
+    #: (:func:`skygas.calibration.breathing.measure`)
+    breathing: dict[str, Any] = field(default_factory=dict)
 
     def material_table(self) -> dict[str, Any]:
         """The ``[material]`` table of model.toml (a :class:`skygas.physics.materials.Material`)."""
@@ -88,6 +93,8 @@ class Calibration:
                 "profile_radius": self.profile_radius.tolist(),
                 "profile_deficit": self.profile_deficit.tolist(),
             },
+            "particle_model": self.breathing.get("particle_model", "rigid"),
+            "breathing": self.breathing.get("spec"),
         }
 
     def particle_material(self, stray_field: bool = True):
@@ -347,21 +354,27 @@ def analyse(job) -> Calibration:
         "stray_field": _check_stray(job, wall_energy, (radius, deficit), diameter),
         "reference_field_T": MU_0 * config.reference_field,
     }
+    from skygas.calibration.breathing import measure
+
+    calibration.breathing = measure(job, calibration)
     if config.validate_dynamics and "validation/start" in job.results:
-        from skygas.calibration.validation import compare
+        from skygas.calibration.validation import compare, compare_models
+
+        particle = calibration.particle_material(stray_field=False)
+        arguments = (
+            job.validation_film(),
+            job.results["validation/start"]["skyrmions"],
+            job.llg["frames"],
+            diameter,
+            material.film_thickness,
+        )
 
         def run_compare(settle: float = 0.0):
-            return compare(
-                calibration.particle_material(stray_field=False),
-                job.validation_film(),
-                job.results["validation/start"]["skyrmions"],
-                job.llg["frames"],
-                diameter,
-                material.film_thickness,
-                settle=settle,
-            )
+            return compare(particle, *arguments, settle=settle)
 
-        result = run_compare()
+        # both particle models against the same micromagnetic run, where both exist
+        calibration.validation_models = compare_models(particle, *arguments)
+        result = calibration.validation_models[particle.particle_model]
         calibration.validation = result
         if result is not None and len(result.times) > 8:
             # the same comparison restarted after the release (the hold let go at t = 0,

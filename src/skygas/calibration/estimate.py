@@ -85,7 +85,9 @@ def planned_solves(config: CalibrationConfig) -> list[Relaxation]:
     solves = plan.isolated_stage(config, "isolated", first).solves
     if grown != first:
         solves += plan.isolated_stage(config, "isolated/grown", grown, template).solves
-    return solves + plan.sized_solves(config, radius, width, template, grown)
+    solves += plan.sized_solves(config, radius, width, template, grown)
+    # the breathing solves: their fields follow the measured sensitivity, their films do not
+    return solves + plan.breathing_solves(config, radius, width, template, grown, -10.0)
 
 
 def llg_steps(config: CalibrationConfig) -> float:

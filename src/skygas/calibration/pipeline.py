@@ -44,12 +44,16 @@ STAGE_NAMES = {
     "isolated": "isolated skyrmion",
     "laws": "pair and edge laws",
     "enlarged": "film-size check",
-    "sensitivity": "field sensitivity",
+    "sensitivity": "field sensitivity and breathing scan",
+    "shifted": "laws at a second radius",
     "stray": "edge stray field",
     "mesh": "mesh check",
     "validation": "validation start",
     "llg": "validation run (LLG)",
 }
+#: d ln R/dB [1/T] that sizes the breathing solves' cost before the sensitivity is measured
+#: (their films do not depend on it, only their fields do).
+NOMINAL_SLOPE = -10.0
 #: LLG snapshots per piece of the validation run.
 SNAPSHOTS_PER_PIECE = 5
 
@@ -67,7 +71,7 @@ class CalibrationJob:
     #: isolated-skyrmion relaxation), a number that means nothing to a user: the bar shows
     #: the percentage and the times only
     work_unit = "cost"
-    progress_format = "{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
+    progress_format = "{desc}{percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
     result_files = RESULT_FILES
 
     def __init__(self, config: CalibrationConfig, workers: int = 2, threads: int = 1):
@@ -91,6 +95,8 @@ class CalibrationJob:
         #: wall time of the run so far: its earlier sessions' (checkpointed), then this one's
         self._seconds_before = 0.0
         self._session_start: float | None = None
+        #: solves finished before this session began (:attr:`rate_measured`)
+        self._results_before = 0
         self._pool: ProcessPoolExecutor | None = None
         self._in_flight: dict[str, Future] = {}
         #: the pool's processes by pid, and the children this process had before it
@@ -184,8 +190,24 @@ class CalibrationJob:
         size = self.isolated_size()
         if size is not None:
             radius, width, template = size
-            solves += plan.sized_solves(config, radius, width, template, self.isolated_film())
+            isolated = self.isolated_film()
+            solves += plan.sized_solves(config, radius, width, template, isolated)
+            slope = self.field_slope()
+            if slope is not None:
+                solves += plan.breathing_solves(config, radius, width, template, isolated, slope)
         return solves
+
+    def field_slope(self) -> float | None:
+        """The isolated skyrmion's d ln R/dB [1/T], once its sensitivity solves are done.
+
+        It plans the breathing scan and the laws at a second radius.
+        """
+        size = self.isolated_size()
+        if size is None:
+            return None
+        return plan.measured_slope(
+            self.results.get("sensitivity/plus"), self.results.get("sensitivity/minus"), size[0]
+        )
 
     def _isolated_radius(self) -> float:
         """The isolated skyrmion's radius [m], once known."""
@@ -258,8 +280,15 @@ class CalibrationJob:
     def work_total(self) -> float:
         """The estimated cost of every solve planned so far, and of what cannot be planned yet."""
         costs = sum(s.cost for s in self.planned())
-        if self.isolated_size() is None:
+        size = self.isolated_size()
+        if size is None:
             costs += 60.0  # the laws, checks and validation, before they can be planned
+        elif self.field_slope() is None:  # the breathing solves, before they can be planned
+            radius, width, template = size
+            nominal = plan.breathing_solves(
+                self.config, radius, width, template, self.isolated_film(), NOMINAL_SLOPE
+            )
+            costs += sum(s.cost for s in nominal)
         elif self.config.validate_dynamics and "validation/start" in self.results:
             costs += self._llg_pieces_left() * self._llg_piece_cost() + self._llg_done_cost()
         return costs
@@ -292,10 +321,29 @@ class CalibrationJob:
             for s in self.planned()
             if s.name not in self.results and s.name not in self._in_flight
         ]
-        # the validation's start first (the LLG chain waits for it), then the costliest
-        for s in sorted(pending, key=lambda s: (s.name != "validation/start", -s.cost)):
+        # the validation's start first (the LLG chain waits for it), then the field
+        # sensitivity (the breathing solves wait for it), then the costliest
+        first = ("sensitivity/plus", "sensitivity/minus")
+        for s in sorted(
+            pending, key=lambda s: (s.name != "validation/start", s.name not in first, -s.cost)
+        ):
             tasks.append((s.name, "relax", (self.material_json, s, self.config.torque_tolerance)))
         return tasks
+
+    #: solves that must finish in a session before the progress bar shows a remaining time
+    RATE_SOLVES = 2
+
+    @property
+    def rate_measured(self) -> bool:
+        """Whether this session has finished :data:`RATE_SOLVES` solves.
+
+        Until then the progress bar shows no remaining time, and it measures its rate from that
+        point on: the workers' start-up (imports, the first solver's set-up) is not work, and a
+        rate from the first cheap solve alone projected an hour for a five-minute calibration.
+        """
+        if self._session_start is None:  # not started (or resumed, not yet going)
+            return False
+        return len(self.results) - self._results_before >= self.RATE_SOLVES
 
     def run_seconds(self) -> float:
         """Wall time spent running, over all sessions [s].
@@ -316,6 +364,7 @@ class CalibrationJob:
 
         if self._session_start is None:
             self._session_start = time.perf_counter()
+            self._results_before = len(self.results)
 
         if self.workers == 0:  # in this process (a GPU), one task per piece
             from skygas.calibration import solver

@@ -23,6 +23,15 @@ grown (to 11 radii) until it is at least 10 skyrmion radii; a grown film starts 
 profile relaxed in the smaller one. The same skyrmion at H_ref ± 1 mT/μ₀ measures how
 its size follows the field.
 
+**The breathing scan** (needs the radii at H_ref ± 1 mT/μ₀): the isolated skyrmion, and the
+uniform film, at a few more field offsets b, chosen from the measured d ln R/dB to aim at
+radii :data:`SCAN_TARGETS` off the isolated one. A uniform extra field is a Lagrange multiplier
+on the reversed area: relaxed at H_ref + b the skyrmion sits at the radius where its
+self-energy (at H_ref) balances the extra field's Zeeman force, which gives E_self(R) and, from
+the relaxed profiles at neighbouring radii, 𝒟_RR = ∫ ∂_R m·∂_R m dA. At the offset that aims at
+:data:`SHIFTED_TARGET` (a skyrmion about 15 % smaller), a few pairs and edge singles in the
+calibration film (*shifted*) measure how the laws move with the radius.
+
 **Stage 2, the laws** (needs the measured diameter d_sk): one rectangular *calibration film*
 of (pair range + 2.5) × 3.5 d_sk, open boundaries, an odd number of cells each way so that its
 centre row maps to itself under the half-turn about the film's centre (a symmetry of the film
@@ -56,7 +65,7 @@ helicity and m_z(r)).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -76,6 +85,22 @@ REFERENCE_DIAMETER = 1024e-9
 SENSITIVITY_STEP = 1e-3
 #: Distances from the edge [d_sk] of the stray-field check.
 STRAY_CHECK_GRID = (1.2, 2.0)
+#: Relative radius changes the breathing scan aims at (besides ±SENSITIVITY_STEP), from the
+#: measured d ln R/dB taken as constant: more room below the isolated radius, where
+#: neighbours and edges press a skyrmion, than above it. The relation is not linear (a
+#: shrinking skyrmion stiffens, a growing one softens), so the radii reached differ.
+SCAN_TARGETS = (-0.3, -0.15, 0.1, 0.2)
+#: The scan's offset that aims at this change also holds the laws at a second radius.
+SHIFTED_TARGET = -0.15
+#: The scan's largest field offset [T] (a stiff skyrmion would otherwise be pushed past its
+#: collapse or its elliptic instability).
+SCAN_MAX_FIELD = 0.1
+#: Pair distances [d_sk] measured at the second radius: within the measured pair law once
+#: shifted by the radius change, and with their singles ≥ 3.4 d_sk from the calibration
+#: film's edges, where the edge energy is below half a percent of the pair energy.
+SHIFTED_PAIR_GRID = (1.2, 1.45, 1.75)
+#: Distances from the left edge [d_sk] of the singles measured at the second radius.
+SHIFTED_EDGE_GRID = (1.0, 1.2, 1.4)
 
 #: Distances from the left edge [d_sk] of the singles that sample the edge law.
 EDGE_GRID = (0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5, 1.75, 2.0, 2.5)
@@ -302,8 +327,12 @@ def calibration_film(
     real_left_edge: bool = False,
     margin: float = PAIR_MARGIN,
     height: float = FILM_HEIGHT,
+    offset: float = 0.0,
 ) -> Film:
-    """The stage-2 film: (farthest pair + 2 ``margin``) × ``height`` diameters, odd cells."""
+    """The stage-2 film: (farthest pair + 2 ``margin``) × ``height`` diameters, odd cells.
+
+    ``offset`` [A/m] is added to the reference field.
+    """
     cell = cell or config.material.cell_size
     width = (pair_range[1] + 2 * margin) * diameter
     return reference_film(
@@ -311,6 +340,7 @@ def calibration_film(
         odd(width / cell),
         odd(height * diameter / cell),
         cell,
+        offset=offset,
         real_left_edge=real_left_edge,
     )
 
@@ -374,19 +404,129 @@ def laws_stage(config: CalibrationConfig, radius: float, width: float, template:
 
 
 def sensitivity_stage(config: CalibrationConfig, film: Film, template: Template) -> Stage:
-    """The isolated skyrmion at H_ref ± SENSITIVITY_STEP/μ₀: how its size follows the field."""
+    """The isolated skyrmion at H_ref ± SENSITIVITY_STEP/μ₀: how its size follows the field.
+
+    With the uniform film at each field (the breathing scan's first two points; the textures are
+    kept for 𝒟_RR).
+    """
     stage = Stage("sensitivity")
-    cost = _cost(film, config.material.cell_size)
     for sign, label in ((1, "plus"), (-1, "minus")):
-        shifted = reference_film(
-            config, film.nx, film.ny, film.cell_size, offset=sign * SENSITIVITY_STEP / MU_0
-        )
+        stage.solves += _scan_point(config, film, template, sign * SENSITIVITY_STEP, label)
+    return stage
+
+
+def _scan_point(
+    config: CalibrationConfig,
+    film: Film,
+    template: Template,
+    field_T: float,
+    label: str,
+    scale: float = 1.0,
+) -> list[Relaxation]:
+    """The isolated skyrmion (kept) and the uniform film at H_ref + ``field_T``/μ₀."""
+    cost = _cost(film, config.material.cell_size)
+    shifted = reference_film(config, film.nx, film.ny, film.cell_size, offset=field_T / MU_0)
+    return [
+        Relaxation(
+            f"sensitivity/{label}",
+            shifted,
+            (_centre(shifted),),
+            template=template,
+            scale=scale,
+            keep=True,
+            cost=cost,
+        ),
+        Relaxation(f"sensitivity/uniform/{label}", shifted, (), cost=0.1 * cost),
+    ]
+
+
+def measured_slope(plus: dict | None, minus: dict | None, radius: float) -> float | None:
+    """The slope d ln R/dB [1/T] of the sensitivity solves; None unless both hold one skyrmion."""
+    if plus is None or minus is None:
+        return None
+    if len(plus["skyrmions"]) != 1 or len(minus["skyrmions"]) != 1:
+        return None
+    r_plus, r_minus = plus["skyrmions"][0]["radius"], minus["skyrmions"][0]["radius"]
+    return (r_plus - r_minus) / (2 * SENSITIVITY_STEP) / radius
+
+
+def scan_fields(slope: float) -> list[tuple[float, float]]:
+    """(field offset [T], aimed relative radius change) of the breathing scan.
+
+    For ``slope`` = d ln R/dB [1/T] (< 0 for a skyrmion whose core opposes the field; none
+    otherwise); offsets capped at ±:data:`SCAN_MAX_FIELD`.
+    """
+    if not (math.isfinite(slope) and slope < 0):
+        return []
+    return [
+        (max(-SCAN_MAX_FIELD, min(SCAN_MAX_FIELD, target / slope)), target)
+        for target in SCAN_TARGETS
+    ]
+
+
+def shifted_field(slope: float) -> float | None:
+    """The scan's offset [T] that aims at :data:`SHIFTED_TARGET`; None without a scan."""
+    for field_T, target in scan_fields(slope):
+        if target == SHIFTED_TARGET:
+            return field_T
+    return None
+
+
+def scan_stage(config: CalibrationConfig, film: Film, template: Template, slope: float) -> Stage:
+    """The breathing scan beyond ±SENSITIVITY_STEP: ``sensitivity/scan/k`` and their uniforms.
+
+    Each starts from the template scaled to the radius it aims at.
+    """
+    stage = Stage("sensitivity")
+    for k, (field_T, target) in enumerate(scan_fields(slope)):
+        stage.solves += _scan_point(config, film, template, field_T, f"scan/{k}", 1.0 + target)
+    return stage
+
+
+def shifted_stage(
+    config: CalibrationConfig, radius: float, width: float, template: Template, field_T: float
+) -> Stage:
+    """The laws at a second radius: the calibration film at H_ref + ``field_T``/μ₀.
+
+    Its uniform state, the single at its centre, singles at :data:`SHIFTED_EDGE_GRID` from the
+    left edge and pairs at :data:`SHIFTED_PAIR_GRID` (their singles are not solved: the pair
+    energy takes the centre single's, corrected by the edge law, see
+    :mod:`skygas.calibration.breathing`).
+    """
+    diameter = 2 * radius
+    film = calibration_film(config, diameter, config.pair_range, offset=field_T / MU_0)
+    row = (film.ny - 1) // 2
+    centre = (film.nx - 1) // 2
+    cost = _cost(film, config.material.cell_size)
+    scale = 1.0 + SHIFTED_TARGET
+    stage = Stage("shifted", [Relaxation("shifted/uniform", film, (), cost=0.1 * cost)])
+    for i in sorted(set(edge_cells(film, diameter, SHIFTED_EDGE_GRID)) | {centre}):
         stage.solves.append(
             Relaxation(
-                f"sensitivity/{label}", shifted, (_centre(shifted),), template=template, cost=cost
+                f"shifted/single/{i}", film, ((i, row),), radius, width, template, scale, cost=cost
             )
         )
+    pairs = {round((film.nx - 1 - d * diameter / film.cell_size) / 2) for d in SHIFTED_PAIR_GRID}
+    for i in sorted(p for p in pairs if 0 <= p < centre):
+        pair = _pair(f"shifted/pair/{i}", film, i, template, radius, width, cost)
+        stage.solves.append(replace(pair, scale=pair.scale * scale))
     return stage
+
+
+def breathing_solves(
+    config: CalibrationConfig,
+    radius: float,
+    width: float,
+    template: Template,
+    isolated: Film,
+    slope: float,
+) -> list[Relaxation]:
+    """The breathing scan and the laws at a second radius, for d ln R/dB = ``slope`` [1/T]."""
+    solves = scan_stage(config, isolated, template, slope).solves
+    field_T = shifted_field(slope)
+    if field_T is not None:
+        solves += shifted_stage(config, radius, width, template, field_T).solves
+    return solves
 
 
 def stray_check_stage(

@@ -12,6 +12,8 @@ import html
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from skygas._version import __version__
 from skygas.calibration.analysis import Calibration
 from skygas.calibration.results import (
@@ -129,6 +131,9 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
             "than in its interior, so near the edges its skyrmions are smaller than the "
             "model's."
         )
+    breathing = breathing_sentence(cal)
+    if breathing:
+        out.append(breathing)
     stray = checks.get("stray_field", {}).get("points")
     if stray:
         worst = max(
@@ -165,6 +170,73 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
     return out
 
 
+def breathing_sentence(cal: Calibration) -> str:
+    """The report's sentences on the particle model chosen and the breathing measurement."""
+    b = cal.breathing
+    if not b:
+        return ""
+    text = f"Particle model: {b['particle_model']}, since {b['why']}."
+    if "neighbour_field_T" in b:
+        text += (
+            f" A neighbour at 1.5 d_sk presses on the radius like "
+            f"{b['neighbour_field_T'] * 1e3:.1f} mT, which changes it by "
+            f"{_percent(b['neighbour_radius_change'])} at that sensitivity."
+        )
+    if not b.get("spec"):
+        return text + f" {b.get('note', '')}".rstrip()
+    lo, hi = b["radius_range_m"]
+    flo, fhi = b["field_range_T"]
+    d = b["radius_dissipation"]
+    text += (
+        f" The field scan ({flo * 1e3:+.1f} to {fhi * 1e3:+.1f} mT) gives E_self(R) from "
+        f"{_nm(lo)} to {_nm(hi)}, lowest at the isolated radius {_nm(cal.isolated.radius)}; "
+        f"the energies from the field's multiplier alone, −M_s t ∫ B dA_m, agree to "
+        f"{b['energy_check']['relative_to_span'] * 100:.2f} % of the curve's span. "
+        f"𝒟_RR = {d['value']:.3f} (the rigidly shifted profile {d['shifted_profile']:.3f}, the "
+        f"360° wall ansatz {d['ansatz']:.3f}, the thin-wall 4πR/Δ {d['thin_wall']:.3f})."
+    )
+    shifts = b.get("shifts", {})
+    words = []
+    for law, name in (("pair", "s_p"), ("wall", "s_w")):
+        fit = shifts.get(law, {})
+        if fit.get("shift") is not None:
+            words.append(
+                f"{name} = {fit['shift']:.2f} (rms ln-residual {fit['rms_log_residual']:.3f}; "
+                f"{fit['rms_log_residual_unshifted']:.3f} unshifted)"
+            )
+        else:
+            words.append(f"{name} not measured ({fit.get('why', shifts.get('why', 'no data'))})")
+    if "radius_change_m" in shifts:
+        text += (
+            f" With the radius {_percent(shifts['relative_radius_change'])} at "
+            f"{shifts['field_T'] * 1e3:+.1f} mT, the laws move with it: " + "; ".join(words) + "."
+        )
+    else:
+        text += " " + "; ".join(words) + "."
+    return text
+
+
+def models_sentence(cal: Calibration) -> str:
+    """Both particle models against the same micromagnetic run (empty if only one was made)."""
+    models = {k: c for k, c in cal.validation_models.items() if c is not None}
+    if len(models) < 2:
+        return ""
+    parts = []
+    for name, c in models.items():
+        s = c.summary()
+        ratio = np.asarray(s["displacement_length_ratio"], float)
+        angle = np.abs(np.asarray(s["displacement_angle_deg"], float))
+        part = (
+            f"{name}: RMS centre error at most {s['rms_error_max_d_sk']:.3f} d_sk, final "
+            f"displacements {np.nanmin(ratio):.2f}–{np.nanmax(ratio):.2f}× the micromagnetic "
+            f"ones in length and within {np.nanmax(angle):.0f}° in direction"
+        )
+        if "radius_rms_error_m" in s:
+            part += f", mean radius within {_nm(s['radius_rms_error_m'])} (RMS)"
+        parts.append(part)
+    return " Both particle models against the same run: " + "; ".join(parts) + "."
+
+
 def validation_sentence(cal: Calibration) -> str:
     """The report's sentences on the validation: what ran, how close the model came, and why."""
     if not cal.config.validate_dynamics:
@@ -181,6 +253,7 @@ def validation_sentence(cal: Calibration) -> str:
         f"{s['rms_error_max_d_sk']:.3f} d_sk (final {s['rms_error_final_d_sk']:.3f}, mean "
         f"{s['rms_error_mean_d_sk']:.3f}); the goal is {VALIDATION_GOAL:g} d_sk."
     )
+    text += models_sentence(cal)
     r = cal.validation_restarted
     if r is not None:
         start = v.times[-1] - r.times[-1]
@@ -194,7 +267,7 @@ def validation_sentence(cal: Calibration) -> str:
             " The run stopped before every skyrmion had travelled one diameter "
             f"(its time limit, {cal.config.validation.max_duration * 1e9:g} ns)."
         )
-    if s["rms_error_max_d_sk"] > VALIDATION_GOAL:
+    if s["rms_error_max_d_sk"] > VALIDATION_GOAL and v.particle_model == "rigid":
         lo, hi = s["radius_range_m"]
         text += (
             f" Why: in the disk the micromagnetic skyrmions have radii of {_nm(lo)}–"
@@ -278,6 +351,18 @@ def figure_caption(name: str, cal: Calibration) -> str:
             f"{first}{fit}{paper_words}. Right: {energies} in units of F₀ d_sk "
             f"(d_sk = {_nm(d)}, F₀ = {_pn(cal.force_scale)}; log scale)."
         )
+    if name == "breathing.png" and cal.breathing.get("spec"):
+        b = cal.breathing
+        return (
+            "Left: the isolated skyrmion's self-energy E_self against its radius R, relative "
+            "to its value at the isolated radius: each point relaxed at the reference field "
+            "plus an offset B and its energy taken at the reference field alone (black dots, "
+            "the table the engine interpolates with PCHIP: black line), and the same energies "
+            "from the field's Lagrange multiplier alone, −M_s t ∫ B dA_m along the scan (red "
+            f"crosses); the dashed line marks R₀ = {_nm(cal.isolated.radius)} (the isolated "
+            "radius). Right: the radius against the offset B. Particle model chosen: "
+            f"{b['particle_model']}."
+        )
     if name == "validation.png" and cal.validation is not None:
         v = cal.validation
         worst = float(v.error.max())
@@ -339,6 +424,30 @@ def write_report(cal: Calibration, data: dict[str, Any], out: Path) -> Path:
             ("moment deficit ∫(1 − m_z) dA", _q(iso.moment_deficit, "m²")),
         ]
     )
+    b = cal.breathing
+    if b.get("spec"):
+        page.heading("Breathing")
+        d = b["radius_dissipation"]
+        rows = [
+            ("particle model", html.escape(f"{b['particle_model']}: {b['why']}")),
+            (
+                "E_self(R) table",
+                f"{len(b['points'])} radii, {_nm(b['radius_range_m'][0])}–"
+                f"{_nm(b['radius_range_m'][1])}",
+            ),
+            ("𝒟_RR (measured)", f"{d['value']:.4f}"),
+            ("𝒟_RR thin-wall 4πR/Δ", f"{d['thin_wall']:.4f}"),
+        ]
+        for law, name in (("pair", "s_p"), ("wall", "s_w")):
+            fit = b.get("shifts", {}).get(law, {})
+            if fit.get("shift") is not None:
+                rows.append(
+                    (
+                        f"{name} ({law} law's shift)",
+                        f"{fit['shift']:.3f}, rms ln-residual {fit['rms_log_residual']:.3g}",
+                    )
+                )
+        page.table(rows)
     page.heading("Fits of the paper's forms")
     rows = []
     for law, fit in cal.fits.items():

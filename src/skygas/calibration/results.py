@@ -8,6 +8,7 @@ the report are the ones in summary.json; none is drawn from anywhere else.
 from __future__ import annotations
 
 import json
+import math
 import time
 from importlib import metadata
 from pathlib import Path
@@ -21,7 +22,7 @@ from skygas.calibration.model_file import write_model
 from skygas.core.units import MU_0
 from skygas.runs.run_driver import write_figure, write_json
 
-FIGURES = ("profile.png", "pair.png", "wall.png", "validation.png")
+FIGURES = ("profile.png", "pair.png", "wall.png", "validation.png", "breathing.png")
 
 # -- the quality checks' tolerances --------------------------------------------------------------
 #: The validation's goal: the particle model's RMS centre error at most this many d_sk.
@@ -259,6 +260,7 @@ def summary(cal: Calibration, job) -> dict[str, Any]:
         },
         "fits": cal.fits,
         "checks": cal.checks,
+        "breathing": cal.breathing,
         "provenance": provenance(job),
     }
     if cal.validation is not None:
@@ -269,6 +271,9 @@ def summary(cal: Calibration, job) -> dict[str, Any]:
             "error_d_sk": v.error.tolist(),
             "micromagnetic_m": v.micromagnetic.tolist(),
             "particle_m": v.particle.tolist(),
+        }
+        out["validation"]["models"] = {
+            name: None if c is None else c.summary() for name, c in cal.validation_models.items()
         }
         r = cal.validation_restarted
         if r is not None:
@@ -344,6 +349,7 @@ def write_model_file(cal: Calibration, job, path: Path) -> Path:
         "fits": {
             law: {k: v for k, v in fit.items() if v not in (None, "")} for law, fit in fits.items()
         },
+        "breathing": breathing_section(cal.breathing),
         "provenance": {k: v for k, v in provenance(job).items() if not isinstance(v, dict)},
     }
     comments = {
@@ -354,8 +360,52 @@ def write_model_file(cal: Calibration, job, path: Path) -> Path:
         "material.stray_field": "the skyrmion's profile 1 - m_z(r) for its energy in the "
         "device's edge stray field (added with the table wall law)",
         "fits": "the paper's forms fitted to the tables over their measured ranges (d_sk units)",
+        "material.breathing": "the breathing model's radius: E_self(R) [m, J] from a field scan, "
+        "its friction 𝒟_RR and the shifts of the laws\nwith the radius (used when "
+        'particle_model = "breathing"; measured either way)',
+        "breathing": "how the particle model was chosen and how well the breathing "
+        "measurement holds (summary.json: every point)",
     }
     return write_model(path, cal.material_table(), sections, header, comments)
+
+
+def _finite(value: Any) -> bool:
+    return not isinstance(value, float) or math.isfinite(value)
+
+
+def breathing_section(b: dict[str, Any]) -> dict[str, Any]:
+    """model.toml's ``[breathing]``: the choice, the scan's range, 𝒟_RR's estimates, the fits."""
+    out: dict[str, Any] = {
+        k: b[k]
+        for k in (
+            "particle_model",
+            "why",
+            "threshold_per_mT",
+            "sensitivity_per_mT",
+            "neighbour_field_T",
+            "neighbour_radius_change",
+            "radius_range_m",
+            "field_range_T",
+            "note",
+        )
+        if k in b
+    }
+    if "points" in b and b.get("spec"):
+        out["field_T"] = [p["field_T"] for p in b["points"]]
+        out["energy_integrated_J"] = [p["energy_integrated_J"] for p in b["points"]]
+        out["energy_check_relative"] = b["energy_check"]["relative_to_span"]
+    dissipation = b.get("radius_dissipation", {})
+    for key in ("finite_difference", "shifted_profile", "ansatz", "thin_wall"):
+        if key in dissipation:
+            out[f"radius_dissipation_{key}"] = dissipation[key]
+    for law in ("pair", "wall"):
+        fit = b.get("shifts", {}).get(law, {})
+        for key in ("shift", "rms_log_residual", "rms_log_residual_unshifted"):
+            if fit.get(key) is not None:
+                out[f"{law}_{key}"] = fit[key]
+    if "radius_change_m" in b.get("shifts", {}):
+        out["shifted_radius_change_m"] = b["shifts"]["radius_change_m"]
+    return {k: v for k, v in out.items() if v is not None and _finite(v)}
 
 
 # -- figures -------------------------------------------------------------------------------------
@@ -583,6 +633,47 @@ def plot_validation(cal: Calibration, path: Path) -> Path:
     return write_figure(path, draw, record(cal))
 
 
+def plot_breathing(cal: Calibration, path: Path) -> Path:
+    """Plot E_self(R) of the breathing scan to ``path`` (PNG), and R against the field offset."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from scipy import interpolate
+
+    b = cal.breathing
+    points = b["points"]
+    r = np.array([p["radius_m"] for p in points])
+    e = np.array([p["energy_J"] for p in points])
+    e_int = np.array([p["energy_integrated_J"] for p in points])
+    field = np.array([p["field_T"] for p in points])
+    r0 = cal.isolated.radius
+    e0 = cal.isolated.energy
+
+    def draw(tmp):
+        fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.5))
+        fine = np.linspace(r[0], r[-1], 200)
+        curve = interpolate.PchipInterpolator(r, e)(fine)
+        ax.plot(fine * 1e9, (curve - e0) * 1e21, "k-", lw=1, label="table (PCHIP)")
+        ax.plot(r * 1e9, (e - e0) * 1e21, "ko", ms=5, label="relaxed at H_ref + b (subtracted)")
+        ax.plot(r * 1e9, (e_int - e0) * 1e21, "rx", ms=7, label="−M_s t ∫ B dA_m (multiplier only)")
+        ax.axvline(r0 * 1e9, color="0.5", ls="--", lw=0.8, label=f"R₀ = {r0 * 1e9:.2f} nm")
+        ax.set(
+            xlabel="radius R [nm]",
+            ylabel="E_self(R) − E_self(R₀) [zJ]",
+            title=f"self-energy; model: {b['particle_model']}",
+        )
+        ax.legend(fontsize=8)
+        bx.plot(field * 1e3, r * 1e9, "ko-", ms=4)
+        bx.axhline(r0 * 1e9, color="0.5", ls="--", lw=0.8)
+        bx.set(xlabel="field offset B [mT]", ylabel="radius R [nm]", title="radius against field")
+        fig.tight_layout()
+        fig.savefig(tmp, dpi=110)
+        plt.close(fig)
+
+    return write_figure(path, draw, record(cal))
+
+
 # -- everything ------------------------------------------------------------------------------------
 def write_results(job, out: Path) -> dict[str, Any]:
     """Analyse ``job`` and write its files into ``out``; returns summary.json's data."""
@@ -593,6 +684,8 @@ def write_results(job, out: Path) -> dict[str, Any]:
     plot_law(cal, "wall", out / "wall.png")
     if cal.validation is not None:
         plot_validation(cal, out / "validation.png")
+    if cal.breathing.get("spec"):
+        plot_breathing(cal, out / "breathing.png")
     _save_textures(job, out / "textures.npz")
     write_json(out / "summary.json", data)
     write_model_file(cal, job, out / "model.toml")

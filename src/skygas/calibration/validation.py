@@ -11,7 +11,12 @@ The particle run: the same number of skyrmions at the tracked positions of the f
 a disk of the micromagnetic disk's equal-area radius, T = 0, the calibrated model (its tables,
 without the edge stray field, which the compensated disk does not have), recorded at the same
 times. The error is the RMS over skyrmions of the distance between the two runs' positions, in
-skyrmion diameters, at every snapshot.
+skyrmion diameters, at every snapshot; and each skyrmion's final displacement is compared in
+length (the ratio particle/micromagnetic) and direction (the angle between them).
+
+A calibration that measured the breathing model's table compares both particle models, rigid and
+breathing, with the same micromagnetic run (:func:`compare_models`); a breathing run also
+records its mean radius at each snapshot, beside the micromagnetic one.
 """
 
 from __future__ import annotations
@@ -59,7 +64,8 @@ class Comparison:
 
     ``times`` [s], ``micromagnetic`` and ``particle`` positions (frames, skyrmions, 2) [m],
     ``error`` RMS centre error per frame [d_sk], ``path_length`` per skyrmion in the micromagnetic
-    run [d_sk], ``radius`` the mean micromagnetic radius per frame [m].
+    run [d_sk], ``radius`` the mean micromagnetic radius per frame [m], ``particle_radius`` the
+    breathing model's (None for rigid skyrmions), ``particle_model`` which model ran.
     """
 
     times: np.ndarray
@@ -71,10 +77,44 @@ class Comparison:
     diameter: float
     disk_radius: float
     centre: tuple[float, float]
+    particle_radius: np.ndarray | None = None
+    particle_model: str = "rigid"
+
+    def displacements(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each skyrmion's final displacement: length ratio particle/micromagnetic, angle [°].
+
+        The angle is the particle's direction minus the micromagnetic one, in (−180°, 180°].
+        """
+        mm = self.micromagnetic[-1] - self.micromagnetic[0]
+        pm = self.particle[-1] - self.particle[0]
+        length = np.linalg.norm(mm, axis=-1)
+        ratio = np.linalg.norm(pm, axis=-1) / np.where(length > 0, length, np.nan)
+        angle = np.degrees(
+            np.arctan2(mm[:, 0] * pm[:, 1] - mm[:, 1] * pm[:, 0], np.sum(mm * pm, axis=-1))
+        )
+        return ratio, angle
 
     def summary(self) -> dict:
-        """The comparison in numbers, JSON-able: errors, duration, paths and radii."""
+        """The comparison in numbers, JSON-able: errors, duration, paths, displacements, radii."""
+        ratio, angle = self.displacements()
+        extra = (
+            {}
+            if self.particle_radius is None
+            else {
+                "particle_radius_range_m": [
+                    float(np.nanmin(self.particle_radius)),
+                    float(np.nanmax(self.particle_radius)),
+                ],
+                "radius_rms_error_m": float(
+                    np.sqrt(np.nanmean((self.particle_radius - self.radius) ** 2))
+                ),
+            }
+        )
         return {
+            "particle_model": self.particle_model,
+            "displacement_length_ratio": [float(x) for x in ratio],
+            "displacement_angle_deg": [float(x) for x in angle],
+            **extra,
             "rms_error_max_d_sk": float(self.error.max()),
             "rms_error_final_d_sk": float(self.error[-1]),
             "rms_error_mean_d_sk": float(self.error.mean()),
@@ -89,7 +129,9 @@ class Comparison:
 def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness: float):
     """Positions (frames, n, 2) [m] of the particle model from ``start`` (n, 2) [m].
 
-    At ``times`` [s] (the first is 0), in a disk of the film's equal-area radius.
+    At ``times`` [s] (the first is 0), in a disk of the film's equal-area radius. Also the mean
+    radius [m] at each time of a breathing model (None for rigid skyrmions), the disk's radius
+    and centre.
     """
     from skygas.engine import Simulation
     from skygas.physics import geometry
@@ -115,13 +157,16 @@ def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness
     )
     ids = sim.add_skyrmions(start)
     out = [np.asarray(start, float)]
+    radii = [float(np.mean(sim.radii()[1]))]
     for _ in times[1:]:
         sim.run(interval)
         present, xy = sim.positions()
         if len(present) != len(ids):
             break
         out.append(xy[np.searchsorted(present, ids)])
-    return np.array(out), radius, centre
+        radii.append(float(np.mean(sim.radii()[1])))
+    mean_radius = np.array(radii) if sim.particle_model == "breathing" else None
+    return np.array(out), mean_radius, radius, centre
 
 
 def compare(
@@ -145,7 +190,9 @@ def compare(
     if first:
         start, frames = frames[first - 1]["skyrmions"], frames[first:]
     tracks, times = tracks[first:], times[first:] - times[first]
-    particle, radius, centre = particle_run(material, film, tracks[0], times, thickness)
+    particle, particle_radius, radius, centre = particle_run(
+        material, film, tracks[0], times, thickness
+    )
     n = min(len(particle), len(tracks))
     error = np.sqrt(np.mean(np.sum((particle[:n] - tracks[:n]) ** 2, axis=-1), axis=1))
     steps = np.linalg.norm(np.diff(tracks, axis=0), axis=-1)
@@ -163,4 +210,15 @@ def compare(
         diameter,
         radius,
         centre,
+        None if particle_radius is None else particle_radius[:n],
+        material.particle_model,
     )
+
+
+def compare_models(material, *args, **kwargs) -> dict[str, Comparison | None]:
+    """:func:`compare` of ``material`` as rigid and, if it has a breathing table, as breathing."""
+    models = ("rigid", "breathing") if material.breathing is not None else ("rigid",)
+    return {
+        model: compare(material.model_copy(update={"particle_model": model}), *args, **kwargs)
+        for model in models
+    }

@@ -51,7 +51,14 @@ def _skyrmions(m: np.ndarray, film: Film, thickness: float) -> list[dict[str, fl
     from skygas.calibration.profile import detect
 
     return [
-        {"x": s.x, "y": s.y, "radius": s.radius, "charge": s.charge, "dissipation": s.dissipation}
+        {
+            "x": s.x,
+            "y": s.y,
+            "radius": s.radius,
+            "charge": s.charge,
+            "dissipation": s.dissipation,
+            "circularity": s.circularity,
+        }
         for s in detect(m, film, thickness)
     ]
 
@@ -72,8 +79,9 @@ def initial_texture(fs: solver.FilmSolver, centres, radius: float, width: float)
 def relax(material_json: str, task: Relaxation, torque_tolerance: float) -> dict[str, Any]:
     """Run one :class:`~skygas.calibration.plan.Relaxation`.
 
-    Returns its energies [J], the solver's statistics, the skyrmions found in the result and
-    (``task.keep``) the texture.
+    Returns its energies [J], the solver's statistics, the skyrmions found in the result,
+    ``moment_z`` = ∫ m_z dA over the film [m²] (a uniform extra field b [A/m] adds
+    −μ₀ M_s t b · moment_z to the energy) and (``task.keep``) the texture.
     """
     fs = _film_solver(material_json, task.film)
     x, y = task.film.centres()
@@ -101,6 +109,7 @@ def relax(material_json: str, task: Relaxation, torque_tolerance: float) -> dict
         "cells": [list(c) for c in task.cores],
         "centres": centres,
         "skyrmions": _skyrmions(result.m, task.film, fs.material.film_thickness),
+        "moment_z": float(np.sum(result.m[..., 2]) * task.film.cell_size**2),
     }
     if task.keep:
         out["m"] = result.m

@@ -30,6 +30,8 @@ _INV_2_31 = 1.0 / 2147483648.0
 
 #: Sub-stream used for the thermal noise.
 STREAM_THERMAL = 0
+#: Sub-stream of the noise on a breathing skyrmion's radius.
+STREAM_RADIUS = 1
 
 
 @numba.njit(inline="always")

@@ -26,23 +26,33 @@ from skygas.engine.neighbors import (
 from skygas.engine.stages import (
     crossed_port,
     draw_noise,
+    draw_radius_normals,
     force_pass,
     insert_planned,
     interior_floor,
     interior_floors,
     is_inside,
+    radius_corrector,
+    radius_predictor,
+    radius_step_tables,
     record_frame,
+    record_radii,
+    reflect_radius,
 )
 from skygas.fields._field_lookup import prefetch_at
 from skygas.fields.landscape.hermite import prefetch_cell
 
 
 class Frames(NamedTuple):
-    """Where one call records its frames: positions [nm] (NaN = empty slot) and ids (−1)."""
+    """Where one call records its frames: positions [nm] (NaN = empty slot) and ids (−1).
+
+    ``r``: a breathing model's radii [nm] (a placeholder for rigid skyrmions).
+    """
 
     x: np.ndarray  # (frames, slots)
     y: np.ndarray
     ids: np.ndarray
+    r: np.ndarray
 
 
 class Exits(NamedTuple):
@@ -59,6 +69,7 @@ class Exits(NamedTuple):
 def advance(
     x,
     y,
+    r,
     alive,
     ids,
     step0,
@@ -77,6 +88,9 @@ def advance(
     """Advance the store (``x, y`` [nm], ``alive``, ``ids``) by ``n_steps`` steps from ``step0``.
 
     ``step0`` is the global step number. Returns the number of exits written to ``exits``.
+    ``r`` holds the radii [nm] of a breathing model (``terms.breathing.active``), which step
+    with the centres in the same scheme (their own noise ξ_R, reflected back into the table's
+    range); rigid skyrmions leave it as it is, but for insertions, which get R₀.
 
     Additive noise ξ = √(2D dt)·z is drawn once per skyrmion and step (keyed on its id and the
     global step number) and used in both Heun stages:
@@ -98,7 +112,9 @@ def advance(
     heun = stepper.heun
     grid = terms.grid
     inv_gh = 1.0 / grid.spacing
-    cutoff = terms.pair.cutoff
+    breathing = terms.breathing
+    cutoff = terms.pair.cutoff + breathing.pair_reach  # the neighbour list's reach
+    wall_reach = terms.wall.cutoff + breathing.wall_reach
     vx0 = np.zeros(n)
     vy0 = np.zeros(n)
     vx1 = np.zeros(n)  # Heun's corrector velocities; before the first step, "at rest"
@@ -108,6 +124,17 @@ def advance(
     yp = np.empty(n)
     nx_ = np.zeros(n)
     ny_ = np.zeros(n)
+    vr0 = np.zeros(n)  # the radii's rates [nm/ns], predictor and corrector
+    vr1 = np.zeros(n)
+    rp = r.copy()
+    zr_ = np.zeros(n)  # the radii's normals
+    spare = np.zeros(n)
+    lam = np.zeros(n)  # their frozen relaxation rates [1/ns], and the corrector's weights
+    e2 = np.zeros(n)
+    nodes = breathing.curvature.shape[0]
+    tables = (np.empty(nodes), np.empty(nodes), np.empty(nodes))
+    if breathing.active:
+        radius_step_tables(breathing, dt, tables[0], tables[1], tables[2])
     cand = np.empty((4, n))
     ref_x = np.empty(n)
     ref_y = np.empty(n)
@@ -134,6 +161,8 @@ def advance(
                 steps_done = s
                 break
             cursor += 1
+            r[slot] = breathing.r0
+            rp[slot] = breathing.r0
             vx0[slot] = 0.0  # its margin starts from rest
             vy0[slot] = 0.0
             vx1[slot] = 0.0
@@ -154,12 +183,12 @@ def advance(
                     pair_j,
                     n_owners,
                 )
-                floor[slot] = interior_floor(
-                    x[slot], y[slot], margin[slot], terms, terms.wall.cutoff
-                )
+                floor[slot] = interior_floor(x[slot], y[slot], margin[slot], terms, wall_reach)
         # -- noise ----------------------------------------------------------------------------
         if noise.thermal:
             draw_noise(noise, ids, alive, step, cand, nx_, ny_)
+            if breathing.active:
+                draw_radius_normals(noise, ids, alive, step, cand, zr_, spare)
         if heun:
             # Heun's predictor will land near x + v dt + ξ (v: the last corrector velocity),
             # often on grid rows not read for a while: start loading them now, so that the
@@ -215,6 +244,7 @@ def advance(
                 force_pass(
                     x,
                     y,
+                    r,
                     alive,
                     terms,
                     mobility,
@@ -224,6 +254,7 @@ def advance(
                     n_owners,
                     vx0,
                     vy0,
+                    vr0,
                     counters,
                     domain,
                     floor,
@@ -231,10 +262,15 @@ def advance(
                 for i in range(n):
                     xp[i] = x[i] + vx0[i] * dt + nx_[i]
                     yp[i] = y[i] + vy0[i] * dt + ny_[i]
+                if breathing.active:  # (the corrector's lookups clamp to the table)
+                    radius_predictor(
+                        r, vr0, zr_, alive, breathing, dt, noise.thermal, tables, lam, e2, rp
+                    )
             else:
                 force_pass(
                     xp,
                     yp,
+                    rp,
                     alive,
                     terms,
                     mobility,
@@ -244,6 +280,7 @@ def advance(
                     n_owners,
                     vx1,
                     vy1,
+                    vr1,
                     counters,
                     domain,
                     floor,
@@ -251,6 +288,13 @@ def advance(
                 for i in range(n):
                     xp[i] = x[i] + 0.5 * (vx0[i] + vx1[i]) * dt + nx_[i]
                     yp[i] = y[i] + 0.5 * (vy0[i] + vy1[i]) * dt + ny_[i]
+                if breathing.active:
+                    radius_corrector(r, rp, vr0, vr1, lam, e2, alive)
+        if breathing.active:  # the final radii, reflected into the table's range
+            for i in range(n):
+                if alive[i]:
+                    rp[i], reflected = reflect_radius(rp[i], breathing)
+                    counters.radius_reflections += reflected
         # -- accept the step; handle skyrmions that left the device ---------------------------
         for i in range(n):
             if not alive[i]:
@@ -270,6 +314,7 @@ def advance(
             ):
                 x[i] = xp[i]
                 y[i] = yp[i]
+                r[i] = rp[i]  # (rigid: rp is r)
                 continue
             crossed = crossed_port(x[i], y[i], xp[i], yp[i], ports)
             if crossed >= 0:
@@ -287,6 +332,8 @@ def advance(
         # -- recording ------------------------------------------------------------------------
         if stepper.record_every > 0 and (step + 1) % stepper.record_every == 0:
             record_frame(x, y, alive, ids, counters.frames, frames.x, frames.y, frames.ids)
+            if breathing.active:
+                record_radii(r, alive, counters.frames, frames.r)
             counters.frames += 1
     counters.exits += n_exits
     counters.skyrmion_steps = moved

@@ -33,6 +33,7 @@ class FrameBlock(NamedTuple):
     x: np.ndarray  # (f, slots) [nm]
     y: np.ndarray  # (f, slots) [nm]
     ids: np.ndarray  # (f, slots)
+    r: np.ndarray | None = None  # (f, slots) [nm]: a breathing model's radii (else None)
 
     def positions(self, f: int) -> tuple[np.ndarray, np.ndarray]:
         """Frame ``f`` as :meth:`Simulation.positions` gives the live state.
@@ -56,8 +57,8 @@ class Recorder:
         self._exit_buffer: Exits | None = None
 
     # -- buffers for one kernel call ---------------------------------------------------------
-    def frame_buffer(self, n_frames: int, slots: int, capacity: int) -> Frames:
-        """Room for ``n_frames`` frames of ``slots`` slots.
+    def frame_buffer(self, n_frames: int, slots: int, capacity: int, radii: bool = False) -> Frames:
+        """Room for ``n_frames`` frames of ``slots`` slots (and their radii, if ``radii``).
 
         When there are none, a dummy sized for the store's ``capacity`` (reused while it stays the
         same).
@@ -67,12 +68,14 @@ class Recorder:
                 np.empty((n_frames, slots)),
                 np.empty((n_frames, slots)),
                 np.empty((n_frames, slots), dtype=np.int64),
+                np.empty((n_frames, slots) if radii else (0, 0)),
             )
         if self._no_frames is None or self._no_frames.x.shape[1] != capacity:
             self._no_frames = Frames(
                 np.empty((1, capacity)),
                 np.empty((1, capacity)),
                 np.empty((1, capacity), dtype=np.int64),
+                np.empty((1, capacity)),
             )
         return self._no_frames
 
@@ -113,6 +116,7 @@ class Recorder:
         if recorded:
             steps = first_step + every * np.arange(recorded, dtype=np.int64)
             self.last_frame_step = int(steps[-1])
+            radii = frames.r[:recorded] if frames.r.shape == frames.x.shape else None
             self.blocks.append(
                 FrameBlock(
                     steps,
@@ -120,6 +124,7 @@ class Recorder:
                     frames.x[:recorded],
                     frames.y[:recorded],
                     frames.ids[:recorded],
+                    radii,
                 )
             )
 
@@ -146,12 +151,16 @@ class Recorder:
         )
         x = np.full((len(times), len(seen)), np.nan)
         y = np.full((len(times), len(seen)), np.nan)
+        breathing = any(b.r is not None for b in blocks)
+        radius = np.full((len(times), len(seen)), np.nan) if breathing else None
         row = 0
         for block in blocks:
             frame, slot = np.nonzero(block.ids >= 0)
             column = np.searchsorted(seen, block.ids[frame, slot])
             x[row + frame, column] = block.x[frame, slot] / units.M_TO_NM
             y[row + frame, column] = block.y[frame, slot] / units.M_TO_NM
+            if radius is not None and block.r is not None:
+                radius[row + frame, column] = block.r[frame, slot] / units.M_TO_NM
             row += len(block.time)
         ex = self.exits.arrays()
         # imported here: a run that records no trajectory (a sweep's worker) never needs it
@@ -167,6 +176,12 @@ class Recorder:
             },
             coords={"time": ("time", times, {"units": "s"}), "skyrmion": seen.astype(np.int64)},
         )
+        if radius is not None:
+            ds["radius"] = (
+                ("time", "skyrmion"),
+                radius,
+                {"units": "m", "long_name": "skyrmion radius"},
+            )
         ds.attrs.update(
             {
                 "title": "skygas skyrmion trajectories",
@@ -198,6 +213,7 @@ class Recorder:
             "frame_x": flat("x", float),
             "frame_y": flat("y", float),
             "frame_ids": flat("ids", np.int64),
+            **({"frame_r": flat("r", float)} if any(b.r is not None for b in blocks) else {}),
             "frame_last_step": np.array(self.last_frame_step, dtype=np.int64),
             **{f"exit_{k}": v.copy() for k, v in ex.items()},
         }
@@ -216,6 +232,9 @@ class Recorder:
                     state["frame_x"][cells].reshape(length, width).copy(),
                     state["frame_y"][cells].reshape(length, width).copy(),
                     state["frame_ids"][cells].reshape(length, width).copy(),
+                    state["frame_r"][cells].reshape(length, width).copy()
+                    if "frame_r" in state
+                    else None,
                 )
             )
             row += length

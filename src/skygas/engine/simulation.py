@@ -32,6 +32,7 @@ from skygas.engine.force_model import (
     MIN_PLACEMENT_SEPARATION,
     ForceModel,
     default_time_step,
+    law_stiffness,
     relaxation_time,
     suggested_time_step,
     whole_steps,
@@ -42,6 +43,7 @@ from skygas.engine.scheduler import NO_PLAN, Operation, first_plan, named_operat
 from skygas.engine.state import StateView
 from skygas.engine.store import SkyrmionStore
 from skygas.engine.term_rules import (
+    Breathing,
     ConstantForce,
     CurrentDrift,
     Landscape,
@@ -177,6 +179,10 @@ class Simulation:
     external_force : (float, float)
         A uniform force (F_x, F_y) [N] on every skyrmion, e.g. of a field gradient
         (:class:`~skygas.engine.term_rules.ConstantForce`).
+    particle_model : str, optional
+        ``"rigid"`` or ``"breathing"`` (each skyrmion's radius a degree of freedom, for a
+        material with a ``breathing`` table: :class:`~skygas.physics.materials.BreathingSpec`);
+        ``None``: the material's own ``particle_model``.
     """
 
     def __init__(
@@ -201,6 +207,7 @@ class Simulation:
         wall_law: str | None = None,
         step_interval: float | None = None,
         external_force=(0.0, 0.0),
+        particle_model: str | None = None,
     ):
         require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
         require(
@@ -252,7 +259,8 @@ class Simulation:
             grid_spacing,
             f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)",
         )
-        band = self.forces.wall.cutoff + 2 * spacing
+        self._breathing_rules = self._build_breathing(particle_model)
+        band = self.forces.wall.cutoff + self._breathing_rules.record().wall_reach + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
         self.landscape = self._build_landscape(parse_potentials(landscape))
         # each force term's rules (:mod:`skygas.engine.term_rules`); the drift's are replaced
@@ -297,7 +305,9 @@ class Simulation:
         self.time_step = float(time_step)
 
         # -- the parts ------------------------------------------------------------------------
-        self.store = SkyrmionStore(capacity)
+        self.store = SkyrmionStore(
+            capacity, self.material.skyrmion_radius * units.M_TO_NM, self._breathing_rules.active
+        )
         self.recorder = Recorder(outline.ports)
         self.operations: list[Operation] = []
         self.state = StateView(self)
@@ -310,6 +320,8 @@ class Simulation:
         self.skyrmion_steps = 0
         self.pair_evaluations = 0
         self.neighbor_rebuilds = 0
+        #: radius steps of a breathing model reflected back into its table's range
+        self.radius_reflections = 0
 
         # -- the kernel's records -------------------------------------------------------------
         self._dt_ns = self.time_step * units.S_TO_NS
@@ -332,12 +344,61 @@ class Simulation:
             self._landscape_rules.record(),
             T.field_grid(fields, grid),
             self._constant_rules.record(),
+            self._breathing_rules.record(),
         )
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
         self._counters = np.zeros(1, T.COUNTERS)
         self._neighbor_cells: T.NeighborCells | None = None  # set by set_uniform_drift
         self.set_uniform_drift(drift_velocity)
+
+    def _build_breathing(self, particle_model: str | None) -> Breathing:
+        """The radius's rules: a breathing model's, or rigid skyrmions' (``Breathing()``)."""
+        material = self.material
+        model = material.particle_model if particle_model is None else particle_model
+        require(
+            model in ("rigid", "breathing"),
+            "particle_model",
+            particle_model,
+            "'rigid' or 'breathing' (or leave it out for the material's own)",
+        )
+        if model == "rigid":
+            return Breathing()
+        spec = material.breathing
+        require(
+            spec is not None,
+            "particle_model",
+            model,
+            f"'rigid': the material '{material.name}' has no [breathing] table (radius, energy)",
+        )
+        assert spec is not None
+        r0 = material.skyrmion_radius
+        require(
+            spec.radius[0] <= r0 <= spec.radius[-1],
+            "breathing.radius",
+            [spec.radius[0], spec.radius[-1]],
+            f"a range that spans the material's skyrmion_radius {r0:g} m",
+        )
+        dissipation = spec.radius_dissipation
+        if dissipation is None:  # thin-wall estimate: ∂_R m lives in the wall, ∫ = 2πR·2/Δ
+            width = material.wall_width or math.sqrt(
+                material.exchange_stiffness / material.anisotropy
+            )
+            dissipation = 4.0 * math.pi * r0 / width
+        closest = MIN_PLACEMENT_SEPARATION * self.thiele.skyrmion_diameter_internal
+        thiele = self.thiele
+        return Breathing(
+            spec,
+            r0,
+            float(dissipation),
+            thiele.k,
+            thiele.damping,
+            self.temperature,
+            math.hypot(thiele.friction_internal, thiele.gyrocoupling_internal),
+            law_stiffness(self.forces.pair, self.forces.pair_law, closest),
+            law_stiffness(self.forces.wall, self.forces.wall_law, closest),
+            0.5 * closest,  # the tables hold from a quarter diameter
+        )
 
     def _build_landscape(self, terms: list) -> LandscapeField:
         """The landscape of the user's ``terms``, plus a calibrated material's edge stray field.
@@ -402,7 +463,7 @@ class Simulation:
         base = 0.5 * skin
         cap = NEIGHBOR_MARGIN_MAX * self.thiele.skyrmion_diameter_internal
         margin_max = max(base, min(base + NEIGHBOR_MARGIN_STEPS * self._dt_ns * speed, cap))
-        reach = self.forces.pair.cutoff + 2.0 * margin_max
+        reach = self.forces.pair.cutoff + self._terms.breathing.pair_reach + 2.0 * margin_max
         grid = self.wall_field.grid
         width = grid.spacing * (grid.nx - 1)
         height = grid.spacing * (grid.ny - 1)
@@ -443,7 +504,7 @@ class Simulation:
     def term_rules(self) -> tuple[TermRules, ...]:
         """Every force term's descriptor (:mod:`skygas.engine.term_rules`), in the kernel's order.
 
-        Pair law, wall law, drift, landscape, external force.
+        Pair law, wall law, drift, landscape, external force, the radius's (breathing).
         """
         return (
             self._pair_rules,
@@ -451,6 +512,7 @@ class Simulation:
             self._drift_rules,
             self._landscape_rules,
             self._constant_rules,
+            self._breathing_rules,
         )
 
     @property
@@ -552,6 +614,18 @@ class Simulation:
     def positions(self) -> tuple[np.ndarray, np.ndarray]:
         """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
         return self.store.positions()
+
+    @property
+    def particle_model(self) -> str:
+        """``"breathing"`` if each skyrmion carries its radius, else ``"rigid"``."""
+        return self._breathing_rules.setting()
+
+    def radii(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ids, radii [m]) of the skyrmions present, ordered by id.
+
+        A breathing model's own radii; rigid skyrmions all have the material's radius.
+        """
+        return self.store.radii()
 
     def validate_positions(
         self, positions, field_name: str = "skyrmions", check_existing: bool = True
@@ -929,6 +1003,9 @@ class Simulation:
                 np.where(alive, store.x[:used], np.nan)[None, :],
                 np.where(alive, store.y[:used], np.nan)[None, :],
                 np.where(alive, store.ids[:used], -1).astype(np.int64)[None, :],
+                np.where(alive, store.radius[:used], np.nan)[None, :]
+                if self._breathing_rules.active
+                else np.empty((0, 0)),
             ),
             1,
             self.step,
@@ -956,7 +1033,9 @@ class Simulation:
         n_frames = (
             (self.step + n_steps) // record_every - self.step // record_every if record_every else 0
         )
-        frames = self.recorder.frame_buffer(n_frames, used, store.capacity)
+        frames = self.recorder.frame_buffer(
+            n_frames, used, store.capacity, self._breathing_rules.active
+        )
         # each exit removes a skyrmion present at the start of the call or inserted during it
         exits = self.recorder.exit_buffer(used + len(plan.steps))
         counters = self._counters
@@ -966,6 +1045,7 @@ class Simulation:
         n_exit = advance(
             store.x[:used],
             store.y[:used],
+            store.radius[:used],
             store.alive[:used],
             store.ids[:used],
             self.step,
@@ -998,6 +1078,7 @@ class Simulation:
         self.skyrmion_steps += int(c["skyrmion_steps"])
         self.pair_evaluations += int(c["pair_evaluations"])
         self.neighbor_rebuilds += int(c["neighbor_rebuilds"])
+        self.radius_reflections += int(c["radius_reflections"])
         return int(c["inserted"])
 
     # -- checkpoints ---------------------------------------------------------------------------
@@ -1180,8 +1261,9 @@ class Simulation:
 
         ``x``, ``y`` [m] with dims (time, skyrmion), NaN where a skyrmion does not exist,
         ``time`` [s]; the ``skyrmion`` coordinate holds the ids of the skyrmions present in
-        at least one frame. Exits as variables on dim ``exit``; attributes hold every
-        parameter (``parameters_json``), the seed and the version.
+        at least one frame; a breathing model's radii as ``radius`` [m] on the same dims.
+        Exits as variables on dim ``exit``; attributes hold every parameter
+        (``parameters_json``), the seed and the version.
         """
         return self.recorder.trajectories(
             {

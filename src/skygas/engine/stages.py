@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from skygas.engine._jit import U
-from skygas.engine._rng import STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
+from skygas.engine._rng import STREAM_RADIUS, STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
 from skygas.engine.terms import (
     CH_DOMAIN,
     CH_DRIFT_X,
@@ -116,6 +116,106 @@ def draw_noise(noise, ids, alive, step, cand, nx_, ny_):
                 ny_[i] = amplitude * sy * inv_sqrt_sub
 
 
+@numba.njit(inline="always")
+def draw_radius_normals(noise, ids, alive, step, cand, z_, spare):
+    """Standard normals for the radii's noise into ``z_``, keyed on (seed, id, step).
+
+    A sub-stream of their own (the first of each pair; ``spare`` takes the second), summed over
+    sub-steps and normalised as the positions' noise is.
+    """
+    substeps = noise.substeps
+    if substeps == 1:
+        fill_gaussian_pairs(noise.seed, ids, alive, step, STREAM_RADIUS, cand, z_, spare)
+        return
+    inv_sqrt_sub = 1.0 / math.sqrt(substeps)
+    for i in range(ids.shape[0]):
+        if alive[i]:
+            s = 0.0
+            for b in range(substeps):
+                z, _ = gaussian_pair(noise.seed, ids[i], step * substeps + b, STREAM_RADIUS)
+                s += z
+            z_[i] = s * inv_sqrt_sub
+        else:
+            z_[i] = 0.0
+
+
+@numba.njit(inline="always")
+def radius_step_tables(breathing, dt, phi1, phi2, amplitude):
+    """The exponential integrator's weights at each node of the radius table, for a step dt.
+
+    With λ = max(E_self'', 0)/Γ_R at the node and z = λ dt: φ₁ = (1 − e^{−z})/z,
+    φ₂ = (e^{−z} − 1 + z)/z², and the noise's amplitude √(2 k_BT dt φ_σ/Γ_R) [nm] with
+    φ_σ = (1 − e^{−2z})/(2z) (their series where z is small). Made once per kernel call (dt
+    is fixed within it): the step then reads them like the self force, with no exponential
+    or square root per skyrmion.
+    """
+    noise2 = 2.0 * breathing.kt * breathing.inv_friction * dt
+    for k in range(breathing.curvature.shape[0]):
+        z = max(breathing.curvature[k], 0.0) * breathing.inv_friction * dt
+        if z < 1e-4:  # the series, where the closed forms lose digits
+            phi1[k] = 1.0 - 0.5 * z + z * z / 6.0
+            phi2[k] = 0.5 - z / 6.0 + z * z / 24.0
+            phis = 1.0 - z + 2.0 * z * z / 3.0
+        else:
+            decay = math.exp(-z)
+            phi1[k] = (1.0 - decay) / z
+            phi2[k] = (decay - 1.0 + z) / (z * z)
+            phis = (1.0 - decay * decay) / (2.0 * z)
+        amplitude[k] = math.sqrt(noise2 * phis)
+
+
+@numba.njit(inline="always")
+def radius_predictor(r, vr0, z_, alive, breathing, dt, thermal, tables, lam, e2, rp):
+    """The radii's exponential predictor: exact for a harmonic self energy.
+
+    With λ = E_self''(Rₙ)/Γ_R (the self energy's curvature, frozen at the step's start, ≥ 0)
+    and z = λ dt, the stiff linear part is integrated exactly (exponential time differencing):
+        R̃ = Rₙ + dt φ₁(z) v₀ + √(2 k_BT dt/Γ_R · φ_σ(z)) ζ,
+    v₀ = F_R(Rₙ)/Γ_R (``tables``: φ₁, φ₂ and the noise's amplitude at the table's radii,
+    :func:`radius_step_tables`).
+    For a harmonic well this is the exact Ornstein–Uhlenbeck step, so a skyrmion's own
+    breathing never limits the time step; for λ → 0 it is Euler–Maruyama. ``lam`` and
+    ``e2`` = dt φ₂(z) are kept for the corrector.
+    """
+    phi1, phi2, amplitude = tables
+    inv_h = 1.0 / breathing.spacing
+    last = breathing.curvature.shape[0] - 1
+    for i in range(r.shape[0]):
+        if not alive[i]:
+            rp[i] = r[i]
+            continue
+        coordinate = min(max((r[i] - breathing.r_min) * inv_h, 0.0), last - 1e-9)
+        lam[i] = max(_lerp(breathing.curvature, coordinate), 0.0) * breathing.inv_friction
+        e2[i] = dt * _lerp(phi2, coordinate)
+        rp[i] = r[i] + dt * _lerp(phi1, coordinate) * vr0[i]
+        if thermal:
+            rp[i] += _lerp(amplitude, coordinate) * z_[i]
+
+
+@numba.njit(inline="always")
+def radius_corrector(r, rp, vr0, vr1, lam, e2, alive):
+    """The radii's exponential corrector (ETD2): R' = R̃ + dt φ₂ [N(R̃) − N(Rₙ)].
+
+    N(R) = F_R(R)/Γ_R + λ(R − Rₙ) is what the frozen linear part leaves; it is constant in a
+    harmonic well, where the predictor is already exact.
+    """
+    for i in range(r.shape[0]):
+        if alive[i]:
+            rp[i] += e2[i] * (vr1[i] + lam[i] * (rp[i] - r[i]) - vr0[i])
+
+
+@numba.njit(inline="always")
+def reflect_radius(value, breathing):
+    """``value`` [nm] reflected back into [r_min, r_max]; and whether it had to be."""
+    lo = breathing.r_min
+    hi = breathing.r_max
+    if value < lo:
+        return min(2.0 * lo - value, hi), True
+    if value > hi:
+        return max(2.0 * hi - value, lo), True
+    return value, False
+
+
 # -- forces --------------------------------------------------------------------------------------
 @numba.njit(inline="always")
 def interior_floor(xi, yi, margin_i, terms, wall_cutoff):
@@ -146,7 +246,8 @@ def interior_floor(xi, yi, margin_i, terms, wall_cutoff):
 @numba.njit(inline="always")
 def interior_floors(x, y, alive, terms, margin, floor):
     """:func:`interior_floor` of every skyrmion (−1 for empty slots)."""
-    wall_cutoff = terms.wall.cutoff
+    # a breathing skyrmion larger than R₀ meets the walls earlier
+    wall_cutoff = terms.wall.cutoff + terms.breathing.wall_reach
     for i in range(x.shape[0]):
         floor[i] = interior_floor(x[i], y[i], margin[i], terms, wall_cutoff) if alive[i] else -1.0
 
@@ -191,6 +292,63 @@ def pair_forces(x, y, pair, owner, start, pair_j, n_owners, fx, fy, counters):
 
 
 @numba.njit(inline="always")
+def pair_forces_breathing(x, y, r, pair, breathing, owner, start, pair_j, n_owners, fx, fy, fr):
+    """Pair forces of breathing skyrmions: on the centres into ``fx, fy``, on the radii into ``fr``.
+
+    Both overwritten. The law acts on the gap ρ = d − s_p (Rᵢ + Rⱼ − 2R₀)
+    (:class:`~skygas.physics.materials.BreathingSpec`): the centres feel |F|(ρ) along the line
+    between them, each radius −∂E/∂Rᵢ = −s_p |F|(ρ). The neighbour list reaches ``pair_reach``
+    farther than the law, for the largest radii. A gap below ``closest`` reads the law there.
+    """
+    for i in range(x.shape[0]):
+        fx[i] = 0.0
+        fy[i] = 0.0
+        fr[i] = 0.0
+    table = pair.table
+    law_cut = pair.cutoff
+    list_cut = law_cut + breathing.pair_reach
+    list_cut2 = list_cut * list_cut
+    inv_h2 = 1.0 / pair.spacing_r2
+    shift = breathing.pair_shift
+    r0 = breathing.r0
+    closest = breathing.closest
+    evaluated = 0
+    for e in range(n_owners):
+        i = U(owner[e])
+        xi = x[i]
+        yi = y[i]
+        gi = r[i] - r0
+        fxi = 0.0
+        fyi = 0.0
+        fri = 0.0
+        # with branches (measured: the branch-free form of pair_forces, which computes every
+        # entry, is twice as slow here, where an entry costs a square root and a division)
+        for p in range(start[e], start[e + 1]):
+            j = U(pair_j[U(p)])
+            dx = xi - x[j]
+            dy = yi - y[j]
+            d2 = dx * dx + dy * dy
+            if d2 < list_cut2:
+                inv_d = 1.0 / math.sqrt(d2)
+                gap = d2 * inv_d - shift * (gi + r[j] - r0)
+                if gap < law_cut:
+                    gap = max(gap, closest)
+                    magnitude = _lerp(table, gap * gap * inv_h2) * gap  # table: |F|/ρ in ρ²
+                    along = magnitude * inv_d
+                    fxi += along * dx
+                    fyi += along * dy
+                    fx[j] -= along * dx
+                    fy[j] -= along * dy
+                    fri -= shift * magnitude
+                    fr[j] -= shift * magnitude
+                    evaluated += 1
+        fx[i] += fxi
+        fy[i] += fyi
+        fr[i] += fri
+    return evaluated
+
+
+@numba.njit(inline="always")
 def wall_force(wall, field):
     """The wall term's force [pN] at a grid lookup ``field``.
 
@@ -201,6 +359,39 @@ def wall_force(wall, field):
         fw = _lerp(wall.table, max(d, 0.0) / wall.spacing)
         return fw * field[CH_NORMAL_X], fw * field[CH_NORMAL_Y]
     return 0.0, 0.0
+
+
+@numba.njit(inline="always")
+def wall_magnitude(wall, d):
+    """|F| [pN] of the wall law at distance ``d`` [nm] (0 beyond the cutoff)."""
+    if d < wall.cutoff:
+        return _lerp(wall.table, max(d, 0.0) / wall.spacing)
+    return 0.0
+
+
+@numba.njit(inline="always")
+def add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, floor):
+    """A breathing skyrmion's wall law at the gap w − s_w(R − R₀): on its centre and radius.
+
+    :func:`add_one_body_forces` adds the law at the centre's distance w, as for a rigid
+    skyrmion (its loop stays the one rigid runs compile, bit for bit); this adds the
+    difference |F|(w − s_w ΔR) − |F|(w) along the normal, and −s_w |F|(w − s_w ΔR) to the
+    radius's force. Skyrmions with ``floor[i] > 0`` are beyond the law's reach at any radius.
+    """
+    grid = terms.grid
+    inv_gh = 1.0 / grid.spacing
+    breathing = terms.breathing
+    shift = breathing.wall_shift
+    for i in range(x.shape[0]):
+        if not alive[i] or floor[i] > 0.0:
+            continue
+        field = field_at(grid.fields, (x[i] - grid.x0) * inv_gh, (y[i] - grid.y0) * inv_gh)
+        d = field[CH_WALL_DIST]
+        shifted = wall_magnitude(terms.wall, d - shift * (r[i] - breathing.r0))
+        extra = shifted - wall_magnitude(terms.wall, d)
+        vx[i] += extra * field[CH_NORMAL_X]
+        vy[i] += extra * field[CH_NORMAL_Y]
+        vr[i] -= shift * shifted
 
 
 @numba.njit(inline="always")
@@ -283,17 +474,54 @@ def add_landscape_forces(x, y, alive, landscape, fx, fy):
 
 
 @numba.njit(inline="always")
+def add_radius_velocities(r, alive, breathing, vr):
+    """Add each radius's self force −E_self'(R) to ``vr`` and turn it into dR/dt = F_R/Γ_R."""
+    inv_h = 1.0 / breathing.spacing
+    last = breathing.self_force.shape[0] - 1
+    for i in range(r.shape[0]):
+        if alive[i]:
+            coordinate = min(max((r[i] - breathing.r_min) * inv_h, 0.0), last - 1e-9)
+            vr[i] = (vr[i] + _lerp(breathing.self_force, coordinate)) * breathing.inv_friction
+
+
+@numba.njit(inline="always")
 def force_pass(
-    x, y, alive, terms, mobility, owner, start, pair_j, n_owners, vx, vy, counters, domain, floor
+    x,
+    y,
+    r,
+    alive,
+    terms,
+    mobility,
+    owner,
+    start,
+    pair_j,
+    n_owners,
+    vx,
+    vy,
+    vr,
+    counters,
+    domain,
+    floor,
 ):
     """Deterministic velocity [nm/ns] of every alive skyrmion from the sum of all force terms.
 
-    See :func:`add_one_body_forces` for ``domain`` and ``floor``.
+    A breathing model's radii get theirs too, dR/dt [nm/ns] in ``vr``. See
+    :func:`add_one_body_forces` for ``domain`` and ``floor``.
     """
-    pair_forces(x, y, terms.pair, owner, start, pair_j, n_owners, vx, vy, counters)
+    breathing = terms.breathing
+    if breathing.active:
+        counters.pair_evaluations += pair_forces_breathing(
+            x, y, r, terms.pair, breathing, owner, start, pair_j, n_owners, vx, vy, vr
+        )
+    else:
+        pair_forces(x, y, terms.pair, owner, start, pair_j, n_owners, vx, vy, counters)
     if terms.landscape.active:
         add_landscape_forces(x, y, alive, terms.landscape, vx, vy)
+    if breathing.active:
+        add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, floor)
     add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor)
+    if breathing.active:
+        add_radius_velocities(r, alive, breathing, vr)
 
 
 # -- exits and walls -----------------------------------------------------------------------------
@@ -336,3 +564,10 @@ def record_frame(x, y, alive, ids, f, frames_x, frames_y, frames_id):
             frames_x[f, i] = np.nan
             frames_y[f, i] = np.nan
             frames_id[f, i] = -1
+
+
+@numba.njit(inline="always")
+def record_radii(r, alive, f, frames_r):
+    """Frame ``f`` of a breathing model's radii [nm] (NaN where a slot is empty)."""
+    for i in range(r.shape[0]):
+        frames_r[f, i] = r[i] if alive[i] else np.nan

@@ -60,6 +60,14 @@ class StateView:
         """Positions [m] (n, 2) of the skyrmions present, in the order of :attr:`ids`."""
         return self._sim.positions()[1]
 
+    @property
+    def radii(self) -> np.ndarray:
+        """Radii [m] (n,) of the skyrmions present, in the order of :attr:`ids`.
+
+        A breathing model's own; rigid skyrmions all have the material's radius.
+        """
+        return self._sim.radii()[1]
+
     def arrays_nm(self) -> StoreArrays:
         """Read-only views of the store's slots in nanometres (see the module docstring)."""
         store = self._sim.store

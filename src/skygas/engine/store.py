@@ -106,11 +106,18 @@ class AnnihilationLog:
 
 
 class SkyrmionStore:
-    """Positions [nm], alive mask and ids of a run's skyrmions, with room to grow."""
+    """Positions [nm], alive mask and ids of a run's skyrmions, with room to grow.
 
-    def __init__(self, capacity: int = 64):
+    ``radius`` [nm] is each skyrmion's radius: ``radius0`` for rigid skyrmions, its own for a
+    breathing model (``breathing``), whose checkpoints then carry it.
+    """
+
+    def __init__(self, capacity: int = 64, radius0: float = 0.0, breathing: bool = False):
+        self.radius0 = float(radius0)
+        self.breathing = bool(breathing)
         self.x = np.zeros(capacity)
         self.y = np.zeros(capacity)
+        self.radius = np.full(capacity, self.radius0)
         self.alive = np.zeros(capacity, dtype=np.bool_)
         self.ids = np.full(capacity, -1, dtype=np.int64)
         self.next_id = 0
@@ -136,6 +143,13 @@ class SkyrmionStore:
         """(ids, positions [m] of shape (n, 2)) of the skyrmions present, ordered by id."""
         alive = self.alive
         return by_id(self.ids[alive], self.x[alive], self.y[alive])
+
+    def radii(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ids, radii [m]) of the skyrmions present, ordered by id."""
+        alive = self.alive
+        ids = self.ids[alive]
+        order = np.argsort(ids)
+        return ids[order].copy(), self.radius[alive][order] / units.M_TO_NM
 
     def present_nm(self) -> np.ndarray:
         """Positions [nm] (n, 2) of the skyrmions present, in slot order."""
@@ -164,7 +178,13 @@ class SkyrmionStore:
         if needed <= cap:
             return
         new = max(needed, 2 * cap)
-        for name, fill in (("x", 0.0), ("y", 0.0), ("alive", False), ("ids", -1)):
+        for name, fill in (
+            ("x", 0.0),
+            ("y", 0.0),
+            ("radius", self.radius0),
+            ("alive", False),
+            ("ids", -1),
+        ):
             old = getattr(self, name)
             arr = np.full(new, fill, dtype=old.dtype)
             arr[:cap] = old
@@ -181,6 +201,7 @@ class SkyrmionStore:
                 ident = self.next_id
                 self.next_id += 1
                 self.x[slot], self.y[slot] = p_nm[0]
+                self.radius[slot] = self.radius0
                 self.alive[slot] = True
                 self.ids[slot] = ident
                 return np.array([ident], dtype=np.int64)
@@ -192,6 +213,7 @@ class SkyrmionStore:
         new_ids = np.arange(self.next_id, self.next_id + len(p_nm), dtype=np.int64)
         self.next_id += len(p_nm)
         self.x[slots], self.y[slots] = p_nm[:, 0], p_nm[:, 1]
+        self.radius[slots] = self.radius0
         self.alive[slots] = True
         self.ids[slots] = new_ids
         return new_ids
@@ -215,7 +237,7 @@ class SkyrmionStore:
         cy = ((self.y[slots] - y0) // size).astype(np.int64)
         order = slots[np.lexsort((cx, cy))]
         n = len(order)
-        for name in ("x", "y", "ids"):
+        for name in ("x", "y", "radius", "ids"):
             arr = getattr(self, name)
             arr[:n] = arr[order]
         self.alive[:] = False
@@ -226,9 +248,11 @@ class SkyrmionStore:
     def state_dict(self) -> dict[str, np.ndarray]:
         """Positions, alive mask, ids, the next id and the annihilation log, as raw arrays."""
         log = self.annihilations.arrays()
+        radius = {"radius": self.radius.copy()} if self.breathing else {}
         return {
             "x": self.x.copy(),
             "y": self.y.copy(),
+            **radius,
             "alive": self.alive.copy(),
             "ids": self.ids.copy(),
             "next_id": np.array(self.next_id),
@@ -241,6 +265,10 @@ class SkyrmionStore:
         A checkpoint without an annihilation log gets an empty one.
         """
         self.x, self.y = state["x"].copy(), state["y"].copy()
+        if "radius" in state:
+            self.radius = state["radius"].copy()
+        else:  # rigid skyrmions, or a checkpoint of a run before radii were kept
+            self.radius = np.full(len(self.x), self.radius0)
         self.alive, self.ids = state["alive"].copy(), state["ids"].copy()
         self.next_id = int(state["next_id"])
         if "annihilation_skyrmion" in state:

@@ -27,6 +27,8 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
+import numpy as np
+
 from skygas.core import units
 from skygas.engine import terms as T
 from skygas.engine.force_model import law_stiffness
@@ -299,3 +301,143 @@ class ConstantForce:
     def per_step(self, mobility: Mobility, dt_ns: float, diameter_nm: float) -> float:
         """Diameters a free skyrmion moves in one step under this force alone."""
         return self.speed_bound(mobility) * dt_ns / diameter_nm
+
+
+#: Nodes of the self force's table over the radius range (linear interpolation between them).
+RADIUS_TABLE_NODES = 1024
+
+
+@dataclass(frozen=True)
+class Breathing(_MovesNoFreeSkyrmion):
+    """The radius of each skyrmion as a degree of freedom (docs/physics.md §2), or rigid ones.
+
+    Parameters
+    ----------
+    spec
+        The material's :class:`~skygas.physics.materials.BreathingSpec`, or ``None`` for rigid
+        skyrmions (the record is :data:`~skygas.engine.terms.RIGID`, nothing else counts).
+    radius0
+        R₀ [m], the material's isolated radius, which the laws were measured at.
+    radius_dissipation
+        𝒟_RR (dimensionless): the spec's, or the thin-wall estimate the caller made.
+    k
+        M_s t_F/γ [kg/s]; with the damping α, Γ_R = α 𝒟_RR k.
+    damping
+        α.
+    temperature
+        T [K].
+    centre_friction
+        |(α𝒟k, G)| [pN·ns/nm]: the centres' friction, which turns the radius's relaxation rate
+        into the equivalent stiffness that :func:`~skygas.engine.force_model.relaxation_time`
+        reads.
+    pair_stiffness, wall_stiffness
+        The laws' largest slopes [pN/nm] (they push on the radius too, scaled by s²).
+    closest
+        The smallest gap [nm] the pair law is read at.
+    """
+
+    spec: Any = None
+    radius0: float = 0.0
+    radius_dissipation: float = 0.0
+    k: float = 0.0
+    damping: float = 0.0
+    temperature: float = 0.0
+    centre_friction: float = 1.0
+    pair_stiffness: float = 0.0
+    wall_stiffness: float = 0.0
+    closest: float = 0.0
+
+    name: ClassVar[str] = "breathing"
+    config_field: ClassVar[str | None] = None
+
+    @property
+    def active(self) -> bool:
+        """True for a breathing model."""
+        return self.spec is not None
+
+    @property
+    def friction(self) -> float:
+        """Γ_R = α 𝒟_RR k [kg/s]."""
+        return self.damping * self.radius_dissipation * self.k
+
+    def _self_force(self) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+        """−dE_self/dR [pN] and E_self'' [pN/nm] on a uniform grid; its spacing, r_min, r_max [nm].
+
+        The energy is interpolated with a not-a-knot cubic spline: its curvature is continuous
+        (the integrator's linear part, :func:`skygas.engine.stages.radius_predictor`, follows
+        it), and a harmonic table is reproduced exactly.
+        """
+        from scipy.interpolate import CubicSpline
+
+        radius = np.asarray(self.spec.radius, float) * units.M_TO_NM
+        energy = np.asarray(self.spec.energy, float) * units.J_TO_PN_NM
+        grid = np.linspace(radius[0], radius[-1], RADIUS_TABLE_NODES)
+        spline = CubicSpline(radius, energy)
+        force = -spline.derivative()(grid)
+        curvature = spline.derivative(2)(grid)
+        return force, curvature, float(grid[1] - grid[0]), float(radius[0]), float(radius[-1])
+
+    def record(self) -> T.BreathingTerm:
+        """The kernel's :class:`~skygas.engine.terms.BreathingTerm`."""
+        if not self.active:
+            return T.RIGID
+        force, curvature, spacing, r_min, r_max = self._self_force()
+        r0 = self.radius0 * units.M_TO_NM
+        spec = self.spec
+        return T.BreathingTerm(
+            True,
+            r0,
+            r_min,
+            r_max,
+            force,
+            curvature,
+            spacing,
+            1.0 / (self.friction * units.KG_PER_S_TO_INTERNAL),
+            units.thermal_energy_internal(self.temperature),
+            float(spec.pair_shift),
+            float(spec.wall_shift),
+            2.0 * float(spec.pair_shift) * max(r_max - r0, 0.0),
+            float(spec.wall_shift) * max(r_max - r0, 0.0),
+            self.closest,
+        )
+
+    def setting(self) -> str:
+        """``"breathing"`` or ``"rigid"``."""
+        return "breathing" if self.active else "rigid"
+
+    def parameters(self) -> dict[str, Any]:
+        """The model, and for a breathing one Γ_R [kg/s], 𝒟_RR, s_p, s_w, the radius range [m]."""
+        if not self.active:
+            return {}
+        return {
+            "particle_model": "breathing",
+            "radius_friction_kg_per_s": self.friction,
+            "radius_dissipation": self.radius_dissipation,
+            "pair_shift": float(self.spec.pair_shift),
+            "wall_shift": float(self.spec.wall_shift),
+            "radius_range_m": [float(self.spec.radius[0]), float(self.spec.radius[-1])],
+        }
+
+    def radius_stiffness(self) -> float:
+        """The largest |∂F_R/∂R| [pN/nm] that the radius's integrator steps explicitly.
+
+        Its own curvature E_self'' is integrated exactly in its linear part (frozen at each
+        step's start, :func:`skygas.engine.stages.radius_predictor`; what it changes within a
+        step is second order), so what counts is the laws' share through s², counted as the
+        centres count them (the steeper law at its steepest): max(s_p² κ_pair, s_w² κ_wall).
+        """
+        if not self.active:
+            return 0.0
+        s_p, s_w = float(self.spec.pair_shift), float(self.spec.wall_shift)
+        return max(s_p**2 * self.pair_stiffness, s_w**2 * self.wall_stiffness)
+
+    def stiffness(self) -> float:
+        """The stiffness [pN/nm] whose centre relaxation is as fast as the radius's.
+
+        The radius relaxes at κ_R/Γ_R; :func:`~skygas.engine.force_model.relaxation_time`
+        turns a stiffness κ into the rate κ/|(α𝒟k, G)|, so κ_R·|(α𝒟k, G)|/Γ_R.
+        """
+        if not self.active:
+            return 0.0
+        gamma_r = self.friction * units.KG_PER_S_TO_INTERNAL
+        return self.radius_stiffness() * self.centre_friction / gamma_r

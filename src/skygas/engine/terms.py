@@ -139,6 +139,31 @@ class FieldGrid(NamedTuple):
     spacing: float
 
 
+class BreathingTerm(NamedTuple):
+    """The radius Rᵢ of each skyrmion as a degree of freedom (a breathing model), or none.
+
+    Γ_R dR/dt = F_R + ξ with F_R = −∂E/∂R: the self force −E_self'(R) tabulated here, and the
+    pair and wall laws' share (the laws act on the gap d − s(Rᵢ + Rⱼ − 2R₀) and w − s_w(R − R₀),
+    :class:`skygas.physics.materials.BreathingSpec`). R is kept in [r_min, r_max] (a step
+    that would leave is reflected back).
+    """
+
+    active: bool  # False: rigid skyrmions (every other field is a placeholder)
+    r0: float  # the isolated radius R₀ [nm] (new skyrmions start with it)
+    r_min: float  # the table's range [nm]
+    r_max: float
+    self_force: np.ndarray  # −dE_self/dR [pN] at r_min + k·spacing
+    curvature: np.ndarray  # E_self''(R) [pN/nm] at the same radii (the exact linear part)
+    spacing: float  # [nm]
+    inv_friction: float  # 1/Γ_R [nm/(pN·ns)]
+    kt: float  # k_B T [pN·nm] (the noise: √(2 k_BT dt/Γ_R) per step)
+    pair_shift: float  # s_p
+    wall_shift: float  # s_w
+    pair_reach: float  # how much farther [nm] a pair interacts than at R₀: 2 s_p (r_max − R₀)
+    wall_reach: float  # the same for the walls: s_w (r_max − R₀)
+    closest: float  # smallest gap [nm] the pair law is read at (its table's valid range)
+
+
 class ForceTerms(NamedTuple):
     """Every force term of a run, as the kernel sees them."""
 
@@ -148,6 +173,13 @@ class ForceTerms(NamedTuple):
     landscape: LandscapeTerm
     grid: FieldGrid
     constant: ConstantForceTerm
+    breathing: BreathingTerm
+
+
+#: The breathing term of rigid skyrmions.
+RIGID = BreathingTerm(
+    False, 0.0, 0.0, 1.0, np.zeros(2), np.zeros(2), 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+)
 
 
 class Stepper(NamedTuple):
@@ -197,6 +229,7 @@ COUNTERS = np.dtype(
         ("inserted", np.int64),  # planned insertions made
         ("next_id", np.int64),  # in: id of the next inserted skyrmion; out: the one after
         ("skyrmion_steps", np.int64),  # steps of one skyrmion taken, summed over skyrmions
+        ("radius_reflections", np.int64),  # radius steps reflected back into the table's range
     ]
 )
 

@@ -156,6 +156,68 @@ class StrayFieldSpec(StrictModel):
         return self
 
 
+class BreathingSpec(StrictModel):
+    """What a breathing skyrmion needs beyond a rigid one: its radius as a degree of freedom.
+
+    Each skyrmion carries its radius Rᵢ. The energy the engine integrates is
+
+        E = Σᵢ E_self(Rᵢ) + Σ_{i<j} U_pair(dᵢⱼ − s_p (Rᵢ + Rⱼ − 2R₀))
+              + Σᵢ U_wall(wᵢ − s_w (Rᵢ − R₀))
+
+    with R₀ the material's ``skyrmion_radius`` (the isolated skyrmion's), U_pair and U_wall the
+    material's pair and wall laws measured between skyrmions of radius R₀ (their forces are the
+    tabulated or paper laws), dᵢⱼ the centre distance and wᵢ the distance to the nearest wall.
+    A larger skyrmion meets its neighbours and the walls earlier: the laws act on the gap
+    between domain walls, not between centres, which s = 1 states exactly. The radius relaxes
+    with its own friction Γ_R = α 𝒟_RR k (k = M_s t_F/γ, as for the centre's α𝒟k):
+
+        Γ_R dRᵢ/dt = −∂E/∂Rᵢ + ξᵢ,   ⟨ξᵢ(t) ξᵢ(t')⟩ = 2 k_B T Γ_R δ(t − t')
+
+    so that at equilibrium the radii follow exp(−E/k_BT). docs/physics.md §2 "Breathing
+    skyrmions" derives it from Thiele's projection onto ∂m/∂R.
+
+    Attributes
+    ----------
+    radius : tuple of float
+        Radii R [m], strictly increasing, at least 3, spanning ``skyrmion_radius``.
+    energy : tuple of float
+        E_self(R) [J] of an isolated skyrmion of that radius in the material's film and
+        applied field (any constant offset). Interpolated with PCHIP; the radius is kept within
+        the table (a step that would leave it is reflected back and counted).
+    radius_dissipation : float or None
+        𝒟_RR = ∫ ∂_R m · ∂_R m dA (dimensionless); ``None`` takes the thin-wall estimate
+        4πR₀/Δ.
+    pair_shift, wall_shift : float
+        s_p and s_w above (dimensionless, ≥ 0; 0 makes the laws blind to the radius).
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    radius: tuple[float, ...]
+    energy: tuple[float, ...]
+    radius_dissipation: FinitePositive | None = None
+    pair_shift: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
+    wall_shift: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
+
+    @field_validator("radius")
+    @classmethod
+    def _radii(cls, value: tuple[float, ...]) -> tuple[float, ...]:
+        if len(value) < 3:
+            raise ValueError("at least 3 radii (m)")
+        if value[0] <= 0:
+            raise ValueError("radii (m) must be > 0")
+        _strictly_increasing(value, "radius")
+        return value
+
+    @model_validator(mode="after")
+    def _same_length(self):
+        if len(self.energy) != len(self.radius):
+            raise ValueError(
+                f"energy needs one value per radius ({len(self.radius)}), not {len(self.energy)}"
+            )
+        return self
+
+
 class Material(StrictModel):
     """A magnetic film and its fitted particle-model laws (SI units).
 
@@ -201,6 +263,11 @@ class Material(StrictModel):
     stray_field : StrayFieldSpec or None
         The skyrmion's profile for the edge stray-field energy, added with a tabulated wall
         law (docs/physics.md §2).
+    particle_model : {"rigid", "breathing"}
+        Rigid skyrmions keep the radius ``skyrmion_radius``; breathing ones carry their own
+        (:class:`BreathingSpec`, which ``breathing`` must then give).
+    breathing : BreathingSpec or None
+        The radius's energy, friction and coupling to the laws (a calibrated soft film).
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=True)
@@ -224,6 +291,8 @@ class Material(StrictModel):
     pair_table: ForceTableSpec | None = None
     wall_table: ForceTableSpec | None = None
     stray_field: StrayFieldSpec | None = None
+    particle_model: Literal["rigid", "breathing"] = "rigid"
+    breathing: BreathingSpec | None = None
 
     @field_validator("wall_law")
     @classmethod
@@ -236,6 +305,26 @@ class Material(StrictModel):
                 "decays away from the wall; coefficients are highest power first"
             )
         return value
+
+    @model_validator(mode="after")
+    def _breathing_has_its_spec(self):
+        if self.particle_model == "breathing":
+            spec = self.breathing
+            if spec is None:
+                raise ValueError(
+                    "particle_model = 'breathing' needs a [breathing] table (radius, energy)"
+                )
+            if not spec.radius[0] <= self.skyrmion_radius <= spec.radius[-1]:
+                raise ValueError(
+                    f"breathing.radius must span skyrmion_radius = {self.skyrmion_radius:g} m "
+                    f"(it runs from {spec.radius[0]:g} to {spec.radius[-1]:g} m)"
+                )
+        return self
+
+    @property
+    def is_breathing(self) -> bool:
+        """True if its skyrmions carry their radius as a degree of freedom."""
+        return self.particle_model == "breathing"
 
     @property
     def skyrmion_diameter(self) -> float:

@@ -150,6 +150,9 @@ class ForcesSpec(StrictModel):
     #: a uniform force (F_x, F_y) [N] on every skyrmion (a field gradient, a tilted film;
     #: :class:`~skygas.engine.term_rules.ConstantForce`)
     external_force: Point2 = (0.0, 0.0)
+    #: ``"rigid"`` or ``"breathing"`` (each skyrmion's radius its own degree of freedom, for a
+    #: material with a ``[material.breathing]`` table); left out: the material's own
+    particle_model: Literal["rigid", "breathing"] | None = None
 
     def simulation_arguments(self) -> dict:
         """The keyword arguments of :class:`~skygas.engine.Simulation` these choices give."""
@@ -159,6 +162,7 @@ class ForcesSpec(StrictModel):
             "pair_law_params": self.pair_law_params,
             "cutoff_fraction": self.cutoff_fraction,
             "external_force": self.external_force,
+            "particle_model": self.particle_model,
         }
 
 

@@ -412,24 +412,32 @@ def _progress_bar(job: Job, enabled: bool):
     if compiling:
         print(COMPILING_LINE, file=sys.stderr)
 
+    # a job may say when its rate can be measured (a calibration: once two solves finished);
+    # until then the bar shows no remaining time, and its clock starts there
+    waiting = not getattr(job, "rate_measured", True)
+    bar_format = getattr(job, "progress_format", None)
     bar = tqdm(
         total=round(job.work_total, 6),
         unit=job.work_unit,
         desc=getattr(job, "work_description", "simulated"),
         leave=False,
         initial=round(job.work_done(), 6),
-        bar_format=getattr(job, "progress_format", None),
+        bar_format=bar_format.replace("{remaining}", "?") if waiting and bar_format else bar_format,
     )
 
     def update() -> None:
-        nonlocal compiling
+        nonlocal compiling, waiting
         bar.total = round(job.work_total, 6)  # a job may learn its size as it goes
         # a job may say what it is doing now (a calibration's stage)
         bar.set_description(getattr(job, "work_description", "simulated"), refresh=False)
         done = round(job.work_done(), 6)
+        if waiting and getattr(job, "rate_measured", True):
+            waiting = False
+            compiling = True  # the same restart of the clock, below
+            bar.bar_format = bar_format
         if compiling:
-            # the first piece included the compilation: the rate, and so the remaining time,
-            # is measured afresh from here, on the stepping alone
+            # the first piece included the compilation (or the start-up): the rate, and so
+            # the remaining time, is measured afresh from here, on the work alone
             compiling = False
             now = time.time()  # tqdm's clock
             bar.n = bar.initial = done

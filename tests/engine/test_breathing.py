@@ -1,0 +1,233 @@
+"""Breathing skyrmions: the radius as a degree of freedom, against exact results.
+
+The engine integrates Γ_R dR/dt = −∂E/∂R + ξ beside the centres' Thiele equation, with
+E = Σ E_self(Rᵢ) + Σ U_pair(d − s_p(Rᵢ + Rⱼ − 2R₀)) + Σ U_wall(w − s_w(R − R₀))
+(skygas.physics.materials.BreathingSpec). What must hold whatever the integrator:
+
+- at equilibrium the radius of a lone skyrmion follows the Boltzmann law exp(−E_self/k_BT):
+  its mean and variance against quadratures of that law;
+- in a harmonic well the radius is an Ornstein–Uhlenbeck process with relaxation time
+  Γ_R/k, Γ_R = α 𝒟_RR M_s t_F/γ computed here from the material;
+- at T = 0, two skyrmions squeezed in a disk come to rest where the forces on the centres and
+  on the radii balance, solved here with SciPy from the paper's laws themselves (not from the
+  engine's tables);
+- with s_p = s_w = 0 the centres move exactly as rigid ones (up to rounding);
+- a run resumed from a checkpoint is bit-identical, radii included.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import integrate, optimize
+
+from skygas.core import units
+from skygas.engine import Simulation
+from skygas.physics.forces import paper_pair_force, paper_wall_force
+from skygas.physics.geometry import disk
+from skygas.physics.materials import BreathingSpec, derive_thiele, preset
+
+S2 = preset("S2")
+R0 = S2.skyrmion_radius
+KT = units.BOLTZMANN * 300.0
+
+
+def breathing(material=S2, energy=None, span=0.4, nodes=81, **spec) -> object:
+    """``material`` with a breathing table E_self(R) = ``energy(R − R₀)`` [J] over R₀(1 ± span)."""
+    radius = np.linspace((1 - span) * R0, (1 + span) * R0, nodes)
+    values = energy(radius - R0)
+    return material.model_copy(
+        update={
+            "particle_model": "breathing",
+            "breathing": BreathingSpec(radius=tuple(radius), energy=tuple(values), **spec),
+            "name": f"{material.name}-breathing",
+        }
+    )
+
+
+def radius_friction(material) -> float:
+    """Γ_R = α 𝒟_RR M_s t_F/γ [kg/s], with the thin-wall 𝒟_RR = 4πR₀/Δ, Δ = √(A/K)."""
+    width = math.sqrt(material.exchange_stiffness / material.anisotropy)
+    k = material.saturation_magnetization * 2e-9 / units.GYROMAGNETIC_RATIO
+    return material.damping * (4 * math.pi * R0 / width) * k
+
+
+def lone_radii(material, steps_per_sample: int, samples: int, time_step: float, seed: int = 3):
+    """Radii [m] of skyrmions far apart in a large disk, sampled every ``steps_per_sample`` steps.
+
+    s_p = s_w = 0 in these materials' tables, so that nothing but E_self acts on a radius.
+    """
+    sim = Simulation(
+        disk(diameter=3e-6), material, temperature=300.0, seed=seed, time_step=time_step
+    )
+    sim.add_skyrmions([[-0.6e-6, 0.0], [0.6e-6, 0.0], [0.0, 0.6e-6], [0.0, -0.6e-6]])
+    sim.run(20 * steps_per_sample * time_step)  # from R₀ to equilibrium
+    out = np.empty((samples, 4))
+    for k in range(samples):
+        sim.run(steps_per_sample * time_step)
+        out[k] = sim.radii()[1]
+    assert sim.radius_reflections == 0
+    return out
+
+
+def test_a_lone_radius_is_an_ornstein_uhlenbeck_process_in_a_harmonic_well():
+    """Mean R₀, variance k_BT/k and lag correlation e^{−Δk/Γ_R}, within 4 standard errors."""
+    sigma = 0.04 * R0
+    stiffness = KT / sigma**2
+    material = breathing(energy=lambda u: 0.5 * stiffness * u**2, pair_shift=0.0, wall_shift=0.0)
+    tau = radius_friction(material) / stiffness  # the relaxation time Γ_R/k [s]
+    time_step = tau / 4  # the exact OU step holds for any step; a coarse one tests it
+    steps = 4  # samples one τ apart
+    samples = 3000
+    radii = lone_radii(material, steps, samples, time_step)
+    u = radii - R0
+    rho = math.exp(-steps * time_step / tau)
+    n = u.size
+    # AR(1) samples: var(mean) = σ²/n·(1+ρ)/(1−ρ); var(s²) ≈ 2σ⁴/n·(1+ρ²)/(1−ρ²)
+    se_mean = sigma * math.sqrt((1 + rho) / (1 - rho) / n)
+    se_var = sigma**2 * math.sqrt(2 * (1 + rho**2) / (1 - rho**2) / n)
+    assert abs(u.mean()) < 4 * se_mean
+    assert abs(u.var() - sigma**2) < 4 * se_var
+    lag = np.mean(u[1:] * u[:-1]) / u.var()
+    se_lag = math.sqrt((1 - rho**2) / n)
+    assert abs(lag - rho) < 4 * se_lag
+
+
+def test_a_lone_radius_samples_the_boltzmann_law_of_an_anharmonic_self_energy():
+    """⟨R − R₀⟩ and ⟨(R − R₀)²⟩ against quadratures of exp(−E_self/k_BT), E_self skewed."""
+    sigma = 0.04 * R0
+    stiffness = KT / sigma**2
+
+    def energy(u):  # a softer side towards large radii, as a skyrmion's own energy has
+        return (
+            0.5 * stiffness * u**2
+            - stiffness * u**3 / (6 * sigma)
+            + stiffness * u**4 / (24 * sigma**2)
+        )
+
+    material = breathing(energy=energy, pair_shift=0.0, wall_shift=0.0, span=0.5, nodes=201)
+    tau = radius_friction(material) / stiffness
+    radii = lone_radii(material, 8, 2500, tau / 8, seed=5)
+    u = (radii - R0).ravel()
+    lo, hi = -0.5 * R0, 0.5 * R0
+
+    def moment(p):
+        return integrate.quad(lambda v: v**p * math.exp(-energy(v) / KT), lo, hi, points=[0])[0]
+
+    z = moment(0)
+    mean, second = moment(1) / z, moment(2) / z
+    var = second - mean**2
+    # samples one relaxation time apart, four skyrmions: n/(1+2ρ/(1−ρ)) independent ones
+    rho = math.exp(-1.0)
+    n_eff = u.size * (1 - rho) / (1 + rho)
+    assert mean > 0.1 * sigma  # the skew is resolved: its shift is many errors wide
+    assert abs(u.mean() - mean) < 4 * math.sqrt(var / n_eff)
+    fourth = moment(4) / z
+    assert abs(np.mean(u**2) - second) < 4 * math.sqrt((fourth - second**2) / n_eff)
+
+
+def _balance(material, disk_radius: float, stiffness: float):
+    """Centre distance a [m] from the disk's centre and radius R [m] where forces balance.
+
+    Two skyrmions at ±a: the pair law at the gap ρ = 2a − 2 s_p ΔR pushes each out, the wall
+    law at w = r_disk − a − s_w ΔR pushes it in; the radius's forces −kΔR − s_p F_pair −
+    s_w F_wall vanish. Laws in the paper's forms (F₀, d_sk from the Thiele parameters).
+    """
+    thiele = derive_thiele(material)
+    f0, d_sk = thiele.force_scale, thiele.skyrmion_diameter
+    spec = material.breathing
+
+    def pair(rho):
+        return f0 * paper_pair_force(rho / d_sk, *material.pair_law)
+
+    def wall(w):
+        return f0 * paper_wall_force(w / d_sk, material.wall_law)
+
+    def residual(v):
+        a, dr = v[0] * d_sk, v[1] * d_sk
+        fp = pair(2 * a - 2 * spec.pair_shift * dr)
+        fw = wall(disk_radius - a - spec.wall_shift * dr)
+        return [
+            (fp - fw) / f0,
+            (-stiffness * dr - spec.pair_shift * fp - spec.wall_shift * fw) / f0,
+        ]
+
+    solution = optimize.fsolve(residual, [0.6 * disk_radius / d_sk, 0.0], xtol=1e-13)
+    assert np.allclose(residual(solution), 0.0, atol=1e-10)
+    return solution[0] * d_sk, R0 + solution[1] * d_sk
+
+
+@pytest.mark.parametrize("shifts", [(1.0, 1.0), (0.6, 1.3)])
+def test_squeezed_skyrmions_come_to_rest_where_centre_and_radius_forces_balance(shifts):
+    """T = 0: the centres' distance from the disk's centre and the radii, to 0.2 % of d_sk."""
+    stiffness = 2e-4  # J/m²: a soft skyrmion (S2's field sensitivity gives about 6e-4)
+    material = breathing(
+        energy=lambda u: 0.5 * stiffness * u**2,
+        pair_shift=shifts[0],
+        wall_shift=shifts[1],
+        span=0.6,
+    )
+    d_sk = 2 * R0
+    disk_radius = 1.9 * d_sk
+    a, radius = _balance(material, disk_radius, stiffness)
+    assert 0.45 * R0 < radius < 0.97 * R0  # squeezed (not the rigid limit), within the table
+    sim = Simulation(disk(diameter=2 * disk_radius), material, temperature=0.0)
+    sim.add_skyrmions([[-0.5 * disk_radius, 0.0], [0.5 * disk_radius, 0.0]])
+    tau = sim.relaxation_time()
+    for _ in range(40):
+        sim.run(200 * tau)
+    _, p = sim.positions()
+    _, r = sim.radii()
+    assert np.allclose(np.hypot(p[:, 0], p[:, 1]), a, atol=2e-3 * d_sk)
+    assert np.allclose(r, radius, atol=2e-3 * d_sk)
+    assert sim.radius_reflections == 0
+
+
+def test_radii_that_do_not_touch_the_laws_leave_the_centres_as_rigid_ones():
+    """s_p = s_w = 0: the centres follow the rigid model's trajectories (rounding only)."""
+    stiffness = KT / (0.04 * R0) ** 2
+    material = breathing(energy=lambda u: 0.5 * stiffness * u**2, pair_shift=0.0, wall_shift=0.0)
+    outline = disk(diameter=0.4e-6)
+    runs = []
+    for model in (material, S2):
+        sim = Simulation(outline, model, temperature=300.0, seed=11, time_step=5e-11)
+        sim.add_random(12, seed=2)
+        sim.run(2e-8)
+        runs.append(sim.positions()[1])
+    assert np.allclose(runs[0], runs[1], rtol=0, atol=1e-6 * 2 * R0)
+
+
+def test_a_breathing_run_resumed_from_a_checkpoint_is_bit_identical():
+    stiffness = 2e-4
+    material = breathing(energy=lambda u: 0.5 * stiffness * u**2, span=0.9)
+    outline = disk(diameter=0.5e-6)
+
+    def fresh():
+        sim = Simulation(outline, material, temperature=300.0, seed=7)
+        sim.add_random(10, seed=4)
+        return sim
+
+    # the straight run makes the same kernel calls (a call's neighbour list orders the pair
+    # sums; a rigid run's bits also depend on where its calls begin)
+    whole = fresh()
+    whole.run(100 * whole.time_step, record_interval=20 * whole.time_step)
+    whole.run(100 * whole.time_step, record_interval=20 * whole.time_step)
+    half = fresh()
+    half.run(100 * half.time_step, record_interval=20 * half.time_step)
+    state = half.state_dict()
+    resumed = fresh()
+    resumed.load_state_dict(state)
+    resumed.run(100 * resumed.time_step, record_interval=20 * resumed.time_step)
+    assert np.array_equal(whole.radii()[1], resumed.radii()[1])
+    assert np.array_equal(whole.positions()[1], resumed.positions()[1])
+    a, b = whole.trajectories(), resumed.trajectories()
+    assert "radius" in a and np.array_equal(a["radius"].values, b["radius"].values, equal_nan=True)
+
+
+def test_rigid_materials_refuse_the_breathing_model_by_name():
+    from skygas.core.errors import InputError
+
+    with pytest.raises(InputError, match="particle_model.*no \\[breathing\\] table"):
+        Simulation(disk(diameter=0.5e-6), S2, particle_model="breathing")
