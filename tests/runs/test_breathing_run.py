@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 import xarray as xr
 
 from skygas.cli import main
@@ -66,3 +67,43 @@ def test_a_breathing_film_runs_rigid_when_the_configuration_says_so(tmp_path):
     assert main(["simulate", str(config), "--out", str(tmp_path / "out"), "--quiet"]) == 0
     with xr.open_dataset(tmp_path / "out" / "trajectories.nc") as ds:
         assert "radius" not in ds
+
+
+NEURON = (
+    "duration = 40e-9\n[device]\nchamber_diameter = 400e-9\nconduit_width = 80e-9\n"
+    "[rule]\nthreshold = 4\nreset_level = 1\nrelease_time = 10e-9\n"
+    "[annihilation]\nbase_rate = 2e7\ncompression_sensitivity = 0.0\n"
+    "[transfer]\nrates = [1e7, 3e8]\nduration = 20e-9\n"
+    "[[inputs]]\nkind = 'poisson'\nrate = 3e8\n"
+)
+RESERVOIR = (
+    "hold_time = 1e-7\n[sensors]\nsample_interval = 2e-9\n"
+    "[study]\nn_inputs = 12\ntemporal_inputs = 12\nworkers = 1\n"
+)
+
+
+@pytest.mark.parametrize("device", ["reshuffle", "neuron", "reservoir"])
+def test_every_device_runs_a_breathing_film(device, tmp_path, monkeypatch):
+    """The devices take the model from their material: each builds breathing simulations."""
+    from skygas.engine import Simulation
+
+    built = []
+    init = Simulation.__init__
+
+    def spy(self, *args, **kwargs):
+        init(self, *args, **kwargs)
+        built.append(self.particle_model)
+
+    monkeypatch.setattr(Simulation, "__init__", spy)
+    film = tmp_path / "soft.toml"
+    _film(film)
+    out = str(tmp_path / "out")
+    if device == "reshuffle":
+        args = ["reshuffle", "--material", str(film), "--duration", "0.3e-6", "--out", out]
+    else:
+        config = tmp_path / "device.toml"
+        text = NEURON if device == "neuron" else RESERVOIR
+        config.write_text(f'material = "{film}"\n' + text)
+        args = [device, str(config), "--out", out]
+    assert main([*args, "--quiet"]) == 0
+    assert built and set(built) == {"breathing"}

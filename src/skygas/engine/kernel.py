@@ -34,7 +34,6 @@ from skygas.engine.stages import (
     is_inside,
     radius_corrector,
     radius_predictor,
-    radius_step_tables,
     record_frame,
     record_radii,
     reflect_radius,
@@ -129,12 +128,10 @@ def advance(
     rp = r.copy()
     zr_ = np.zeros(n)  # the radii's normals
     spare = np.zeros(n)
+    kr0 = np.zeros(n)  # the stiffness the laws add to each radius [pN/nm], per stage
+    kr1 = np.zeros(n)
     lam = np.zeros(n)  # their frozen relaxation rates [1/ns], and the corrector's weights
     e2 = np.zeros(n)
-    nodes = breathing.curvature.shape[0]
-    tables = (np.empty(nodes), np.empty(nodes), np.empty(nodes))
-    if breathing.active:
-        radius_step_tables(breathing, dt, tables[0], tables[1], tables[2])
     cand = np.empty((4, n))
     ref_x = np.empty(n)
     ref_y = np.empty(n)
@@ -255,16 +252,18 @@ def advance(
                     vx0,
                     vy0,
                     vr0,
+                    kr0,
                     counters,
                     domain,
                     floor,
+                    True,
                 )
                 for i in range(n):
                     xp[i] = x[i] + vx0[i] * dt + nx_[i]
                     yp[i] = y[i] + vy0[i] * dt + ny_[i]
                 if breathing.active:  # (the corrector's lookups clamp to the table)
                     radius_predictor(
-                        r, vr0, zr_, alive, breathing, dt, noise.thermal, tables, lam, e2, rp
+                        r, vr0, kr0, zr_, alive, breathing, dt, noise.thermal, lam, e2, rp
                     )
             else:
                 force_pass(
@@ -281,9 +280,11 @@ def advance(
                     vx1,
                     vy1,
                     vr1,
+                    kr1,
                     counters,
                     domain,
                     floor,
+                    False,
                 )
                 for i in range(n):
                     xp[i] = x[i] + 0.5 * (vx0[i] + vx1[i]) * dt + nx_[i]

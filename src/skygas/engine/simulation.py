@@ -394,10 +394,9 @@ class Simulation:
             thiele.k,
             thiele.damping,
             self.temperature,
-            math.hypot(thiele.friction_internal, thiele.gyrocoupling_internal),
+            0.5 * closest,  # the tables hold from a quarter diameter
             law_stiffness(self.forces.pair, self.forces.pair_law, closest),
             law_stiffness(self.forces.wall, self.forces.wall_law, closest),
-            0.5 * closest,  # the tables hold from a quarter diameter
         )
 
     def _build_landscape(self, terms: list) -> LandscapeField:

@@ -49,6 +49,16 @@ def _lerp(values, coordinate):
     return (1.0 - t) * values[i] + t * values[i + U(1)]
 
 
+@numba.njit(inline="always")
+def _lerp_slope(values, coordinate):
+    """:func:`_lerp` of ``values`` at ``coordinate``, and its slope per unit of coordinate."""
+    i = U(coordinate)
+    t = coordinate - i
+    low = values[i]
+    high = values[i + U(1)]
+    return (1.0 - t) * low + t * high, high - low
+
+
 # -- insertions ----------------------------------------------------------------------------------
 @numba.njit(inline="always")
 def free_slot_if_clear(x, y, alive, sx, sy, clearance2):
@@ -140,56 +150,46 @@ def draw_radius_normals(noise, ids, alive, step, cand, z_, spare):
 
 
 @numba.njit(inline="always")
-def radius_step_tables(breathing, dt, phi1, phi2, amplitude):
-    """The exponential integrator's weights at each node of the radius table, for a step dt.
-
-    With λ = max(E_self'', 0)/Γ_R at the node and z = λ dt: φ₁ = (1 − e^{−z})/z,
-    φ₂ = (e^{−z} − 1 + z)/z², and the noise's amplitude √(2 k_BT dt φ_σ/Γ_R) [nm] with
-    φ_σ = (1 − e^{−2z})/(2z) (their series where z is small). Made once per kernel call (dt
-    is fixed within it): the step then reads them like the self force, with no exponential
-    or square root per skyrmion.
-    """
-    noise2 = 2.0 * breathing.kt * breathing.inv_friction * dt
-    for k in range(breathing.curvature.shape[0]):
-        z = max(breathing.curvature[k], 0.0) * breathing.inv_friction * dt
-        if z < 1e-4:  # the series, where the closed forms lose digits
-            phi1[k] = 1.0 - 0.5 * z + z * z / 6.0
-            phi2[k] = 0.5 - z / 6.0 + z * z / 24.0
-            phis = 1.0 - z + 2.0 * z * z / 3.0
-        else:
-            decay = math.exp(-z)
-            phi1[k] = (1.0 - decay) / z
-            phi2[k] = (decay - 1.0 + z) / (z * z)
-            phis = (1.0 - decay * decay) / (2.0 * z)
-        amplitude[k] = math.sqrt(noise2 * phis)
+def _step_weights(breathing, z):
+    """φ₁, φ₂ and √φ_σ at z ≥ 0: from their table, or past it their forms without e^{−z}."""
+    coordinate = z / breathing.z_spacing
+    last = breathing.phi.shape[1] - 1
+    if coordinate < last:
+        return (
+            _lerp(breathing.phi[0], coordinate),
+            _lerp(breathing.phi[1], coordinate),
+            _lerp(breathing.phi[2], coordinate),
+        )
+    return 1.0 / z, (z - 1.0) / (z * z), math.sqrt(0.5 / z)
 
 
 @numba.njit(inline="always")
-def radius_predictor(r, vr0, z_, alive, breathing, dt, thermal, tables, lam, e2, rp):
-    """The radii's exponential predictor: exact for a harmonic self energy.
+def radius_predictor(r, vr0, kr, z_, alive, breathing, dt, thermal, lam, e2, rp):
+    """The radii's exponential predictor: exact for a radius in a harmonic well.
 
-    With λ = E_self''(Rₙ)/Γ_R (the self energy's curvature, frozen at the step's start, ≥ 0)
-    and z = λ dt, the stiff linear part is integrated exactly (exponential time differencing):
+    Each radius's stiffness, frozen at the step's start, is λΓ_R = max(E_self''(Rₙ), 0) + ``kr``
+    (s² times the slopes of the laws it touches, :func:`pair_forces_breathing`), and with
+    z = λ dt that linear part is integrated exactly (exponential time differencing):
         R̃ = Rₙ + dt φ₁(z) v₀ + √(2 k_BT dt/Γ_R · φ_σ(z)) ζ,
-    v₀ = F_R(Rₙ)/Γ_R (``tables``: φ₁, φ₂ and the noise's amplitude at the table's radii,
-    :func:`radius_step_tables`).
-    For a harmonic well this is the exact Ornstein–Uhlenbeck step, so a skyrmion's own
-    breathing never limits the time step; for λ → 0 it is Euler–Maruyama. ``lam`` and
-    ``e2`` = dt φ₂(z) are kept for the corrector.
+        φ₁ = (1 − e^{−z})/z,   φ_σ = (1 − e^{−2z})/(2z),
+    v₀ = F_R(Rₙ)/Γ_R. In a harmonic well this is the exact Ornstein–Uhlenbeck step, so no
+    stiffness of the radius limits the time step; for λ → 0 it is Euler–Maruyama. ``lam``
+    and ``e2`` = dt φ₂(z), φ₂ = (e^{−z} − 1 + z)/z², are kept for the corrector. The
+    weights come from a table in z (:class:`~skygas.engine.terms.BreathingTerm`).
     """
-    phi1, phi2, amplitude = tables
     inv_h = 1.0 / breathing.spacing
     last = breathing.curvature.shape[0] - 1
+    amplitude = math.sqrt(2.0 * breathing.kt * breathing.inv_friction * dt) if thermal else 0.0
     for i in range(r.shape[0]):
         if not alive[i]:
             rp[i] = r[i]
             continue
         coordinate = min(max((r[i] - breathing.r_min) * inv_h, 0.0), last - 1e-9)
-        lam[i] = max(_lerp(breathing.curvature, coordinate), 0.0) * breathing.inv_friction
-        e2[i] = dt * _lerp(phi2, coordinate)
-        rp[i] = r[i] + dt * _lerp(phi1, coordinate) * vr0[i]
-        if thermal:
-            rp[i] += _lerp(amplitude, coordinate) * z_[i]
+        stiffness = max(_lerp(breathing.curvature, coordinate), 0.0) + kr[i]
+        lam[i] = stiffness * breathing.inv_friction
+        phi1, phi2, root_phis = _step_weights(breathing, lam[i] * dt)
+        e2[i] = dt * phi2
+        rp[i] = r[i] + dt * phi1 * vr0[i] + amplitude * root_phis * z_[i]
 
 
 @numba.njit(inline="always")
@@ -292,24 +292,32 @@ def pair_forces(x, y, pair, owner, start, pair_j, n_owners, fx, fy, counters):
 
 
 @numba.njit(inline="always")
-def pair_forces_breathing(x, y, r, pair, breathing, owner, start, pair_j, n_owners, fx, fy, fr):
+def pair_forces_breathing(
+    x, y, r, pair, breathing, owner, start, pair_j, n_owners, fx, fy, fr, kr, stiffen
+):
     """Pair forces of breathing skyrmions: on the centres into ``fx, fy``, on the radii into ``fr``.
 
-    Both overwritten. The law acts on the gap ρ = d − s_p (Rᵢ + Rⱼ − 2R₀)
-    (:class:`~skygas.physics.materials.BreathingSpec`): the centres feel |F|(ρ) along the line
+    All overwritten, with ``kr`` if ``stiffen``: each radius's stiffness from the law,
+    s_p² Σⱼ κ(ρ), κ = −d|F|/dρ ≥ 0 [pN/nm] (its step takes it into its exact linear part,
+    :func:`radius_predictor`; the corrector's pass does not need it). The law acts on the
+    gap ρ = d − s_p (Rᵢ + Rⱼ − 2R₀) (:class:`~skygas.physics.materials.BreathingSpec`): the
+    centres feel |F|(ρ) along the line
     between them, each radius −∂E/∂Rᵢ = −s_p |F|(ρ). The neighbour list reaches ``pair_reach``
     farther than the law, for the largest radii. A gap below ``closest`` reads the law there.
+    Returns the pairs evaluated within the law's reach.
     """
     for i in range(x.shape[0]):
         fx[i] = 0.0
         fy[i] = 0.0
         fr[i] = 0.0
+        kr[i] = 0.0
     table = pair.table
     law_cut = pair.cutoff
     list_cut = law_cut + breathing.pair_reach
     list_cut2 = list_cut * list_cut
     inv_h2 = 1.0 / pair.spacing_r2
     shift = breathing.pair_shift
+    shift2 = shift * shift
     r0 = breathing.r0
     closest = breathing.closest
     evaluated = 0
@@ -321,6 +329,7 @@ def pair_forces_breathing(x, y, r, pair, breathing, owner, start, pair_j, n_owne
         fxi = 0.0
         fyi = 0.0
         fri = 0.0
+        kri = 0.0
         # with branches (measured: the branch-free form of pair_forces, which computes every
         # entry, is twice as slow here, where an entry costs a square root and a division)
         for p in range(start[e], start[e + 1]):
@@ -333,7 +342,9 @@ def pair_forces_breathing(x, y, r, pair, breathing, owner, start, pair_j, n_owne
                 gap = d2 * inv_d - shift * (gi + r[j] - r0)
                 if gap < law_cut:
                     gap = max(gap, closest)
-                    magnitude = _lerp(table, gap * gap * inv_h2) * gap  # table: |F|/ρ in ρ²
+                    # the table holds g = |F|/ρ in ρ²: |F| = ρ g, d|F|/dρ = g + 2ρ² dg/d(ρ²)
+                    g, slope = _lerp_slope(table, gap * gap * inv_h2)
+                    magnitude = g * gap
                     along = magnitude * inv_d
                     fxi += along * dx
                     fyi += along * dy
@@ -341,10 +352,15 @@ def pair_forces_breathing(x, y, r, pair, breathing, owner, start, pair_j, n_owne
                     fy[j] -= along * dy
                     fri -= shift * magnitude
                     fr[j] -= shift * magnitude
+                    if stiffen:
+                        stiffness = shift2 * max(-(g + 2.0 * gap * gap * slope * inv_h2), 0.0)
+                        kri += stiffness
+                        kr[j] += stiffness
                     evaluated += 1
         fx[i] += fxi
         fy[i] += fyi
         fr[i] += fri
+        kr[i] += kri
     return evaluated
 
 
@@ -363,20 +379,22 @@ def wall_force(wall, field):
 
 @numba.njit(inline="always")
 def wall_magnitude(wall, d):
-    """|F| [pN] of the wall law at distance ``d`` [nm] (0 beyond the cutoff)."""
+    """|F| [pN] of the wall law at distance ``d`` [nm] (0 beyond the cutoff), and −d|F|/dd ≥ 0."""
     if d < wall.cutoff:
-        return _lerp(wall.table, max(d, 0.0) / wall.spacing)
-    return 0.0
+        value, slope = _lerp_slope(wall.table, max(d, 0.0) / wall.spacing)
+        return value, max(-slope / wall.spacing, 0.0)
+    return 0.0, 0.0
 
 
 @numba.njit(inline="always")
-def add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, floor):
+def add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor):
     """A breathing skyrmion's wall law at the gap w − s_w(R − R₀): on its centre and radius.
 
     :func:`add_one_body_forces` adds the law at the centre's distance w, as for a rigid
     skyrmion (its loop stays the one rigid runs compile, bit for bit); this adds the
-    difference |F|(w − s_w ΔR) − |F|(w) along the normal, and −s_w |F|(w − s_w ΔR) to the
-    radius's force. Skyrmions with ``floor[i] > 0`` are beyond the law's reach at any radius.
+    difference |F|(w − s_w ΔR) − |F|(w) along the normal, −s_w |F|(w − s_w ΔR) to the
+    radius's force and s_w² κ to its stiffness ``kr``. Skyrmions with ``floor[i] > 0`` are
+    beyond the law's reach at any radius.
     """
     grid = terms.grid
     inv_gh = 1.0 / grid.spacing
@@ -387,11 +405,12 @@ def add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, floor):
             continue
         field = field_at(grid.fields, (x[i] - grid.x0) * inv_gh, (y[i] - grid.y0) * inv_gh)
         d = field[CH_WALL_DIST]
-        shifted = wall_magnitude(terms.wall, d - shift * (r[i] - breathing.r0))
-        extra = shifted - wall_magnitude(terms.wall, d)
+        shifted, stiffness = wall_magnitude(terms.wall, d - shift * (r[i] - breathing.r0))
+        extra = shifted - wall_magnitude(terms.wall, d)[0]
         vx[i] += extra * field[CH_NORMAL_X]
         vy[i] += extra * field[CH_NORMAL_Y]
         vr[i] -= shift * shifted
+        kr[i] += shift * shift * stiffness
 
 
 @numba.njit(inline="always")
@@ -499,26 +518,29 @@ def force_pass(
     vx,
     vy,
     vr,
+    kr,
     counters,
     domain,
     floor,
+    stiffen,
 ):
     """Deterministic velocity [nm/ns] of every alive skyrmion from the sum of all force terms.
 
-    A breathing model's radii get theirs too, dR/dt [nm/ns] in ``vr``. See
+    A breathing model's radii get theirs too, dR/dt [nm/ns] in ``vr``, and in ``kr`` (if
+    ``stiffen``: the predictor's pass) the stiffness [pN/nm] the laws add to each radius. See
     :func:`add_one_body_forces` for ``domain`` and ``floor``.
     """
     breathing = terms.breathing
     if breathing.active:
         counters.pair_evaluations += pair_forces_breathing(
-            x, y, r, terms.pair, breathing, owner, start, pair_j, n_owners, vx, vy, vr
+            x, y, r, terms.pair, breathing, owner, start, pair_j, n_owners, vx, vy, vr, kr, stiffen
         )
     else:
         pair_forces(x, y, terms.pair, owner, start, pair_j, n_owners, vx, vy, counters)
     if terms.landscape.active:
         add_landscape_forces(x, y, alive, terms.landscape, vx, vy)
     if breathing.active:
-        add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, floor)
+        add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor)
     add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor)
     if breathing.active:
         add_radius_velocities(r, alive, breathing, vr)

@@ -145,7 +145,9 @@ class BreathingTerm(NamedTuple):
     Γ_R dR/dt = F_R + ξ with F_R = −∂E/∂R: the self force −E_self'(R) tabulated here, and the
     pair and wall laws' share (the laws act on the gap d − s(Rᵢ + Rⱼ − 2R₀) and w − s_w(R − R₀),
     :class:`skygas.physics.materials.BreathingSpec`). R is kept in [r_min, r_max] (a step
-    that would leave is reflected back).
+    that would leave is reflected back). The exponential step's weights are tabulated in
+    z = λ dt up to the table's end, past which their z → ∞ forms hold
+    (:func:`skygas.engine.stages.radius_predictor`).
     """
 
     active: bool  # False: rigid skyrmions (every other field is a placeholder)
@@ -155,6 +157,8 @@ class BreathingTerm(NamedTuple):
     self_force: np.ndarray  # −dE_self/dR [pN] at r_min + k·spacing
     curvature: np.ndarray  # E_self''(R) [pN/nm] at the same radii (the exact linear part)
     spacing: float  # [nm]
+    phi: np.ndarray  # (3, nodes): φ₁, φ₂, √φ_σ of z = λ dt at z = k·z_spacing (the step's weights)
+    z_spacing: float
     inv_friction: float  # 1/Γ_R [nm/(pN·ns)]
     kt: float  # k_B T [pN·nm] (the noise: √(2 k_BT dt/Γ_R) per step)
     pair_shift: float  # s_p
@@ -178,7 +182,22 @@ class ForceTerms(NamedTuple):
 
 #: The breathing term of rigid skyrmions.
 RIGID = BreathingTerm(
-    False, 0.0, 0.0, 1.0, np.zeros(2), np.zeros(2), 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    False,
+    0.0,
+    0.0,
+    1.0,
+    np.zeros(2),
+    np.zeros(2),
+    1.0,
+    np.zeros((3, 2)),
+    1.0,
+    0.0,
+    0.0,
+    0.0,
+    0.0,
+    0.0,
+    0.0,
+    0.0,
 )
 
 
