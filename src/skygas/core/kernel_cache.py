@@ -64,7 +64,7 @@ def engine_compiled() -> bool:
     """Whether the engine's time loop is in the cache (else the first run compiles it).
 
     Looked at after :func:`drop_stale_kernels`, so a stale cache counts as absent. Compiling
-    the kernels takes about half a minute on one core; the run driver says so before it, and
+    the kernels takes about a minute on one core; the run driver says so before it, and
     measures the progress bar's rate from the end of the first piece.
     """
     drop_stale_kernels()

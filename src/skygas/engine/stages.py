@@ -17,7 +17,7 @@ import math
 import numba
 import numpy as np
 
-from skygas.engine._jit import U
+from skygas.engine._jit import JIT, U
 from skygas.engine._rng import STREAM_RADIUS, STREAM_THERMAL, fill_gaussian_pairs, gaussian_pair
 from skygas.engine.terms import (
     CH_DOMAIN,
@@ -126,7 +126,7 @@ def draw_noise(noise, ids, alive, step, cand, nx_, ny_):
                 ny_[i] = amplitude * sy * inv_sqrt_sub
 
 
-@numba.njit(inline="always")
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def draw_radius_normals(noise, ids, alive, step, cand, z_, spare):
     """Standard normals for the radii's noise into ``z_``, keyed on (seed, id, step).
 
@@ -163,7 +163,7 @@ def _step_weights(breathing, z):
     return 1.0 / z, (z - 1.0) / (z * z), math.sqrt(0.5 / z)
 
 
-@numba.njit(inline="always")
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def radius_predictor(r, vr0, kr, z_, alive, breathing, dt, thermal, lam, e2, rp):
     """The radii's exponential predictor: exact for a radius in a harmonic well.
 
@@ -192,7 +192,7 @@ def radius_predictor(r, vr0, kr, z_, alive, breathing, dt, thermal, lam, e2, rp)
         rp[i] = r[i] + dt * phi1 * vr0[i] + amplitude * root_phis * z_[i]
 
 
-@numba.njit(inline="always")
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def radius_corrector(r, rp, vr0, vr1, lam, e2, alive):
     """The radii's exponential corrector (ETD2): R' = R̃ + dt φ₂ [N(R̃) − N(Rₙ)].
 
@@ -291,7 +291,7 @@ def pair_forces(x, y, pair, owner, start, pair_j, n_owners, fx, fy, counters):
     counters.pair_evaluations += evaluated
 
 
-@numba.njit(inline="always")
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def pair_forces_breathing(
     x, y, r, pair, breathing, owner, start, pair_j, n_owners, fx, fy, fr, kr, stiffen
 ):
@@ -386,7 +386,7 @@ def wall_magnitude(wall, d):
     return 0.0, 0.0
 
 
-@numba.njit(inline="always")
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor):
     """A breathing skyrmion's wall law at the gap w − s_w(R − R₀): on its centre and radius.
 
@@ -492,7 +492,7 @@ def add_landscape_forces(x, y, alive, landscape, fx, fy):
             fy[i] += ly
 
 
-@numba.njit(inline="always")
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def add_radius_velocities(r, alive, breathing, vr):
     """Add each radius's self force −E_self'(R) to ``vr`` and turn it into dR/dt = F_R/Γ_R."""
     inv_h = 1.0 / breathing.spacing
@@ -588,7 +588,7 @@ def record_frame(x, y, alive, ids, f, frames_x, frames_y, frames_id):
             frames_id[f, i] = -1
 
 
-@numba.njit(inline="always")
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def record_radii(r, alive, f, frames_r):
     """Frame ``f`` of a breathing model's radii [nm] (NaN where a slot is empty)."""
     for i in range(r.shape[0]):

@@ -38,7 +38,7 @@ from skygas.core.estimates import (
 
 #: What a command says before the first run of an installation compiles the kernels.
 COMPILING_LINE = (
-    "skygas: compiling the engine's kernels (once per installation, about half a minute)..."
+    "skygas: compiling the engine's kernels (once per installation, about a minute)..."
 )
 #: Steps timed (after a few untimed ones that load the kernels).
 CALIBRATION_STEPS = 3000
@@ -76,7 +76,7 @@ def _calibrate() -> float:
 
 
 def _say_compiling() -> None:
-    """Say so before the measurement compiles the engine's kernels (half a minute, once).
+    """Say so before the measurement compiles the engine's kernels (about a minute, once).
 
     The measurement runs before the run driver's progress bar, which would otherwise say it:
     without this line, the first long run of an installation sat silent for that time. Said
