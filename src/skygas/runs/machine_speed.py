@@ -37,9 +37,7 @@ from skygas.core.estimates import (
 )
 
 #: What a command says before the first run of an installation compiles the kernels.
-COMPILING_LINE = (
-    "skygas: compiling the engine's kernels (once per installation, about a minute)..."
-)
+COMPILING_LINE = "skygas: compiling the engine's kernels (once per installation, about a minute)..."
 #: Steps timed (after a few untimed ones that load the kernels).
 CALIBRATION_STEPS = 3000
 #: How much slower than the reference a machine may be before a run is worth measuring.
