@@ -260,7 +260,7 @@ class Simulation:
             f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)",
         )
         self._breathing_rules = self._build_breathing(particle_model)
-        band = self.forces.wall.cutoff + self._breathing_rules.record().wall_reach + 2 * spacing
+        band = self.forces.wall.cutoff + self._breathing_rules.wall_reach + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
         self.landscape = self._build_landscape(parse_potentials(landscape))
         # each force term's rules (:mod:`skygas.engine.term_rules`); the drift's are replaced

@@ -377,6 +377,18 @@ class Breathing(_MovesNoFreeSkyrmion):
         """Γ_R = α 𝒟_RR k [kg/s]."""
         return self.damping * self.radius_dissipation * self.k
 
+    @property
+    def growth(self) -> float:
+        """How much larger [nm] than R₀ a radius may grow: the table's end less R₀ (0 if rigid)."""
+        if not self.active:
+            return 0.0
+        return max(self.spec.radius[-1] * units.M_TO_NM - self.radius0 * units.M_TO_NM, 0.0)
+
+    @property
+    def wall_reach(self) -> float:
+        """How much farther [nm] the wall law reaches a skyrmion than at R₀: s_w times growth."""
+        return float(self.spec.wall_shift) * self.growth if self.active else 0.0
+
     def _self_force(self) -> tuple[np.ndarray, np.ndarray, float, float, float]:
         """−dE_self/dR [pN] and E_self'' [pN/nm] on a uniform grid; its spacing, r_min, r_max [nm].
 
@@ -416,8 +428,8 @@ class Breathing(_MovesNoFreeSkyrmion):
             units.thermal_energy_internal(self.temperature),
             float(spec.pair_shift),
             float(spec.wall_shift),
-            2.0 * float(spec.pair_shift) * max(r_max - r0, 0.0),
-            float(spec.wall_shift) * max(r_max - r0, 0.0),
+            2.0 * float(spec.pair_shift) * self.growth,
+            self.wall_reach,
             self.closest,
         )
 
