@@ -65,7 +65,8 @@ def estimate(args: list[str], out: Path):
 
 def measure(args: list[str], out: Path) -> float:
     """Wall seconds of the command's run, run for real: its summary's ``wall_time_s`` (the
-    stepping, without set-up and results), or the whole command's time where it has none."""
+    stepping, without set-up and results) plus its transfer curve's (the neuron's other runs,
+    which its estimate prices too), or the whole command's time where it has none."""
     from skygas import cli
 
     started = time.perf_counter()
@@ -77,7 +78,8 @@ def measure(args: list[str], out: Path) -> float:
         raise RuntimeError(f"{args}: exit status {status}")
     total = time.perf_counter() - started
     summary = json.loads((out / "summary.json").read_text())
-    return float(summary.get("wall_time_s", total))
+    extra = summary.get("transfer_curve", {}).get("wall_time_s", 0.0)
+    return float(summary.get("wall_time_s", total)) + float(extra)
 
 
 def main() -> None:
@@ -107,8 +109,11 @@ def main() -> None:
             out = Path(tmp) / f"run{i}"
             est, _ = estimate([*args, "--duration", f"{nominal:g}"], out)
             dt = nominal / est.steps
-            # the kernels this device uses, compiled (or loaded) before anything is timed
-            measure([*args, "--duration", f"{max(200 * dt, nominal / 100):.6g}"], out)
+            # the kernels this device uses, compiled (or loaded) before anything is timed; a
+            # short case runs whole, since a short run may not reach every code path (the
+            # neuron's gate opens only after its threshold is reached)
+            warm = nominal if est.seconds < 30 else max(200 * dt, nominal / 100)
+            measure([*args, "--duration", f"{warm:.6g}"], out)
             duration = f"{nominal if opts.nominal else min(nominal, target * dt):.6g}"
             est, setup = estimate([*args, "--duration", duration], out)
             run = measure([*args, "--duration", duration], out)

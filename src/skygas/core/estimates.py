@@ -48,11 +48,12 @@ REFERENCE_STEP_SECONDS = 2.2e-6
 #: Seconds, on the measuring machine, of one operation's turn: the engine stops its kernel,
 #: the operation acts in Python (a sensor read, a gate rule, an annihilation check) and the
 #: kernel starts again. The neuron's controller and annihilator act every 4 and every step:
-#: its example's command (3 µs, 8.4e4 steps and 1.05e5 turns with its transfer curve) stepped
-#: for 5.1 s with the 45-skyrmion gas at 7.4 µs per step: its seven builds
-#: (:data:`BUILD_SECONDS`) left about 10 µs per turn at the measuring machine's speed (two busy
-#: cores: an order of magnitude, against 1 µs for the step itself).
-OPERATION_TURN_SECONDS = 1e-5
+#: its example's command (3 µs: 8.4e4 steps and 1.05e5 turns with its transfer curve's six
+#: runs, seven builds) stepped for 12.6 s in all (2.1 s the main run, 10.5 s the transfer
+#: curve) with the 45-skyrmion gas at 7.6 µs per step, 3.45 times the measuring machine's:
+#: 3.65 s there, of which the steps take 0.07 s and the builds (:data:`BUILD_SECONDS`) 0.7 s,
+#: leaving 27 µs per turn (against 1 µs for a step of the 45-skyrmion gas).
+OPERATION_TURN_SECONDS = 2.7e-5
 #: Seconds, on the measuring machine, of building a device's simulation with its landscape
 #: (the neuron's gate: 0.26–0.38 s on two busy cores, 0.08–0.15 s at the measuring one's speed).
 BUILD_SECONDS = 0.1

@@ -37,7 +37,7 @@ from skygas.engine.force_model import (
     suggested_time_step,
     whole_steps,
 )
-from skygas.engine.kernel import Frames, advance
+from skygas.engine.kernel import DirectCall, Frames, advance
 from skygas.engine.recorder import FrameBlock, Recorder
 from skygas.engine.scheduler import NO_PLAN, Operation, first_plan, named_operations
 from skygas.engine.state import StateView
@@ -96,6 +96,8 @@ NEIGHBOR_MARGIN_MAX = 1.25
 INTEGRATORS = {"heun": 0, "euler-maruyama": 1}
 #: Free slots beyond the last occupied one that a kernel call with planned insertions sees.
 PLAN_SLOTS = 4
+#: Index of each kernel counter in the counters read as plain integers.
+COUNT = {name: k for k, name in enumerate(T.COUNTERS.names or ())}
 #: Systems with more skyrmions than this are sorted spatially before each kernel call.
 SORT_ABOVE = 256
 
@@ -349,6 +351,10 @@ class Simulation:
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
         self._counters = np.zeros(1, T.COUNTERS)
+        # the same counters as plain integers: reading a record's fields one by one costs more
+        # than a small device's step
+        self._counts = self._counters.view(np.int64)
+        self._advance_call = DirectCall(advance)
         self._neighbor_cells: T.NeighborCells | None = None  # set by set_uniform_drift
         self.set_uniform_drift(drift_velocity)
 
@@ -1037,11 +1043,20 @@ class Simulation:
         )
         # each exit removes a skyrmion present at the start of the call or inserted during it
         exits = self.recorder.exit_buffer(used + len(plan.steps))
-        counters = self._counters
-        counters.fill(0)
-        counters[0]["next_id"] = store.next_id
+        counts = self._counts
+        counts[:] = 0
+        counts[COUNT["next_id"]] = store.next_id
         stepper = T.Stepper(self._dt_ns, self.integrator == "heun", record_every)
-        n_exit = advance(
+        # the arguments whose types could change; the frames and exits are the recorder's
+        # buffers, of fixed types, and a call with planned insertions is dispatched
+        key = (
+            (store.x, store.y, store.radius, store.alive, store.ids, self._noise)
+            + (self._mobility, self._terms, self._neighbor_cells, self._ports, self._counters)
+            if plan is NO_PLAN
+            else None
+        )
+        n_exit = self._advance_call(
+            key,
             store.x[:used],
             store.y[:used],
             store.radius[:used],
@@ -1058,27 +1073,27 @@ class Simulation:
             frames,
             exits,
             plan,
-            counters,
+            self._counters,
         )
-        c = counters[0]
-        store.next_id = int(c["next_id"])
+        c = counts.tolist()
+        store.next_id = c[COUNT["next_id"]]
         self.recorder.add_exits(exits, n_exit, self.time_step)
         if record_every:
             # fewer than n_frames if the call stopped early
             self.recorder.add_frames(
                 frames,
-                int(c["frames"]),
+                c[COUNT["frames"]],
                 (self.step // record_every + 1) * record_every,
                 record_every,
                 self.time_step,
             )
-        self.step += int(c["steps"])
-        self.wall_escapes += int(c["wall_escapes"])
-        self.skyrmion_steps += int(c["skyrmion_steps"])
-        self.pair_evaluations += int(c["pair_evaluations"])
-        self.neighbor_rebuilds += int(c["neighbor_rebuilds"])
-        self.radius_reflections += int(c["radius_reflections"])
-        return int(c["inserted"])
+        self.step += c[COUNT["steps"]]
+        self.wall_escapes += c[COUNT["wall_escapes"]]
+        self.skyrmion_steps += c[COUNT["skyrmion_steps"]]
+        self.pair_evaluations += c[COUNT["pair_evaluations"]]
+        self.neighbor_rebuilds += c[COUNT["neighbor_rebuilds"]]
+        self.radius_reflections += c[COUNT["radius_reflections"]]
+        return c[COUNT["inserted"]]
 
     # -- checkpoints ---------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:

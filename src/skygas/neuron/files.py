@@ -16,6 +16,7 @@ Both keep ``checkpoint.npz`` while running; see :func:`skygas.runs.run_driver.dr
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 from typing import Any
 
@@ -63,6 +64,9 @@ class NeuronJob(PiecewiseRunJob):
         self.work_total += self._transfer_work(self.n_rates)
         #: transfer-curve points done: (firing rate [Hz], injected, annihilated) per rate
         self.points: list[list] = []
+        #: wall seconds the transfer curve's runs took (build and stepping), as the main run's
+        #: ``wall_time_s``: the estimate prices both
+        self.transfer_wall_time = 0.0
         self._lif: dict | None = None
 
     def _transfer_work(self, n_points: int) -> float:
@@ -100,21 +104,28 @@ class NeuronJob(PiecewiseRunJob):
         from skygas.neuron.analysis import transfer_curve
 
         rate = self.transfer_rates()[len(self.points)]
+        started = time.perf_counter()
         point = transfer_curve(
             self.device, [rate], self.transfer_duration, seed=self.config.seed, priced=False
         )
+        self.transfer_wall_time += time.perf_counter() - started
         self.points.append(
             [point["firing_rate_Hz"][0], point["n_injected"][0], point["n_annihilated"][0]]
         )
 
     def state_dict(self) -> dict[str, np.ndarray]:
         """The main run's state and the transfer curve's finished points."""
-        return {**super().state_dict(), "transfer_points_json": json_array(self.points)}
+        return {
+            **super().state_dict(),
+            "transfer_points_json": json_array(self.points),
+            "transfer_wall_time": np.array(self.transfer_wall_time),
+        }
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Restore what :meth:`state_dict` saved."""
         super().load_state_dict(state)
         self.points = from_json_array(state["transfer_points_json"])
+        self.transfer_wall_time = float(state.get("transfer_wall_time", 0.0))
 
     def transfer_curve(self) -> dict:
         """The finished transfer curve.
@@ -128,6 +139,7 @@ class NeuronJob(PiecewiseRunJob):
             "n_injected": injected,
             "n_annihilated": annihilated,
             "duration_s": self.transfer_duration,
+            "wall_time_s": self.transfer_wall_time,
         }
 
     def finish(self, out: Path) -> dict:
