@@ -78,8 +78,7 @@ def measure(args: list[str], out: Path) -> float:
         raise RuntimeError(f"{args}: exit status {status}")
     total = time.perf_counter() - started
     summary = json.loads((out / "summary.json").read_text())
-    extra = summary.get("transfer_curve", {}).get("wall_time_s", 0.0)
-    return float(summary.get("wall_time_s", total)) + float(extra)
+    return float(summary.get("wall_time_s", total)) + float(summary.get("transfer_wall_time_s", 0))
 
 
 def main() -> None:

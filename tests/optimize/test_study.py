@@ -150,7 +150,8 @@ def test_a_killed_study_resumes_with_the_same_finished_trials(write_study, tmp_p
     assert complete[: len(before)] == before  # the finished trials, unchanged
     assert len(complete) == 12  # and the study went on to 12
     # a trial that was running when the client died is failed and asked again, same parameters
-    failed = [t for t in after if t[1] == "FAIL"]
+    # (unless it died while being asked, before its parameters were all drawn)
+    failed = [t for t in after if t[1] == "FAIL" and len(t[2]) == len(study.parameters)]
     reruns = {t[2] for t in complete[len(before) :]}
     assert all(t[2] in reruns for t in failed)
     assert "already done" in done.stdout
@@ -222,3 +223,24 @@ def test_the_estimate_of_a_resumed_study_counts_only_the_trials_left(write_study
     assert _finished_before(out, study) == 4
     other = load_study(write_study("other.toml", study="reevaluate = 2", noise=0.5))
     assert _finished_before(out, other) == 0  # another study's folder: refused later
+
+
+def test_a_trial_killed_while_being_asked_is_failed_and_not_repeated():
+    """A running trial with every parameter is asked again with them; one killed before its
+    parameters were all stored is only failed (enqueueing its few would repeat nothing)."""
+    import optuna
+    from optuna.distributions import FloatDistribution
+    from optuna.trial import TrialState
+
+    from skygas.optimize.execute import _recover
+
+    names = {"x": FloatDistribution(0, 1), "y": FloatDistribution(0, 1)}
+    ostudy = optuna.create_study()
+    whole = ostudy.ask(names)
+    ostudy.ask({"x": names["x"]})  # died between its two parameters
+    assert _recover(ostudy, names) == 2
+    states = [t.state for t in ostudy.get_trials(deepcopy=False)]
+    assert states[:2] == [TrialState.FAIL, TrialState.FAIL]
+    waiting = ostudy.get_trials(deepcopy=False, states=(TrialState.WAITING,))
+    assert [t.system_attrs["fixed_params"] for t in waiting] == [whole.params]
+    assert waiting[0].user_attrs["rerun_of"] == whole.number

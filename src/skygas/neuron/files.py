@@ -139,7 +139,6 @@ class NeuronJob(PiecewiseRunJob):
             "n_injected": injected,
             "n_annihilated": annihilated,
             "duration_s": self.transfer_duration,
-            "wall_time_s": self.transfer_wall_time,
         }
 
     def finish(self, out: Path) -> dict:
@@ -186,6 +185,7 @@ class NeuronJob(PiecewiseRunJob):
             lif["predicted_Hz"] = pred.tolist()
             lif["transfer_r_squared"] = A.r_squared(curve["firing_rate_Hz"], pred)
             summary["transfer_curve"] = curve
+            summary["transfer_wall_time_s"] = self.transfer_wall_time
             write_figure(
                 out / "transfer_curve.png", lambda tmp: plot_transfer(curve, tmp, lif), record
             )

@@ -201,16 +201,21 @@ def finished_count(trials) -> int:
     )
 
 
-def _recover(ostudy) -> int:
-    """Mark the trials that were running when a client died failed, and ask them again."""
+def _recover(ostudy, names) -> int:
+    """Mark the trials that were running when a client died failed, and ask them again.
+
+    A trial killed while it was being asked, before every parameter (``names``) had been
+    drawn and stored, has no point to repeat: it is failed, and the sampler draws afresh.
+    """
     from optuna.trial import TrialState
 
     interrupted = ostudy.get_trials(deepcopy=False, states=(TrialState.RUNNING,))
     for t in interrupted:
         ostudy.tell(t.number, state=TrialState.FAIL, skip_if_finished=True)
-        ostudy.enqueue_trial(
-            dict(t.params), user_attrs={"rerun_of": t.user_attrs.get("rerun_of", t.number)}
-        )
+        if set(t.params) == set(names):
+            ostudy.enqueue_trial(
+                dict(t.params), user_attrs={"rerun_of": t.user_attrs.get("rerun_of", t.number)}
+            )
     return len(interrupted)
 
 
@@ -680,7 +685,7 @@ def run_study(
     out = open_folder(out, study)
     ostudy = open_optuna(out, study)
     report = OptimizeReport(out)
-    report.recovered = _recover(ostudy)
+    report.recovered = _recover(ostudy, _distributions(study))
     report.already = finished_count(ostudy.get_trials(deepcopy=False))
     client = connect(scheduler) if scheduler is not None and not serial else None
     executor: _Serial | _Dask = _Serial() if serial else _Dask(client, workers)
