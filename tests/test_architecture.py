@@ -35,7 +35,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("the engine", frozenset({"engine"})),
     ("runs", frozenset({"runs"})),
     ("stochastic computing", frozenset({"sc"})),
-    ("devices", frozenset({"reshuffler", "neuron", "reservoir"})),
+    ("devices", frozenset({"devices", "reshuffler", "neuron", "reservoir"})),
     (
         "studies and tools",
         frozenset(

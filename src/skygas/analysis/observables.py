@@ -16,7 +16,6 @@ absent, with the reason:
 from __future__ import annotations
 
 import json
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,29 +23,27 @@ from skygas.analysis.diffusion import diffusion_estimate
 from skygas.analysis.maps import density_map, occupancy, velocity_map
 from skygas.analysis.structure import pair_correlation
 from skygas.analysis.transport import mean_velocity
-
-if TYPE_CHECKING:
-    from skygas.neuron.config import NeuronConfig
-    from skygas.reshuffler.config import ReshufflerConfig
-    from skygas.runs.config import SimulationConfig
-
+from skygas.devices.registry import KINDS, DeviceKind
 
 #: Skyrmion diameters from every wall beyond which displacements count for the Hall angle.
 HALL_WALL_CLEARANCE = 2.0
+
+
+def _device(record) -> DeviceKind | None:
+    """The kind of run ``record`` is (:mod:`skygas.devices.registry`); None for another."""
+    return KINDS.get(record.kind)
 
 
 def _free_diffusion_constant(record) -> float | None:
     temperature = record.config.get("temperature")
     if temperature is None:
         return None
-    Config: type[SimulationConfig] | type[ReshufflerConfig] | type[NeuronConfig]
-    if record.kind == "simulate":
-        from skygas.runs.config import SimulationConfig as Config
-    elif record.kind == "reshuffle":
-        from skygas.reshuffler.config import ReshufflerConfig as Config
-    else:
-        from skygas.neuron.config import NeuronConfig as Config
-    thiele = Config.model_validate_json(json.dumps(record.config)).thiele_parameters()
+    device = _device(record)
+    model = device.config_model if device is not None else None
+    if model is None:  # a kind without a configuration model records no positions
+        return None
+    # the configuration's own material and skyrmion (each device's model reads its own tables)
+    thiele = model().model_validate_json(json.dumps(record.config)).thiele_parameters()
     return thiele.diffusion_constant(float(temperature))
 
 
@@ -105,10 +102,10 @@ def analyze(record, *, maps: bool = True, pair_bins: int = 40, burn_in: float = 
         out["pair_correlation"] = pair_correlation(
             frames, record.outline, r_max, bins=pair_bins
         ).as_dict()
-    groups = None
-    if record.kind == "reshuffle":
-        groups = (lambda x, y: np.where(y >= 0.0, 0, 1), ("up", "down"))
-    out["occupancy"] = occupancy(frames, *(groups or ()))
+    # per part of the device where it has parts (the reshuffler's chambers)
+    device = _device(record)
+    groups = device.occupancy_groups if device is not None else None
+    out["occupancy"] = occupancy(frames, *(groups() if groups is not None else ()))
     if maps and len(frames.ids):
         extent = (x0 * 1e-9, x1 * 1e-9, y0 * 1e-9, y1 * 1e-9)
         dm = density_map(frames, 40, extent)
@@ -135,7 +132,8 @@ def _velocity(record, frames) -> dict:
     velocity = mean_velocity(frames).as_dict()
     if record.drive is None:
         return velocity
-    if record.kind != "simulate":
+    device = _device(record)
+    if device is None or not device.uniform_drive:
         velocity["hall_angle_reason"] = (
             "the drift follows the device's current and walls: the angle of the mean velocity "
             "to one direction is not the skyrmion Hall angle"

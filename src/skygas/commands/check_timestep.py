@@ -26,41 +26,39 @@ from typing import Any
 
 from skygas.commands.json_output import add_json_option, print_json
 from skygas.core.errors import InputError, require
+from skygas.devices.registry import KINDS, TimeStepCheck, kind
+from skygas.devices.timestep import PLACEMENT_SEPARATION, with_step
 from skygas.reshuffler.presets import PRESETS
 
-#: the devices whose configurations check-timestep reads (the command that runs each)
-DEVICES = ("simulate", "reshuffle", "neuron", "reservoir")
+
+def _check(device: str) -> TimeStepCheck:
+    """How ``device`` is checked; :class:`InputError` for a name not in :data:`DEVICES`."""
+    check = kind(device).timestep
+    if check is None:
+        raise InputError("--device", device, f"one of {', '.join(DEVICES)}")
+    return check
+
+
+#: the devices whose configurations check-timestep reads (the command that runs each), in the
+#: registry's order (:mod:`skygas.devices.registry`)
+DEVICES = tuple(name for name, k in KINDS.items() if k.timestep is not None)
 
 #: TOML tables or keys that only one device's configuration has
-MARKERS = {
-    "simulate": {"geometry", "skyrmions", "record_interval", "drift", "integrator"},
-    "reshuffle": {"preset", "signal", "output", "current", "hypothesis", "spin_polarization"},
-    "neuron": {
-        "gate",
-        "sensor",
-        "rule",
-        "annihilation",
-        "inputs",
-        "transfer",
-        "release_current_density",
-    },
-    "reservoir": {
-        "chamber",
-        "drive",
-        "sensors",
-        "readout",
-        "study",
-        "sweep",
-        "n_skyrmions",
-        "hold_time",
-    },
-}
+MARKERS = {name: set(_check(name).markers) for name in DEVICES}
 #: the tables of a sweep file (``skygas sweep``), whose ``[sweep]`` is not the reservoir's
 SWEEP_FILE = {"base", "grid"}
 
-#: least distance of the skyrmions placed in a device, from each other and from the walls
-#: [skyrmion diameters] (the reservoir's own placement)
-PLACEMENT_SEPARATION = 1.2
+__all__ = [
+    "DEVICES",
+    "MARKERS",
+    "PLACEMENT_SEPARATION",
+    "SWEEP_FILE",
+    "check_device_time_step",
+    "detect_device",
+    "load_device_config",
+    "probe",
+    "register",
+]
 
 
 def detect_device(data: dict, source: str) -> str:
@@ -110,66 +108,11 @@ def load_device_config(device: str | None, path: str | None, preset: str | None)
         from skygas.core.config_types import read_toml
 
         device = detect_device(read_toml(path), str(path))
-    if preset is not None and device != "reshuffle":
+    if preset is not None and not _check(device).presets:
         raise InputError(
             "--preset", preset, "a preset of the reshuffler only", "leave --preset out"
         )
-    if device == "simulate":
-        if path is None:
-            raise InputError(
-                "config",
-                None,
-                "a simulation's TOML file (a simulation has no defaults to check)",
-                "give the file, e.g. examples/closed-chamber.toml",
-            )
-        from skygas.runs.config import load_config
-
-        return device, load_config(path)
-    if device == "reshuffle":
-        from skygas.reshuffler.config import load_reshuffler_config
-
-        return device, load_reshuffler_config(path, preset=preset)
-    if device == "neuron":
-        from skygas.neuron.config import load_neuron_config
-
-        return device, load_neuron_config(path)
-    from skygas.reservoir.config import load_reservoir_config
-
-    return device, load_reservoir_config(path)
-
-
-def _with_step(config, time_step: float | None):
-    """``config`` with its time step replaced (``None``: the configuration's own)."""
-    return config if time_step is None else config.model_copy(update={"time_step": time_step})
-
-
-def _reshuffler_population(config) -> int:
-    """Skyrmions in the reshuffler while in use.
-
-    :func:`~skygas.reshuffler.run.expected_population`, capped at a third of the chambers'
-    close packing, which random placement reaches.
-    """
-    from skygas.reshuffler.run import expected_population
-
-    d_sk = config.thiele_parameters().skyrmion_diameter
-    packing = 2 * (config.device.chamber_diameter / d_sk) ** 2
-    return max(1, round(min(expected_population(config), packing / 3)))
-
-
-def _neuron_population(config) -> int:
-    """Skyrmions in the neuron's chamber at its threshold (the crowd before it fires)."""
-    rule = config.rule
-    if config.sensor.signal == "count":
-        return max(1, math.ceil(rule.threshold))
-    d_sk = config.thiele_parameters().skyrmion_diameter
-    return max(1, math.ceil(rule.threshold * (config.device.chamber_diameter / d_sk) ** 2))
-
-
-def _filled(sim, count: int, seed: int):
-    """``sim`` without its device's operations, filled with ``count`` skyrmions at random."""
-    sim.operations.clear()  # only the engine's forces are compared: no injection, no gate logic
-    sim.add_random(count, min_separation=PLACEMENT_SEPARATION, seed=seed)
-    return sim
+    return device, _check(device).load(path, preset)
 
 
 def probe(device: str, config) -> tuple[Callable[[float | None, int], Any], int | None]:
@@ -181,48 +124,7 @@ def probe(device: str, config) -> tuple[Callable[[float | None, int], Any], int 
         ``(build, count)``: ``build(time_step, brownian_substeps)`` returns the device's
         simulation, filled; ``count`` is None for a simulation, which places its own.
     """
-    if device == "simulate":
-
-        def build_simulation(dt, substeps):
-            return config.build(
-                time_step=dt if dt is not None else config.time_step, brownian_substeps=substeps
-            )
-
-        return build_simulation, None
-    if device == "reshuffle":
-        from skygas.reshuffler.run import ReshufflerRun
-
-        count = _reshuffler_population(config)
-
-        def build_reshuffler(dt, substeps):
-            run = ReshufflerRun.build(_with_step(config, dt), brownian_substeps=substeps)
-            return _filled(run.sim, count, config.seed)
-
-        return build_reshuffler, count
-    if device == "neuron":
-        from skygas.neuron.device import NeuronDevice
-
-        count = _neuron_population(config)
-
-        def build_neuron(dt, substeps):
-            run = NeuronDevice(_with_step(config, dt)).build(brownian_substeps=substeps)
-            return _filled(run.sim, count, config.seed)  # the gate closed, as a run starts
-
-        return build_neuron, count
-    from skygas.reservoir.device import ReservoirDevice
-
-    count = config.n_skyrmions
-
-    def build_reservoir(dt, substeps):
-        device = ReservoirDevice(_with_step(config, dt))
-        sim = device.simulation(config.seed, brownian_substeps=substeps)
-        fields = device.drive.drift_fields(sim.wall_field.grid)
-        # the input whose current drives fastest: the most demanding for the step
-        vx, vy = max(fields.values(), key=lambda v: float((v[0] ** 2 + v[1] ** 2).max()))
-        sim.set_drift_field(vx, vy)
-        return _filled(sim, count, config.seed)
-
-    return build_reservoir, count
+    return _check(device).probe(config)
 
 
 def check_device_time_step(
@@ -247,7 +149,7 @@ def check_device_time_step(
 
     build, count = probe(device, config)
     report = check_time_step(build, duration, time_step, tolerance_diameters)
-    findings = findings_before_run(_with_step(config, report.time_step), build(report.time_step, 1))
+    findings = findings_before_run(with_step(config, report.time_step), build(report.time_step, 1))
     return {
         "device": device,
         "skyrmions_placed": count,

@@ -35,6 +35,7 @@ import numpy as np
 from skygas._version import __version__
 from skygas.core.errors import InputError
 from skygas.core.quantities import format_quantity, format_value, label, missing, quantity
+from skygas.devices.registry import KINDS, kind_of_summary, recorded_kind
 from skygas.outputs import headlines as H
 
 MOVIE_NAMES = ("movie.mp4", "movie.gif")
@@ -42,8 +43,7 @@ MOVIE_NAMES = ("movie.mp4", "movie.gif")
 #: versions gave it (still read)
 SUMMARY_FILES = (
     "summary.json",
-    "reservoir.json",
-    "saturation.json",
+    *(name for device in KINDS.values() for name in device.result_files),
     "sc_demo.json",
     "fit.json",
 )
@@ -104,52 +104,39 @@ FIGURE_CAPTIONS: dict[str, str] = {
     "chamber_size_details.png": "p_out − p_in, the fullest chamber, the transit time and the "
     "lag scan, against the chamber diameter.",
 }
-_DEVICE_CAPTIONS = {
-    "reshuffle": "The reshuffler: current density |j| in both chambers (colour), the walls, the "
-    "read-out lines and the trajectories of the first skyrmions injected (their time span in "
-    "the title).",
-    # a neuron run draws trajectories only when it recorded positions (--animate)
-    "neuron": "The neuron over its energy landscape, with the skyrmions present at the end of "
-    "the run (no trajectories: the run recorded no positions; --animate records them).",
-    "neuron recorded": "The neuron over its energy landscape, with the recorded trajectories "
-    "(start ○, end ●).",
-}
 
-#: the command that wrote a summary, told by a key only its summary has (a folder without a
-#: manifest)
-_KIND_BY_KEY = (
-    ("diameters_m", "saturation"),
-    ("boolean", "reservoir"),
-    ("comparison", "sc demo"),
-    ("unfixed_laws", "micromag fit"),
-    ("lif_fit", "neuron"),
-    ("correlation", "reshuffle"),
-    ("skyrmions_initial", "simulate"),
-)
-_KIND_BY_FILE = {"reservoir.json": "reservoir", "saturation.json": "saturation"}
-_KIND_BY_FILE["sc_demo.json"] = "sc demo"
-_KIND_BY_FILE["fit.json"] = "micromag fit"
-_TITLES = {
-    "reshuffle": "Skyrmion Reshuffler",
-    "neuron": "Skyrmion Neuron",
-    "saturation": "Maximum skyrmion density (saturation)",
-    "reservoir": "Brownian reservoir computing",
+#: the command that wrote a summary, for the commands that run no device (a device's kind is
+#: told by the registry, :func:`skygas.devices.registry.kind_of_summary`): by its result file,
+#: then by a key only its summary has (a folder without a manifest)
+_OTHER_BY_FILE = {"sc_demo.json": "sc demo", "fit.json": "micromag fit"}
+_OTHER_BY_KEY = (("comparison", "sc demo"), ("unfixed_laws", "micromag fit"))
+#: the report titles of the commands that run no device (a device's is its kind's title)
+_OTHER_TITLES = {
     "sc demo": "Stochastic computing demonstration",
-    "simulate": "Skyrmion gas simulation",
     "demo": "Skyrmion gas simulation",
     "micromag fit": "Force laws fitted to micromagnetic snapshots",
 }
 
 
-def caption(name: str, kind: str | None = None, *, recorded: bool = False) -> str:
-    """What the figure ``name`` of a ``kind`` run shows (:data:`FIGURE_CAPTIONS`).
+def _title(kind: str) -> str:
+    """The report's title for a run of ``kind``: its device's, another command's, or generic."""
+    device = KINDS.get(kind)
+    if device is not None:
+        return device.title
+    return _OTHER_TITLES.get(kind, "skygas " + kind)
 
+
+def caption(name: str, kind: str | None = None, *, recorded: bool = False) -> str:
+    """What the figure ``name`` of a ``kind`` run shows.
+
+    The kind's own caption (its ``device.png``, :attr:`~skygas.devices.registry.DeviceKind.
+    captions`), else the shared one of :data:`FIGURE_CAPTIONS`, else the file's name in words.
     ``recorded``: the run recorded positions (its device figure draws their trajectories).
     """
-    if name == "device.png" and recorded and f"{kind} recorded" in _DEVICE_CAPTIONS:
-        return _DEVICE_CAPTIONS[f"{kind} recorded"]
-    if name == "device.png" and kind in _DEVICE_CAPTIONS:
-        return _DEVICE_CAPTIONS[kind]
+    device = KINDS.get(kind) if kind is not None else None
+    own = device.caption(name, recorded=recorded) if device is not None else None
+    if own is not None:
+        return own
     if name in FIGURE_CAPTIONS:
         return FIGURE_CAPTIONS[name]
     return H_words(Path(name).stem).capitalize() + "."
@@ -550,14 +537,13 @@ def _provenance(page: _Page, rows: list[tuple[str, Any]]) -> None:
 
 # -- runs that keep no positions -----------------------------------------------------------------
 def _kind(directory: Path, name: str, summary: dict) -> str:
-    from skygas.runs import manifest
-
-    found = manifest.read(directory) or {}
-    if found.get("command"):
-        return str(found["command"])
-    if name in _KIND_BY_FILE:
-        return _KIND_BY_FILE[name]
-    return next((kind for key, kind in _KIND_BY_KEY if key in summary), "run")
+    """The command that wrote the summary ``name`` in ``directory`` ("run" where none tells)."""
+    found = kind_of_summary(summary, directory, name)
+    if found is not None:
+        return found
+    if name in _OTHER_BY_FILE:
+        return _OTHER_BY_FILE[name]
+    return next((kind for key, kind in _OTHER_BY_KEY if key in summary), "run")
 
 
 def _extra_json(directory: Path, name: str) -> dict | None:
@@ -579,29 +565,21 @@ def directory_report(directory: Path) -> str:
     kind = _kind(directory, path.name, summary)
     provenance = summary.get("device", summary)  # the reservoir keeps it with its device
     version, seed = provenance.get("skygas_version"), provenance.get("seed")
-    if kind == "saturation":
-        seed = summary.get("seed", seed)
     seed_text = "none (a fit draws no random numbers)" if kind == "micromag fit" else None
-    page = _Page(f"{_TITLES.get(kind, 'skygas ' + kind)} — {directory.name}")
+    page = _Page(f"{_title(kind)} — {directory.name}")
     found = _made_by(page, directory, version, seed)
-    sweep = _extra_json(directory, "sweep.json") if kind == "reservoir" else None
-    if kind == "reservoir":
-        results = H.reservoir(summary)
-        if sweep:
-            results.tables.append(H.reservoir_sweep(sweep))
-        config = (summary.get("device") or {}).get("config")
-    elif kind == "saturation":
-        results = H.saturation(summary)
-        config = summary.get("parameters")
+    device = KINDS.get(kind)
+    if device is not None:
+        results = (
+            device.folder_headline(summary, directory) if device.folder_headline else H.Results()
+        )
+        config = device.config_in(summary)
     elif kind == "sc demo":
         results = H.sc_demo(summary, _extra_json(directory, "sc_reshuffler.json"))
         # the decorrelators are the rows of the results' table
         config = {
             k: v for k, v in (summary.get("parameters") or {}).items() if k != "decorrelators"
         }
-    elif kind == "neuron":
-        results = H.neuron(summary)
-        config = summary.get("config")
     elif kind == "micromag fit":
         results = H.micromag_fit(summary)
         config = summary.get("parameters")
@@ -645,15 +623,11 @@ def run_report(record, *, analysis: dict | None = None) -> str:
         analysis = analyze(record, maps=False)
     summary = record.summary or {}
     kind = record.kind
-    page = _Page(f"{_TITLES.get(kind, 'skygas ' + kind)} — {record.directory.name}")
+    page = _Page(f"{_title(kind)} — {record.directory.name}")
     found = _made_by(page, record.directory, record.version, record.seed)
-    if kind == "reshuffle":
-        results = H.reshuffler(summary, record.config)
-    elif kind == "neuron":
-        results = H.neuron(summary)
-        H.diffusion_rows(results, analysis)
-    else:
-        results = H.simulation(summary, analysis)
+    headline = recorded_kind(kind).run_headline
+    assert headline is not None  # recorded_kind gives a kind with one
+    results = headline(summary, record.config, analysis)
     _results(page, results)
     _movie(page, record.directory)
     page.heading("Figures")

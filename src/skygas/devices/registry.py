@@ -1,0 +1,416 @@
+"""The device registry: one :class:`DeviceKind` per kind of run, in :data:`KINDS` (issue 40).
+
+A kind is a command that runs a device (or a plain simulation) and writes a run folder:
+``simulate``, ``reshuffle``, ``neuron``, ``reservoir``, ``saturation``. The code that serves
+every kind (the report, ``skygas check-timestep``, the analysis) asks its kind here what it
+needs, instead of switching on the kind's name; a new device adds one entry.
+
+Importing this module is cheap: every field that needs a device's code (its headline, its
+configuration model, its check-timestep builder) is a small function here that imports the
+device only when called. The devices import nothing from here at module level but
+:mod:`skygas.devices.timestep`'s helpers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from skygas.core.errors import InputError
+
+if TYPE_CHECKING:
+    from skygas.core.headline import Results
+
+#: a check-timestep builder: ``build(time_step, brownian_substeps)`` → the filled simulation
+Build = Callable[[float | None, int], Any]
+
+
+@dataclass(frozen=True)
+class TimeStepCheck:
+    """How ``skygas check-timestep`` reads and builds one kind's configuration.
+
+    Attributes
+    ----------
+    markers : frozenset[str]
+        The TOML tables or top-level keys only this kind's configuration has: a file with them
+        (and none of another kind's) is this kind's (:func:`~skygas.commands.check_timestep.
+        detect_device`).
+    load : callable
+        ``load(path, preset)`` → the validated configuration, as the kind's command reads it
+        (``path`` None: its defaults). Raises :class:`InputError` where it has none.
+    probe : callable
+        ``probe(config)`` → ``(build, count)``: ``build(time_step, brownian_substeps)`` returns
+        the device's simulation without its operations, filled as in use; ``count`` is the
+        skyrmions placed (None where the configuration places its own).
+    presets : bool
+        Whether the kind takes ``--preset`` (the reshuffler's presets).
+    """
+
+    markers: frozenset[str]
+    load: Callable[[str | None, str | None], Any]
+    probe: Callable[[Any], tuple[Build, int | None]]
+    presets: bool = False
+
+
+@dataclass(frozen=True)
+class DeviceKind:
+    """One kind of run: what the code serving every kind needs to know about it.
+
+    Attributes
+    ----------
+    name : str
+        The kind's name, as the command line and a folder's manifest write it (``"reshuffle"``).
+    command : str
+        The command that makes such a run (``"skygas reshuffle"``).
+    title : str
+        The title of its report (``report.html``).
+    captions : Mapping[str, str]
+        Captions of its figures, by file name, where they differ from the shared ones of
+        :data:`skygas.outputs.report.FIGURE_CAPTIONS` (its ``device.png``).
+    recorded_captions : Mapping[str, str]
+        The same, for a run that recorded positions (its device figure draws trajectories).
+    summary_keys : tuple[str, ...]
+        Keys that only its summary has: they tell a folder without a manifest to be this kind's
+        (each key belongs to one kind only, so the order of :data:`KINDS` does not matter).
+    result_files : tuple[str, ...]
+        Names of the result file it writes in place of ``summary.json`` (the reservoir's
+        ``reservoir.json``), which tell its folders too.
+    config_key : tuple[str, ...]
+        Where its summary keeps the run's configuration (the reservoir's in ``device.config``).
+    run_headline : callable or None
+        ``run_headline(summary, config, analysis)`` → :class:`~skygas.core.headline.Results`:
+        what the report of a run that recorded positions states first (None: the kind records
+        none, or its report is a simulation's).
+    folder_headline : callable or None
+        ``folder_headline(summary, directory)`` → Results: the same for a folder that holds a
+        summary but no positions (None: nothing before the summary's numbers).
+    config_model : callable or None
+        ``config_model()`` → the pydantic class of its configuration (imported when called).
+    uniform_drive : bool
+        Whether its drift is one uniform velocity (``skygas simulate``'s ``[drift]``), so that
+        the angle of the mean velocity is the skyrmion Hall angle; a device's current follows
+        its conduits and walls.
+    occupancy_groups : callable or None
+        ``occupancy_groups()`` → ``(group_of(x, y), names)``: how the occupancy of a recorded
+        run counts its skyrmions per part of the device (None: all together).
+    timestep : TimeStepCheck or None
+        How ``skygas check-timestep`` checks it (None: it does not).
+    """
+
+    name: str
+    command: str
+    title: str
+    captions: Mapping[str, str] = field(default_factory=dict)
+    recorded_captions: Mapping[str, str] = field(default_factory=dict)
+    summary_keys: tuple[str, ...] = ()
+    result_files: tuple[str, ...] = ()
+    config_key: tuple[str, ...] = ("config",)
+    run_headline: Callable[[dict, dict, dict], Results] | None = None
+    folder_headline: Callable[[dict, Path], Results] | None = None
+    config_model: Callable[[], type[Any]] | None = None
+    uniform_drive: bool = False
+    occupancy_groups: Callable[[], tuple[Callable, tuple[str, ...]]] | None = None
+    timestep: TimeStepCheck | None = None
+
+    def caption(self, name: str, *, recorded: bool = False) -> str | None:
+        """The caption of its figure ``name``, or None where it has no caption of its own."""
+        if recorded and name in self.recorded_captions:
+            return self.recorded_captions[name]
+        return self.captions.get(name)
+
+    def config_in(self, summary: dict) -> Any:
+        """The run's configuration, read from its summary at :attr:`config_key` (or None)."""
+        value: Any = summary
+        for key in self.config_key:
+            value = (value or {}).get(key)
+        return value
+
+
+# -- the kinds' parts that need their device's code (imported when called) -------------------
+def _simulation_headline(summary: dict, config: dict, analysis: dict) -> Results:
+    from skygas.runs.headline import simulation
+
+    return simulation(summary, analysis)
+
+
+def _reshuffler_headline(summary: dict, config: dict, analysis: dict) -> Results:
+    from skygas.reshuffler.headline import reshuffler
+
+    return reshuffler(summary, config)
+
+
+def _neuron_run_headline(summary: dict, config: dict, analysis: dict) -> Results:
+    from skygas.neuron.headline import neuron
+    from skygas.runs.headline import diffusion_rows
+
+    results = neuron(summary)
+    diffusion_rows(results, analysis)  # a run recorded with --animate has the positions
+    return results
+
+
+def _neuron_folder_headline(summary: dict, directory: Path) -> Results:
+    from skygas.neuron.headline import neuron
+
+    return neuron(summary)
+
+
+def _reservoir_headline(summary: dict, directory: Path) -> Results:
+    import json
+
+    from skygas.reservoir.headline import reservoir, reservoir_sweep
+
+    results = reservoir(summary)
+    try:  # a study with a sweep wrote its table beside the summary
+        sweep = json.loads((directory / "sweep.json").read_text())
+    except (OSError, ValueError):
+        sweep = None
+    if sweep:
+        results.tables.append(reservoir_sweep(sweep))
+    return results
+
+
+def _saturation_headline(summary: dict, directory: Path) -> Results:
+    from skygas.neuron.headline import saturation
+
+    return saturation(summary)
+
+
+def _simulation_model() -> type[Any]:
+    from skygas.runs.config import SimulationConfig
+
+    return SimulationConfig
+
+
+def _reshuffler_model() -> type[Any]:
+    from skygas.reshuffler.config import ReshufflerConfig
+
+    return ReshufflerConfig
+
+
+def _neuron_model() -> type[Any]:
+    from skygas.neuron.config import NeuronConfig
+
+    return NeuronConfig
+
+
+def _reservoir_model() -> type[Any]:
+    from skygas.reservoir.config import ReservoirConfig
+
+    return ReservoirConfig
+
+
+def _reshuffler_chambers() -> tuple[Callable, tuple[str, ...]]:
+    import numpy as np
+
+    from skygas.reshuffler.device import CHAMBERS
+
+    # the UP chamber lies above the x axis, DOWN below (the device's geometry)
+    return (lambda x, y: np.where(y >= 0.0, 0, 1)), CHAMBERS
+
+
+# check-timestep: each kind's reader and builder live with the kind (its ``timestep`` module)
+def _simulation_load(path: str | None, preset: str | None) -> Any:
+    from skygas.devices.timestep import load
+
+    return load(path, preset)
+
+
+def _simulation_probe(config: Any) -> tuple[Build, int | None]:
+    from skygas.devices.timestep import probe
+
+    return probe(config)
+
+
+def _reshuffler_load(path: str | None, preset: str | None) -> Any:
+    from skygas.reshuffler.timestep import load
+
+    return load(path, preset)
+
+
+def _reshuffler_probe(config: Any) -> tuple[Build, int | None]:
+    from skygas.reshuffler.timestep import probe
+
+    return probe(config)
+
+
+def _neuron_load(path: str | None, preset: str | None) -> Any:
+    from skygas.neuron.timestep import load
+
+    return load(path, preset)
+
+
+def _neuron_probe(config: Any) -> tuple[Build, int | None]:
+    from skygas.neuron.timestep import probe
+
+    return probe(config)
+
+
+def _reservoir_load(path: str | None, preset: str | None) -> Any:
+    from skygas.reservoir.timestep import load
+
+    return load(path, preset)
+
+
+def _reservoir_probe(config: Any) -> tuple[Build, int | None]:
+    from skygas.reservoir.timestep import probe
+
+    return probe(config)
+
+
+_NEURON_DEVICE_PNG = (
+    "The neuron over its energy landscape, with the skyrmions present at the end of the run "
+    "(no trajectories: the run recorded no positions; --animate records them)."
+)
+
+#: Every kind, by name; the order is the one the command line lists them in.
+KINDS: dict[str, DeviceKind] = {
+    k.name: k
+    for k in (
+        DeviceKind(
+            name="simulate",
+            command="skygas simulate",
+            title="Skyrmion gas simulation",
+            summary_keys=("skyrmions_initial",),
+            run_headline=_simulation_headline,
+            config_model=_simulation_model,
+            uniform_drive=True,
+            timestep=TimeStepCheck(
+                frozenset({"geometry", "skyrmions", "record_interval", "drift", "integrator"}),
+                _simulation_load,
+                _simulation_probe,
+            ),
+        ),
+        DeviceKind(
+            name="reshuffle",
+            command="skygas reshuffle",
+            title="Skyrmion Reshuffler",
+            captions={
+                "device.png": "The reshuffler: current density |j| in both chambers (colour), "
+                "the walls, the read-out lines and the trajectories of the first skyrmions "
+                "injected (their time span in the title)."
+            },
+            summary_keys=("correlation",),
+            run_headline=_reshuffler_headline,
+            config_model=_reshuffler_model,
+            occupancy_groups=_reshuffler_chambers,
+            timestep=TimeStepCheck(
+                frozenset(
+                    {"preset", "signal", "output", "current", "hypothesis", "spin_polarization"}
+                ),
+                _reshuffler_load,
+                _reshuffler_probe,
+                presets=True,
+            ),
+        ),
+        DeviceKind(
+            name="neuron",
+            command="skygas neuron",
+            title="Skyrmion Neuron",
+            # a neuron run draws trajectories only when it recorded positions (--animate)
+            captions={"device.png": _NEURON_DEVICE_PNG},
+            recorded_captions={
+                "device.png": "The neuron over its energy landscape, with the recorded "
+                "trajectories (start ○, end ●)."
+            },
+            summary_keys=("lif_fit",),
+            run_headline=_neuron_run_headline,
+            folder_headline=_neuron_folder_headline,
+            config_model=_neuron_model,
+            timestep=TimeStepCheck(
+                frozenset(
+                    {
+                        "gate",
+                        "sensor",
+                        "rule",
+                        "annihilation",
+                        "inputs",
+                        "transfer",
+                        "release_current_density",
+                    }
+                ),
+                _neuron_load,
+                _neuron_probe,
+            ),
+        ),
+        DeviceKind(
+            name="reservoir",
+            command="skygas reservoir",
+            title="Brownian reservoir computing",
+            summary_keys=("boolean",),
+            result_files=("reservoir.json",),
+            config_key=("device", "config"),  # the study keeps it with its device
+            folder_headline=_reservoir_headline,
+            config_model=_reservoir_model,
+            timestep=TimeStepCheck(
+                frozenset(
+                    {
+                        "chamber",
+                        "drive",
+                        "sensors",
+                        "readout",
+                        "study",
+                        "sweep",
+                        "n_skyrmions",
+                        "hold_time",
+                    }
+                ),
+                _reservoir_load,
+                _reservoir_probe,
+            ),
+        ),
+        DeviceKind(
+            name="saturation",
+            command="skygas saturation",
+            title="Maximum skyrmion density (saturation)",
+            summary_keys=("diameters_m",),
+            result_files=("saturation.json",),
+            config_key=("parameters",),  # the protocol's settings: it has no configuration file
+            folder_headline=_saturation_headline,
+        ),
+    )
+}
+
+
+def kind(name: str) -> DeviceKind:
+    """The kind called ``name``.
+
+    Raises
+    ------
+    InputError
+        If no kind has that name (the message lists the known ones).
+    """
+    if name not in KINDS:
+        raise InputError("device", name, f"one of {', '.join(KINDS)}")
+    return KINDS[name]
+
+
+def recorded_kind(name: str) -> DeviceKind:
+    """The kind whose report a run that recorded positions gets.
+
+    Its own where it has a :attr:`~DeviceKind.run_headline`; a simulation's otherwise (``skygas
+    demo``, which the registry does not know, writes a simulation's result file).
+    """
+    found = KINDS.get(name)
+    return found if found is not None and found.run_headline is not None else KINDS["simulate"]
+
+
+def kind_of_summary(summary: dict, directory: Path, file_name: str | None = None) -> str | None:
+    """The command that wrote the results in ``directory``, or None where it cannot be told.
+
+    The command its manifest names (any command, ``"sc demo"`` too); without a manifest, the
+    kind whose result file ``file_name`` (the summary's file) is, else the kind whose keys
+    ``summary`` has.
+    """
+    from skygas.runs import manifest
+
+    found = manifest.read(directory) or {}
+    if found.get("command"):
+        return str(found["command"])
+    for k in KINDS.values():
+        if file_name in k.result_files:
+            return k.name
+    return next(
+        (k.name for k in KINDS.values() if any(key in summary for key in k.summary_keys)), None
+    )
