@@ -50,11 +50,6 @@ NOT_YET_MIGRATED: dict[str, str] = {
     "commands/neuron.py": "the definitions of skygas neuron and skygas saturation",
     "commands/reservoir.py": "the sub-command's definition (add_parser('reservoir'))",
     "commands/sc.py": "the key of the reshuffler's part of the sc demo's summary",
-    "outputs/records.py": "the readers of each command's result file build a RunRecord and "
-    "Frames (outputs and analysis, above the devices): they move to the devices once those "
-    "move down",
-    "movies/render.py": "the temperature stamp of a movie, shown for a simulation only",
-    "sweep/spec.py": "a sweep file's default device",
     "optimize/devices.py": "the optimizer's own table of devices (named reshuffler, not "
     "reshuffle): to be merged with the registry",
     "optimize/worker.py": "the optimizer's runner of each device, by the optimizer's names",

@@ -22,6 +22,7 @@ from skygas.core.errors import InputError
 
 if TYPE_CHECKING:
     from skygas.core.headline import Results
+    from skygas.devices.records import RecordParts
 
 #: a check-timestep builder: ``build(time_step, brownian_substeps)`` → the filled simulation
 Build = Callable[[float | None, int], Any]
@@ -52,6 +53,33 @@ class TimeStepCheck:
     load: Callable[[str | None, str | None], Any]
     probe: Callable[[Any], tuple[Build, int | None]]
     presets: bool = False
+
+
+@dataclass(frozen=True)
+class RecordFile:
+    """The result file of a run that recorded positions, as ``load_run`` reads it back.
+
+    (:func:`skygas.outputs.records.load_run`: the movie, the analysis, the export.)
+
+    Attributes
+    ----------
+    name : str
+        Its file name in the run folder (``"reshuffler.nc"``).
+    tells : callable
+        ``tells(ds)`` → whether the opened dataset ``ds`` is this kind's file (its contents
+        tell, not its name: a file may be given under any name).
+    read : callable
+        ``read(ds)`` → :class:`~skygas.devices.records.RecordParts`: the parts of the run that
+        depend on the kind (imported when called).
+    fallback : bool
+        Whether it is the plain simulation's file (dense positions with their configuration),
+        which a device's file may look like too: its ``tells`` is asked after the others'.
+    """
+
+    name: str
+    tells: Callable[[Any], bool]
+    read: Callable[[Any], RecordParts]
+    fallback: bool = False
 
 
 @dataclass(frozen=True)
@@ -97,6 +125,8 @@ class DeviceKind:
         run counts its skyrmions per part of the device (None: all together).
     timestep : TimeStepCheck or None
         How ``skygas check-timestep`` checks it (None: it does not).
+    record : RecordFile or None
+        The result file of its runs that recorded positions (None: it writes none).
     """
 
     name: str
@@ -113,6 +143,7 @@ class DeviceKind:
     uniform_drive: bool = False
     occupancy_groups: Callable[[], tuple[Callable, tuple[str, ...]]] | None = None
     timestep: TimeStepCheck | None = None
+    record: RecordFile | None = None
 
     def caption(self, name: str, *, recorded: bool = False) -> str | None:
         """The caption of its figure ``name``, or None where it has no caption of its own."""
@@ -259,6 +290,38 @@ def _reservoir_probe(config: Any) -> tuple[Build, int | None]:
     return probe(config)
 
 
+# the result files of the runs that record positions: told by their contents, read by the kind
+def _simulation_tells(ds: Any) -> bool:
+    return "x" in ds and "config_json" in ds.attrs
+
+
+def _reshuffler_tells(ds: Any) -> bool:
+    return "snapshot_count" in ds
+
+
+def _neuron_tells(ds: Any) -> bool:
+    # skygas.outputs.finish.write_frames writes the kind of the run that recorded the frames
+    return ds.attrs.get("skygas_run_kind") == "neuron"
+
+
+def _simulation_record(ds: Any) -> RecordParts:
+    from skygas.devices.records import simulation
+
+    return simulation(ds)
+
+
+def _reshuffler_record(ds: Any) -> RecordParts:
+    from skygas.reshuffler.records import record
+
+    return record(ds)
+
+
+def _neuron_record(ds: Any) -> RecordParts:
+    from skygas.neuron.records import record
+
+    return record(ds)
+
+
 _NEURON_DEVICE_PNG = (
     "The neuron over its energy landscape, with the skyrmions present at the end of the run "
     "(no trajectories: the run recorded no positions; --animate records them)."
@@ -280,6 +343,9 @@ KINDS: dict[str, DeviceKind] = {
                 frozenset({"geometry", "skyrmions", "record_interval", "drift", "integrator"}),
                 _simulation_load,
                 _simulation_probe,
+            ),
+            record=RecordFile(
+                "trajectories.nc", _simulation_tells, _simulation_record, fallback=True
             ),
         ),
         DeviceKind(
@@ -303,6 +369,7 @@ KINDS: dict[str, DeviceKind] = {
                 _reshuffler_probe,
                 presets=True,
             ),
+            record=RecordFile("reshuffler.nc", _reshuffler_tells, _reshuffler_record),
         ),
         DeviceKind(
             name="neuron",
@@ -333,6 +400,7 @@ KINDS: dict[str, DeviceKind] = {
                 _neuron_load,
                 _neuron_probe,
             ),
+            record=RecordFile("frames.nc", _neuron_tells, _neuron_record),
         ),
         DeviceKind(
             name="reservoir",
@@ -394,6 +462,27 @@ def recorded_kind(name: str) -> DeviceKind:
     """
     found = KINDS.get(name)
     return found if found is not None and found.run_headline is not None else KINDS["simulate"]
+
+
+def record_files() -> tuple[str, ...]:
+    """The names of the result files of runs that recorded positions, in :data:`KINDS`' order.
+
+    (The order a run folder is searched in.)
+    """
+    return tuple(k.record.name for k in KINDS.values() if k.record is not None)
+
+
+def kind_of_record(ds: Any) -> DeviceKind | None:
+    """The kind whose result file the opened dataset ``ds`` is, or None where none tells it.
+
+    A device's file is told by what only it has; the plain simulation's (the
+    :attr:`RecordFile.fallback`), which a device's file may look like, is tried last.
+    """
+    records = [(k, k.record) for k in KINDS.values() if k.record is not None]
+    for k, record in sorted(records, key=lambda pair: pair[1].fallback):  # stable: KINDS' order
+        if record.tells(ds):
+            return k
+    return None
 
 
 def kind_of_summary(summary: dict, directory: Path, file_name: str | None = None) -> str | None:

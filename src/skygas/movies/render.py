@@ -441,7 +441,11 @@ def true_model(record) -> dict | None:
     D = k_BT α𝒟k/((α𝒟k)² + G²) [m²/s], the pair and wall laws and the potentials, as the run's
     configuration gives them. Only for ``skygas simulate`` runs.
     """
-    if record.kind != "simulate" or record.config.get("temperature") is None:
+    from skygas.devices.registry import KINDS
+
+    device = KINDS.get(record.kind)
+    # a plain simulation (the one kind driven uniformly): a device's gas has its own fields
+    if device is None or not device.uniform_drive or record.config.get("temperature") is None:
         return None
     from skygas.runs.config import SimulationConfig
 

@@ -9,6 +9,8 @@
 and returns a :class:`RunRecord`: the positions as :class:`~skygas.analysis.frames.Frames`,
 the device outline rebuilt from the recorded configuration, the skyrmion diameter, how to
 colour each skyrmion, the direction of the drive, and the provenance (version, seed, config).
+The device registry (:mod:`skygas.devices.registry`) tells whose file it is and reads the
+parts only its kind knows (:class:`~skygas.devices.records.RecordParts`).
 """
 
 from __future__ import annotations
@@ -23,22 +25,23 @@ import numpy as np
 
 from skygas.analysis.frames import Frames
 from skygas.core.errors import InputError
+from skygas.devices.registry import DeviceKind, kind_of_record, record_files
 
 if TYPE_CHECKING:
     from skygas.physics.geometry import Outline
 
-#: result files in the order a directory is searched
-RESULT_FILES = ("trajectories.nc", "reshuffler.nc", "frames.nc")
+#: result files in the order a directory is searched (each kind's, from the device registry)
+RESULT_FILES = record_files()
 
 
 @dataclass
 class RunRecord:
     """One run, read back from its result file.
 
-    ``kind`` ("simulate", "reshuffle" or "neuron"), its result ``path``, ``frames`` [m, s], the
-    ``outline`` (nm), ``skyrmion_diameter`` [m], ``group_names`` and ``group_of(ids, x, y)`` → index
-    into them (the colour of each skyrmion), ``drive``: the direction of the spin drift (unit
-    vector, or None without one), and the provenance.
+    ``kind`` (its kind's name in :mod:`skygas.devices.registry`), its result ``path``, ``frames``
+    [m, s], the ``outline`` (nm), ``skyrmion_diameter`` [m], ``group_names`` and
+    ``group_of(ids, x, y)`` → index into them (the colour of each skyrmion), ``drive``: the
+    direction of the spin drift (unit vector, or None without one), and the provenance.
     """
 
     kind: str
@@ -182,13 +185,8 @@ def load_run(path: str | Path) -> RunRecord:
             f"the run's summary as JSON (this one is unreadable: {err})",
             _REDO,
         ) from None
-    if "snapshot_count" in ds:
-        build = _reshuffler_record
-    elif ds.attrs.get("skygas_run_kind") == "neuron":
-        build = _neuron_record
-    elif "x" in ds and "config_json" in ds.attrs:
-        build = _simulation_record
-    else:
+    device = kind_of_record(ds)
+    if device is None:
         raise InputError(
             "RUN",
             str(file),
@@ -197,7 +195,7 @@ def load_run(path: str | Path) -> RunRecord:
             _REDO,
         )
     try:
-        record = build(ds, file)
+        record = _build(device, ds, file)
     except InputError:
         raise
     except (KeyError, ValueError, TypeError, IndexError) as err:
@@ -209,141 +207,25 @@ def load_run(path: str | Path) -> RunRecord:
     return record
 
 
-def _one_group(ids, x, y):
-    return np.zeros(len(ids), dtype=np.int64)
-
-
-def _simulation_record(ds, file: Path) -> RunRecord:
-    from skygas.runs.config import SimulationConfig
-
-    config = SimulationConfig.model_validate_json(ds.attrs["config_json"])
-    v = np.asarray(config.drift.velocity, float)
-    drive = tuple(v / np.hypot(*v)) if np.any(v) else None
+def _build(device: DeviceKind, ds, file: Path) -> RunRecord:
+    """The run of kind ``device`` whose result file ``file`` (opened: ``ds``) is."""
+    assert device.record is not None  # kind_of_record tells only kinds with a result file
+    parts = device.record.read(ds)
+    frames = (
+        Frames(*parts.snapshots) if parts.snapshots is not None else Frames.from_trajectories(ds)
+    )
     return RunRecord(
-        "simulate",
-        file,
-        Frames.from_trajectories(ds),
-        config.geometry.build(),
-        config.thiele_parameters().skyrmion_diameter,
-        ("skyrmions",),
-        _one_group,
-        drive,
-        json.loads(ds.attrs["config_json"]),
-        str(ds.attrs.get("skygas_version", "?")),
-        int(ds.attrs.get("seed", -1)),
-        landscape_fn=(lambda: config.build().landscape) if config.potentials else None,
-    )
-
-
-def _reshuffler_record(ds, file: Path) -> RunRecord:
-    from skygas.reshuffler.config import ReshufflerConfig
-    from skygas.reshuffler.device import CHAMBERS, ReshufflerGeometry
-
-    config = ReshufflerConfig.model_validate_json(ds.attrs["config_json"])
-    d = config.device
-    geometry = ReshufflerGeometry(
-        d.chamber_diameter, d.conduit_width, d.conduit_length, d.chamber_gap
-    )
-    frames = Frames(
-        ds.snapshot_time.values,
-        ds.snapshot_count.values.astype(np.int64),
-        ds.snapshot_skyrmion.values.astype(np.int64),
-        ds.snapshot_x.values,
-        ds.snapshot_y.values,
-    )
-    # the input bit each skyrmion carries: 1 is steered to UP, 0 to DOWN
-    carried = ds.event_skyrmion.values
-    nucleated = carried >= 0
-    bit_ids = carried[nucleated]
-    bits = ds.input_bit.values[nucleated]
-    order = np.argsort(bit_ids)
-    bit_ids, bits = bit_ids[order], bits[order]
-
-    def group_of(ids, x, y):
-        out = np.full(len(ids), 2)  # "unknown": not in the event log
-        if len(bit_ids):
-            where = np.clip(np.searchsorted(bit_ids, ids), 0, len(bit_ids) - 1)
-            known = bit_ids[where] == ids
-            out[known] = 1 - bits[where[known]]
-        return out
-
-    def background(x, y):
-        from skygas.fields.current import solve_current
-
-        c = config.current
-        solution = solve_current(
-            geometry.chamber(),
-            config.current_density,
-            cell_size=c.cell_size,
-            conductor_thickness=c.conductor_thickness,
-            resistivity=c.resistivity,
-        )
-        values = np.zeros_like(x)
-        which = geometry.chamber_of(y * 1e9)
-        for index, name in enumerate(CHAMBERS):
-            cx, cy = geometry.centres()[name]
-            mask = which == index
-            jx, jy = solution.current_density_at(x[mask] - cx, y[mask] - cy)
-            values[mask] = np.hypot(jx, jy)
-        return values, "current density |j| (A/m²)"
-
-    return RunRecord(
-        "reshuffle",
+        device.name,
         file,
         frames,
-        geometry.device_outline(),
-        config.thiele_parameters().skyrmion_diameter,
-        ("input bit 1 (to UP)", "input bit 0 (to DOWN)", "unknown"),
-        group_of,
-        (1.0, 0.0),
+        parts.outline,
+        parts.skyrmion_diameter,
+        parts.group_names,
+        parts.group_of,
+        parts.drive,
         json.loads(ds.attrs["config_json"]),
         str(ds.attrs.get("skygas_version", "?")),
         int(ds.attrs.get("seed", -1)),
-        background_fn=background,
-        landscape_fn=_reshuffler_landscape(config),
-    )
-
-
-def _reshuffler_landscape(config):
-    """Builds the landscape of a reshuffler run (the engine's, same grid and seed), or None."""
-    if not config.potentials:
-        return None
-
-    def build():
-        from skygas.reshuffler.run import ReshufflerRun
-
-        return ReshufflerRun.build(config).sim.landscape
-
-    return build
-
-
-def _neuron_record(ds, file: Path) -> RunRecord:
-    from skygas.fields.current import solve_current
-    from skygas.neuron.config import NeuronConfig
-    from skygas.neuron.device import NeuronDevice
-    from skygas.physics.geometry import chamber_with_conduits
-
-    config = NeuronConfig.model_validate_json(ds.attrs["config_json"])
-    d = config.device
-    full = chamber_with_conduits(d.chamber_diameter, d.conduit_width, d.conduit_length)
-
-    def background(x, y):
-        solution = solve_current(full, config.current_density)
-        jx, jy = solution.current_density_at(x, y)
-        return np.hypot(jx, jy), "holding current density |j| (A/m²)"
-
-    return RunRecord(
-        "neuron",
-        file,
-        Frames.from_trajectories(ds),
-        full.without_ports("input"),
-        config.thiele_parameters().skyrmion_diameter,
-        ("skyrmions",),
-        _one_group,
-        (1.0, 0.0),
-        json.loads(ds.attrs["config_json"]),
-        str(ds.attrs.get("skygas_version", "?")),
-        int(ds.attrs.get("seed", -1)),
-        background_fn=background if config.current_density > 0 else None,
-        landscape_fn=lambda: NeuronDevice(config).build().sim.landscape,
+        background_fn=parts.background_fn,
+        landscape_fn=parts.landscape_fn,
     )

@@ -46,6 +46,9 @@ from skygas.physics.materials import ThieleParameters
 from skygas.reshuffler.presets import preset_data
 from skygas.runs.config import MaterialFields, OperationsField, resolve_paths
 
+#: the device's name in messages about its configuration (a sweep's ``[base]`` table)
+DEVICE_NAME = "reshuffler"
+
 
 class DeviceSpec(ChamberSize):
     """The two chambers: the paper's chamber and conduits, ``chamber_gap`` [m] apart."""

@@ -46,7 +46,12 @@ from pydantic import BaseModel
 
 from skygas.core.errors import InputError, require
 from skygas.core.resources import require_memory
-from skygas.reshuffler.config import ReshufflerConfig, check_time_step, parse_reshuffler_config
+from skygas.reshuffler.config import (
+    DEVICE_NAME,
+    ReshufflerConfig,
+    check_time_step,
+    parse_reshuffler_config,
+)
 from skygas.reshuffler.device import ReshufflerGeometry
 from skygas.runs.config import read_toml, resolve_paths
 
@@ -268,7 +273,7 @@ def _points(data: list) -> tuple[list[str], list[list[Any]]]:
 
 
 def base_config(
-    data: dict, head: str, base_dir: Path | None, default: dict, device: str = "reshuffler"
+    data: dict, head: str, base_dir: Path | None, default: dict, device: str = DEVICE_NAME
 ) -> dict:
     """The base configuration of a sweep or study file: ``[HEAD] config = FILE`` or ``[base]``.
 
