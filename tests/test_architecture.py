@@ -62,11 +62,6 @@ ALLOWED_UPWARD: dict[tuple[str, str], str] = {
         "simulation plotted from Python looks like its run's figures; imported only when plot "
         "is called"
     ),
-    ("skygas.neuron.files", "skygas.outputs.finish"): (
-        "a neuron run recorded for a movie writes its positions as frames.nc with "
-        "outputs.finish.write_frames, next to the reader of that file (outputs.records), so the "
-        "format has one place; imported only when such a run finishes"
-    ),
 }
 
 #: The engine's compiled internals: only the engine itself imports them.

@@ -1,4 +1,4 @@
-"""The device registry (issue 40): what every kind of run is, in one place.
+"""The device registry: what every kind of run is, in one place.
 
 :mod:`skygas.devices.registry` holds one :class:`~skygas.devices.registry.DeviceKind` per
 command that runs a device or a plain simulation; the code serving every kind (the report,

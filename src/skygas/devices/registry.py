@@ -1,4 +1,4 @@
-"""The device registry: one :class:`DeviceKind` per kind of run, in :data:`KINDS` (issue 40).
+"""The device registry: one :class:`DeviceKind` per kind of run, in :data:`KINDS`.
 
 A kind is a command that runs a device (or a plain simulation) and writes a run folder:
 ``simulate``, ``reshuffle``, ``neuron``, ``reservoir``, ``saturation``. The code that serves
@@ -300,8 +300,10 @@ def _reshuffler_tells(ds: Any) -> bool:
 
 
 def _neuron_tells(ds: Any) -> bool:
-    # skygas.outputs.finish.write_frames writes the kind of the run that recorded the frames
-    return ds.attrs.get("skygas_run_kind") == "neuron"
+    # skygas.neuron.records.write_frames writes the kind of the run that recorded the frames
+    from skygas.neuron.records import RUN_KIND_ATTRIBUTE
+
+    return ds.attrs.get(RUN_KIND_ATTRIBUTE) == "neuron"
 
 
 def _simulation_record(ds: Any) -> RecordParts:

@@ -169,9 +169,9 @@ class NeuronJob(PiecewiseRunJob):
         write_figure(out / "count_trace.png", lambda tmp: plot_trace(run, tmp), record)
         write_figure(out / "device.png", lambda tmp: plot_device(run, tmp), record)
         if run.record_interval is not None:  # positions recorded for a movie
-            from skygas.outputs.finish import write_frames
+            from skygas.neuron.records import write_frames
 
-            write_frames(run.sim, config, out / "frames.nc", "neuron")
+            write_frames(run.sim, config, out / "frames.nc")
         if self.n_rates:
             curve = self.transfer_curve()
             pred = L.lif_rate(

@@ -1,15 +1,36 @@
-"""A neuron run read back from its ``frames.nc`` (``skygas neuron --animate``).
+"""A neuron run's ``frames.nc`` (``skygas neuron --animate``): written, and read back.
 
-:func:`record` is the neuron's reader of :class:`~skygas.devices.registry.RecordFile`: the
-dense positions in the neuron's chamber, its outline without the input port, and the holding
-current behind them.
+:func:`write_frames` writes the positions the run recorded. :func:`record` is the neuron's
+reader of :class:`~skygas.devices.registry.RecordFile`: the dense positions in the neuron's
+chamber, its outline without the input port, and the holding current behind them.
 """
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 
 from skygas.devices.records import RecordParts, one_group
+
+#: The attribute that tells a ``frames.nc`` to be a neuron's (read by the device registry).
+RUN_KIND_ATTRIBUTE = "skygas_run_kind"
+
+
+def write_frames(simulation, config, path: Path) -> Path:
+    """The positions a :class:`~skygas.engine.Simulation` recorded, as ``frames.nc``.
+
+    The trajectories dataset, with the run's configuration and kind; written under a temporary
+    name and renamed into place.
+    """
+    ds = simulation.trajectories()
+    ds.attrs["config_json"] = config.model_dump_json()
+    ds.attrs[RUN_KIND_ATTRIBUTE] = "neuron"
+    tmp = path.with_name(f".{path.name}.tmp")
+    ds.to_netcdf(tmp)
+    os.replace(tmp, path)
+    return path
 
 
 def record(ds) -> RecordParts:

@@ -10,7 +10,6 @@ overrides that make a run record frames often enough for a smooth movie
 from __future__ import annotations
 
 import json
-import os
 import time
 from pathlib import Path
 
@@ -32,20 +31,6 @@ def recording_overrides(animate: bool) -> dict:
 def movie_record_interval(animate: bool) -> float | None:
     """The record interval [s] of an engine run for ``--animate`` (None: record nothing)."""
     return MOVIE_FRAME_INTERVAL if animate else None
-
-
-def write_frames(simulation, config, path: Path, kind: str) -> Path:
-    """The positions a :class:`~skygas.engine.Simulation` recorded, as ``frames.nc``.
-
-    The trajectories dataset, with the run's configuration and kind.
-    """
-    ds = simulation.trajectories()
-    ds.attrs["config_json"] = config.model_dump_json()
-    ds.attrs["skygas_run_kind"] = kind
-    tmp = path.with_name(f".{path.name}.tmp")
-    ds.to_netcdf(tmp)
-    os.replace(tmp, path)
-    return path
 
 
 def finish_outputs(out_dir: str | Path, *, animate: bool = False, report: bool = True) -> dict:

@@ -17,7 +17,7 @@ from skygas.core.headline import Table as Table
 from skygas.core.headline import none as none
 from skygas.core.quantities import format_quantity, format_value, missing
 
-# The devices' headlines live with their devices (issue 40), and are named here too, beside the
+# The devices' headlines live with their devices, and are named here too, beside the
 # other commands' headlines, for the callers that read them from this module (explicit
 # re-exports: ``import x as x``).
 from skygas.neuron.headline import neuron as neuron
