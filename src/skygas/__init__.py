@@ -18,7 +18,8 @@ The public modules, also in :data:`__all__`:
 - :mod:`skygas.engine` (the simulation, its operations and state),
   :mod:`skygas.physics` (materials, force laws, outlines),
   :mod:`skygas.fields` (the energy landscape :mod:`skygas.fields.landscape`, current flow, wall
-  fields), :mod:`skygas.runs` (configurations, resumable runs, provenance);
+  fields), :mod:`skygas.figures` (outlines, landscapes, trajectories and current flow drawn),
+  :mod:`skygas.runs` (configurations, resumable runs, provenance);
 - the devices: :mod:`skygas.reshuffler`, :mod:`skygas.neuron`, :mod:`skygas.reservoir`,
   :mod:`skygas.sc` (stochastic computing);
 - studies and tools: :mod:`skygas.sweep` (parameter sweeps), :mod:`skygas.optimize` (design

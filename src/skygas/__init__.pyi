@@ -5,6 +5,7 @@ from . import (
     calibration,
     engine,
     fields,
+    figures,
     inference,
     micromag,
     movies,
@@ -21,6 +22,7 @@ from . import (
 from ._version import __version__
 from .core.errors import InputError
 from .engine import Simulation
+from .figures.plotting import plot
 from .physics.geometry import Outline, chamber_with_conduits, disk, polygon, rectangle, union
 from .physics.materials import (
     Material,
@@ -31,7 +33,6 @@ from .physics.materials import (
     preset_names,
 )
 from .runs.config import SimulationConfig, load_config
-from .runs.plotting import plot
 from .runs.runner import run_simulation
 
 __all__ = [
@@ -59,6 +60,7 @@ __all__ = [
     "calibration",
     "engine",
     "fields",
+    "figures",
     "inference",
     "micromag",
     "movies",

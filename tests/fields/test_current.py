@@ -11,8 +11,8 @@ from shapely.geometry import LineString, Polygon
 from skygas.core.errors import InputError
 from skygas.fields.current import DEFAULT_CONDUCTOR_THICKNESS, DEFAULT_RESISTIVITY, solve_current
 from skygas.fields.wall_field import Grid
+from skygas.figures.plotting import plot_current
 from skygas.physics.geometry import Outline, chamber_with_conduits, rectangle
-from skygas.runs.plotting import plot_current
 
 J = 1.7e11  # A/m², a current density of the paper's sweep
 CHAMBER_DIAMETER = 1024e-9

@@ -8,8 +8,8 @@ from matplotlib.figure import Figure
 
 from skygas.cli import main
 from skygas.engine import Simulation
+from skygas.figures.plotting import draw_landscape, landscape_energy
 from skygas.physics.geometry import disk
-from skygas.runs.plotting import draw_landscape, landscape_energy
 
 BUMP = {"kind": "gaussian", "center": [0.0, 0.0], "sigma": 40e-9, "amplitude_kT": 6.0}
 

@@ -1249,7 +1249,7 @@ class Simulation:
 
         Each skyrmion is a disc of its diameter; walls are black, ports red with their names,
         and the energy landscape, if any, lies underneath coloured by U/k_BT. The drawing is
-        that of the command line's figures (:mod:`skygas.runs.plotting`).
+        that of the command line's figures (:mod:`skygas.figures.plotting`).
 
         Parameters
         ----------
@@ -1266,7 +1266,7 @@ class Simulation:
             The figure drawn on; save it with ``fig.savefig(path)``. The recorded frames are
             drawn by :func:`skygas.plot` of :meth:`trajectories`.
         """
-        from skygas.runs.plotting import state_figure
+        from skygas.figures.plotting import state_figure
 
         return state_figure(self, ax, landscape, title)
 

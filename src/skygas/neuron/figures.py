@@ -21,7 +21,7 @@ def plot_device(run, path: Path, max_tracks: int = 200) -> Path:
     conduit and its gate (the grey box); the colour bar, shared by both, lies below them, so
     neither the magnified view nor the bar covers the chamber or a label.
     """
-    from skygas.runs.plotting import draw_landscape, draw_outline, draw_tracks, landscape_energy
+    from skygas.figures.plotting import draw_landscape, draw_outline, draw_tracks, landscape_energy
 
     sim = run.sim
     fig = Figure(figsize=(9, 5.8), dpi=120)

@@ -146,7 +146,7 @@ def history(record: dict, summaries: list[dict], result: dict, index: int) -> tu
 
 def _parameter_axis(ax, p: dict, values: list[Any]) -> tuple[list[float], str]:
     """Set ``ax``'s x axis for parameter ``p``; the values' positions on it and its label."""
-    from skygas.runs.plotting import log_ticks
+    from skygas.figures.plotting import log_ticks
 
     name = parameter_label(p["field"])
     if p["kind"] == "categorical":

@@ -142,7 +142,7 @@ class _Canvas:
         from matplotlib.patches import Patch
         from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
 
-        from skygas.runs.plotting import draw_outline
+        from skygas.figures.plotting import draw_outline
 
         x0, y0, x1, y1 = np.array(record.outline._bounds_nm) * 1e-3  # µm
         aspect = (y1 - y0) / (x1 - x0)

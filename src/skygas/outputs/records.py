@@ -94,7 +94,7 @@ class RunRecord:
         """
         field_ = self.landscape_fn() if self.landscape_fn is not None else None
         if field_ is not None and field_.terms:
-            from skygas.runs.plotting import landscape_energy
+            from skygas.figures.plotting import landscape_energy
 
             energy = landscape_energy(field_, self.outline)
             assert energy is not None  # the field has terms

@@ -12,8 +12,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 from matplotlib.ticker import LogFormatterSciNotation, LogLocator, MaxNLocator
 
+from skygas.figures.plotting import draw_outline
 from skygas.reservoir.readout import accuracy_interval
-from skygas.runs.plotting import draw_outline
 
 
 def plot_occupation(device, streams, path: Path) -> Path:

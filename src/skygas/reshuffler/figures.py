@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from skygas.figures.plotting import draw_landscape, draw_outline, landscape_energy, log_ticks
 from skygas.reshuffler.device import drift_field_on_grid
-from skygas.runs.plotting import draw_landscape, draw_outline, landscape_energy, log_ticks
 
 
 def plot_device(run, path: Path, max_tracks: int = 40) -> Path:

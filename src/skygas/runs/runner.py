@@ -157,7 +157,7 @@ class SimulationJob(PiecewiseRunJob):
 
     def finish(self, out: Path) -> dict:
         """Write the dataset, the figure and the summary (each atomically)."""
-        from skygas.runs.plotting import plot_trajectories
+        from skygas.figures.plotting import plot_trajectories
 
         ds = self.run.add_operation_data(self.sim.trajectories())
         ds.attrs["config_json"] = self.config_json()

@@ -32,8 +32,8 @@ import numpy as np
 import xarray as xr
 
 from skygas.core.errors import InputError
+from skygas.figures.plotting import log_ticks
 from skygas.outputs.headlines import constrained, signed
-from skygas.runs.plotting import log_ticks
 from skygas.sweep.analysis import (
     CHAMBER,
     CURRENT,
