@@ -241,53 +241,18 @@ def _reshuffler_chambers() -> tuple[Callable, tuple[str, ...]]:
     return (lambda x, y: np.where(y >= 0.0, 0, 1)), CHAMBERS
 
 
-# check-timestep: each kind's reader and builder live with the kind (its ``timestep`` module)
-def _simulation_load(path: str | None, preset: str | None) -> Any:
-    from skygas.devices.timestep import load
+# check-timestep: each kind's reader and builder live with the kind (its ``timestep`` module;
+# the plain simulation's in skygas.devices.timestep)
+def _lazy(module: str, name: str) -> Callable[..., Any]:
+    """``module.name``, imported when first called: importing the registry imports no device."""
 
-    return load(path, preset)
+    def call(*args: Any) -> Any:
+        from importlib import import_module
 
+        return getattr(import_module(module), name)(*args)
 
-def _simulation_probe(config: Any) -> tuple[Build, int | None]:
-    from skygas.devices.timestep import probe
-
-    return probe(config)
-
-
-def _reshuffler_load(path: str | None, preset: str | None) -> Any:
-    from skygas.reshuffler.timestep import load
-
-    return load(path, preset)
-
-
-def _reshuffler_probe(config: Any) -> tuple[Build, int | None]:
-    from skygas.reshuffler.timestep import probe
-
-    return probe(config)
-
-
-def _neuron_load(path: str | None, preset: str | None) -> Any:
-    from skygas.neuron.timestep import load
-
-    return load(path, preset)
-
-
-def _neuron_probe(config: Any) -> tuple[Build, int | None]:
-    from skygas.neuron.timestep import probe
-
-    return probe(config)
-
-
-def _reservoir_load(path: str | None, preset: str | None) -> Any:
-    from skygas.reservoir.timestep import load
-
-    return load(path, preset)
-
-
-def _reservoir_probe(config: Any) -> tuple[Build, int | None]:
-    from skygas.reservoir.timestep import probe
-
-    return probe(config)
+    call.__qualname__ = call.__name__ = f"{module}.{name}"
+    return call
 
 
 # the result files of the runs that record positions: told by their contents, read by the kind
@@ -304,24 +269,6 @@ def _neuron_tells(ds: Any) -> bool:
     from skygas.neuron.records import RUN_KIND_ATTRIBUTE
 
     return ds.attrs.get(RUN_KIND_ATTRIBUTE) == "neuron"
-
-
-def _simulation_record(ds: Any) -> RecordParts:
-    from skygas.devices.records import simulation
-
-    return simulation(ds)
-
-
-def _reshuffler_record(ds: Any) -> RecordParts:
-    from skygas.reshuffler.records import record
-
-    return record(ds)
-
-
-def _neuron_record(ds: Any) -> RecordParts:
-    from skygas.neuron.records import record
-
-    return record(ds)
 
 
 _NEURON_DEVICE_PNG = (
@@ -343,11 +290,14 @@ KINDS: dict[str, DeviceKind] = {
             uniform_drive=True,
             timestep=TimeStepCheck(
                 frozenset({"geometry", "skyrmions", "record_interval", "drift", "integrator"}),
-                _simulation_load,
-                _simulation_probe,
+                _lazy("skygas.devices.timestep", "load"),
+                _lazy("skygas.devices.timestep", "probe"),
             ),
             record=RecordFile(
-                "trajectories.nc", _simulation_tells, _simulation_record, fallback=True
+                "trajectories.nc",
+                _simulation_tells,
+                _lazy("skygas.devices.records", "simulation"),
+                fallback=True,
             ),
         ),
         DeviceKind(
@@ -367,11 +317,13 @@ KINDS: dict[str, DeviceKind] = {
                 frozenset(
                     {"preset", "signal", "output", "current", "hypothesis", "spin_polarization"}
                 ),
-                _reshuffler_load,
-                _reshuffler_probe,
+                _lazy("skygas.reshuffler.timestep", "load"),
+                _lazy("skygas.reshuffler.timestep", "probe"),
                 presets=True,
             ),
-            record=RecordFile("reshuffler.nc", _reshuffler_tells, _reshuffler_record),
+            record=RecordFile(
+                "reshuffler.nc", _reshuffler_tells, _lazy("skygas.reshuffler.records", "record")
+            ),
         ),
         DeviceKind(
             name="neuron",
@@ -399,10 +351,10 @@ KINDS: dict[str, DeviceKind] = {
                         "release_current_density",
                     }
                 ),
-                _neuron_load,
-                _neuron_probe,
+                _lazy("skygas.neuron.timestep", "load"),
+                _lazy("skygas.neuron.timestep", "probe"),
             ),
-            record=RecordFile("frames.nc", _neuron_tells, _neuron_record),
+            record=RecordFile("frames.nc", _neuron_tells, _lazy("skygas.neuron.records", "record")),
         ),
         DeviceKind(
             name="reservoir",
@@ -426,8 +378,8 @@ KINDS: dict[str, DeviceKind] = {
                         "hold_time",
                     }
                 ),
-                _reservoir_load,
-                _reservoir_probe,
+                _lazy("skygas.reservoir.timestep", "load"),
+                _lazy("skygas.reservoir.timestep", "probe"),
             ),
         ),
         DeviceKind(
