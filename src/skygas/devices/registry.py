@@ -255,6 +255,11 @@ def _lazy(module: str, name: str) -> Callable[..., Any]:
     return call
 
 
+def _timestep_check(module: str, markers: set[str], presets: bool = False) -> TimeStepCheck:
+    """A kind's :class:`TimeStepCheck`: its ``markers``, and ``module``'s ``load`` and ``probe``."""
+    return TimeStepCheck(frozenset(markers), _lazy(module, "load"), _lazy(module, "probe"), presets)
+
+
 # the result files of the runs that record positions: told by their contents, read by the kind
 def _simulation_tells(ds: Any) -> bool:
     return "x" in ds and "config_json" in ds.attrs
@@ -288,10 +293,9 @@ KINDS: dict[str, DeviceKind] = {
             run_headline=_simulation_headline,
             config_model=_simulation_model,
             uniform_drive=True,
-            timestep=TimeStepCheck(
-                frozenset({"geometry", "skyrmions", "record_interval", "drift", "integrator"}),
-                _lazy("skygas.devices.timestep", "load"),
-                _lazy("skygas.devices.timestep", "probe"),
+            timestep=_timestep_check(
+                "skygas.devices.timestep",
+                {"geometry", "skyrmions", "record_interval", "drift", "integrator"},
             ),
             record=RecordFile(
                 "trajectories.nc",
@@ -313,12 +317,9 @@ KINDS: dict[str, DeviceKind] = {
             run_headline=_reshuffler_headline,
             config_model=_reshuffler_model,
             occupancy_groups=_reshuffler_chambers,
-            timestep=TimeStepCheck(
-                frozenset(
-                    {"preset", "signal", "output", "current", "hypothesis", "spin_polarization"}
-                ),
-                _lazy("skygas.reshuffler.timestep", "load"),
-                _lazy("skygas.reshuffler.timestep", "probe"),
+            timestep=_timestep_check(
+                "skygas.reshuffler.timestep",
+                {"preset", "signal", "output", "current", "hypothesis", "spin_polarization"},
                 presets=True,
             ),
             record=RecordFile(
@@ -339,20 +340,17 @@ KINDS: dict[str, DeviceKind] = {
             run_headline=_neuron_run_headline,
             folder_headline=_neuron_folder_headline,
             config_model=_neuron_model,
-            timestep=TimeStepCheck(
-                frozenset(
-                    {
-                        "gate",
-                        "sensor",
-                        "rule",
-                        "annihilation",
-                        "inputs",
-                        "transfer",
-                        "release_current_density",
-                    }
-                ),
-                _lazy("skygas.neuron.timestep", "load"),
-                _lazy("skygas.neuron.timestep", "probe"),
+            timestep=_timestep_check(
+                "skygas.neuron.timestep",
+                {
+                    "gate",
+                    "sensor",
+                    "rule",
+                    "annihilation",
+                    "inputs",
+                    "transfer",
+                    "release_current_density",
+                },
             ),
             record=RecordFile("frames.nc", _neuron_tells, _lazy("skygas.neuron.records", "record")),
         ),
@@ -365,21 +363,18 @@ KINDS: dict[str, DeviceKind] = {
             config_key=("device", "config"),  # the study keeps it with its device
             folder_headline=_reservoir_headline,
             config_model=_reservoir_model,
-            timestep=TimeStepCheck(
-                frozenset(
-                    {
-                        "chamber",
-                        "drive",
-                        "sensors",
-                        "readout",
-                        "study",
-                        "sweep",
-                        "n_skyrmions",
-                        "hold_time",
-                    }
-                ),
-                _lazy("skygas.reservoir.timestep", "load"),
-                _lazy("skygas.reservoir.timestep", "probe"),
+            timestep=_timestep_check(
+                "skygas.reservoir.timestep",
+                {
+                    "chamber",
+                    "drive",
+                    "sensors",
+                    "readout",
+                    "study",
+                    "sweep",
+                    "n_skyrmions",
+                    "hold_time",
+                },
             ),
         ),
         DeviceKind(
