@@ -41,6 +41,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
         "studies and tools",
         frozenset(
             {
+                "studies",
                 "sweep",
                 "optimize",
                 "micromag",

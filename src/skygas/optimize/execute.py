@@ -286,7 +286,7 @@ class _Dask:
     def __init__(self, client, workers: int | None) -> None:
         from dask.distributed import Client, as_completed
 
-        from skygas.sweep.execute import start_local_cluster
+        from skygas.studies.backend import start_local_cluster
 
         self.cluster = None
         if client is None:
@@ -671,7 +671,7 @@ def run_study(
     of ``workers`` single-threaded processes (default: one per core), or the scheduler at
     ``scheduler``.
     """
-    from skygas.sweep.execute import connect
+    from skygas.studies.backend import connect
 
     require(
         1 <= trials <= MAX_TRIALS, "--trials", trials, f"a number of trials from 1 to {MAX_TRIALS}"
