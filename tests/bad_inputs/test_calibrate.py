@@ -62,6 +62,18 @@ CASES = {
         "--skyrmions = 7",
         "fewer skyrmions",
     ),
+    # nothing listens on port 1: refused once Dask has tried for CONNECT_TIMEOUT seconds
+    "a scheduler with no answer": (
+        ["--scheduler", "tcp://127.0.0.1:1"],
+        "--scheduler = 'tcp://127.0.0.1:1'",
+        "a Dask scheduler that answers",
+        "drop --scheduler",
+    ),
+    "workers of a local cluster and a scheduler": (
+        ["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"],
+        "--workers = 2",
+        "no --workers with --scheduler",
+    ),
 }
 
 
@@ -106,9 +118,10 @@ def test_a_worker_killed_by_the_kernel_is_said_in_one_line():
     config = CalibrationConfig(material=material, validate_dynamics=False, mesh_check=False)
     job = CalibrationJob(config, workers=1)
     try:
-        job.advance_piece()  # the pool starts and takes the first solve
-        assert job._workers, "no worker process started"
-        for pid in job._workers:
+        job.advance_piece()  # the local Dask cluster starts and takes the first solve
+        pids = job.connect().pids()
+        assert pids, "no worker process started"
+        for pid in pids:
             os.kill(pid, signal.SIGKILL)  # as the kernel's out-of-memory killer does
         deadline = time.monotonic() + 20
         with pytest.raises(InputError, match="--workers = 1: .*killed by SIGKILL.*memory"):

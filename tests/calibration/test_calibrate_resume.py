@@ -1,18 +1,23 @@
-"""`skygas calibrate` interrupted and resumed gives the same bits as a run left alone.
+"""`skygas calibrate` stopped, killed, resumed or solved on a running Dask cluster gives the same
+bits as a run left alone on its local cluster.
 
-Apart from test_calibrate_cli.py (the module of the shared calibration): this test makes its own
-two calibrations, and in a module of its own it can run on the other test worker meanwhile.
+Apart from test_calibrate_cli.py (the module of the shared calibration): these tests make their
+own calibrations (the run left alone, :func:`straight`, made once for the module), and in a
+module of their own they can run on the other test worker meanwhile.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import signal
 import subprocess
 import sys
 import time
+import tomllib
 
 import numpy as np
+import psutil
 import pytest
 
 pytest.importorskip("magnumnp")
@@ -21,19 +26,50 @@ from skygas import cli  # noqa: E402
 
 pytestmark = pytest.mark.slow
 
+# cells of 2.4 nm (the coarsest S6 allows): a quarter faster, and bits are bits
+ARGS = ["S6", "--no-validate", "--no-mesh-check", "--quiet", "--checkpoint-seconds", "0"]
+ARGS += ["--cell-size", "2.4e-9"]
 
-def test_interrupted_and_resumed_gives_the_same_bits(tmp_path):
-    # cells of 2.4 nm (the coarsest S6 allows): a quarter faster, and bits are bits
-    args = ["S6", "--no-validate", "--no-mesh-check", "--quiet", "--checkpoint-seconds", "0"]
-    args += ["--cell-size", "2.4e-9"]
-    straight = tmp_path / "straight"
-    assert cli.main(["calibrate", *args, "--out", str(straight)]) == 0
-    broken = tmp_path / "broken"
-    process = subprocess.Popen(
-        [sys.executable, "-m", "skygas.cli", "calibrate", *args, "--out", str(broken)],
+
+@pytest.fixture(scope="module")
+def straight(tmp_path_factory):
+    """The folder of the calibration left alone, on a local cluster of two workers."""
+    out = tmp_path_factory.mktemp("straight") / "cal"
+    assert cli.main(["calibrate", *ARGS, "--workers", "2", "--out", str(out)]) == 0
+    return out
+
+
+def assert_same_bits(a, b) -> None:
+    """Two calibration folders hold the same results, bit for bit, but for their provenance
+    (wall times, dates, how many workers and where)."""
+    first, second = (json.loads((x / "summary.json").read_text()) for x in (a, b))
+    first.pop("provenance")
+    second.pop("provenance")
+    assert first == second  # JSON floats read back equal only when their bits are equal
+    first, second = (tomllib.loads((x / "model.toml").read_text()) for x in (a, b))
+    first.pop("provenance")
+    second.pop("provenance")
+    assert first == second
+    with np.load(a / "textures.npz") as x, np.load(b / "textures.npz") as y:
+        assert sorted(x.files) == sorted(y.files)
+        for name in x.files:
+            assert x[name].tobytes() == y[name].tobytes(), name
+
+
+def _calibrate(out, *extra):
+    """``skygas calibrate`` in a process of its own, the leader of a new process group (as a
+    terminal's foreground job)."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "skygas.cli", "calibrate", *ARGS, *extra, "--out", str(out)],
         stderr=subprocess.PIPE,
         text=True,
+        start_new_session=True,
     )
+
+
+def test_interrupted_and_resumed_gives_the_same_bits(straight, tmp_path):
+    broken = tmp_path / "broken"
+    process = _calibrate(broken)
     checkpoint = broken / "checkpoint.npz"
     deadline = time.time() + 120
     while time.time() < deadline and process.poll() is None:
@@ -42,13 +78,92 @@ def test_interrupted_and_resumed_gives_the_same_bits(tmp_path):
                 if len(json.loads(str(data["results"]))) >= 6:
                     break
         time.sleep(0.2)
-    process.send_signal(signal.SIGINT)
+    # Ctrl-C in a terminal: SIGINT to every process of the group, the workers too (they
+    # ignore it: the calibration saves its checkpoint and stops them)
+    os.killpg(process.pid, signal.SIGINT)
     assert process.wait(timeout=120) == 130, process.stderr.read()
+    (line,) = process.stderr.read().strip().splitlines()  # and no worker's complaint
+    assert line.startswith("skygas: interrupted by SIGINT: state saved"), line
     assert checkpoint.exists() and not (broken / "model.toml").exists()
-    assert cli.main(["calibrate", *args, "--out", str(broken), "--resume"]) == 0
-    a = json.loads((straight / "summary.json").read_text())
-    b = json.loads((broken / "summary.json").read_text())
-    for key in ("pair", "wall_short_range"):
-        assert a[key]["energy_J"] == b[key]["energy_J"]
-        assert a[key]["table_force_N"] == b[key]["table_force_N"]
-    assert a["isolated"] == b["isolated"]
+    assert cli.main(["calibrate", *ARGS, "--out", str(broken), "--resume"]) == 0
+    assert_same_bits(straight, broken)
+
+
+@pytest.fixture
+def dask_cluster(tmp_path):
+    """The address of a Dask scheduler and two workers of one thread, each a process of its own
+    started by Dask's command line, as on a cluster."""
+    from dask.distributed import Client
+
+    file = tmp_path / "scheduler.json"
+    dask = [sys.executable, "-m", "dask"]
+    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    processes = [
+        subprocess.Popen(
+            [*dask, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard"]
+            + ["--scheduler-file", str(file)],
+            **quiet,
+        )
+    ]
+    try:
+        deadline = time.monotonic() + 60
+        while not file.exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        time.sleep(0.2)  # written at once, but not atomically
+        address = json.loads(file.read_text())["address"]
+        for _ in range(2):
+            processes.append(
+                subprocess.Popen(
+                    [*dask, "worker", address, "--nthreads", "1", "--nworkers", "1"]
+                    + ["--no-dashboard"],
+                    **quiet,
+                )
+            )
+        with Client(address, timeout="30s") as client:
+            client.wait_for_workers(2, timeout=120)
+        yield address
+    finally:
+        for process in reversed(processes):
+            process.terminate()
+        for process in reversed(processes):
+            try:
+                process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+def test_a_running_dask_cluster_gives_the_local_bits(straight, dask_cluster, tmp_path):
+    out = tmp_path / "on-cluster"
+    assert cli.main(["calibrate", *ARGS, "--scheduler", dask_cluster, "--out", str(out)]) == 0
+    assert_same_bits(straight, out)
+    provenance = json.loads((out / "summary.json").read_text())["provenance"]
+    assert provenance["scheduler"] == dask_cluster and provenance["workers"] == 2
+
+
+def _cpu_seconds(process: psutil.Process) -> float:
+    try:
+        return process.cpu_times().user
+    except psutil.NoSuchProcess:
+        return 0.0
+
+
+def test_no_worker_outlives_a_killed_calibration(tmp_path):
+    process = _calibrate(tmp_path / "killed", "--workers", "2")
+    parent = psutil.Process(process.pid)
+    deadline = time.monotonic() + 120
+    children: list[psutil.Process] = []
+    while time.monotonic() < deadline and process.poll() is None:
+        children = parent.children(recursive=True)
+        # both workers at work on a solve (torch imported, a relaxation under way)
+        if sum(_cpu_seconds(p) > 3 for p in children) >= 2:
+            break
+        time.sleep(0.2)
+    else:
+        pytest.fail(f"no two busy workers: {process.stderr.read() if process.poll() else ''}")
+    process.kill()  # SIGKILL: no chance to stop its workers
+    process.wait()
+    _, alive = psutil.wait_procs(children, timeout=10)
+    for p in alive:
+        p.kill()
+    assert not alive, "a process of the calibration outlived it (a worker kept computing)"

@@ -36,6 +36,7 @@ def calibrate(
     out: str | Path,
     *,
     workers: int | None = None,
+    scheduler: str | None = None,
     resume: bool = False,
     overwrite: bool = False,
     progress: bool = True,
@@ -55,7 +56,12 @@ def calibrate(
     out : str or Path
         The output folder.
     workers : int, optional
-        Solver processes, ≥ 0 (default: 2 on a CPU, 0 on a GPU; 0 solves in this process).
+        Solver processes of a local Dask cluster, ≥ 0 (default: 2 on a CPU, 0 on a GPU; 0
+        solves in this process). Not with ``scheduler``.
+    scheduler : str, optional
+        The address of a running Dask scheduler (``tcp://HOST:8786``) whose workers solve
+        instead of a local cluster's; refused in one line if it does not answer within
+        :data:`skygas.studies.backend.CONNECT_TIMEOUT` seconds.
     resume : bool
         Continue an interrupted calibration from its checkpoint in ``out``.
     overwrite : bool
@@ -79,8 +85,8 @@ def calibrate(
     Raises
     ------
     InputError
-        If the material, a setting or ``workers`` is invalid, or the micromagnetic solver is not
-        installed.
+        If the material, a setting or ``workers`` is invalid, ``scheduler`` does not answer
+        (or comes with ``workers``), or the micromagnetic solver is not installed.
     """
     from pydantic import ValidationError
 
@@ -102,12 +108,35 @@ def calibrate(
         workers,
         f"an integer from 0 to {MAX_WORKERS} (0: solve in this process, as on a GPU)",
     )
+    if scheduler is not None:
+        require(
+            isinstance(scheduler, str) and bool(scheduler.strip()),
+            "--scheduler",
+            scheduler,
+            "the address of a running Dask scheduler (tcp://HOST:8786)",
+        )
+        require(
+            workers is None,
+            "--workers",
+            workers,
+            "no --workers with --scheduler (the scheduler's workers solve)",
+            f"drop --workers, or drop --scheduler to solve on a local cluster of {workers} "
+            "processes",
+        )
     require_installed()
-    # memory and time, before any solver starts (and before torch is imported to find a GPU:
-    # the CPU's processes, more than the one that drives a GPU)
-    check_calibration(config, cpu_workers() if workers is None else workers)
-    job = CalibrationJob(config, workers=default_workers() if workers is None else workers)
+    if scheduler is None:
+        # memory and time, before any solver starts (and before torch is imported to find a
+        # GPU: the CPU's processes, more than the one that drives a GPU)
+        check_calibration(config, cpu_workers() if workers is None else workers)
+        job = CalibrationJob(config, workers=default_workers() if workers is None else workers)
+    else:
+        job = CalibrationJob(config, scheduler=scheduler)
     try:
+        if scheduler is not None:
+            # the scheduler answers (or is refused in one line) before anything is written,
+            # and its workers' threads are the calibration's processes
+            job.workers = job.connect().capacity()
+            check_calibration(config, job.workers, remote=True)
         return drive(
             job,
             out,

@@ -16,7 +16,7 @@ only once the isolated skyrmion is known).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from skygas.calibration import plan
 from skygas.calibration.material import DEFAULT_CELL_SIZE
@@ -186,11 +186,15 @@ def _duration_decides(config: CalibrationConfig, cost: CalibrationCost) -> bool:
     return duration > cells
 
 
-def check_calibration(config: CalibrationConfig, workers: int) -> Estimate:
+def check_calibration(config: CalibrationConfig, workers: int, remote: bool = False) -> Estimate:
     """Refuse a calibration that cannot fit or finish, before any solver starts.
 
     Memory above what a job may use is refused; a wall time above 24 hours unless forced
     (:func:`skygas.core.estimates.run_limits`); a long one is announced.
+
+    ``remote``: the ``workers`` solver processes are a running Dask cluster's (``--scheduler``),
+    not this machine's. Each of them must hold one process's films; that is the memory checked,
+    against this machine's (the only one known here), and their number only shares the time.
 
     Returns
     -------
@@ -208,7 +212,10 @@ def check_calibration(config: CalibrationConfig, workers: int) -> Estimate:
     solves = planned_solves(config)
     cost = calibration_cost(config, workers, solves)
     processes = max(1, workers)
-    if memory(solves, 1)[0] <= memory_limit():  # one process fits: too many of them do not
+    estimate = cost.estimate
+    if remote:
+        estimate = replace(estimate, memory=memory(solves, 1)[0])
+    elif memory(solves, 1)[0] <= memory_limit():  # one process fits: too many of them do not
         require_memory(
             "--workers",
             workers,
@@ -217,13 +224,14 @@ def check_calibration(config: CalibrationConfig, workers: int) -> Estimate:
             "use fewer --workers",
         )
     material = config.material
-    what = (
-        f"{processes} solver process{'es' if processes > 1 else ''} relaxing films of up "
-        f"to {cost.largest:.3g} cells"
-    )
+    films = f"relaxing films of up to {cost.largest:.3g} cells"
+    if remote:
+        what = f"each of the cluster's solver processes, {films}"
+    else:
+        what = f"{processes} solver process{'es' if processes > 1 else ''} {films}"
     if _duration_decides(config, cost):
         check(
-            cost.estimate,
+            estimate,
             "validation.max_duration",
             config.validation.max_duration,
             what,
@@ -231,11 +239,11 @@ def check_calibration(config: CalibrationConfig, workers: int) -> Estimate:
             f"{ValidationSpec().max_duration:g}), or --no-validate",
         )
     check(
-        cost.estimate,
+        estimate,
         "cell_size",
         material.cell_size,
         what,
         f"use a larger cell_size (this material allows up to {material.largest_cell:.3g} m), "
         "or --no-mesh-check and --no-validate",
     )
-    return cost.estimate
+    return estimate

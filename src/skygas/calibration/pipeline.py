@@ -1,12 +1,13 @@
-"""The calibration as a run-driver job: solves in worker processes, checkpoints, resume.
+"""The calibration as a run-driver job: solves on Dask workers, checkpoints, resume.
 
 :class:`CalibrationJob` follows :class:`skygas.runs.run_driver.Job`. Its *work* is the planned
 solves, weighted by their expected cost; each piece of the job waits (at most a second) for
-solves to finish, records them and hands new ones to idle workers. What can run depends on what
-has finished (:mod:`skygas.calibration.plan`): the isolated skyrmion first, then, once its
-diameter is known, the laws, the checks and the validation run, whose LLG pieces form a chain
-(each starts from the previous one's texture). The LLG chain goes first whenever it can: it is
-the longest sequence of work.
+solves to finish, records them and hands new ones to idle workers: the processes of a local
+Dask cluster, or a running cluster's (:mod:`skygas.calibration.cluster`). What can run depends
+on what has finished (:mod:`skygas.calibration.plan`): the isolated skyrmion first, then, once
+its diameter is known, the laws, the checks and the validation run, whose LLG pieces form a
+chain (each starts from the previous one's texture). The LLG chain goes first whenever it
+can: it is the longest sequence of work.
 
 The checkpoint holds every finished solve (energies, statistics, kept textures) and the LLG
 run's state; a resumed calibration recomputes only the solves that were in flight, and since
@@ -17,12 +18,8 @@ from __future__ import annotations
 
 import json
 import math
-import multiprocessing
 import os
-import signal
 import time
-from concurrent.futures import Future
-from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -31,13 +28,13 @@ import numpy as np
 from skygas.calibration import plan
 from skygas.calibration.plan import CalibrationConfig, Relaxation
 from skygas.calibration.solver import Film
-from skygas.core.errors import InputError
 from skygas.core.state_keys import nest, unnest
 from skygas.runs.run_driver import from_json_array, json_array
 
 if TYPE_CHECKING:
-    from concurrent.futures import ProcessPoolExecutor
-    from multiprocessing.process import BaseProcess
+    from distributed import Future
+
+    from skygas.calibration.cluster import SolverPool
 
 #: The stages as the progress bar names them, by the first part of their solves' names.
 STAGE_NAMES = {
@@ -64,7 +61,9 @@ RESULT_FILES: tuple[str, ...] = ("model.toml", "summary.json", "report.html")
 class CalibrationJob:
     """A calibration (``config``) by ``workers`` processes of ``threads`` torch threads each.
 
-    ``workers`` = 0: in this process, one solve per piece, as on a GPU.
+    The processes are a local Dask cluster's, or, with ``scheduler`` (an address,
+    ``tcp://HOST:PORT``), the workers of the Dask scheduler there. ``workers`` = 0 (and no
+    scheduler): in this process, one solve per piece, as on a GPU.
     """
 
     #: work is the planned relaxations' and LLG pieces' estimated cost (about one unit per
@@ -74,10 +73,17 @@ class CalibrationJob:
     progress_format = "{desc}{percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]"
     result_files = RESULT_FILES
 
-    def __init__(self, config: CalibrationConfig, workers: int = 2, threads: int = 1):
+    def __init__(
+        self,
+        config: CalibrationConfig,
+        workers: int = 2,
+        threads: int = 1,
+        scheduler: str | None = None,
+    ):
         self.config = config
         self.workers = int(workers)
         self.threads = int(threads)
+        self.scheduler = scheduler
         self.material_json = config.material.model_dump_json()
         self.results: dict[str, dict[str, Any]] = {}
         self.textures: dict[str, np.ndarray] = {}
@@ -97,11 +103,8 @@ class CalibrationJob:
         self._session_start: float | None = None
         #: solves finished before this session began (:attr:`rate_measured`)
         self._results_before = 0
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool: SolverPool | None = None
         self._in_flight: dict[str, Future] = {}
-        #: the pool's processes by pid, and the children this process had before it
-        self._workers: dict[int, BaseProcess] = {}
-        self._children_before: set[int | None] = set()
         self._measured: dict[str, tuple | None] = {}
         #: the last solve handed out or recorded (its stage names the progress bar)
         self._last_key = "isolated"
@@ -366,7 +369,7 @@ class CalibrationJob:
             self._session_start = time.perf_counter()
             self._results_before = len(self.results)
 
-        if self.workers == 0:  # in this process (a GPU), one task per piece
+        if self.workers == 0 and self.scheduler is None:  # in this process (a GPU)
             from skygas.calibration import solver
 
             solver.configure(threads=os.cpu_count() or 1, compile=self.config.compile)
@@ -375,56 +378,39 @@ class CalibrationJob:
                 key, kind, args = ready[0]
                 self._record(key, getattr(worker, kind)(*args))
             return
-        if self._pool is None:
-            self._children_before = {p.pid for p in multiprocessing.active_children()}
-            self._pool = worker.start_pool(self.workers, self.threads, self.config.compile)
-        for key, kind, args in self._ready():
-            if len(self._in_flight) >= self.workers:
-                break
-            self._in_flight[key] = self._pool.submit(getattr(worker, kind), *args)
+        pool = self.connect()
+        ready = self._ready()
+        room = pool.capacity() - len(self._in_flight)
+        for rank, (key, kind, args) in enumerate(ready[: max(room, 0)]):
+            # the order of _ready() is the order Dask starts them in, should they queue
+            priority = len(ready) - rank
+            self._in_flight[key] = pool.submit(
+                key, kind, args, self.threads, self.config.compile, priority
+            )
             self._last_key = key
-        self._note_workers()
         deadline = time.perf_counter() + 1.0  # return within a second: Ctrl-C is honoured
         while time.perf_counter() < deadline:
             finished = [k for k, r in self._in_flight.items() if r.done()]
             if finished:
                 for key in finished:
-                    self._record(key, self._result(self._in_flight.pop(key)))
+                    self._record(key, pool.result(self._in_flight.pop(key)))
                 return
             time.sleep(0.02)
 
-    def _note_workers(self) -> None:
-        """Remember the pool's processes (started as solves are handed out), to say how one died."""
-        for process in multiprocessing.active_children():
-            if process.pid is not None and process.pid not in self._children_before:
-                self._workers.setdefault(process.pid, process)
+    def connect(self) -> SolverPool:
+        """The Dask client of the solves: the scheduler's (``scheduler``), or a local cluster's.
 
-    def _result(self, future: Future) -> dict[str, Any]:
-        """A finished solve's result; one line if its worker died (it never comes otherwise)."""
-        try:
-            return future.result()
-        except BrokenProcessPool:
-            raise self._worker_died() from None
+        Made on the first call; a scheduler that does not answer is refused in one line
+        (:class:`~skygas.core.errors.InputError` naming ``--scheduler``).
+        """
+        if self._pool is None:
+            from skygas.calibration.cluster import SolverPool
 
-    def _worker_died(self) -> InputError:
-        """The error of a worker that died: by which signal, and what to do."""
-        self._note_workers()
-        codes = [p.exitcode for p in self._workers.values() if p.exitcode is not None]
-        code = next((c for c in codes if c != 0), codes[0] if codes else None)
-        if code is not None and code < 0:
-            name = signal.Signals(-code).name
-            how = f"was killed by {name}" + (
-                ", most likely by the kernel for lack of memory" if -code == signal.SIGKILL else ""
-            )
-        else:
-            how = "stopped" if code is None else f"exited with status {code}"
-        return InputError(
-            "--workers",
-            self.workers,
-            f"solver processes that this machine can hold (one {how}, and its solve with it)",
-            "use fewer --workers or a larger --cell-size; --resume continues from the last "
-            "checkpoint",
-        )
+            if self.scheduler is not None:
+                self._pool = SolverPool.remote(self.scheduler)
+            else:
+                self._pool = SolverPool.local(self.workers)
+        return self._pool
 
     def _record(self, key: str, result: dict[str, Any]) -> None:
         self._last_key = key
@@ -449,16 +435,14 @@ class CalibrationJob:
         self.results[key] = result
 
     def close(self) -> None:
-        """Stop the worker processes (at once: a solve in flight is recomputed on resume)."""
-        if self._pool is not None:
-            self._note_workers()
-            for process in self._workers.values():
-                if process.exitcode is None:
-                    process.kill()
-            self._pool.shutdown(wait=True, cancel_futures=True)
-            self._pool = None
+        """Stop the workers and close the Dask client.
+
+        A local cluster's workers stop at once: a solve in flight is recomputed on resume.
+        """
         self._in_flight.clear()
-        self._workers.clear()
+        if self._pool is not None:
+            pool, self._pool = self._pool, None
+            pool.close()
 
     def state_dict(self) -> dict[str, np.ndarray]:
         """The results, LLG chain, timeline, run time and kept textures, as arrays."""

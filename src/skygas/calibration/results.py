@@ -69,6 +69,8 @@ def provenance(job) -> dict[str, Any]:
         "torch_version": _version("torch"),
         "device": ", ".join(devices) or "cpu",
         "workers": job.workers,
+        # the running Dask cluster's scheduler that solved (None: a local cluster, or none)
+        "scheduler": job.scheduler,
         "compiled_field_terms": job.config.compile,
         "cell_size_m": job.config.material.cell_size,
         "film": "one cell layer of the film's thickness, open boundaries; laws in compensated "

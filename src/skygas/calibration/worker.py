@@ -1,21 +1,21 @@
-"""The solves, as functions a worker process runs: a constrained relaxation, a piece of LLG.
+"""The solves, as functions a Dask worker runs: a constrained relaxation, a piece of LLG.
 
 Each task is a pure function of its arguments (the material, the film, the starting texture):
 run again, it gives the same bits, so a calibration that is interrupted and resumed recomputes
 only what it had not finished, and gets the same results. A worker process keeps one
-:class:`~skygas.calibration.solver.FilmSolver` per film (the stray-field kernel is built once).
+:class:`~skygas.calibration.solver.FilmSolver` per film (the stray-field kernel is built once)
+and per thread that solves (a solver holds its texture while it solves: two threads of one
+worker must not share it).
 
-Worker processes (:func:`start_pool`) use one torch thread each, ignore Ctrl-C (the parent
-decides when to stop and saves its checkpoint first) and, on Linux, are killed when their
-parent dies, even by SIGKILL, so no orphan keeps computing.
+The calibration hands them out through :func:`solve` (:mod:`skygas.calibration.cluster`), which
+sets torch's threads and compilation before the first solve of the process.
 """
 
 from __future__ import annotations
 
 import math
-import signal
-import sys
-from typing import TYPE_CHECKING, Any
+import threading
+from typing import Any
 
 import numpy as np
 
@@ -24,11 +24,10 @@ from skygas.calibration.material import MicromagneticMaterial
 from skygas.calibration.plan import Relaxation
 from skygas.calibration.solver import Film
 
-if TYPE_CHECKING:
-    from concurrent.futures import ProcessPoolExecutor
-
-_solvers: dict[tuple[str, Film], solver.FilmSolver] = {}
-#: Solvers a worker keeps: it sees few films, and each keeps its stray-field kernel (memory).
+#: The solvers a worker process keeps, by (material, film, thread that solves with it).
+_solvers: dict[tuple[str, Film, int], solver.FilmSolver] = {}
+#: Solvers a worker keeps per solving thread: it sees few films, and each keeps its
+#: stray-field kernel (memory).
 SOLVERS_KEPT = 4
 
 #: A held skyrmion's guiding centre is taken over the cells within this many radii of its
@@ -37,10 +36,13 @@ HOLD_REACH = 2.5
 
 
 def _film_solver(material_json: str, film: Film) -> solver.FilmSolver:
-    key = (material_json, film)
+    thread = threading.get_ident()
+    key = (material_json, film, thread)
     if key not in _solvers:
-        if len(_solvers) >= SOLVERS_KEPT:
-            _solvers.pop(next(iter(_solvers)))
+        # list() copies the keys at once: another thread of the worker may add its own
+        mine = [k for k in list(_solvers) if k[2] == thread]
+        if len(mine) >= SOLVERS_KEPT:
+            _solvers.pop(mine[0], None)
         _solvers[key] = solver.FilmSolver(
             MicromagneticMaterial.model_validate_json(material_json), film
         )
@@ -150,38 +152,20 @@ def evolve(
     }
 
 
-def _die_with_parent() -> None:
-    """Ask Linux to kill this process when its parent dies (prctl PR_SET_PDEATHSIG)."""
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes
+def solve(kind: str, threads: int, compile: bool, *args: Any) -> dict[str, Any]:
+    """Run the solve ``kind`` (``"relax"`` or ``"evolve"``) on ``args``, as a Dask task.
 
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
-    except OSError:  # no libc by that name: the parent terminates the pool itself
-        pass
-
-
-def init_worker(threads: int, compile: bool) -> None:
-    """Worker start-up: Ctrl-C is the parent's business; one or more torch threads."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent()
-    solver.configure(threads=threads, compile=compile)
-
-
-def start_pool(workers: int, threads: int, compile: bool) -> ProcessPoolExecutor:
-    """A pool of ``workers`` fresh processes (spawned: torch and fork do not mix).
-
-    A worker that dies (the kernel kills the largest process when memory runs out) breaks the
-    pool: every solve in flight then fails with ``BrokenProcessPool`` instead of waiting for
-    ever, as it would in a :class:`multiprocessing.pool.Pool`.
+    ``threads`` torch threads and ``compile`` (torch.compile of the field terms) are set first.
+    Each task carries them, rather than a Dask worker plugin that sets them once per worker:
+    they are the calibration's own choice, so they travel with its tasks to whatever workers
+    run them (a shared cluster's too, without a plugin installed on every worker), and setting
+    them is free after the first solve of a process (:func:`~skygas.calibration.solver.configure`
+    returns at once once torch is set up: the first calibration that a worker process serves
+    decides them for that process).
     """
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    return ProcessPoolExecutor(
-        workers,
-        mp_context=multiprocessing.get_context("spawn"),
-        initializer=init_worker,
-        initargs=(threads, compile),
-    )
+    solver.configure(threads=threads, compile=compile)
+    if kind == "relax":
+        return relax(*args)
+    if kind == "evolve":
+        return evolve(*args)
+    raise ValueError(f"no solve of the kind {kind!r}")

@@ -3,7 +3,8 @@
 From a film's parameters to its particle model (model.toml), checked against micromagnetic dynamics.
 
 The handler imports the calibration when it runs (building the command line imports no
-numerics); the solver (torch, magnum.np) is imported by the worker processes only.
+numerics); the solver (torch, magnum.np) is imported by the Dask workers only (a local
+cluster's, or with ``--scheduler`` a running cluster's), or by this process with ``--workers 0``.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from pathlib import Path
 from skygas.commands.json_output import add_json_option, print_json
 from skygas.commands.run_options import (
     add_run_options,
+    add_scheduler_option,
     limits_from_flags,
     named_by_flags,
     run_options,
@@ -83,9 +85,10 @@ def register(subparsers) -> None:
         "--workers",
         type=int,
         default=None,
-        help="solver processes (default: 2 on a CPU, or the number of cores if "
-        "fewer; 0 on a GPU: one process drives it)",
+        help="solver processes of the local Dask cluster (default: 2 on a CPU, or the "
+        "number of cores if fewer; 0 on a GPU: this process drives it); not with --scheduler",
     )
+    add_scheduler_option(p)
     p.add_argument(
         "--compile",
         action="store_true",
@@ -130,7 +133,14 @@ def _calibrate(args: argparse.Namespace) -> int:
     options = run_options(args, progress=not args.json)
     with named_by_flags(args, _FLAGS), limits_from_flags(args, announce=not args.json):
         material = load_micromagnetic_material(args.material, cell_size=args.cell_size)
-        data = calibrate(material, args.out, workers=args.workers, **options, **_settings(args))
+        data = calibrate(
+            material,
+            args.out,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            **options,
+            **_settings(args),
+        )
     failed = [c for c in data.get("quality_checks", []) if not c["passed"]]
     for check in failed:
         print(

@@ -54,11 +54,7 @@ def add_run_options(parser, quiet: bool = True) -> None:
 
 def add_dask_options(parser) -> None:
     """Add ``--scheduler``, ``--workers``, ``--serial`` and ``--quiet`` (sweeps and studies)."""
-    parser.add_argument(
-        "--scheduler",
-        default=None,
-        help="address of a running Dask scheduler (default: a local cluster)",
-    )
+    add_scheduler_option(parser)
     parser.add_argument(
         "--workers",
         type=int,
@@ -67,6 +63,18 @@ def add_dask_options(parser) -> None:
     )
     parser.add_argument("--serial", action="store_true", help="run in this process, without Dask")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def add_scheduler_option(parser) -> None:
+    """Add ``--scheduler``: a running Dask scheduler instead of a local cluster.
+
+    Sweeps, studies and calibrations.
+    """
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        help="address of a running Dask scheduler (default: a local cluster)",
+    )
 
 
 def add_force_option(parser) -> None:

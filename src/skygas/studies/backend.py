@@ -27,10 +27,12 @@ LOCAL_CLUSTER_CONFIG = {
 }
 
 
-def start_local_cluster(workers: int):
+def start_local_cluster(workers: int, settings: dict | None = None):
     """A local Dask cluster of ``workers`` single-threaded worker processes.
 
-    With :data:`LOCAL_CLUSTER_CONFIG`.
+    With :data:`LOCAL_CLUSTER_CONFIG`, and ``settings`` (Dask settings by their dotted names) on
+    top of it: a caller's own, such as the calibration's
+    (:data:`skygas.calibration.cluster.CLUSTER_SETTINGS`).
     """
     import copy
 
@@ -38,7 +40,8 @@ def start_local_cluster(workers: int):
     from dask.distributed import LocalCluster
 
     require(workers >= 1, "--workers", workers, "at least 1 worker")
-    with dask.config.set(LOCAL_CLUSTER_CONFIG):  # read by the scheduler and nannies as they start
+    # read by the scheduler and nannies as they start
+    with dask.config.set({**LOCAL_CLUSTER_CONFIG, **(settings or {})}):
         # Each nanny hands its worker processes a configuration that shares nested dicts with
         # the global one, which the context above restores on exit: a worker the nanny
         # restarts later would get Dask's defaults back. A private copy keeps the settings.
