@@ -50,7 +50,7 @@ BASE = {"preset": "paper", "duration": 4e-6, "output": {"trajectory_window": 0.0
 
 def grid_runs(currents: int, diameters: int, replicas: int, cache: Path) -> dict:
     """Every grid point's runs: |ρ| and throughput of each replica (from ``cache`` if there)."""
-    from skygas.optimize.worker import run_reshuffler
+    from skygas.optimize.worker import run_trial
     from skygas.sweep.spec import derive_seeds, point_config
 
     js = [float(v) for v in np.geomspace(1e11, 4e11, currents)]
@@ -70,7 +70,7 @@ def grid_runs(currents: int, diameters: int, replicas: int, cache: Path) -> dict
                 config = point_config(
                     BASE, {"current_density": current, "device.chamber_diameter": diameter}
                 ).model_copy(update={"seed": int(seeds[a * diameters + b, r])})
-                result = run_reshuffler(config.model_dump_json())
+                result = run_trial("reshuffler", config.model_dump_json())
                 rho[a, b, r] = abs(result["correlation"])
                 throughput[a, b, r] = result["throughput_Hz"]
         print(f"  L = {diameter * 1e9:.0f} nm done ({time.perf_counter() - started:.0f} s)")

@@ -32,7 +32,7 @@ OWN_FOLDERS: dict[str, tuple[str, ...]] = {
     "neuron": ("neuron",),
     "saturation": ("neuron",),  # skygas saturation measures the neuron's chambers
     "reservoir": ("reservoir",),
-    "simulate": (),
+    "simulate": ("runs",),  # the plain simulation's own package
 }
 #: where every name may stand: the registry itself
 REGISTRY = "devices"
@@ -50,10 +50,6 @@ NOT_YET_MIGRATED: dict[str, str] = {
     "commands/neuron.py": "the definitions of skygas neuron and skygas saturation",
     "commands/reservoir.py": "the sub-command's definition (add_parser('reservoir'))",
     "commands/sc.py": "the key of the reshuffler's part of the sc demo's summary",
-    "optimize/devices.py": "the optimizer's own table of devices (named reshuffler, not "
-    "reshuffle): to be merged with the registry",
-    "optimize/worker.py": "the optimizer's runner of each device, by the optimizer's names",
-    "optimize/spec.py": "the optimizer's example parameters of each device, in its messages",
 }
 
 

@@ -104,8 +104,8 @@ def test_constraints_give_their_violation_and_contradictions_are_refused():
 )
 def test_the_unit_of_an_objective_follows_from_its_quantities(text, unit):
     from skygas.core.quantities import quantity
-    from skygas.optimize.devices import RESHUFFLER_QUANTITIES
+    from skygas.optimize.devices import device
     from skygas.optimize.expressions import unit_of
 
-    expression = parse_expression(text, "objective", RESHUFFLER_QUANTITIES)
+    expression = parse_expression(text, "objective", device("reshuffler").quantities)
     assert unit_of(expression, lambda name: quantity(name).unit) == unit

@@ -139,8 +139,8 @@ def test_the_examples_are_valid_studies():
 
 @pytest.mark.parametrize("name", ["reshuffler", "neuron", "reservoir", "analytic"])
 def test_every_device_prices_one_run_before_anything_is_built(name):
-    from skygas.optimize.devices import DEVICES
+    from skygas.optimize.devices import device
 
-    dev = DEVICES[name]
-    estimate = dev.estimate(dev.build(dict(dev.default_base), {}, "base"))
+    dev = device(name)
+    estimate = dev.estimate(dev.point(dict(dev.default_base), {}, "base"))
     assert estimate.steps >= 1 and estimate.memory >= 0 and estimate.seconds >= 0

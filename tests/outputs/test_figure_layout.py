@@ -182,7 +182,8 @@ def test_reservoir_figures(faults, tmp_path):
 def _sweep_store(path, grid) -> Path:
     """A two-replica store with the paper's ρ(J) and a chamber filling at low currents."""
     from skygas.sweep import parse_sweep
-    from skygas.sweep.store import QUANTITIES, SweepStore
+    from skygas.sweep.store import SweepStore
+    from skygas.sweep.worker import QUANTITIES
 
     sweep = parse_sweep(
         {"sweep": {"seed": 1, "replicas": 2}, "base": {"preset": "paper"}, "grid": grid}

@@ -298,7 +298,8 @@ def _sweep_store(path: Path) -> Path:
     import numpy as np
 
     from skygas.sweep.spec import parse_sweep
-    from skygas.sweep.store import QUANTITIES, SweepStore
+    from skygas.sweep.store import SweepStore
+    from skygas.sweep.worker import QUANTITIES
 
     sweep = parse_sweep(tomllib.loads(SWEEP), SWEEP)
     store = SweepStore(path, sweep)

@@ -17,7 +17,8 @@ from skygas.sweep import (
     running_mean,
 )
 from skygas.sweep.analysis import power_law_exponent
-from skygas.sweep.store import QUANTITIES, SweepStore
+from skygas.sweep.store import SweepStore
+from skygas.sweep.worker import QUANTITIES
 
 
 def fake_store(path, grid, rho_of):

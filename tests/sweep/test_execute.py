@@ -16,7 +16,8 @@ import zarr
 from skygas.core.errors import InputError
 from skygas.sweep import load_sweep, open_sweep, parse_sweep, run_sweep, start_local_cluster
 from skygas.sweep.execute import LOCAL_CLUSTER_CONFIG
-from skygas.sweep.store import QUANTITIES, SweepStore
+from skygas.sweep.store import SweepStore
+from skygas.sweep.worker import QUANTITIES
 
 # everything but the wall-clock time is a deterministic function of the sweep file
 COMPARED = [q for q in QUANTITIES if q != "wall_time_s"] + [

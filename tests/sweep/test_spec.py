@@ -106,7 +106,7 @@ def test_cli_rejects_bad_file_before_running(tmp_path, capsys, monkeypatch):
     def never(*args, **kwargs):
         raise AssertionError("a run started")
 
-    monkeypatch.setattr(execute, "run_one", never)
+    monkeypatch.setattr(execute, "run_point", never)
     path = tmp_path / "bad.toml"
     path.write_text(
         '[sweep]\nreplicas = 1\n[base]\npreset = "paper"\n'

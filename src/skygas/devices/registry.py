@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from skygas.core.errors import InputError
+from skygas.devices.study_hooks import StudyPoints
 
 if TYPE_CHECKING:
     from skygas.core.headline import Results
@@ -127,6 +128,9 @@ class DeviceKind:
         How ``skygas check-timestep`` checks it (None: it does not).
     record : RecordFile or None
         The result file of its runs that recorded positions (None: it writes none).
+    study : StudyPoints or None
+        How a study (``skygas sweep``, ``skygas optimize``) builds, prices and runs its points
+        (None: it cannot be swept).
     """
 
     name: str
@@ -144,6 +148,7 @@ class DeviceKind:
     occupancy_groups: Callable[[], tuple[Callable, tuple[str, ...]]] | None = None
     timestep: TimeStepCheck | None = None
     record: RecordFile | None = None
+    study: StudyPoints | None = None
 
     def caption(self, name: str, *, recorded: bool = False) -> str | None:
         """The caption of its figure ``name``, or None where it has no caption of its own."""
@@ -303,6 +308,7 @@ KINDS: dict[str, DeviceKind] = {
                 _lazy("skygas.devices.records", "simulation"),
                 fallback=True,
             ),
+            study=StudyPoints("skygas.runs.study_points"),
         ),
         DeviceKind(
             name="reshuffle",
@@ -325,6 +331,7 @@ KINDS: dict[str, DeviceKind] = {
             record=RecordFile(
                 "reshuffler.nc", _reshuffler_tells, _lazy("skygas.reshuffler.records", "record")
             ),
+            study=StudyPoints("skygas.reshuffler.study_points"),
         ),
         DeviceKind(
             name="neuron",
@@ -353,6 +360,7 @@ KINDS: dict[str, DeviceKind] = {
                 },
             ),
             record=RecordFile("frames.nc", _neuron_tells, _lazy("skygas.neuron.records", "record")),
+            study=StudyPoints("skygas.neuron.study_points"),
         ),
         DeviceKind(
             name="reservoir",
@@ -376,6 +384,7 @@ KINDS: dict[str, DeviceKind] = {
                     "hold_time",
                 },
             ),
+            study=StudyPoints("skygas.reservoir.study_points"),
         ),
         DeviceKind(
             name="saturation",
@@ -401,6 +410,35 @@ def kind(name: str) -> DeviceKind:
     if name not in KINDS:
         raise InputError("device", name, f"one of {', '.join(KINDS)}")
     return KINDS[name]
+
+
+#: The device of a study file that names none: sweep files were the reshuffler's first.
+DEFAULT_STUDY_DEVICE = "reshuffler"
+
+
+def study_kinds() -> dict[str, DeviceKind]:
+    """The kinds a study can run, by every name a study file may call them."""
+    found: dict[str, DeviceKind] = {}
+    for k in KINDS.values():
+        if k.study is not None:
+            found[k.study.name] = k
+            found.setdefault(k.name, k)
+    return found
+
+
+def study_kind(name: object, field: str = "sweep.device") -> DeviceKind:
+    """The kind a study file names ``name`` (its study name or its command's name).
+
+    Raises
+    ------
+    InputError
+        Naming ``field``, if no kind that a study can run has that name.
+    """
+    kinds = study_kinds()
+    if not isinstance(name, str) or name not in kinds:
+        names = sorted({k.study.name for k in kinds.values() if k.study is not None})
+        raise InputError(field, name, f"one of {', '.join(names)}")
+    return kinds[name]
 
 
 def recorded_kind(name: str) -> DeviceKind:

@@ -5,11 +5,13 @@ No display needed. The physics modules compute; the figures of their results liv
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from skygas.core.quantities import PREFIXED_UNITS, PREFIXES, power_of_ten
 from skygas.fields.current import CurrentSolution
 from skygas.physics.geometry import Outline
 
@@ -397,3 +399,22 @@ def plot_current(
     path = Path(path)
     fig.savefig(path)
     return path
+
+
+def axis_scale(values: list[float], unit: str | None) -> tuple[float, str]:
+    """The factor to divide ``values`` by on an axis, and the unit the axis then reads in.
+
+    An SI prefix for the units that take one (``nm``, ``µs``), a power of ten for the others
+    beyond 10⁻³–10⁴ (``10¹¹ A/m²``); ``unit`` None (not derived) reads as a pure number.
+    """
+    unit = unit or ""
+    finite = [abs(v) for v in values if v is not None and math.isfinite(v) and v != 0]
+    if not finite:
+        return 1.0, unit
+    exponent = math.floor(math.log10(max(finite)))
+    if unit in PREFIXED_UNITS:
+        power = max(-18, min(9, 3 * math.floor(exponent / 3)))
+        return 10.0**power, PREFIXES[power] + unit
+    if -3 <= exponent < 4:
+        return 1.0, unit
+    return 10.0**exponent, f"{power_of_ten(exponent).lstrip('×')} {unit}".strip()

@@ -27,8 +27,14 @@ from pydantic import Field
 
 from skygas.core.config_types import StrictModel
 
+#: Its name in study files.
+NAME = "analytic"
 #: The summary quantities of the analytic device.
 QUANTITIES = ("f", "h", "x", "y", "z")
+#: A study file without ``[base]``: the defaults.
+DEFAULT_BASE: dict = {}
+#: Fields a study of it varies.
+EXAMPLE_FIELDS = "x, y, z"
 
 
 class AnalyticConfig(StrictModel):
@@ -61,3 +67,38 @@ def evaluate(config: AnalyticConfig) -> dict[str, float]:
         "y": config.y,
         "z": config.z,
     }
+
+
+# -- its study hooks (skygas.devices.study_hooks.StudyPoints) ----------------------------------
+def model() -> type:
+    """:class:`AnalyticConfig`."""
+    return AnalyticConfig
+
+
+def point(base: dict, overrides: dict, what: str) -> AnalyticConfig:
+    """``base`` with the dotted ``overrides`` set, validated; an error names ``what``."""
+    from pydantic import ValidationError
+
+    from skygas.core.config_types import apply_overrides, to_input_error
+    from skygas.core.errors import InputError
+
+    try:
+        try:
+            return AnalyticConfig(**apply_overrides(base, overrides))
+        except ValidationError as err:
+            raise to_input_error(err, "") from None
+    except InputError as err:
+        label = ", ".join(f"{f} = {v!r}" for f, v in overrides.items())
+        raise InputError(f"{what} ({label}): {err.field}", err.value, err.allowed) from None
+
+
+def estimate(config: AnalyticConfig):
+    """A known function: its ``delay`` [s] and nothing else."""
+    from skygas.core.estimates import Estimate
+
+    return Estimate(steps=1.0, memory=0.0, seconds=float(config.delay))
+
+
+def run(config_json: str) -> dict[str, float]:
+    """One run, from its configuration's JSON (:func:`evaluate`)."""
+    return evaluate(AnalyticConfig.model_validate_json(config_json))

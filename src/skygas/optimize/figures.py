@@ -28,30 +28,12 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from skygas.core.quantities import PREFIXED_UNITS, PREFIXES, power_of_ten, quantity
+from skygas.core.quantities import quantity
+from skygas.figures.plotting import axis_scale
 from skygas.optimize.verdict import parameter_label, shown
 
 #: the colours of the figures: trials, the best so far, re-evaluation, trials breaking a constraint
 TRIAL, BEST, AGAIN, BROKEN = "tab:blue", "tab:red", "tab:orange", "0.6"
-
-
-def axis_scale(values: list[float], unit: str | None) -> tuple[float, str]:
-    """The factor to divide ``values`` by on an axis, and the unit the axis then reads in.
-
-    An SI prefix for the units that take one (``nm``, ``µs``), a power of ten for the others
-    beyond 10⁻³–10⁴ (``10¹¹ A/m²``); ``unit`` None (not derived) reads as a pure number.
-    """
-    unit = unit or ""
-    finite = [abs(v) for v in values if v is not None and math.isfinite(v) and v != 0]
-    if not finite:
-        return 1.0, unit
-    exponent = math.floor(math.log10(max(finite)))
-    if unit in PREFIXED_UNITS:
-        power = max(-18, min(9, 3 * math.floor(exponent / 3)))
-        return 10.0**power, PREFIXES[power] + unit
-    if -3 <= exponent < 4:
-        return 1.0, unit
-    return 10.0**exponent, f"{power_of_ten(exponent).lstrip('×')} {unit}".strip()
 
 
 def _titled(name: str, unit: str) -> str:

@@ -60,7 +60,8 @@ import numpy as np
 from pydantic import BaseModel
 
 from skygas.core.errors import InputError, require
-from skygas.optimize.devices import Device, device
+from skygas.devices.study_hooks import StudyPoints
+from skygas.optimize.devices import device, field_exists
 from skygas.optimize.expressions import (
     Constraint,
     Expression,
@@ -156,7 +157,7 @@ class Objective:
 class Study:
     """A validated study file (see the module docstring)."""
 
-    device: Device
+    device: StudyPoints
     seed: int
     replicas: int
     sampler: str
@@ -177,7 +178,7 @@ class Study:
 
     def config(self, params: dict[str, Any], seed: int = 0) -> BaseModel:
         """The validated configuration of one run: the base with ``params`` set, and ``seed``."""
-        built = self.device.build(self.base, dict(params), "trial")
+        built = self.device.point(self.base, dict(params), "trial")
         return built.model_copy(update={"seed": int(seed)})
 
     def run_seeds(self, key: int, replicas: int, stage: int = 0) -> list[int]:
@@ -302,7 +303,7 @@ def _reference(study: Study) -> dict[str, Any] | None:
     """The point the ends are tried from: the space's middle, else the base (None: neither)."""
     for point in ({p.field: _middle(p) for p in study.parameters}, {}):
         try:
-            study.device.build(study.base, point, "[space]")
+            study.device.point(study.base, point, "[space]")
         except InputError:
             continue
         return point
@@ -324,7 +325,7 @@ def _check_ends(study: Study) -> None:
         names = ["choices"] * len(p.choices) if p.kind == "categorical" else ["low", "high"]
         for name, value in zip(names, p.ends(), strict=True):
             try:
-                study.device.build(study.base, {**reference, p.field: value}, "end of [space]")
+                study.device.point(study.base, {**reference, p.field: value}, "end of [space]")
             except InputError as err:
                 raise InputError(
                     f"space.{p.field}.{name}",
@@ -350,7 +351,7 @@ def _check_corners(study: Study) -> None:
             {**first, p.field: v} for p, e in zip(study.parameters, ends, strict=True) for v in e
         ]
     for corner in corners:
-        study.device.build(study.base, corner, "corner of [space]")
+        study.device.point(study.base, corner, "corner of [space]")
 
 
 def parse_study(
@@ -421,17 +422,11 @@ def parse_study(
             "a configuration field other than seed (seeds derive from [study] seed)",
         )
         require(
-            dev.field_exists(field),
+            field_exists(dev, field),
             f"space.{field}",
             field,
             f"a field of the {dev.name} configuration (as in [base], dotted: e.g. "
-            + {
-                "reshuffler": "current_density, device.chamber_diameter",
-                "neuron": "gate.barrier_height, annihilation.base_rate",
-                "reservoir": "temperature, chamber.size",
-                "analytic": "x, y, z",
-            }[dev.name]
-            + ")",
+            f"{dev.example_fields})",
         )
         parameters.append(_parameter(field, spec))
 

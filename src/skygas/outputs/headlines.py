@@ -104,9 +104,39 @@ def sweep(fits: dict) -> Results:
             "with what this model gives. A fit the points do not constrain is neither stated "
             "nor drawn."
         )
+    if fits.get("points"):
+        r.tables.append(point_table(fits["points"], fits.get("plotted", [])))
     if "note" in fits:
         r.notes.append(str(fits["note"]))
     return r
+
+
+def point_table(points: list[dict], plotted: list[str]) -> tuple[str, Table]:
+    """Each point of a sweep: its swept values, replicas, and the plotted quantities' means.
+
+    ``points`` are :func:`skygas.sweep.generic.point_rows` (``name`` and ``name_sem`` per
+    quantity); each mean is written with its standard error where there is one.
+    """
+    from skygas.core.quantities import label
+
+    first = points[0]
+    shown = set(plotted) | {f"{q}_sem" for q in plotted} | {"replicas"}
+    swept = [k for k in first if k not in shown and k not in _quantity_columns(first)]
+    header = [*swept, "replicas", *(label(q) for q in plotted)]
+    rows = []
+    for point in points:
+        cells = [format_quantity(k, point[k]) or str(point[k]) for k in swept]
+        cells.append(str(point["replicas"]))
+        for q in plotted:
+            text = format_quantity(q, point.get(q), point.get(f"{q}_sem"))
+            cells.append(text if text is not None else "none")
+        rows.append(cells)
+    return "Replica means at each point (± standard error)", (header, rows)
+
+
+def _quantity_columns(point: dict) -> set[str]:
+    """The columns of a point row that are quantities (each has its ``_sem`` column)."""
+    return {k for k in point if f"{k}_sem" in point} | {k for k in point if k.endswith("_sem")}
 
 
 # -- the stochastic-computing demo -------------------------------------------------------------

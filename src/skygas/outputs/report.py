@@ -851,6 +851,8 @@ _FIT_FIGURES = {
 
 def _sweep_caption(name: str, fits: dict) -> str:
     """A sweep figure's caption: the fits it draws, and those the points do not constrain."""
+    if name in fits.get("captions", {}):
+        return str(fits["captions"][name])
     if name not in _FIT_FIGURES or _FIT_FIGURES[name][0] not in fits:
         return caption(name)
     key, what, paper_law, free_law, rest = _FIT_FIGURES[name]
@@ -892,10 +894,12 @@ def sweep_report(store: Path | list[Path]) -> str:
             fits = {"figures": [], "note": str(err)}
         figures = [(Path(p).name, Path(p).read_bytes()) for p in fits["figures"]]
     fits["figures"] = [name for name, _ in figures]  # names: the temporary folder is gone
-    _results(page, H.sweep(fits))
+    results = H.sweep(fits)
+    _results(page, results)
     page.heading("Figures")
     for name, png in figures:
         page.image(png, _sweep_caption(name, fits))
+    _tables(page, results)
     page.heading("Sweep file")
     page.pre(str(ds.attrs.get("sweep_file", "")) or "(not recorded)")
     try:

@@ -1,7 +1,7 @@
 """Running a sweep: serially in this process, or on Dask (a local cluster or a scheduler).
 
-Workers only compute (:func:`~skygas.sweep.worker.run_one` takes a configuration as JSON and
-returns plain numbers); this process writes every result into the store as it arrives, so
+Workers only compute (:func:`~skygas.devices.study_hooks.run_point` takes a configuration as JSON
+and returns plain numbers); this process writes every result into the store as it arrives, so
 whatever finished is kept when the sweep is interrupted, and running the same sweep again only
 runs what is missing.
 """
@@ -24,15 +24,15 @@ from skygas.studies.backend import (  # noqa: F401 - re-exported: earlier import
 )
 from skygas.sweep.spec import Run, Sweep
 from skygas.sweep.store import SweepStore
-from skygas.sweep.worker import run_one
+from skygas.sweep.worker import run_point
 
 
-def check_sweep(runs: list[Run], workers: int) -> Estimate:
+def check_sweep(runs: list[Run], workers: int, sweep: Sweep | None = None) -> Estimate:
     """Refuse a sweep that cannot fit or finish; announce a long one (:mod:`skygas.core.estimates`).
 
-    Each run is priced as :meth:`~skygas.reshuffler.run.ReshufflerRun.build` prices it before it
-    builds anything (its steps at least its injection events), and the runs are spread over
-    ``workers`` processes.
+    Each run is priced as its kind prices it before it builds anything (the kind's study hook
+    ``estimate``: the reshuffler's steps are at least its injection events), and the runs are
+    spread over ``workers`` processes.
 
     Parameters
     ----------
@@ -40,22 +40,18 @@ def check_sweep(runs: list[Run], workers: int) -> Estimate:
         The runs still to compute.
     workers : int
         Processes running them at once.
+    sweep : Sweep, optional
+        The sweep they belong to (its kind; default: the reshuffler's).
 
     Returns
     -------
     Estimate
         The whole sweep's estimate.
     """
-    from skygas.reshuffler.run import STEP_COST_FACTOR, expected_population, reshuffler_memory
-    from skygas.runs.machine_speed import run_estimate
-
+    hooks = sweep.points if sweep is not None else _reshuffler()
     steps = seconds = memory = 0.0
     for run in runs:
-        c = run.config
-        events = c.duration / c.injection.interval
-        population = expected_population(c)
-        memory_one = sum(reshuffler_memory(c, events, population).values())
-        one = run_estimate(events, STEP_COST_FACTOR * population, memory_one)
+        one = hooks.estimate(run.config)
         steps = max(steps, one.steps)
         seconds += one.seconds
         memory = max(memory, one.memory)
@@ -72,20 +68,21 @@ def check_sweep(runs: list[Run], workers: int) -> Estimate:
     return estimate
 
 
-def relative_cost(config) -> float:
+def _reshuffler():
+    from skygas.devices.registry import study_kind
+    from skygas.sweep.spec import DEFAULT_DEVICE
+
+    return study_kind(DEFAULT_DEVICE).study
+
+
+def relative_cost(config, sweep: Sweep | None = None) -> float:
     """A rough relative cost of one run, used only to start the longest runs first.
 
-    So that no worker is left finishing one long run alone at the end of a sweep (results do not
-    depend on the order). Cost ∝ steps × (1 + skyrmions in the device): a skyrmion crosses a chamber
-    and its conduits at about the spin-drift speed ξJ, and one enters per injection interval.
+    Its kind's study hook (the reshuffler's: steps × (1 + skyrmions in the device)); results
+    never depend on the order.
     """
-    device = config.device
-    speed = config.drift_coefficient() * config.current_density  # v_s [m/s]
-    present = (
-        (device.chamber_diameter + 2 * device.conduit_length) / speed / config.injection.interval
-    )
-    steps = config.duration / (config.time_step or 1e-10)
-    return steps * (1.0 + present)
+    hooks = sweep.points if sweep is not None else _reshuffler()
+    return hooks.relative_cost(config)
 
 
 @dataclass
@@ -112,10 +109,10 @@ def _progress_bar(enabled: bool, total: int, initial: int):
     return tqdm(total=total, initial=initial, unit="run", desc="sweep")
 
 
-def _serial(pending: list[Run], store: SweepStore, report: SweepReport, bar):
+def _serial(pending: list[Run], store: SweepStore, report: SweepReport, bar, module: str):
     report.session = session = store.start_session()
     for run in pending:
-        store.write(run, run_one(run.config.model_dump_json()), session)
+        store.write(run, run_point(module, run.config.model_dump_json()), session)
         report.computed.append((run.index, run.replica))
         if bar is not None:
             bar.update(1)
@@ -128,6 +125,7 @@ def _dask(
     bar,
     client,
     workers: int | None,
+    sweep: Sweep,
 ):
     from dask.distributed import Client, as_completed
 
@@ -139,10 +137,11 @@ def _dask(
         futures = {}
         # the costliest first: submitted first (an idle worker takes a task as soon as it
         # arrives) and with the highest priority (Dask starts higher priorities first)
-        by_cost = sorted(pending, key=lambda r: relative_cost(r.config), reverse=True)
+        by_cost = sorted(pending, key=lambda r: relative_cost(r.config, sweep), reverse=True)
         for rank, run in enumerate(by_cost):
             future = client.submit(
-                run_one,
+                run_point,
+                sweep.points.module,
                 run.config.model_dump_json(),
                 pure=False,
                 priority=len(by_cost) - rank,
@@ -197,11 +196,11 @@ def run_sweep(
     parallel = 1 if serial else workers or os.cpu_count() or 1
     exists = SweepStore.exists(out)
     if not exists:  # estimated before the store is created
-        check_sweep(list(sweep.runs), parallel)
+        check_sweep(list(sweep.runs), parallel, sweep)
     store = SweepStore(out, sweep) if exists or serial else None
     pending = store.pending() if store is not None else list(sweep.runs)
     if exists:
-        check_sweep(pending, parallel)
+        check_sweep(pending, parallel, sweep)
     report = SweepReport(Path(out), -1, skipped=len(sweep.runs) - len(pending))
     # a named scheduler answers before anything starts (or is refused in one line)
     client = connect(scheduler) if scheduler is not None and pending and not serial else None
@@ -212,9 +211,10 @@ def run_sweep(
             report.session = store.start_session()
         elif serial:
             assert store is not None  # opened or created above
-            _serial(pending, store, report, bar)
+            _serial(pending, store, report, bar, sweep.points.module)
         else:
-            _dask(pending, lambda: store or SweepStore(out, sweep), report, bar, client, workers)
+            opener = lambda: store or SweepStore(out, sweep)  # noqa: E731
+            _dask(pending, opener, report, bar, client, workers, sweep)
     finally:
         if bar is not None:
             bar.close()

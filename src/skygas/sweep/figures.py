@@ -31,7 +31,6 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from skygas.core.errors import InputError
 from skygas.figures.plotting import log_ticks
 from skygas.outputs.headlines import constrained, signed
 from skygas.sweep.analysis import (
@@ -47,6 +46,7 @@ from skygas.sweep.analysis import (
     replica_mean,
     running_mean,
 )
+from skygas.sweep.spec import DEFAULT_DEVICE
 from skygas.sweep.store import open_sweep
 
 RUNNING_P = 0.62  # the paper's running-correlation panel
@@ -490,18 +490,34 @@ def plot_sweep(store: str | Path | xr.Dataset, out_dir: str | Path) -> dict:
     ds = store if isinstance(store, xr.Dataset) else open_sweep(store)
     out = Path(out_dir)
     dims = ds["done"].dims
-    if CURRENT not in dims and CHAMBER not in dims:
-        raise InputError(
-            "STORE",
-            str(store),
-            "a grid sweep over current_density (and signal.p) or device.chamber_diameter",
-        )
     out.mkdir(parents=True, exist_ok=True)
     record = sweep_provenance(ds)
     result: dict = {"figures": []}
 
     def figure(name: str, draw) -> None:
         result["figures"].append(str(write_figure(out / name, draw, record)))
+
+    paper_figures = ds.attrs.get("device", DEFAULT_DEVICE) == DEFAULT_DEVICE and (
+        CURRENT in dims or CHAMBER in dims
+    )
+    if not paper_figures:  # any other sweep: each quantity against the swept fields
+        from skygas.runs.provenance import csv_header
+        from skygas.sweep.generic import (
+            GENERIC_FIGURE,
+            generic_caption,
+            plot_generic,
+            plotted,
+            point_rows,
+            write_points,
+        )
+
+        figure(GENERIC_FIGURE, lambda tmp: plot_generic(ds, tmp))
+        result["points"] = point_rows(ds)
+        result["plotted"] = plotted(ds)
+        result["captions"] = {GENERIC_FIGURE: generic_caption(ds)}
+        write_json(out / "fits.json", {**result, "provenance": record})
+        write_points(ds, out / "points.csv", csv_header(record))
+        return result
 
     if CURRENT in dims:
         grid = _grid_only(ds, (CURRENT, P_VALUE))

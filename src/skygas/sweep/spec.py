@@ -1,12 +1,13 @@
-"""Sweep files: which reshuffler configurations to run, how often, and with which seeds.
+"""Sweep files: which configurations of a device to run, how often, and with which seeds.
 
 A sweep file is TOML with three parts::
 
     [sweep]
+    device = "reshuffler"  # the kind of run: reshuffler (default), neuron, reservoir, simulate
     seed = 2024          # root seed; every run's seed is derived from it
     replicas = 4         # independent runs (different seeds) per point
 
-    [base]               # a reshuffler configuration, as in ``skygas reshuffle CONFIG.toml``
+    [base]               # the device's configuration, as its command reads it
     preset = "paper"
     duration = 4e-5
 
@@ -16,18 +17,20 @@ A sweep file is TOML with three parts::
 
 Instead of ``[grid]`` an explicit list of points may be given as ``[[points]]`` tables, each
 setting the same fields (``[[points]]`` with ``current_density = 1e11`` and ``"signal.p" = 0.3``,
-and so on). ``[sweep] config = "file.toml"`` may name the base configuration instead of
-``[base]`` (relative to the sweep file).
+and so on). ``[sweep] config = "file.toml"`` may name the base configuration (relative to
+the sweep file; its seed is set aside), and ``[base]`` then changes it.
 
 Seeds (counter-based noise, docs/engine.md):
 ``SeedSequence(seed).spawn(n_points)[i].spawn(replicas)[r]`` gives run (point ``i`` in C order of
 the grid, replica ``r``); its 63-bit ``seed`` is the
-first word of that sequence's state. A run's result therefore depends only on the sweep file,
-never on which worker ran it or when.
+first word of that sequence's state (modulo the kind's seed limit, :class:`~skygas.devices.
+study.StudyPoints`). A run's result therefore depends only on the sweep file, never on which
+worker ran it or when.
 
-Everything is checked here, before anything runs: each field must exist in
-:class:`~skygas.reshuffler.config.ReshufflerConfig`, each list must be non-empty, and every
-point's configuration is built and validated.
+The device is any kind of the registry that a study can run (:func:`skygas.devices.registry.
+study_kind`); its study hooks build, price and run each point. Everything is checked here,
+before anything runs: each field must exist in the device's configuration, each list must be
+non-empty, and every point's configuration is built and validated.
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ import itertools
 import json
 import math
 import tomllib
+import typing
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -46,16 +50,13 @@ from pydantic import BaseModel
 
 from skygas.core.errors import InputError, require
 from skygas.core.resources import require_memory
-from skygas.reshuffler.config import (
-    DEVICE_NAME,
-    ReshufflerConfig,
-    check_time_step,
-    parse_reshuffler_config,
-)
-from skygas.reshuffler.device import ReshufflerGeometry
+from skygas.devices.registry import DEFAULT_STUDY_DEVICE, DeviceKind, study_kind
+from skygas.devices.study_hooks import StudyPoints
 from skygas.runs.config import read_toml, resolve_paths
 
-_SWEEP_KEYS = {"seed", "replicas", "config", "name", "description"}
+_SWEEP_KEYS = {"seed", "replicas", "config", "name", "description", "device"}
+#: The device of a sweep file that names none.
+DEFAULT_DEVICE = DEFAULT_STUDY_DEVICE
 _TOP_KEYS = {"sweep", "base", "grid", "points"}
 # fields whose value is a whole table or a name, never descended into
 _LEAF_FIELDS = {"material"}
@@ -72,7 +73,7 @@ class Run:
     index: tuple[int, ...]
     replica: int
     seed: int
-    config: ReshufflerConfig
+    config: Any  # the device's validated configuration (a pydantic model)
 
 
 @dataclass(frozen=True)
@@ -82,7 +83,9 @@ class Sweep:
     ``fields`` are the swept dotted config fields, ``dims`` their dimension names in the store
     (``"signal.p"`` → ``"signal_p"``); ``values[k]`` the values of ``fields[k]``. For a grid
     the shape is ``(len(values[0]), …)``; for an explicit list there is one dimension
-    ``point`` and ``values[k]`` lists field ``k`` at each point.
+    ``point`` and ``values[k]`` lists field ``k`` at each point. ``device`` is the kind's
+    name in study files; ``quantities`` the numbers each run stores and ``curves`` the curves
+    with their lengths (the kind's :class:`~skygas.devices.study_hooks.StudyPoints`).
     """
 
     fields: tuple[str, ...]
@@ -94,6 +97,21 @@ class Sweep:
     base: dict
     source_text: str
     runs: tuple[Run, ...]
+    device: str = DEFAULT_DEVICE
+    quantities: tuple[str, ...] = ()
+    curves: tuple[tuple[str, int], ...] = ()
+
+    @property
+    def kind(self) -> DeviceKind:
+        """The kind of run it sweeps."""
+        return study_kind(self.device)
+
+    @property
+    def points(self) -> StudyPoints:
+        """Its kind's study hooks."""
+        hooks = self.kind.study
+        assert hooks is not None  # study_kind returns only kinds with hooks
+        return hooks
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -118,7 +136,10 @@ class Sweep:
         So a store can tell whether it was written by the same sweep.
         """
         digest = hashlib.sha256()
-        digest.update(json.dumps([self.fields, self.layout, self.replicas]).encode())
+        head: list[Any] = [self.fields, self.layout, self.replicas]
+        if self.device != DEFAULT_DEVICE:  # the reshuffler's stores keep their fingerprints
+            head.append(self.device)
+        digest.update(json.dumps(head).encode())
         for run in self.runs:
             digest.update(run.config.model_dump_json().encode())
         return digest.hexdigest()[:20]
@@ -129,11 +150,19 @@ def dim_name(field: str) -> str:
     return field.replace(".", "_")
 
 
+def _models_in(annotation: Any) -> list[type[BaseModel]]:
+    """The pydantic models an annotation holds (``list[A | B]`` → ``[A, B]``)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [annotation]
+    return [m for arg in typing.get_args(annotation) for m in _models_in(arg)]
+
+
 def field_exists(model: type[BaseModel], dotted: str) -> bool:
     """Whether the dotted field ``dotted`` (``"device.chamber_diameter"``) exists in ``model``.
 
-    ``potentials.<index>.<field>`` names a field of any potential kind; a table-valued field
-    such as ``material`` is a leaf (set as a whole, never descended into).
+    ``potentials.<index>.<field>`` names a field of any potential kind, and so for any list of
+    tables (``inputs.0.rate``: a field of any kind of input); a table-valued field such as
+    ``material`` is a leaf (set as a whole, never descended into).
     """
     head, _, rest = dotted.partition(".")
     info = model.model_fields.get(head)
@@ -149,6 +178,9 @@ def field_exists(model: type[BaseModel], dotted: str) -> bool:
         index, _, name = rest.partition(".")
         return index.isdigit() and any(name in kind.model_fields for kind in KINDS.values())
     sub = info.annotation
+    if typing.get_origin(sub) in (list, tuple):  # "<list>.<index>.<field of any of its kinds>"
+        index, _, name = rest.partition(".")
+        return index.isdigit() and any(field_exists(m, name) for m in _models_in(sub))
     return isinstance(sub, type) and issubclass(sub, BaseModel) and field_exists(sub, rest)
 
 
@@ -192,7 +224,7 @@ def _expand_range(key: str, spec: dict) -> list[float]:
     return [float(v) for v in np.linspace(start, stop, num)]
 
 
-def _check_field(key: str, where: str) -> None:
+def _check_field(key: str, where: str, hooks: StudyPoints) -> None:
     require(
         isinstance(key, str) and key not in _RESERVED,
         f"{where}.{key}",
@@ -200,11 +232,10 @@ def _check_field(key: str, where: str) -> None:
         "a configuration field other than seed (seeds are derived from [sweep] seed)",
     )
     require(
-        field_exists(ReshufflerConfig, key),
+        field_exists(hooks.model(), key),
         f"{where}.{key}",
         key,
-        "a field of the reshuffler configuration (e.g. current_density, signal.p, "
-        "device.chamber_diameter, temperature, material, duration)",
+        f"a field of the {hooks.name} configuration (e.g. {hooks.example_fields})",
     )
 
 
@@ -217,7 +248,7 @@ def _check_value(key: str, value: Any, where: str) -> None:
     )
 
 
-def _grid(data: dict) -> tuple[list[str], list[list[Any]]]:
+def _grid(data: dict, hooks: StudyPoints) -> tuple[list[str], list[list[Any]]]:
     require(
         isinstance(data, dict) and bool(data),
         "grid",
@@ -226,7 +257,7 @@ def _grid(data: dict) -> tuple[list[str], list[list[Any]]]:
     )
     fields, values = [], []
     for key, spec in data.items():
-        _check_field(key, "grid")
+        _check_field(key, "grid", hooks)
         if isinstance(spec, dict) and key not in _LEAF_FIELDS:
             vals = _expand_range(key, spec)
         elif isinstance(spec, list):
@@ -247,7 +278,7 @@ def _grid(data: dict) -> tuple[list[str], list[list[Any]]]:
     return fields, values
 
 
-def _points(data: list) -> tuple[list[str], list[list[Any]]]:
+def _points(data: list, hooks: StudyPoints) -> tuple[list[str], list[list[Any]]]:
     require(
         isinstance(data, list) and len(data) > 0 and all(isinstance(p, dict) for p in data),
         "points",
@@ -257,7 +288,7 @@ def _points(data: list) -> tuple[list[str], list[list[Any]]]:
     fields = list(data[0])
     require(len(fields) > 0, "points[0]", data[0], "at least one field")
     for key in fields:
-        _check_field(key, "points[0]")
+        _check_field(key, "points[0]", hooks)
     values: list[list[Any]] = [[] for _ in fields]
     for i, point in enumerate(data):
         require(
@@ -273,61 +304,56 @@ def _points(data: list) -> tuple[list[str], list[list[Any]]]:
 
 
 def base_config(
-    data: dict, head: str, base_dir: Path | None, default: dict, device: str = DEVICE_NAME
+    data: dict, head: str, base_dir: Path | None, default: dict, device: str = "device"
 ) -> dict:
-    """The base configuration of a sweep or study file: ``[HEAD] config = FILE`` or ``[base]``.
+    """The base configuration of a sweep or study file: ``[HEAD] config = FILE`` and/or ``[base]``.
 
-    File names in it are made relative to the file's folder ``base_dir``; a seed is refused
-    (each run's seed is derived from the file's root seed).
+    ``[HEAD] config`` names a configuration file (relative to the file's folder ``base_dir``);
+    its own ``seed`` is set aside, as each run's seed is derived from the file's root seed.
+    ``[base]`` is the configuration itself, or, with a file, what changes in it (tables merged
+    key by key, a list replaced whole). File names in either are made relative to their own
+    file's folder; a seed in ``[base]`` is refused.
     """
     table = data.get(head, {})
-    if "config" in table:
-        require(
-            "base" not in data,
-            f"{head}.config",
-            table["config"],
-            f"either [{head}] config or a [base] table, not both",
-        )
-        path = Path(table["config"])
-        if not path.is_absolute() and base_dir is not None:
-            path = base_dir / path
-        base = resolve_paths(read_toml(path, f"{head}.config"), path.parent)
-    else:
-        base = data.get("base", default)
-        require(isinstance(base, dict), "base", base, f"a {device} configuration table")
-        if base_dir is not None:  # file names in [base] are relative to the sweep file
-            base = resolve_paths(base, base_dir)
+    given = data.get("base", default if "config" not in table else {})
+    require(isinstance(given, dict), "base", given, f"a {device} configuration table")
     require(
-        "seed" not in base,
+        "seed" not in given,
         "base.seed",
-        base.get("seed"),
+        given.get("seed"),
         f"no seed in [base]: runs get seeds derived from [{head}] seed",
     )
-    return base
+    if base_dir is not None:  # file names in [base] are relative to the sweep file
+        given = resolve_paths(given, base_dir)
+    if "config" not in table:
+        return given
+    path = Path(table["config"])
+    if not path.is_absolute() and base_dir is not None:
+        path = base_dir / path
+    from_file = resolve_paths(read_toml(path, f"{head}.config"), path.parent)
+    from_file.pop("seed", None)  # runs get seeds derived from the root seed
+    return _merged(from_file, given)
 
 
-def point_config(
-    base: dict, overrides: dict[str, Any], what: str = "sweep point"
-) -> ReshufflerConfig:
-    """The validated configuration of one point: ``base`` with the dotted ``overrides`` set.
+def _merged(into: dict, changes: dict) -> dict:
+    """``into`` with ``changes`` set: tables merged key by key, anything else replaced."""
+    out = dict(into)
+    for key, value in changes.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = _merged(out[key], value)
+        else:
+            out[key] = value
+    return out
 
-    With the checks :meth:`~skygas.reshuffler.run.ReshufflerRun.build` makes first (the
-    geometry against the skyrmion's size), without solving anything; an error names the point
-    (``what (current_density = 1e11, …): field = value: …``), and the time step against the
-    injection interval.
+
+def point_config(base: dict, overrides: dict[str, Any], what: str = "sweep point") -> Any:
+    """The validated configuration of one reshuffler point (the reshuffler's study hook).
+
+    :func:`skygas.reshuffler.study_points.point`; a sweep of another device uses its own.
     """
-    label = ", ".join(f"{f} = {v!r}" for f, v in overrides.items())
-    config = parse_reshuffler_config(dict(base), f"{what} ({label}): ", overrides)
-    try:
-        check_time_step(config)
-        thiele = config.thiele_parameters()
-        d = config.device
-        ReshufflerGeometry(
-            d.chamber_diameter, d.conduit_width, d.conduit_length, d.chamber_gap
-        ).validate(thiele.skyrmion_diameter)
-    except InputError as err:
-        raise InputError(f"{what} ({label}): {err.field}", err.value, err.allowed) from None
-    return config
+    hooks = study_kind(DEFAULT_DEVICE).study
+    assert hooks is not None  # the reshuffler has study hooks
+    return hooks.point(base, overrides, what)
 
 
 def derive_seeds(root_seed: int, n_points: int, replicas: int) -> np.ndarray:
@@ -365,6 +391,9 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         "a whole number of replicas",
     )
     require(replicas >= 1, "sweep.replicas", replicas, "at least 1 replica per point")
+    kind = study_kind(head.get("device", DEFAULT_DEVICE))
+    hooks = kind.study
+    assert hooks is not None  # study_kind returns only kinds with hooks
     root_seed = head.get("seed", 0)
     require(
         isinstance(root_seed, int) and not isinstance(root_seed, bool) and root_seed >= 0,
@@ -373,7 +402,7 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         "a whole number >= 0",
     )
 
-    base = base_config(data, "sweep", base_dir, {"preset": "default"})
+    base = base_config(data, "sweep", base_dir, hooks.default_base, hooks.name)
 
     has_grid, has_points = "grid" in data, "points" in data
     require(
@@ -383,7 +412,7 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         "exactly one of [grid] or [[points]]",
     )
     layout = "grid" if has_grid else "list"
-    fields, values = _grid(data["grid"]) if has_grid else _points(data["points"])
+    fields, values = _grid(data["grid"], hooks) if has_grid else _points(data["points"], hooks)
     n_runs = replicas * (math.prod(len(v) for v in values) if has_grid else len(values[0]))
     require_memory(  # before the points are expanded: the runs are counted from the grid
         "grid" if has_grid else "points",
@@ -401,9 +430,16 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
             ((i,), [values[k][i] for k in range(len(fields))]) for i in range(len(values[0]))
         ]
     seeds = derive_seeds(root_seed, len(indexed), replicas)
+    if hooks.seed_limit < 2**63:  # the kind derives seeds of its own from a run's seed
+        seeds %= hooks.seed_limit
     runs = []
+    quantities: dict[str, None] = dict.fromkeys(hooks.quantities)
+    curves: dict[str, int] = {}
     for flat, (index, point_values) in enumerate(indexed):
-        config = point_config(base, dict(zip(fields, point_values, strict=True)))
+        config = hooks.point(base, dict(zip(fields, point_values, strict=True)), "sweep point")
+        quantities.update(dict.fromkeys(hooks.extra_quantities(config)))
+        for name, length in hooks.curves(config).items():
+            curves[name] = max(curves.get(name, 0), length)
         for r in range(replicas):
             runs.append(
                 Run(
@@ -423,6 +459,9 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         base,
         source_text,
         tuple(runs),
+        hooks.name,
+        tuple(quantities),
+        tuple(curves.items()),
     )
 
 

@@ -1,12 +1,14 @@
 """The zarr store of a sweep, filled run by run as runs finish; read as one xarray Dataset.
 
 On disk (zarr v3), dimensions ``(*point_dims, replica)`` (one per swept field, or ``point`` for
-a list of points) index the runs, and each run owns one chunk of each of five arrays:
+a list of points) index the runs, and each run owns one chunk of each of its arrays:
 
 - ``summary`` (…, ``quantity``): the run's summary numbers (float64, in the order of its
-  attribute ``quantities`` = :data:`QUANTITIES`);
-- ``running_curves`` (…, ``curve``, ``running``): the running correlation ρ and its times
-  (attribute ``curves`` = :data:`RUNNING`; NaN after the curve's end);
+  attribute ``quantities``: the swept kind's, :attr:`Sweep.quantities <skygas.sweep.spec.
+  Sweep.quantities>`);
+- ``running_curves`` (…, ``curve``, ``running``), for a kind whose runs return curves: the
+  curves (attribute ``curves``; the reshuffler's running correlation ρ and its times; NaN after
+  a curve's end);
 - ``finished_at`` (Unix time), ``session`` (which invocation of the sweep computed it) and
   ``done`` (0/1).
 
@@ -44,8 +46,7 @@ from zarr.core.sync import sync as _sync
 
 from skygas._version import __version__
 from skygas.core.errors import InputError
-from skygas.sweep.spec import Run, Sweep
-from skygas.sweep.worker import QUANTITIES, RUNNING
+from skygas.sweep.spec import DEFAULT_DEVICE, Run, Sweep
 
 
 def _coordinate(values) -> np.ndarray:
@@ -68,7 +69,7 @@ def _create(path: Path, sweep: Sweep) -> None:
     """
     dims = (*sweep.point_dims, "replica")
     shape = (*sweep.shape, sweep.replicas)
-    n_running = max(run.config.output.running_points for run in sweep.runs)
+    curves = dict(sweep.curves)
     coords: dict[str, Any] = {"replica": np.arange(sweep.replicas)}
     if sweep.layout == "grid":
         for dim, values in zip(sweep.dims, sweep.values, strict=True):
@@ -83,7 +84,8 @@ def _create(path: Path, sweep: Sweep) -> None:
     fixed = xr.Dataset({"seed": (dims, seeds)}, coords=coords)
     fixed.attrs.update(
         {
-            "title": "skygas reshuffler sweep",
+            "title": f"skygas {sweep.device} sweep",
+            "device": sweep.device,
             "skygas_version": __version__,
             "store_layout": STORE_LAYOUT,
             "root_seed": sweep.root_seed,
@@ -105,16 +107,22 @@ def _create(path: Path, sweep: Sweep) -> None:
     # name: (extra dimensions and their sizes, dtype, fill value, attributes)
     per_run: dict[str, tuple[dict[str, int], Any, float, dict[str, Any]]] = {
         "summary": (
-            {"quantity": len(QUANTITIES)},
+            {"quantity": len(sweep.quantities)},
             np.float64,
             np.nan,
-            {"quantities": list(QUANTITIES)},
+            {"quantities": list(sweep.quantities)},
         ),
-        "running_curves": (
-            {"curve": len(RUNNING), "running": n_running},
-            np.float64,
-            np.nan,
-            {"curves": list(RUNNING)},
+        **(
+            {
+                "running_curves": (
+                    {"curve": len(curves), "running": max(curves.values())},
+                    np.float64,
+                    np.nan,
+                    {"curves": list(curves)},
+                )
+            }
+            if curves
+            else {}
         ),
         "finished_at": ({}, np.float64, np.nan, {"units": "s since 1970-01-01 UTC"}),
         "session": ({}, np.int32, -1, {}),
@@ -189,7 +197,12 @@ class SweepStore:
         self._arrays = {
             name: cast(zarr.Array, self.group[name])
             for name in ("summary", "running_curves", "done", "finished_at", "session")
+            if name in self.group
         }
+        #: the numbers and curves its runs store, in their order on disk
+        self.quantities = list(cast(list, self._arrays["summary"].attrs["quantities"]))
+        curves = self._arrays.get("running_curves")
+        self.curves = list(cast(list, curves.attrs["curves"])) if curves is not None else []
         self._async = {name: _async_of(array) for name, array in self._arrays.items()}
 
     @staticmethod
@@ -221,17 +234,16 @@ class SweepStore:
         client's cores. ``done`` is written only after every value has been written.
         """
         at = (*run.index, run.replica)
-        summary = np.array([result[name] for name in QUANTITIES], dtype=np.float64)
-        running = np.full(self._arrays["running_curves"].shape[-2:], np.nan)
-        for row, name in enumerate(RUNNING):
-            data = np.asarray(result[name], dtype=np.float64)[: running.shape[1]]
-            running[row, : data.size] = data
-        values = [
-            ("summary", summary),
-            ("running_curves", running),
-            ("finished_at", np.float64(time.time())),
-            ("session", np.int32(session)),
-        ]
+        # a number the run did not return (a store written before the kind returned it: NaN)
+        summary = np.array([result.get(name, np.nan) for name in self.quantities], np.float64)
+        values: list[tuple[str, Any]] = [("summary", summary)]
+        if self.curves:
+            running = np.full(self._arrays["running_curves"].shape[-2:], np.nan)
+            for row, name in enumerate(self.curves):
+                data = np.asarray(result[name], dtype=np.float64)[: running.shape[1]]
+                running[row, : data.size] = data
+            values.append(("running_curves", running))
+        values += [("finished_at", np.float64(time.time())), ("session", np.int32(session))]
         _sync(_set_all([(self._async[name], at, value) for name, value in values]))
         _sync(self._async["done"].setitem(at, np.int8(1)))
 
@@ -266,11 +278,15 @@ def open_sweep(path: str | Path) -> xr.Dataset:
             warnings.simplefilter("ignore")
             raw = xr.open_zarr(path, consolidated=False, decode_times=False).load()
             if "summary" in raw:  # layout 2: unpack the per-run arrays
-                ds = raw.drop_vars(["summary", "running_curves"])
+                packed_names = [n for n in ("summary", "running_curves") if n in raw]
+                ds = raw.drop_vars(packed_names)
+                ds.attrs.setdefault("device", DEFAULT_DEVICE)  # stores from before other kinds
                 for packed, dim, names in (
                     ("summary", "quantity", "quantities"),
                     ("running_curves", "curve", "curves"),
                 ):
+                    if packed not in raw:
+                        continue
                     for k, name in enumerate(raw[packed].attrs[names]):
                         part = raw[packed].variable[{dim: k}]
                         ds[name] = (
