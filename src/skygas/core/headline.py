@@ -43,6 +43,17 @@ def none(reason: str) -> str:
     return f"none ({reason})"
 
 
+def constrained(value: Any, error: Any) -> bool:
+    """Whether a fitted ``value`` is fixed by the data: 0 < error < |value|, both finite.
+
+    A fit is stated (and a sweep's figure draws it) only where this holds for each of its
+    coefficients.
+    """
+    if missing(value) or missing(error):
+        return False
+    return 0 < float(error) < abs(float(value))
+
+
 def present(summary: dict, key: str) -> Any:
     """``summary[key]``, or None when absent, None or NaN."""
     value = summary.get(key)

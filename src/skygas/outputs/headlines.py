@@ -9,11 +9,10 @@ events, no transfer curve, a record too sparse for a diffusion constant) is writ
 
 from __future__ import annotations
 
-from typing import Any
-
 from skygas.core.headline import Results as Results
 from skygas.core.headline import Row as Row
 from skygas.core.headline import Table as Table
+from skygas.core.headline import constrained as constrained
 from skygas.core.headline import none as none
 from skygas.core.quantities import format_quantity, format_value, missing
 
@@ -31,16 +30,6 @@ from skygas.runs.headline import simulation as simulation
 
 
 # -- a sweep -----------------------------------------------------------------------------------
-def constrained(value: Any, error: Any) -> bool:
-    """Whether a fitted ``value`` is fixed by the data: 0 < error < |value|, both finite.
-
-    The sweep's figures draw a fit only where this holds for each of its coefficients.
-    """
-    if missing(value) or missing(error):
-        return False
-    return 0 < float(error) < abs(float(value))
-
-
 def _paper_fit_text(fit: dict) -> str:
     """The paper's fit: c_A and c_B ± errors and its χ²/dof, or why it is not stated."""
     if not all(constrained(fit.get(c), fit.get(f"{c}_error")) for c in ("c_A", "c_B")):

@@ -31,8 +31,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from skygas.core.headline import constrained
 from skygas.figures.plotting import log_ticks
-from skygas.outputs.headlines import constrained, signed
+from skygas.reshuffler.headline import signed
 from skygas.sweep.analysis import (
     CHAMBER,
     CURRENT,
