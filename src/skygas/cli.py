@@ -34,13 +34,11 @@ from pathlib import Path
 from skygas._version import __version__
 from skygas.core.errors import InputError, RunFinished, RunInterrupted, WriteFailed
 
-# Modules that add sub-commands; each defines ``register(subparsers)``.
+# Modules that add the sub-commands other than the kinds of run (each defines
+# ``register(subparsers)``); the kinds' own are named by the registry (DeviceKind.cli).
 _COMMAND_MODULES = [
-    "skygas.commands.simulate",
     "skygas.commands.check_timestep",
-    "skygas.commands.reshuffle",
-    "skygas.commands.neuron",
-    "skygas.commands.reservoir",
+    "skygas.commands.reshuffle",  # skygas demo
     "skygas.commands.sweep",
     "skygas.commands.optimize",
     "skygas.commands.animate",
@@ -74,16 +72,10 @@ _OWN_OUT_RULES = {"sweep", "optimize"}
 #: commands whose lock file lies beside their ``--out`` (a sweep store is renamed into place)
 _LOCK_BESIDE = {"sweep"}
 
-#: one example per command, shown at the end of its ``--help``
+#: one example per command, shown at the end of its ``--help`` (the kinds' from the registry)
 EXAMPLES = {
-    "simulate": "skygas simulate examples/closed-chamber.toml --out out/chamber",
     "check-timestep": "skygas check-timestep examples/neuron.toml",
     "demo": "skygas demo --out out/demo",
-    "reshuffle": "skygas reshuffle --preset paper --duration 2e-6 --current-density 1.7e11 "
-    "--out out/reshuffler",
-    "neuron": "skygas neuron examples/neuron.toml --out out/neuron",
-    "saturation": "skygas saturation --diameters 300e-9 500e-9 --repetitions 3 "
-    "--out out/saturation",
     "sweep": "skygas sweep examples/sweeps/quick-current.toml --out out/sweep.zarr --workers 2",
     "plot": "skygas plot out/sweep.zarr --out out/sweep-figures",
     "optimize": "skygas optimize examples/optimize/reshuffler-rate.toml --out out/opt "
@@ -98,13 +90,20 @@ EXAMPLES = {
     "micromag inspect": "skygas micromag inspect m000000.ovf",
     "micromag fit": "skygas micromag fit snapshots/ --out out/fit",
     "micromag samples": "skygas micromag samples",
-    "reservoir": "skygas reservoir --out out/reservoir --json",
     "calibrate": "skygas calibrate S2 --out out/cal",
     "infer": "skygas infer out/track/tracks.csv --pixel-size 14e-9 --frame-interval 2e-9 "
     "--outline examples/tracking/chamber-movie-outline.csv --temperature 300 --out out/infer",
     "track": "skygas track examples/tracking/chamber-movie.tif --out out/track",
     "render": "skygas render out/chamber --out out/chamber.tif --pixel-size 14e-9",
 }
+
+
+def _kind_examples() -> dict[str, str]:
+    """The example command line of each kind of run (the registry's)."""
+    from skygas.devices.registry import KINDS
+
+    return {k.name: k.example for k in KINDS.values() if k.example}
+
 
 # A number as a flag's value: argparse's own pattern (``^-\d+$|^-\d*\.\d+$``) has no exponent
 # and takes ``--current-density -1e11`` for an option.
@@ -156,11 +155,12 @@ def _complete_subparsers(parser: argparse.ArgumentParser, prefix: str = "") -> N
     commands that read a run and write one file (:data:`_READING_COMMANDS`) get one that lets
     them replace an existing file.
     """
+    examples = {**_kind_examples(), **EXAMPLES}
     for action in _subparser_actions(parser):
         for name, sub in action.choices.items():
             key = f"{prefix}{name}"
-            if key in EXAMPLES and not sub.epilog:
-                sub.epilog = f"example:\n  {EXAMPLES[key]}"
+            if key in examples and not sub.epilog:
+                sub.epilog = f"example:\n  {examples[key]}"
             options = sub._option_string_actions
             if (
                 "--out" in options
@@ -195,6 +195,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--debug", action="store_true", help="show the Python traceback of any error"
     )
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    from skygas.devices.registry import KINDS
+
+    for kind in KINDS.values():  # each kind of run's own command, as the registry names it
+        if kind.cli:
+            module, _, function = kind.cli.partition(":")
+            getattr(importlib.import_module(module), function)(subparsers, kind)
     for name in _COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
     _complete_subparsers(parser)

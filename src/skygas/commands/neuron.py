@@ -115,9 +115,9 @@ def _saturation(args) -> int:
     return 0
 
 
-def register(subparsers) -> None:
-    """Add ``skygas neuron`` and ``skygas saturation`` to ``subparsers``."""
-    p = subparsers.add_parser("neuron", help="run the Skyrmion Neuron")
+def register_neuron(subparsers, kind) -> None:
+    """Add ``skygas neuron`` (the registry's ``kind``) to ``subparsers``."""
+    p = subparsers.add_parser(kind.name, help=kind.help)
     p.add_argument("config", nargs="?", default=None, help="TOML configuration")
     p.add_argument("--out", required=True, help="output directory")
     add_json_option(p)
@@ -128,7 +128,10 @@ def register(subparsers) -> None:
     add_output_flags(p)
     p.set_defaults(func=_neuron)
 
-    s = subparsers.add_parser("saturation", help="maximum number of skyrmions in circular chambers")
+
+def register_saturation(subparsers, kind) -> None:
+    """Add ``skygas saturation`` (the registry's ``kind``) to ``subparsers``."""
+    s = subparsers.add_parser(kind.name, help=kind.help)
     s.add_argument("--diameters", nargs="+", required=True, help="chamber diameters [m]")
     s.add_argument("--out", required=True, help="output directory")
     add_json_option(s)

@@ -87,12 +87,9 @@ def _write_report(out: Path) -> None:
     write_report(out, out / "report.html")
 
 
-def register(subparsers) -> None:
-    """Add ``skygas reservoir`` to the command line's sub-commands."""
-    p = subparsers.add_parser(
-        "reservoir",
-        help="Brownian reservoir computing: Boolean functions and temporal tasks from one chamber",
-    )
+def register_kind(subparsers, kind) -> None:
+    """Add ``skygas reservoir`` (the registry's ``kind``) to the command line's sub-commands."""
+    p = subparsers.add_parser(kind.name, help=kind.help)
     p.add_argument("config", nargs="?", default=None, help="TOML configuration")
     p.add_argument("--out", required=True, help="output directory")
     add_json_option(p)

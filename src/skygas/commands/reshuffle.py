@@ -108,7 +108,7 @@ DEMO_OUT = "demo-output"
 
 
 def register(subparsers) -> None:
-    """Add ``skygas demo``, ``skygas reshuffle`` and its overrides to ``subparsers``."""
+    """Add ``skygas demo`` (the reshuffler with every default) to ``subparsers``."""
     d = subparsers.add_parser(
         "demo",
         help="run the Skyrmion Reshuffler with every default (what `make demo` runs)",
@@ -121,7 +121,10 @@ def register(subparsers) -> None:
     add_output_flags(d)
     d.set_defaults(func=_reshuffle, config=None, preset=None, **dict.fromkeys(OVERRIDES))
 
-    p = subparsers.add_parser("reshuffle", help="run the Skyrmion Reshuffler")
+
+def register_kind(subparsers, kind) -> None:
+    """Add ``skygas reshuffle`` (the registry's ``kind``) and its overrides to ``subparsers``."""
+    p = subparsers.add_parser(kind.name, help=kind.help)
     p.add_argument(
         "config", nargs="?", default=None, help="TOML configuration (default: the chosen preset)"
     )

@@ -14,9 +14,9 @@ def _demo(args: argparse.Namespace) -> int:
     with named_by_flags(args, {"n_bits": "n_bits", "seed": "seed"}):
         summary = run_demo(args.out, seed=args.seed, n_bits=args.n_bits)
     if args.reshuffler:
-        from skygas.reshuffler.decorrelator import reshuffler_demo
+        from skygas.reshuffler.decorrelator import DEMO_SUMMARY_KEY, reshuffler_demo
 
-        summary = {**summary, "reshuffler": reshuffler_demo(args.out, seed=args.seed)}
+        summary = {**summary, DEMO_SUMMARY_KEY: reshuffler_demo(args.out, seed=args.seed)}
     if not args.no_report:
         from pathlib import Path
 

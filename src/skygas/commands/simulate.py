@@ -80,9 +80,9 @@ def _report(summary: dict, out, as_json: bool) -> None:
     print("\n".join(lines))
 
 
-def register(subparsers) -> None:
-    """Add ``skygas simulate`` to ``subparsers``."""
-    p = subparsers.add_parser("simulate", help="run a simulation described by a TOML file")
+def register_kind(subparsers, kind) -> None:
+    """Add ``skygas simulate`` (the registry's ``kind``) to ``subparsers``."""
+    p = subparsers.add_parser(kind.name, help=kind.help)
     p.add_argument("config", help="TOML configuration (see examples/)")
     p.add_argument("--out", required=True, help="output directory")
     add_json_option(p)

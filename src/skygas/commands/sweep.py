@@ -90,7 +90,7 @@ def _plot(args) -> int:
 
 def register(subparsers) -> None:
     """Add ``skygas sweep`` and ``skygas plot`` to ``subparsers``."""
-    p = subparsers.add_parser("sweep", help="run a reshuffler parameter sweep (Dask, resumable)")
+    p = subparsers.add_parser("sweep", help="run a parameter sweep of any device (Dask, resumable)")
     p.add_argument("sweep", help="sweep file (TOML; see docs/sweeps.md)")
     p.add_argument("--out", required=True, help="zarr store (created, or resumed if it exists)")
     add_dask_options(p)

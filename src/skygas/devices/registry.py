@@ -131,6 +131,13 @@ class DeviceKind:
     study : StudyPoints or None
         How a study (``skygas sweep``, ``skygas optimize``) builds, prices and runs its points
         (None: it cannot be swept).
+    cli : str
+        ``"module:function"`` that adds its sub-command: ``function(subparsers, kind)`` names
+        the parser ``kind.name`` (imported when the command line is built).
+    help : str
+        The one line its sub-command shows in ``skygas --help``.
+    example : str
+        An example command line, shown at the end of its ``--help``.
     """
 
     name: str
@@ -149,6 +156,9 @@ class DeviceKind:
     timestep: TimeStepCheck | None = None
     record: RecordFile | None = None
     study: StudyPoints | None = None
+    cli: str = ""
+    help: str = ""
+    example: str = ""
 
     def caption(self, name: str, *, recorded: bool = False) -> str | None:
         """The caption of its figure ``name``, or None where it has no caption of its own."""
@@ -309,6 +319,9 @@ KINDS: dict[str, DeviceKind] = {
                 fallback=True,
             ),
             study=StudyPoints("skygas.runs.study_points"),
+            cli="skygas.commands.simulate:register_kind",
+            help="run a simulation described by a TOML file",
+            example="skygas simulate examples/closed-chamber.toml --out out/chamber",
         ),
         DeviceKind(
             name="reshuffle",
@@ -332,6 +345,10 @@ KINDS: dict[str, DeviceKind] = {
                 "reshuffler.nc", _reshuffler_tells, _lazy("skygas.reshuffler.records", "record")
             ),
             study=StudyPoints("skygas.reshuffler.study_points"),
+            cli="skygas.commands.reshuffle:register_kind",
+            help="run the Skyrmion Reshuffler",
+            example="skygas reshuffle --preset paper --duration 2e-6 --current-density 1.7e11 "
+            "--out out/reshuffler",
         ),
         DeviceKind(
             name="neuron",
@@ -361,6 +378,9 @@ KINDS: dict[str, DeviceKind] = {
             ),
             record=RecordFile("frames.nc", _neuron_tells, _lazy("skygas.neuron.records", "record")),
             study=StudyPoints("skygas.neuron.study_points"),
+            cli="skygas.commands.neuron:register_neuron",
+            help="run the Skyrmion Neuron",
+            example="skygas neuron examples/neuron.toml --out out/neuron",
         ),
         DeviceKind(
             name="reservoir",
@@ -385,6 +405,10 @@ KINDS: dict[str, DeviceKind] = {
                 },
             ),
             study=StudyPoints("skygas.reservoir.study_points"),
+            cli="skygas.commands.reservoir:register_kind",
+            help="Brownian reservoir computing: Boolean functions and temporal tasks from one "
+            "chamber",
+            example="skygas reservoir --out out/reservoir --json",
         ),
         DeviceKind(
             name="saturation",
@@ -394,6 +418,10 @@ KINDS: dict[str, DeviceKind] = {
             result_files=("saturation.json",),
             config_key=("parameters",),  # the protocol's settings: it has no configuration file
             folder_headline=_saturation_headline,
+            cli="skygas.commands.neuron:register_saturation",
+            help="maximum number of skyrmions in circular chambers",
+            example="skygas saturation --diameters 300e-9 500e-9 --repetitions 3 "
+            "--out out/saturation",
         ),
     )
 }

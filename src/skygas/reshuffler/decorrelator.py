@@ -84,6 +84,10 @@ def reshuffler_decorrelator(
     return decorrelator
 
 
+#: The key of the reshuffler's part in the ``skygas sc demo --reshuffler`` summary.
+DEMO_SUMMARY_KEY = "reshuffler"
+
+
 def reshuffler_demo(
     out_dir,
     *,
