@@ -285,16 +285,13 @@ class NeuronDevice:
         duration = c.duration if duration is None else duration
         inputs = self.inputs if inputs is None else inputs
         # the gate's band is the last landscape term, after the user's own potentials
-        sim = Simulation(
+        sim = c.simulation(
             self.outline,
-            c.resolved_material(),
+            seed=seed,
             temperature=c.temperature,
             time_step=c.time_step,
-            seed=seed,
-            thiele=self.thiele,
             brownian_substeps=brownian_substeps,
-            landscape=[*c.potentials, self.band],
-            **c.forces.simulation_arguments(),
+            extra_potentials=[self.band],
         )
         grid = sim.wall_field.grid
         holding, release = c.current_density, c.release_current()

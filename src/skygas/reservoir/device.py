@@ -151,20 +151,13 @@ class ReservoirDevice:
         step's noise as two half steps, the time-step check's coarse run
         (:mod:`skygas.runs.timestep`).
         """
-        from skygas.engine import Simulation
-
         c = self.config
-        return Simulation(
+        return c.simulation(
             self.walls,
-            c.resolved_material(),
+            seed=seed,
             temperature=c.temperature,
             time_step=c.time_step,
-            seed=seed,
-            film_thickness=c.film_thickness,
-            thiele=c.thiele_parameters(),
             brownian_substeps=brownian_substeps,
-            landscape=c.potentials,
-            **c.forces.simulation_arguments(),
         )
 
     def _initial_positions(self, sim, rng) -> np.ndarray:

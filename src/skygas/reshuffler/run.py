@@ -219,22 +219,17 @@ class ReshufflerRun(DeviceRun):
             conductor_thickness=config.current.conductor_thickness,
             resistivity=config.current.resistivity,
         )
-        material = config.resolved_material()
         time_step = config.time_step
         check_time_step(config)
         # time_step None: the suggested step, shortened to divide the injection interval
-        sim = Simulation(
+        sim = config.simulation(
             geometry.device_outline(),
-            material,
+            seed=seeds["noise"],
             temperature=config.noise_temperature(),
             time_step=time_step,
-            step_interval=interval,
-            seed=seeds["noise"],
-            thiele=thiele,
-            capacity=64,
             brownian_substeps=brownian_substeps,
-            landscape=config.potentials,
-            **config.forces.simulation_arguments(),
+            step_interval=interval,
+            capacity=64,
         )
         vx, vy = drift_field_on_grid(
             geometry, current, sim.wall_field.grid, config.drift_coefficient()

@@ -7,6 +7,7 @@ seconds, kelvin, m/s). Every field is checked when the file is loaded; an invali
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -245,6 +246,42 @@ class MaterialFields(StrictModel):
         """The material: a preset name, a TOML file, or an inline table."""
         return _material(self.material)
 
+    def simulation(
+        self,
+        outline: geo.Outline,
+        *,
+        seed: int,
+        temperature: float,
+        time_step: float | None,
+        brownian_substeps: int = 1,
+        extra_potentials: Sequence[Any] = (),
+        **device_arguments: Any,
+    ):
+        """The :class:`~skygas.engine.Simulation` of this configuration in ``outline``.
+
+        The one place a configuration becomes an engine run, for every device: its material,
+        film, Thiele coefficients (with the overrides), force laws (``[forces]``) and energy
+        landscape (``[[potentials]]``, then the device's ``extra_potentials``). The device
+        gives the rest: ``seed``, ``temperature`` [K], ``time_step`` [s] (None: the engine's
+        suggested step), ``brownian_substeps`` and its own arguments (``step_interval``,
+        ``drift_velocity``, ``capacity``, …; :class:`~skygas.engine.Simulation`).
+        """
+        from skygas.engine import Simulation
+
+        return Simulation(
+            outline,
+            self.resolved_material(),
+            temperature=temperature,
+            time_step=time_step,
+            seed=seed,
+            film_thickness=self.film_thickness,
+            thiele=self.thiele_parameters(),
+            brownian_substeps=brownian_substeps,
+            landscape=[*self.potentials, *extra_potentials],
+            **self.forces.simulation_arguments(),
+            **device_arguments,
+        )
+
     def thiele_parameters(self) -> ThieleParameters:
         """Thiele coefficients of the material in the film, with the overrides applied."""
         o = self.thiele
@@ -309,28 +346,19 @@ class SimulationConfig(MaterialFields, OperationsField):
 
         ``time_step`` and ``brownian_substeps`` override the configuration (time-step checks).
         """
-        from skygas.engine import Simulation
-
-        material = self.resolved_material()
-        thiele = self.thiele_parameters()
         outline = self.geometry.build()
         if time_step is None:
             time_step = self.time_step
         # time_step None: the suggested step, shortened to divide record_interval exactly
-        sim = Simulation(
+        sim = self.simulation(
             outline,
-            material,
-            time_step=time_step,
-            step_interval=self.record_interval,
-            brownian_substeps=brownian_substeps,
-            temperature=self.temperature,
             seed=self.seed,
-            film_thickness=self.film_thickness,
-            thiele=thiele,
+            temperature=self.temperature,
+            time_step=time_step,
+            brownian_substeps=brownian_substeps,
+            step_interval=self.record_interval,
             drift_velocity=self.drift.velocity,
             integrator=self.integrator,
-            landscape=self.potentials,
-            **self.forces.simulation_arguments(),
         )
         s = self.skyrmions
         if s.positions:
