@@ -3,7 +3,7 @@
 A study file is TOML::
 
     [study]
-    device = "reshuffler"      # reshuffler | neuron | reservoir | analytic
+    device = "reshuffler"      # reshuffler | neuron | reservoir | simulate | analytic
     seed = 1                   # root seed: the sampler's and every run's seed derive from it
     replicas = 2               # runs (different seeds) per trial; objectives are their mean
     sampler = "tpe"            # tpe | nsga2 | gp | random (default: tpe, nsga2 for several
