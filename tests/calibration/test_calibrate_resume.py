@@ -15,6 +15,7 @@ import subprocess
 import sys
 import time
 import tomllib
+from types import SimpleNamespace
 
 import numpy as np
 import psutil
@@ -91,8 +92,8 @@ def test_interrupted_and_resumed_gives_the_same_bits(straight, tmp_path):
 
 @pytest.fixture
 def dask_cluster(tmp_path):
-    """The address of a Dask scheduler and two workers of one thread, each a process of its own
-    started by Dask's command line, as on a cluster."""
+    """A Dask scheduler and two workers of one thread, each a process of its own started by
+    Dask's command line, as on a cluster: its ``address`` and its ``scheduler`` process."""
     from dask.distributed import Client
 
     file = tmp_path / "scheduler.json"
@@ -121,13 +122,14 @@ def dask_cluster(tmp_path):
             )
         with Client(address, timeout="30s") as client:
             client.wait_for_workers(2, timeout=120)
-        yield address
+        yield SimpleNamespace(address=address, scheduler=processes[0])
     finally:
         for process in reversed(processes):
             process.terminate()
+        deadline = time.monotonic() + 5  # a worker whose scheduler is gone waits for it
         for process in reversed(processes):
             try:
-                process.wait(timeout=30)
+                process.wait(timeout=max(deadline - time.monotonic(), 0.1))
             except subprocess.TimeoutExpired:
                 process.kill()
                 process.wait()
@@ -135,10 +137,25 @@ def dask_cluster(tmp_path):
 
 def test_a_running_dask_cluster_gives_the_local_bits(straight, dask_cluster, tmp_path):
     out = tmp_path / "on-cluster"
-    assert cli.main(["calibrate", *ARGS, "--scheduler", dask_cluster, "--out", str(out)]) == 0
+    address = dask_cluster.address
+    assert cli.main(["calibrate", *ARGS, "--scheduler", address, "--out", str(out)]) == 0
     assert_same_bits(straight, out)
     provenance = json.loads((out / "summary.json").read_text())["provenance"]
-    assert provenance["scheduler"] == dask_cluster and provenance["workers"] == 2
+    assert provenance["scheduler"] == address and provenance["workers"] == 2
+
+
+def test_a_lost_scheduler_is_one_line_and_the_checkpoint_stays(dask_cluster, tmp_path):
+    out = tmp_path / "lost"
+    process = _calibrate(out, "--scheduler", dask_cluster.address)
+    checkpoint = out / "checkpoint.npz"
+    deadline = time.time() + 120
+    while time.time() < deadline and process.poll() is None and not checkpoint.exists():
+        time.sleep(0.2)
+    dask_cluster.scheduler.kill()
+    assert process.wait(timeout=120) == 2, process.stderr.read()
+    (line,) = process.stderr.read().strip().splitlines()  # no Dask complaint beside it
+    assert line.startswith(f"skygas: error: --scheduler = '{dask_cluster.address}'"), line
+    assert "--resume" in line and checkpoint.exists()
 
 
 def _cpu_seconds(process: psutil.Process) -> float:

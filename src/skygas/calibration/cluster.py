@@ -164,7 +164,10 @@ class SolverPool:
         """
         if self.cluster is not None:
             return self._workers
-        return max(1, sum(self.client.nthreads().values()))
+        try:
+            return max(1, sum(self.client.nthreads().values()))
+        except OSError:  # no answer within Dask's connect timeout: the scheduler is gone
+            raise self._scheduler_lost() from None
 
     def pids(self) -> list[int]:
         """The worker processes' ids (on a running cluster, on their machines)."""
