@@ -62,6 +62,11 @@ CASES = {
         "--skyrmions = 7",
         "fewer skyrmions",
     ),
+    "fewer pair distances than the pair law needs": (
+        ["--pair-distances", "3"],
+        "--pair-distances = 3",
+        ">= 4",
+    ),
     # nothing listens on port 1: refused once Dask has tried for CONNECT_TIMEOUT seconds
     "a scheduler with no answer": (
         ["--scheduler", "tcp://127.0.0.1:1"],

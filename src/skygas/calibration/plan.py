@@ -111,6 +111,10 @@ ISOLATED_SIDE = 11.0
 ISOLATED_MIN_SIDE = 10.0
 #: Margin [d_sk] between a pair's skyrmions and the calibration film's edges.
 PAIR_MARGIN = 1.25
+#: Pair distances relaxed for the pair law (``CalibrationConfig.pair_distances``), and the
+#: fewest allowed: the law's spline through ln E(d) needs four points.
+PAIR_DISTANCES = 11
+MIN_PAIR_DISTANCES = 4
 #: Height of the calibration film [d_sk].
 FILM_HEIGHT = 3.5
 
@@ -135,6 +139,8 @@ class CalibrationConfig(StrictModel):
     """Everything that decides a calibration's results (not how fast it runs).
 
     ``pair_range``: the pair law's distances [d_sk] from closest approach to the farthest;
+    ``pair_distances``: how many pairs are relaxed across it (fewer: a coarser pair table and a
+    faster calibration; tests that compare two calibrations use 5);
     ``torque_tolerance``: a relaxation stops below max|m × (m × H)| [A/m];
     ``mesh_check``: repeat the isolated skyrmion and one pair distance at half the cell size;
     ``validate``: run the micromagnetic many-skyrmion dynamics; ``compile``: magnum.np's
@@ -146,6 +152,7 @@ class CalibrationConfig(StrictModel):
     material: MicromagneticMaterial
     reference_diameter: Length = REFERENCE_DIAMETER
     pair_range: tuple[float, float] = (1.0, 6.0)
+    pair_distances: int = Field(PAIR_DISTANCES, ge=MIN_PAIR_DISTANCES, le=50)
     torque_tolerance: PositiveFloat = CALIBRATION_TORQUE_TOLERANCE
     mesh_check: bool = True
     validate_dynamics: bool = True
@@ -346,7 +353,7 @@ def calibration_film(
 
 
 def pair_cells(
-    film: Film, diameter: float, pair_range: tuple[float, float], count: int = 11
+    film: Film, diameter: float, pair_range: tuple[float, float], count: int = PAIR_DISTANCES
 ) -> list[int]:
     """Cells i of the pairs (i, nx − 1 − i), for ``count`` distances across ``pair_range`` [d_sk].
 
@@ -390,7 +397,7 @@ def laws_stage(config: CalibrationConfig, radius: float, width: float, template:
     diameter = 2 * radius
     film = calibration_film(config, diameter, config.pair_range)
     row = (film.ny - 1) // 2
-    pairs = pair_cells(film, diameter, config.pair_range)
+    pairs = pair_cells(film, diameter, config.pair_range, config.pair_distances)
     singles = sorted(set(edge_cells(film, diameter)) | set(pairs) | {(film.nx - 1) // 2})
     cost = _cost(film, config.material.cell_size)
     stage = Stage("laws", [Relaxation("laws/uniform", film, (), cost=0.1 * cost)])

@@ -30,6 +30,7 @@ _FLAGS = {
     "cell_size": "cell_size",
     "temperature": "temperature",
     "reference_diameter": "reference_diameter",
+    "pair_distances": "pair_distances",
     "skyrmions": "validation.skyrmions",
     "validation_duration": "validation.max_duration",
 }
@@ -65,6 +66,14 @@ def register(subparsers) -> None:
         default=None,
         help="size of the device whose interior the laws are for [m] "
         "(default 1024e-9, the paper's chamber)",
+    )
+    p.add_argument(
+        "--pair-distances",
+        type=int,
+        default=None,
+        metavar="N",
+        help="pairs relaxed for the pair law, from 1 to 6 d_sk (default 11, at least 4; "
+        "fewer: a coarser pair table and a faster calibration)",
     )
     p.add_argument(
         "--no-validate", action="store_true", help="skip the micromagnetic many-skyrmion dynamics"
@@ -116,6 +125,8 @@ def _settings(args) -> dict:
     }
     if args.reference_diameter is not None:
         settings["reference_diameter"] = args.reference_diameter
+    if args.pair_distances is not None:
+        settings["pair_distances"] = args.pair_distances
     validation = {}
     if args.skyrmions is not None:
         validation["skyrmions"] = args.skyrmions
