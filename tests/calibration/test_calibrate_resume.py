@@ -145,6 +145,36 @@ def test_a_running_dask_cluster_gives_the_local_bits(straight, dask_cluster, tmp
     assert provenance["scheduler"] == address and provenance["workers"] == 2
 
 
+def test_a_study_of_two_films_runs_on_a_running_cluster(straight, dask_cluster, tmp_path):
+    """A study file of two films (a preset, and a user's film in a TOML file): each point is a
+    calibration whose solves are tasks of the running cluster; run again, nothing is redone."""
+    from skygas.calibration.material import load_micromagnetic_material
+
+    film = load_micromagnetic_material("S6").model_dump(exclude_none=True)
+    film.update(name="stiffer", anisotropy=1.05 * film["anisotropy"])
+    lines = [f"{k} = {json.dumps(v)}" for k, v in film.items() if not isinstance(v, dict)]
+    (tmp_path / "stiffer.toml").write_text("\n".join(lines) + "\n")
+    study = tmp_path / "films.toml"
+    study.write_text(
+        "[study]\n[settings]\ncell_size = 2.4e-9\npair_distances = 5\n"
+        "validate_dynamics = false\nmesh_check = false\n"
+        '[[points]]\nmaterial = "S6"\n[[points]]\nmaterial = "stiffer.toml"\n'
+    )
+    out = tmp_path / "study"
+    command = ["calibrate", str(study), "--scheduler", dask_cluster.address, "--out", str(out)]
+    assert cli.main([*command, "--quiet", "--json"]) == 0
+    assert_same_bits(straight, out / "point-0")  # the preset's point is the plain calibration
+    record = json.loads((out / "study.json").read_text())
+    first, second = record["points"]
+    assert first["computed_now"] and second["computed_now"]
+    # a stiffer film (larger K) holds a smaller skyrmion
+    assert second["radius_m"] < first["radius_m"]
+    assert cli.main([*command, "--quiet", "--json"]) == 0
+    again = json.loads((out / "study.json").read_text())["points"]
+    assert not any(p["computed_now"] for p in again)
+    assert [p["radius_m"] for p in again] == [first["radius_m"], second["radius_m"]]
+
+
 def test_a_lost_scheduler_is_one_line_and_the_checkpoint_stays(dask_cluster, tmp_path):
     out = tmp_path / "lost"
     process = _calibrate(out, "--scheduler", dask_cluster.address)

@@ -51,7 +51,9 @@ def register(subparsers) -> None:
     p.add_argument(
         "material",
         metavar="MATERIAL",
-        help="a preset (S1 … S7) or a TOML file of micromagnetic parameters",
+        help="a preset (S1 … S7) or a TOML file of micromagnetic parameters; or a study file "
+        "([study], [settings], and [grid] or [[points]]: one calibration per point, "
+        "docs/calibration.md)",
     )
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument(
@@ -137,9 +139,42 @@ def _settings(args) -> dict:
     return settings
 
 
+def _calibrate_study(args: argparse.Namespace) -> int:
+    """``skygas calibrate STUDY.toml``: every point of a calibration study (calibration.study)."""
+    from skygas.calibration.study import load_study, run_study
+
+    options = run_options(args, progress=not args.json)
+    with named_by_flags(args, _FLAGS), limits_from_flags(args, announce=not args.json):
+        study = load_study(args.material, cell_size=args.cell_size)
+        record = run_study(
+            study,
+            args.out,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=options["progress"],
+            checkpoint_seconds=options.get("checkpoint_seconds"),
+            settings=_settings(args),
+        )
+    if args.json:
+        print_json(record)
+        return 0
+    for row in record["points"]:
+        values = ", ".join(f"{k} = {v!r}" for k, v in row["values"].items())
+        print(
+            f"{row['folder']} ({values}): R = {row['radius_m'] * 1e9:.2f} nm, 𝒟 = "
+            f"{row['dissipation']:.3f}" + ("" if row["computed_now"] else " (already done)")
+        )
+    print(f"results in {Path(args.out).resolve()}: study.json, point-*/")
+    return 0
+
+
 def _calibrate(args: argparse.Namespace) -> int:
     from skygas.calibration import calibrate
     from skygas.calibration.material import load_micromagnetic_material
+    from skygas.calibration.study import is_study_file
+
+    if is_study_file(args.material):
+        return _calibrate_study(args)
 
     options = run_options(args, progress=not args.json)
     with named_by_flags(args, _FLAGS), limits_from_flags(args, announce=not args.json):

@@ -1,0 +1,272 @@
+"""Calibrations over a study file: several films, or one film at several values of its fields.
+
+A study file is TOML::
+
+    [study]
+    material = "S2"            # the base film: a preset, a TOML file (relative to this file)
+                               # or a table; each point changes it
+    [settings]                 # calibrate's settings, the same for every point
+    cell_size = 2.4e-9         # a field of the film (the in-plane cell)
+    pair_distances = 4         # CalibrationConfig fields: reference_diameter, pair_distances,
+    validate_dynamics = false  # validate_dynamics, mesh_check, validation = {...}
+    mesh_check = false
+
+    [grid]                     # fields of the film, each with its values (a Cartesian product)
+    applied_field = [0.0, 0.02]
+
+or, instead of ``[grid]``, one ``[[points]]`` table per point, each setting the same fields, a
+point's ``material`` naming a whole film (``material = "S6"``).
+
+Each point is an ordinary calibration (:func:`skygas.calibration.calibrate`) in the folder
+``OUT/point-K`` (K from 0, in the grid's C order). Their solves are tasks of one Dask cluster: a
+local cluster per point (``workers``), or the running scheduler at ``scheduler``, whose workers
+then solve every point's relaxations. A point whose folder holds a finished calibration is not
+computed again; one that was interrupted resumes from its checkpoint; so running the study again
+after a kill only computes what is missing, to the same bits. ``OUT/study.json`` gathers each
+point's values and its isolated skyrmion (radius, wall width, 𝒟, G), its laws' ranges and its
+validation, with the file's text and the package version.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from skygas.core.errors import InputError, require
+
+_TOP = {"study", "settings", "grid", "points"}
+#: Settings of a point that are the film's (the rest are CalibrationConfig's).
+_FILM_SETTINGS = {"cell_size"}
+
+
+@dataclass(frozen=True)
+class CalibrationPoint:
+    """One calibration of a study: its swept ``values``, its film and its settings."""
+
+    index: int
+    values: dict[str, Any]
+    material: Any  # a MicromagneticMaterial
+    settings: dict[str, Any]
+
+    @property
+    def folder(self) -> str:
+        """Its folder's name in the study's ``--out``."""
+        return f"point-{self.index}"
+
+
+@dataclass(frozen=True)
+class CalibrationStudy:
+    """A validated calibration study (see the module docstring)."""
+
+    points: tuple[CalibrationPoint, ...]
+    fields: tuple[str, ...]
+    source_text: str
+
+
+def is_study_file(source: object) -> bool:
+    """Whether ``source`` (calibrate's MATERIAL) names a study file rather than a film."""
+    if not isinstance(source, (str, Path)) or not str(source).endswith(".toml"):
+        return False
+    try:
+        data = tomllib.loads(Path(source).read_text())
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return False  # the film's reader says what is wrong with it
+    return "study" in data and ("grid" in data or "points" in data)
+
+
+def _material(value: Any, folder: Path, where: str) -> Any:
+    """A film of a study file: a preset name, a TOML file (relative to ``folder``) or a table."""
+    require(
+        isinstance(value, (str, dict)),
+        where,
+        value,
+        "a preset name (S1 … S7), a TOML file of micromagnetic parameters or a table",
+    )
+    if isinstance(value, str) and value.endswith(".toml") and not Path(value).is_absolute():
+        return str(folder / value)
+    return value
+
+
+def _points(data: dict) -> tuple[list[str], list[dict[str, Any]]]:
+    """The swept fields and each point's values, from ``[grid]`` or ``[[points]]``."""
+    has_grid, has_points = "grid" in data, "points" in data
+    require(has_grid != has_points, "grid", "both or neither", "exactly one of [grid], [[points]]")
+    if has_grid:
+        grid = data["grid"]
+        require(
+            isinstance(grid, dict) and bool(grid),
+            "grid",
+            grid,
+            "a table of the film's fields, each with a non-empty list of values",
+        )
+        for key, values in grid.items():
+            require(
+                isinstance(values, list) and len(values) > 0,
+                f"grid.{key}",
+                values,
+                "a non-empty list of values",
+            )
+        fields = list(grid)
+        combos = itertools.product(*(grid[f] for f in fields))
+        return fields, [dict(zip(fields, c, strict=True)) for c in combos]
+    points = data["points"]
+    require(
+        isinstance(points, list) and len(points) > 0 and all(isinstance(p, dict) for p in points),
+        "points",
+        points,
+        "a non-empty array of tables ([[points]])",
+    )
+    fields = list(points[0])
+    for i, point in enumerate(points):
+        require(
+            set(point) == set(fields) and bool(fields),
+            f"points[{i}]",
+            point,
+            f"the same fields as points[0] ({', '.join(fields) or 'at least one'})",
+        )
+    return fields, [dict(p) for p in points]
+
+
+def parse_study(data: dict, source_text: str = "", folder: Path | None = None) -> CalibrationStudy:
+    """Validate a parsed study file; every point's film and settings are checked now."""
+    from pydantic import ValidationError
+
+    from skygas.calibration.material import load_micromagnetic_material, split_error
+    from skygas.calibration.plan import CalibrationConfig
+
+    folder = folder or Path(".")
+    unknown = set(data) - _TOP
+    require(
+        not unknown, ", ".join(sorted(unknown)), sorted(data), f"only {', '.join(sorted(_TOP))}"
+    )
+    head = data.get("study", {})
+    require(isinstance(head, dict), "study", head, "a table")
+    extra = set(head) - {"material", "name", "description"}
+    require(not extra, f"study.{min(extra)}" if extra else "study", head, "only material, name")
+    settings = dict(data.get("settings", {}))
+    require(isinstance(settings, dict), "settings", settings, "a table of calibrate's settings")
+    film_settings = {k: settings.pop(k) for k in list(settings) if k in _FILM_SETTINGS}
+    fields, values = _points(data)
+    base = head.get("material")
+    points = []
+    for index, point in enumerate(values):
+        label = ", ".join(f"{k} = {v!r}" for k, v in point.items())
+        what = f"point {index} ({label})"
+        changes = {k: v for k, v in point.items() if k != "material"}
+        source = point.get("material", base)
+        require(source is not None, "study.material", None, "the film (here or in each point)")
+        try:
+            material = load_micromagnetic_material(
+                _material(source, folder, f"{what}: material"), **film_settings, **changes
+            )
+            CalibrationConfig(material=material, **settings)
+        except ValidationError as err:
+            found = split_error(err)
+            raise InputError(f"{what}: {found.field}", found.value, found.allowed) from None
+        except InputError as err:
+            raise InputError(f"{what}: {err.field}", err.value, err.allowed) from None
+        points.append(CalibrationPoint(index, point, material, settings))
+    return CalibrationStudy(tuple(points), tuple(fields), source_text)
+
+
+def load_study(path: str | Path, cell_size: float | None = None) -> CalibrationStudy:
+    """Read and validate the study file ``path`` (see the module docstring).
+
+    ``cell_size`` [m] (``--cell-size``) is the cell where ``[settings]`` gives none.
+    """
+    from skygas.core.config_types import read_toml
+
+    path = Path(path)
+    data = read_toml(path, "study file")
+    if cell_size is not None:
+        data.setdefault("settings", {}).setdefault("cell_size", cell_size)
+    return parse_study(data, path.read_text(), path.parent)
+
+
+def _finished(folder: Path) -> dict | None:
+    try:
+        return json.loads((folder / "summary.json").read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def run_study(
+    study: CalibrationStudy,
+    out: str | Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+    checkpoint_seconds: float | None = None,
+    settings: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """Calibrate every point of ``study`` not yet done into ``out/point-K``; write study.json.
+
+    ``settings`` (the command line's) apply where the file's ``[settings]`` give none.
+
+    Returns
+    -------
+    dict
+        The contents of ``out/study.json``: ``points`` (each point's values, folder, whether
+        it was computed now, and its numbers), ``fields``, ``study_file``, ``skygas_version``.
+    """
+    from skygas._version import __version__
+    from skygas.calibration import calibrate
+    from skygas.runs.run_driver import CHECKPOINT, write_json
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    options: dict[str, Any] = {"progress": progress}
+    if checkpoint_seconds is not None:
+        options["checkpoint_seconds"] = checkpoint_seconds
+    rows = []
+    for point in study.points:
+        folder = out / point.folder
+        data = _finished(folder)
+        computed = data is None
+        if data is None:
+            resume = (folder / CHECKPOINT).exists()
+            data = calibrate(
+                point.material,
+                folder,
+                workers=workers,
+                scheduler=scheduler,
+                resume=resume,
+                **options,
+                **{**(settings or {}), **point.settings},
+            )
+        rows.append(
+            {
+                **numbers(data),
+                "values": point.values,
+                "folder": point.folder,
+                "computed_now": computed,
+            }
+        )
+    record = {
+        "fields": list(study.fields),
+        "points": rows,
+        "study_file": study.source_text,
+        "skygas_version": __version__,
+    }
+    write_json(out / "study.json", record)
+    return record
+
+
+def numbers(data: dict) -> dict[str, Any]:
+    """A calibration's headline numbers (from its ``summary.json``)."""
+    iso = data["isolated"]
+    validation = data.get("validation", {})
+    return {
+        "radius_m": iso["radius"],
+        "wall_width_m": iso["wall_width"],
+        "dissipation": iso["dissipation"],
+        "gyrocoupling_kg_per_s": iso["gyrocoupling"],
+        "pair_measured_range_d_sk": data["pair"]["measured_range_d_sk"],
+        "wall_measured_range_d_sk": data["wall_short_range"]["measured_range_d_sk"],
+        "rms_error_max_d_sk": validation.get("rms_error_max_d_sk"),
+    }
