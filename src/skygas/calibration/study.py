@@ -258,7 +258,11 @@ def run_study(
 
 
 def numbers(data: dict) -> dict[str, Any]:
-    """A calibration's headline numbers (from its ``summary.json``)."""
+    """A calibration's headline numbers (from its ``summary.json``).
+
+    The isolated skyrmion's radius [m], wall width [m], 𝒟 and G [kg/s], the laws' measured
+    ranges [d_sk] and the validation's largest RMS centre error [d_sk] (None without one).
+    """
     iso = data["isolated"]
     validation = data.get("validation", {})
     return {

@@ -204,19 +204,16 @@ def _calibrate(args: argparse.Namespace) -> int:
 
 def brief(data: dict, out) -> dict:
     """The JSON summary of a calibration (the numbers of summary.json without arrays)."""
+    from skygas.calibration.study import numbers
+
     iso = data["isolated"]
     out_data = {
         "model": str(Path(out) / "model.toml"),
         "report": str(Path(out) / "report.html"),
-        "radius_m": iso["radius"],
-        "wall_width_m": iso["wall_width"],
+        **{k: v for k, v in numbers(data).items() if k != "rms_error_max_d_sk"},
         "charge": iso["charge"],
-        "gyrocoupling_kg_per_s": iso["gyrocoupling"],
-        "dissipation": iso["dissipation"],
         "thin_wall_dissipation": iso["thin_wall_dissipation"],
         "energy_J": iso["energy"],
-        "pair_measured_range_d_sk": data["pair"]["measured_range_d_sk"],
-        "wall_measured_range_d_sk": data["wall_short_range"]["measured_range_d_sk"],
         "fits": {k: v.get("coefficients") for k, v in data["fits"].items()},
         "wall_seconds": data["provenance"]["wall_seconds"],
         "stage_spans_s": data["provenance"]["stage_spans_s"],
