@@ -136,18 +136,12 @@ def dask_cluster(tmp_path):
                 process.wait()
 
 
-def test_a_running_dask_cluster_gives_the_local_bits(straight, dask_cluster, tmp_path):
-    out = tmp_path / "on-cluster"
-    address = dask_cluster.address
-    assert cli.main(["calibrate", *ARGS, "--scheduler", address, "--out", str(out)]) == 0
-    assert_same_bits(straight, out)
-    provenance = json.loads((out / "summary.json").read_text())["provenance"]
-    assert provenance["scheduler"] == address and provenance["workers"] == 2
-
-
-def test_a_study_of_two_films_runs_on_a_running_cluster(straight, dask_cluster, tmp_path):
+def test_a_study_of_two_films_on_a_running_cluster_gives_the_local_bits(
+    straight, dask_cluster, tmp_path
+):
     """A study file of two films (a preset, and a user's film in a TOML file): each point is a
-    calibration whose solves are tasks of the running cluster; run again, nothing is redone."""
+    calibration whose solves are tasks of the running cluster, the preset's the same bits as
+    on the local cluster; run again, nothing is redone."""
     from skygas.calibration.material import load_micromagnetic_material
 
     film = load_micromagnetic_material("S6").model_dump(exclude_none=True)
@@ -164,6 +158,8 @@ def test_a_study_of_two_films_runs_on_a_running_cluster(straight, dask_cluster, 
     command = ["calibrate", str(study), "--scheduler", dask_cluster.address, "--out", str(out)]
     assert cli.main([*command, "--quiet", "--json"]) == 0
     assert_same_bits(straight, out / "point-0")  # the preset's point is the plain calibration
+    provenance = json.loads((out / "point-0" / "summary.json").read_text())["provenance"]
+    assert provenance["scheduler"] == dask_cluster.address and provenance["workers"] == 2
     record = json.loads((out / "study.json").read_text())
     first, second = record["points"]
     assert first["computed_now"] and second["computed_now"]
