@@ -92,43 +92,32 @@ def _material(value: Any, folder: Path, where: str) -> Any:
 
 
 def _points(data: dict) -> tuple[list[str], list[dict[str, Any]]]:
-    """The swept fields and each point's values, from ``[grid]`` or ``[[points]]``."""
+    """The swept fields and each point's values, from ``[grid]`` or ``[[points]]``.
+
+    Read as a sweep file's (:func:`skygas.sweep.spec.parse_grid`, :func:`~skygas.sweep.spec.
+    parse_points`: lists or ``{start, stop, num}`` ranges), over the film's fields.
+    """
+    from skygas.calibration.material import MicromagneticMaterial
+    from skygas.sweep.spec import parse_grid, parse_points
+
+    def check_field(key: str, where: str) -> None:
+        require(
+            key == "material" or key in MicromagneticMaterial.model_fields,
+            f"{where}.{key}",
+            key,
+            "a field of the film (applied_field, anisotropy, dmi, exchange_stiffness, "
+            "saturation_magnetization, …) or material (a whole film)",
+        )
+
     has_grid, has_points = "grid" in data, "points" in data
     require(has_grid != has_points, "grid", "both or neither", "exactly one of [grid], [[points]]")
     if has_grid:
-        grid = data["grid"]
-        require(
-            isinstance(grid, dict) and bool(grid),
-            "grid",
-            grid,
-            "a table of the film's fields, each with a non-empty list of values",
-        )
-        for key, values in grid.items():
-            require(
-                isinstance(values, list) and len(values) > 0,
-                f"grid.{key}",
-                values,
-                "a non-empty list of values",
-            )
-        fields = list(grid)
-        combos = itertools.product(*(grid[f] for f in fields))
-        return fields, [dict(zip(fields, c, strict=True)) for c in combos]
-    points = data["points"]
-    require(
-        isinstance(points, list) and len(points) > 0 and all(isinstance(p, dict) for p in points),
-        "points",
-        points,
-        "a non-empty array of tables ([[points]])",
-    )
-    fields = list(points[0])
-    for i, point in enumerate(points):
-        require(
-            set(point) == set(fields) and bool(fields),
-            f"points[{i}]",
-            point,
-            f"the same fields as points[0] ({', '.join(fields) or 'at least one'})",
-        )
-    return fields, [dict(p) for p in points]
+        fields, values = parse_grid(data["grid"], check_field)
+        combos = list(itertools.product(*values))
+    else:
+        fields, values = parse_points(data["points"], check_field)
+        combos = list(zip(*values, strict=True))
+    return fields, [dict(zip(fields, c, strict=True)) for c in combos]
 
 
 def parse_study(data: dict, source_text: str = "", folder: Path | None = None) -> CalibrationStudy:

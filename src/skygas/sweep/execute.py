@@ -137,11 +137,12 @@ def _dask(
         futures = {}
         # the costliest first: submitted first (an idle worker takes a task as soon as it
         # arrives) and with the highest priority (Dask starts higher priorities first)
-        by_cost = sorted(pending, key=lambda r: relative_cost(r.config, sweep), reverse=True)
+        hooks = sweep.points  # the kind's hooks, looked up once
+        by_cost = sorted(pending, key=lambda r: hooks.relative_cost(r.config), reverse=True)
         for rank, run in enumerate(by_cost):
             future = client.submit(
                 run_point,
-                sweep.points.module,
+                hooks.module,
                 run.config.model_dump_json(),
                 pure=False,
                 priority=len(by_cost) - rank,

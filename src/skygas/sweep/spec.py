@@ -41,6 +41,7 @@ import json
 import math
 import tomllib
 import typing
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -248,7 +249,17 @@ def _check_value(key: str, value: Any, where: str) -> None:
     )
 
 
-def _grid(data: dict, hooks: StudyPoints) -> tuple[list[str], list[list[Any]]]:
+#: ``check_field(key, where)``: refuses (InputError) a key that is not a field of the study's
+#: configuration; ``where`` is the table it stands in (``"grid"``, ``"points[0]"``).
+FieldCheck = Callable[[str, str], None]
+
+
+def parse_grid(data: dict, check_field: FieldCheck) -> tuple[list[str], list[list[Any]]]:
+    """A ``[grid]`` table's fields and each one's values, each field checked by ``check_field``.
+
+    A field's values are a list or a ``{start, stop, num}`` range, of distinct numbers,
+    strings, booleans or tables.
+    """
     require(
         isinstance(data, dict) and bool(data),
         "grid",
@@ -257,7 +268,7 @@ def _grid(data: dict, hooks: StudyPoints) -> tuple[list[str], list[list[Any]]]:
     )
     fields, values = [], []
     for key, spec in data.items():
-        _check_field(key, "grid", hooks)
+        check_field(key, "grid")
         if isinstance(spec, dict) and key not in _LEAF_FIELDS:
             vals = _expand_range(key, spec)
         elif isinstance(spec, list):
@@ -278,7 +289,11 @@ def _grid(data: dict, hooks: StudyPoints) -> tuple[list[str], list[list[Any]]]:
     return fields, values
 
 
-def _points(data: list, hooks: StudyPoints) -> tuple[list[str], list[list[Any]]]:
+def parse_points(data: list, check_field: FieldCheck) -> tuple[list[str], list[list[Any]]]:
+    """The fields of ``[[points]]`` tables and each one's value at every point.
+
+    Every point sets the same fields, each checked by ``check_field``.
+    """
     require(
         isinstance(data, list) and len(data) > 0 and all(isinstance(p, dict) for p in data),
         "points",
@@ -288,7 +303,7 @@ def _points(data: list, hooks: StudyPoints) -> tuple[list[str], list[list[Any]]]
     fields = list(data[0])
     require(len(fields) > 0, "points[0]", data[0], "at least one field")
     for key in fields:
-        _check_field(key, "points[0]", hooks)
+        check_field(key, "points[0]")
     values: list[list[Any]] = [[] for _ in fields]
     for i, point in enumerate(data):
         require(
@@ -412,7 +427,13 @@ def parse_sweep(data: dict, source_text: str = "", base_dir: Path | None = None)
         "exactly one of [grid] or [[points]]",
     )
     layout = "grid" if has_grid else "list"
-    fields, values = _grid(data["grid"], hooks) if has_grid else _points(data["points"], hooks)
+
+    def check(key: str, where: str) -> None:
+        _check_field(key, where, hooks)
+
+    fields, values = (
+        parse_grid(data["grid"], check) if has_grid else parse_points(data["points"], check)
+    )
     n_runs = replicas * (math.prod(len(v) for v in values) if has_grid else len(values[0]))
     require_memory(  # before the points are expanded: the runs are counted from the grid
         "grid" if has_grid else "points",
