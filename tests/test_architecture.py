@@ -39,7 +39,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("devices", frozenset({"devices", "reshuffler", "neuron", "reservoir"})),
     # the studies and tools, in their order (each may use those before it)
     ("analysis", frozenset({"analysis"})),
-    ("studies", frozenset({"studies", "sweep"})),
+    ("studies", frozenset({"sweep"})),
     ("micromagnetics", frozenset({"micromag"})),
     ("outputs", frozenset({"outputs"})),
     ("calibration", frozenset({"calibration"})),

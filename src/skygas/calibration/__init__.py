@@ -61,7 +61,7 @@ def calibrate(
     scheduler : str, optional
         The address of a running Dask scheduler (``tcp://HOST:8786``) whose workers solve
         instead of a local cluster's; refused in one line if it does not answer within
-        :data:`skygas.studies.backend.CONNECT_TIMEOUT` seconds.
+        :data:`skygas.runs.cluster.CONNECT_TIMEOUT` seconds.
     resume : bool
         Continue an interrupted calibration from its checkpoint in ``out``.
     overwrite : bool

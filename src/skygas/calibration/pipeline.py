@@ -384,7 +384,7 @@ class CalibrationJob:
         for rank, (key, kind, args) in enumerate(ready[: max(room, 0)]):
             # the order of _ready() is the order Dask starts them in, should they queue
             priority = len(ready) - rank
-            self._in_flight[key] = pool.submit(
+            self._in_flight[key] = pool.submit_solve(
                 key, kind, args, self.threads, self.config.compile, priority
             )
             self._last_key = key

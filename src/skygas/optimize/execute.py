@@ -45,6 +45,7 @@ from skygas.core.errors import InputError, require
 from skygas.core.estimates import Estimate, announce_pending, check
 from skygas.optimize.spec import MAX_TRIALS, Study
 from skygas.optimize.worker import run_trial
+from skygas.runs.progress import count_bar
 
 STUDY_FILE = "study.json"
 JOURNAL = "journal.log"
@@ -286,7 +287,7 @@ class _Dask:
     def __init__(self, client, workers: int | None) -> None:
         from dask.distributed import Client, as_completed
 
-        from skygas.studies.backend import start_local_cluster
+        from skygas.runs.cluster import start_local_cluster
 
         self.cluster = None
         if client is None:
@@ -394,14 +395,6 @@ class OptimizeReport:
     failed: list[tuple[int, str]] = field(default_factory=list)
     reevaluated: int = 0
     wall_time_s: float = 0.0
-
-
-def _progress(enabled: bool, total: int, initial: int):
-    if not enabled:
-        return None
-    from tqdm import tqdm
-
-    return tqdm(total=total, initial=min(initial, total), unit="trial", desc="optimize")
 
 
 def _distributions(study: Study) -> dict:
@@ -557,11 +550,7 @@ def _reevaluate(
                 todo.append(((key, r, "reeval"), seed, t.params))
     if not todo:
         return
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(todo), unit="run", desc="re-evaluate")
+    bar = count_bar(progress, len(todo), unit="run", desc="re-evaluate")
     configs: dict[tuple[int, int, str], tuple[int, str]] = {}
     queue = todo[::-1]  # popped from the end, in order
     try:
@@ -671,7 +660,7 @@ def run_study(
     of ``workers`` single-threaded processes (default: one per core), or the scheduler at
     ``scheduler``.
     """
-    from skygas.studies.backend import connect
+    from skygas.runs.cluster import connect
 
     require(
         1 <= trials <= MAX_TRIALS, "--trials", trials, f"a number of trials from 1 to {MAX_TRIALS}"
@@ -689,7 +678,7 @@ def run_study(
     report.already = finished_count(ostudy.get_trials(deepcopy=False))
     client = connect(scheduler) if scheduler is not None and not serial else None
     executor: _Serial | _Dask = _Serial() if serial else _Dask(client, workers)
-    bar = _progress(progress, trials, report.already)
+    bar = count_bar(progress, trials, report.already, unit="trial", desc="optimize")
     try:
         _drive(study, out, ostudy, executor, trials, report, bar)
         if bar is not None:

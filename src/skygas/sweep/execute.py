@@ -16,12 +16,13 @@ from pathlib import Path
 
 from skygas.core.errors import require
 from skygas.core.estimates import Estimate, announce_pending, check
-from skygas.studies.backend import (  # noqa: F401 - re-exported: earlier imports
+from skygas.runs.cluster import (  # noqa: F401 - re-exported: earlier imports
     CONNECT_TIMEOUT,
     LOCAL_CLUSTER_CONFIG,
     connect,
     start_local_cluster,
 )
+from skygas.runs.progress import count_bar
 from skygas.sweep.spec import Run, Sweep
 from skygas.sweep.store import SweepStore
 from skygas.sweep.worker import run_point
@@ -99,14 +100,6 @@ class SweepReport:
     skipped: int = 0
     failed: list[tuple[tuple[int, ...], int, str]] = field(default_factory=list)
     wall_time_s: float = 0.0
-
-
-def _progress_bar(enabled: bool, total: int, initial: int):
-    if not enabled:
-        return None
-    from tqdm import tqdm
-
-    return tqdm(total=total, initial=initial, unit="run", desc="sweep")
 
 
 def _serial(pending: list[Run], store: SweepStore, report: SweepReport, bar, module: str):
@@ -205,7 +198,7 @@ def run_sweep(
     report = SweepReport(Path(out), -1, skipped=len(sweep.runs) - len(pending))
     # a named scheduler answers before anything starts (or is refused in one line)
     client = connect(scheduler) if scheduler is not None and pending and not serial else None
-    bar = _progress_bar(progress, len(sweep.runs), report.skipped)
+    bar = count_bar(progress, len(sweep.runs), report.skipped, unit="run", desc="sweep")
     try:
         if not pending:
             assert store is not None  # nothing pending: the store exists
