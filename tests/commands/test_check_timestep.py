@@ -33,7 +33,6 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
         ("closed-chamber.toml", "simulate"),
         ("neuron.toml", "neuron"),
         ("reservoir/default.toml", "reservoir"),
-        ("reservoir/sweep-temperature.toml", "reservoir"),
     ],
 )
 def test_the_device_is_recognised_from_the_tables(path, device):

@@ -133,7 +133,7 @@ def _scores(accuracy: float, chance: float, n_test: int) -> dict:
 def test_reservoir_figures(faults, tmp_path):
     from skygas.reservoir.config import reservoir_config
     from skygas.reservoir.device import ReservoirDevice
-    from skygas.reservoir.figures import plot_accuracies, plot_occupation, plot_sweep
+    from skygas.reservoir.figures import plot_accuracies, plot_occupation
     from skygas.reservoir.tasks import BOOLEAN_NAMES, BOOLEAN_ORDER
 
     device = ReservoirDevice(reservoir_config())
@@ -160,23 +160,7 @@ def test_reservoir_figures(faults, tmp_path):
         },
     }
     plot_accuracies(summary, tmp_path / "accuracy.png")
-    sweep = {
-        "parameter": "hold_time",
-        "replicas": 3,
-        "n_inputs": 48,
-        "rows": [
-            {
-                "value": v,
-                "xor_mean": 0.5 + 0.1 * k,
-                "xor_std": 0.05,
-                "mean_accuracy": [0.7 + 0.05 * k, 0.72 + 0.05 * k, 0.74 + 0.05 * k],
-                "mean_accuracy_mean": 0.72 + 0.05 * k,
-            }
-            for k, v in enumerate((1e-7, 2e-7, 4e-7))
-        ],
-    }
-    plot_sweep(sweep, tmp_path / "sweep.png")
-    _none(faults, ["occupation.png", "accuracy.png", "sweep.png"])
+    _none(faults, ["occupation.png", "accuracy.png"])
 
 
 def _sweep_store(path, grid) -> Path:

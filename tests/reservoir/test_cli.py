@@ -71,22 +71,25 @@ def test_short_run_writes_json_figures_and_report(tmp_path, capsys):
     assert list(summary["accuracy"])[0] == "XOR" and len(summary["accuracy"]) == 16
     assert summary["energy_per_operation_J"] > 0
     assert summary["device"]["seed"] == 0 and summary["device"]["skygas_version"]
-    for name in ("summary.json", "occupation.png", "accuracy.png", "report.md", "report.html"):
+    for name in ("summary.json", "occupation.png", "accuracy.png", "report.html"):
         assert (tmp_path / "out" / name).is_file()
-    # a finished study is never overwritten, nor continued by a sweep; resumed, it has
-    # nothing to do
+    assert not (tmp_path / "out" / "report.md").exists()  # the report is report.html
+    # a finished study is never overwritten; resumed, it has nothing to do
     code, out, err, _ = _run(tmp_path, capsys, FAST, "--resume")
     assert code == 0 and "nothing to resume" in err, err
-    for extra in ([], ["--sweep"], ["--sweep", "--resume"]):
-        code, out, err, _ = _run(tmp_path, capsys, FAST, *extra)
-        assert code == 2 and out == "", extra
-        lines = err.strip().splitlines()
-        assert len(lines) == 1 and lines[0].startswith("skygas: error: --out = "), err
-        assert "--overwrite" in lines[0], err
-    # --overwrite runs it again (the same numbers) and removes an earlier sweep's results
-    (tmp_path / "out" / "sweep.json").write_text("{}")
+    code, out, err, _ = _run(tmp_path, capsys, FAST)
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("skygas: error: --out = "), err
+    assert "--overwrite" in lines[0], err
+    # the reservoir's own sweep of earlier versions says where it went, in one line
+    code, out, err, _ = _run(tmp_path, capsys, FAST, "--sweep", "--overwrite")
+    lines = err.strip().splitlines()
+    assert code == 2 and out == "" and len(lines) == 1, err
+    assert lines[0].startswith("skygas: error: --sweep") and "skygas sweep" in lines[0], err
+    # --overwrite runs it again (the same numbers)
     code, out, err, _ = _run(tmp_path, capsys, FAST, "--overwrite", "--json", "--no-report")
-    assert code == 0 and not (tmp_path / "out" / "sweep.json").exists()
+    assert code == 0
     again = json.loads(out)
     for key in ("accuracy", "boolean", "temporal", "sensor_means", "steps", "device"):
         assert again[key] == summary[key], key

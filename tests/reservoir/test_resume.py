@@ -1,5 +1,5 @@
-"""``skygas reservoir`` runs through the run driver: a study with its sweep, stopped (an error
-after a periodic checkpoint, as a ``kill -9`` would leave it, then SIGINT) and resumed, gives
+"""``skygas reservoir`` runs through the run driver: a study, stopped (an error after a
+periodic checkpoint, as a ``kill -9`` would leave it, then SIGINT) and resumed, gives
 the numbers of a run left alone, cut into other pieces; Ctrl-C at the terminal, which reaches
 the worker processes too, stops with a checkpoint and the line that says how to resume."""
 
@@ -21,12 +21,13 @@ from skygas.reservoir.files import ReservoirJob, run_reservoir
 from skygas.reservoir.study import run_study
 from skygas.runs.run_driver import CHECKPOINT, drive
 
-#: a short study (held 0.2 µs, 1800 steps per input) and a sweep of 4 points of one stream
+#: a short study (held 0.2 µs, 1800 steps per input) of one Boolean and one temporal stream,
+#: with a census (an operation: its state is checkpointed with the stream's)
 SHORT = {
     "hold_time": 2e-7,
     "sensors": {"sample_interval": 2e-9},
     "study": {"n_inputs": 16, "temporal_inputs": 16, "workers": 1},
-    "sweep": {"values": [1e-7, 2e-7], "replicas": 2, "n_inputs": 8},
+    "operations": [{"kind": "census", "name": "chamber", "interval": 1e-8}],
 }
 #: pieces of 2 or 3 inputs: a stream takes several pieces
 SMALL_PIECES = 5000
@@ -45,14 +46,14 @@ def _results(out):
     return {name: _numbers(json.loads((out / name).read_text())) for name in RESULTS}
 
 
-RESULTS = ("summary.json", "sweep.json")
+RESULTS = ("summary.json",)
 
 
 def _stopping(config, at: int, how: str) -> ReservoirJob:
-    """The job of the study and its sweep in small pieces, stopped after piece ``at``: by
+    """The job of the study in small pieces, stopped after piece ``at``: by
     SIGINT to itself (the driver saves a checkpoint at the end of the piece), or by an error
     (the last periodic checkpoint stays, as after a kill)."""
-    job = ReservoirJob(config, sweep=True, piece_steps=SMALL_PIECES)
+    job = ReservoirJob(config, piece_steps=SMALL_PIECES)
     advance, pieces = job.advance_piece, [0]
 
     def advance_piece():
@@ -67,40 +68,42 @@ def _stopping(config, at: int, how: str) -> ReservoirJob:
     return job
 
 
-def test_an_interrupted_study_and_sweep_resume_to_the_same_numbers(tmp_path):
+def test_an_interrupted_study_resumes_to_the_same_numbers(tmp_path):
     config = reservoir_config(SHORT)
-    whole = run_reservoir(config, tmp_path / "whole", sweep=True, progress=False)
+    whole = run_reservoir(config, tmp_path / "whole", progress=False)
     assert not (tmp_path / "whole" / CHECKPOINT).exists()
 
     out = tmp_path / "stopped"
-    # 25 pieces: the study's Boolean stream 9 (2 inputs each), its temporal stream 2, the
-    # sweep's points 2, 2, 5 and 5. Killed in piece 6 of the Boolean stream, with periodic
-    # checkpoints after every piece: piece 5's is there
+    # the Boolean stream takes 9 pieces (2 inputs each, warm-ups included), then the temporal
+    # one. Killed in piece 6, with periodic checkpoints after every piece: piece 5's is there
     with pytest.raises(RuntimeError, match="killed"):
         with _stopping(config, at=6, how="error") as job:
+            assert job.piece_inputs[0] == 2
+            temporal_piece = job.piece_inputs[1]
             drive(job, out, progress=False, checkpoint_seconds=0)
     with np.load(out / CHECKPOINT) as saved:
-        assert list(saved["done"][:2]) == [10, 0]
-    # resumed, then Ctrl-C in piece 17: two sweep points are finished, the third half done
+        assert list(saved["done"]) == [10, 0]
+    # resumed, then Ctrl-C in the fifth piece: the Boolean stream's last four, then the
+    # temporal stream's first
     with pytest.raises(RunInterrupted) as stop:
-        with _stopping(config, at=12, how="signal") as job:
+        with _stopping(config, at=5, how="signal") as job:
             drive(job, out, resume=True, progress=False, checkpoint_seconds=1e9)
     assert stop.value.exit_status == 130 and "--resume" in str(stop.value)
     with np.load(out / CHECKPOINT) as saved:
-        assert [k for k, _ in json.loads(str(saved["sweep_points_json"]))] == [0, 1]
-        assert list(saved["done"][4:]) == [4, 0]
-        assert int(saved["stream4_position"]) == 4
-    # a checkpoint with the sweep resumes only with the sweep
+        assert list(saved["done"]) == [18, min(temporal_piece, 18)]
+        assert int(saved["stream1_position"]) == min(temporal_piece, 18)
+    # a checkpoint resumes only its own configuration
     with pytest.raises(InputError, match="same configuration"):
-        run_reservoir(config, out, resume=True, progress=False)
-    resumed = run_reservoir(config, out, sweep=True, resume=True, progress=False)
+        run_reservoir(reservoir_config({**SHORT, "seed": 1}), out, resume=True, progress=False)
+    resumed = run_reservoir(config, out, resume=True, progress=False)
     assert not (out / CHECKPOINT).exists()
     assert _results(out) == _results(tmp_path / "whole")
     assert _numbers(resumed) == _numbers(whole)
     # the same study as the in-memory one, whose streams run in one go
     study, _ = run_study(config)
     assert _numbers(study) == _results(out)["summary.json"]
-    for name in ("occupation.png", "accuracy.png", "sweep.png", "report.md"):
+    assert resumed["operations"]["boolean0"]["chamber"]["readings"] > 0
+    for name in ("occupation.png", "accuracy.png"):
         assert (out / name).is_file()
 
 

@@ -1,22 +1,30 @@
-"""``skygas reservoir [CONFIG.toml] --out DIR [--json] [--sweep]``: the Brownian reservoir.
+"""``skygas reservoir [CONFIG.toml] --out DIR [--json]``: the Brownian reservoir.
 
 All 16 Boolean functions of two inputs and the temporal tasks from one confined chamber, with
-occupation maps and a report (docs/reservoir.md); ``--sweep`` adds the accuracy against the
-configuration's swept parameter, with replicas. It runs through the run driver
+occupation maps and a report (docs/reservoir.md). Accuracy against a parameter, with replicas,
+is a ``skygas sweep`` of ``device = "reservoir"``. It runs through the run driver
 (:func:`skygas.reservoir.files.run_reservoir`): progress bar, checkpoints, ``--resume`` and
 ``--overwrite`` as for every long command.
 """
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from skygas.commands.json_output import add_json_option, print_json
 from skygas.commands.run_options import (
     add_run_options,
+    add_scheduler_option,
     limits_from_flags,
     named_by_flags,
     run_options,
+)
+
+#: Where the reservoir's sweep of earlier versions went.
+SWEEP_MOVED = (
+    "no longer an option: sweep the reservoir with `skygas sweep FILE.toml` and [sweep] device = "
+    '"reservoir" (docs/sweeps.md; examples/reservoir/sweep-*.toml)'
 )
 
 #: command-line option -> the configuration's field it overrides (a dotted key)
@@ -58,9 +66,12 @@ def _format(s: dict, out: Path) -> str:
 
 def _reservoir(args) -> int:
     # imported here: building the command line (every skygas call) imports no numerics
+    from skygas.core.errors import InputError
     from skygas.reservoir.config import load_reservoir_config
     from skygas.reservoir.files import run_reservoir
 
+    if args.sweep:  # the option of earlier versions: say where it went
+        raise InputError("--sweep", True, SWEEP_MOVED)
     overrides = {field: getattr(args, option) for option, field in OVERRIDES.items()}
     # a bad value names the option that set it
     with named_by_flags(args, OVERRIDES), limits_from_flags(args, announce=not args.json):
@@ -68,7 +79,7 @@ def _reservoir(args) -> int:
         summary = run_reservoir(
             config,
             args.out,
-            sweep=args.sweep,
+            scheduler=args.scheduler,
             **run_options(args, progress=not args.json),
             then=None if args.no_report else _write_report,
         )
@@ -99,12 +110,7 @@ def register_kind(subparsers, kind) -> None:
         action="store_true",
         help="do not write report.html (a self-contained page of the results)",
     )
-    p.add_argument(
-        "--sweep",
-        action="store_true",
-        help="also run the configuration's [sweep] after the study (into a new --out: a "
-        "finished study's folder is refused)",
-    )
+    p.add_argument("--sweep", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--seed", type=int, help="random seed")
     p.add_argument("--hold-time", type=float, help="time each input is held [s]")
     p.add_argument("--temperature", type=float, help="temperature [K]")
@@ -113,5 +119,11 @@ def register_kind(subparsers, kind) -> None:
         "--current-density", type=float, help="chamber-mean |j| of the unit input pattern [A/m²]"
     )
     p.add_argument("--n-inputs", type=int, help="held inputs in the study")
-    p.add_argument("--workers", type=int, help="parallel streams")
+    p.add_argument(
+        "--workers",
+        type=int,
+        help="parallel streams (study.workers), each on a worker of the local Dask cluster "
+        "or of --scheduler's",
+    )
+    add_scheduler_option(p)
     p.set_defaults(func=_reservoir)

@@ -203,18 +203,9 @@ def _neuron_folder_headline(summary: dict, directory: Path) -> Results:
 
 
 def _reservoir_headline(summary: dict, directory: Path) -> Results:
-    import json
+    from skygas.reservoir.headline import reservoir
 
-    from skygas.reservoir.headline import reservoir, reservoir_sweep
-
-    results = reservoir(summary)
-    try:  # a study with a sweep wrote its table beside the summary
-        sweep = json.loads((directory / "sweep.json").read_text())
-    except (OSError, ValueError):
-        sweep = None
-    if sweep:
-        results.tables.append(reservoir_sweep(sweep))
-    return results
+    return reservoir(summary)
 
 
 def _saturation_headline(summary: dict, directory: Path) -> Results:
@@ -399,7 +390,6 @@ KINDS: dict[str, DeviceKind] = {
                     "sensors",
                     "readout",
                     "study",
-                    "sweep",
                     "n_skyrmions",
                     "hold_time",
                 },

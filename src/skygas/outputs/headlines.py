@@ -22,7 +22,6 @@ from skygas.core.quantities import format_quantity, format_value, missing
 from skygas.neuron.headline import neuron as neuron
 from skygas.neuron.headline import saturation as saturation
 from skygas.reservoir.headline import reservoir as reservoir
-from skygas.reservoir.headline import reservoir_sweep as reservoir_sweep
 from skygas.reshuffler.headline import reshuffler as reshuffler
 from skygas.reshuffler.headline import signed as signed
 from skygas.runs.headline import diffusion_rows as diffusion_rows

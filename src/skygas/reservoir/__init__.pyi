@@ -7,18 +7,9 @@ from .device import ReservoirDevice, StreamResult, StreamRun, StreamSpec
 from .drive import Drive
 from .files import ReservoirJob, run_reservoir
 from .readout import fit_and_score, split
-from .report import markdown_report
 from .sensors import coverage, disk_overlap_area
 from .streams import StreamPool, run_streams, stream_specs
-from .study import (
-    accuracy_sweep,
-    run_study,
-    score_streams,
-    study_summary,
-    sweep_configs,
-    sweep_point,
-    sweep_record,
-)
+from .study import run_study, score_streams, study_summary
 from .tasks import BOOLEAN_NAMES, boolean_study, boolean_value, temporal_study
 
 __all__ = [
@@ -31,7 +22,6 @@ __all__ = [
     "StreamResult",
     "StreamRun",
     "StreamSpec",
-    "accuracy_sweep",
     "boltzmann_wall_distance_pdf",
     "boolean_study",
     "boolean_value",
@@ -41,7 +31,6 @@ __all__ = [
     "disk_overlap_area",
     "fit_and_score",
     "load_reservoir_config",
-    "markdown_report",
     "reservoir_config",
     "run_reservoir",
     "run_streams",
@@ -50,8 +39,5 @@ __all__ = [
     "split",
     "stream_specs",
     "study_summary",
-    "sweep_configs",
-    "sweep_point",
-    "sweep_record",
     "temporal_study",
 ]

@@ -28,7 +28,7 @@ from skygas.fields.current import (
     DEFAULT_CONDUCTOR_THICKNESS,
     DEFAULT_RESISTIVITY,
 )
-from skygas.runs.config import MaterialFields, PortSpec
+from skygas.runs.config import MaterialFields, OperationsField, PortSpec
 
 
 class ChamberSpec(_Strict):
@@ -90,18 +90,7 @@ class StudySpec(_Strict):
     workers: int = Field(2, ge=1)  # independent streams run in parallel
 
 
-class SweepSpec(_Strict):
-    """Accuracy against one parameter, with replicas (``skygas reservoir --sweep``)."""
-
-    parameter: Literal[
-        "hold_time", "temperature", "n_skyrmions", "pinning_depth_kT", "current_density"
-    ] = "hold_time"
-    values: list[float] = [2e-6, 5e-6, 1e-5, 2e-5]
-    replicas: int = Field(3, ge=1)
-    n_inputs: int = Field(300, ge=8)
-
-
-class ReservoirConfig(MaterialFields):
+class ReservoirConfig(MaterialFields, OperationsField):
     """Everything that defines a reservoir study (SI units)."""
 
     seed: int = Field(0, ge=0, lt=2**63)
@@ -114,11 +103,21 @@ class ReservoirConfig(MaterialFields):
     sensors: SensorSpec = SensorSpec()
     readout: ReadoutSpec = ReadoutSpec()
     study: StudySpec = StudySpec()
-    sweep: SweepSpec = SweepSpec()
 
 
 def _check_counts(data: dict) -> None:
-    """Counts with their own clear message (before pydantic's generic one)."""
+    """Counts with their own clear message (before pydantic's generic one).
+
+    A ``[sweep]`` table (the reservoir's own sweep of earlier versions) is refused with the
+    way to run it now: a ``skygas sweep`` file of ``device = "reservoir"``.
+    """
+    if "sweep" in data:
+        raise InputError(
+            "sweep",
+            data["sweep"],
+            "no [sweep] in a reservoir configuration: sweep it with `skygas sweep FILE.toml` "
+            'and [sweep] device = "reservoir" (docs/sweeps.md, examples/reservoir/sweep-*.toml)',
+        )
     n = data.get("n_skyrmions", 1)
     if not isinstance(n, int) or isinstance(n, bool) or n < 1:
         raise InputError("n_skyrmions", n, "an integer >= 1 (the reservoir needs a skyrmion)")

@@ -24,13 +24,13 @@ import numpy as np
 
 from skygas._version import __version__
 from skygas.core.errors import require
-from skygas.core.state_keys import nest, unnest
 from skygas.core.units import M_TO_NM
 from skygas.physics import geometry as geo
 from skygas.reservoir.chamber import build_chamber, contact_middles
 from skygas.reservoir.config import ReservoirConfig
 from skygas.reservoir.drive import Drive
 from skygas.reservoir.sensors import coverage
+from skygas.runs.device_run import DeviceRun
 from skygas.runs.run_driver import from_json_array, json_array
 
 #: Occupation maps are histograms on this many bins along the chamber's longer side.
@@ -49,6 +49,8 @@ class StreamResult:
     steps: int
     cpu_seconds: float
     wall_seconds: float
+    #: the summaries of the stream's ``[[operations]]`` (:mod:`skygas.runs.operations`)
+    operations: dict | None = None
 
 
 @dataclass(eq=False)
@@ -182,7 +184,7 @@ class ReservoirDevice:
         See :class:`StreamRun`.
         """
         run = StreamRun(self, spec)
-        run.advance(spec.n_total)
+        run.hold_inputs(spec.n_total)
         return run.result()
 
     def describe(self) -> dict:
@@ -208,19 +210,23 @@ class ReservoirDevice:
         }
 
 
-class StreamRun:
+class StreamRun(DeviceRun):
     """A stream of held inputs (:class:`StreamSpec`) on ``device``, held a few inputs at a time.
 
-    Each input sets its symbol's drift field and runs the engine for the hold time, reading
+    A device run (:class:`~skygas.runs.device_run.DeviceRun`) whose pieces are whole inputs:
+    each input sets its symbol's drift field and runs the engine for the hold time, reading
     the sensors every ``interval`` (the hold divided into a whole number of reads, at least
     ``sensors.bins``); its features are the sensor means over ``bins`` windows of the hold.
-    :meth:`state_dict` holds everything that changes (the simulation, the stream's random
-    generator for the read noise, the features and occupation so far) as NumPy arrays: a run
-    built again from the same device and spec and given that state continues bit-identically,
-    wherever the stream was cut (every input is one call of the engine either way).
+    The configuration's ``[[operations]]`` (:mod:`skygas.runs.operations`) are attached to the
+    stream's simulation. :meth:`state_dict` holds everything that changes (the simulation and
+    its operations, the stream's random generator for the read noise, the features and
+    occupation so far) as NumPy arrays: a run built again from the same device and spec and
+    given that state continues bit-identically, wherever the stream was cut (every input is
+    one call of the engine either way).
     """
 
     def __init__(self, device: ReservoirDevice, spec: StreamSpec):
+        super().__init__(device.config, device.simulation(spec.seed))
         self.device = device
         self.spec = spec
         c = device.config
@@ -228,8 +234,8 @@ class StreamRun:
         every = c.sensors.sample_interval if spec.sample_interval is None else spec.sample_interval
         # the stream's own generator: initial positions, warm-up symbols, read noise (in order)
         self.rng = np.random.default_rng(np.random.SeedSequence([spec.seed, 0x5E5]))
-        self.sim = device.simulation(spec.seed)
         self.sim.state.insert_nm(device._initial_positions(self.sim, self.rng))
+        self.attach_operations(c.operations)
         self.bits = np.asarray(spec.bits, int)
         warm = self.rng.integers(0, 2, size=(spec.warmup, self.bits.shape[1]))
         self.inputs = np.vstack([warm, self.bits]).astype(int)
@@ -246,16 +252,41 @@ class StreamRun:
         self.features = np.zeros((len(self.bits), n_sensors * self.n_bins))
         self.position = 0  # inputs held so far, the warm-up included
         self.cpu_seconds = 0.0
-        self.wall_seconds = 0.0
 
     @property
     def finished(self) -> bool:
         """Whether every input has been held."""
         return self.position >= len(self.inputs)
 
-    def advance(self, n_inputs: int) -> None:
+    # -- the device run's skeleton: a piece is whole inputs ------------------------------------
+    @property
+    def hold_steps(self) -> int:
+        """Engine steps of one held input (the hold's nearest whole number)."""
+        return round(self.hold / self.sim.time_step)
+
+    @property
+    def total_steps(self) -> int:
+        """Steps of the whole stream (warm-up included)."""
+        return len(self.inputs) * self.hold_steps
+
+    @property
+    def piece_steps(self) -> int:
+        """A piece: the stream cut into :attr:`pieces`, rounded up to whole inputs."""
+        inputs = max(1, -(-len(self.inputs) // self.pieces))
+        return inputs * self.hold_steps
+
+    def run_steps(self, n: int) -> None:
+        """Hold the inputs of the next ``n`` steps (whole inputs, see :attr:`piece_steps`)."""
+        self._hold(-(-n // self.hold_steps))
+
+    def hold_inputs(self, n_inputs: int) -> None:
         """Hold the next ``n_inputs`` inputs (fewer at the end of the stream)."""
-        started, cpu = time.perf_counter(), time.process_time()
+        started = time.perf_counter()
+        self._hold(n_inputs)
+        self.wall_time += time.perf_counter() - started
+
+    def _hold(self, n_inputs: int) -> None:
+        cpu = time.process_time()
         device, sim, c = self.device, self.sim, self.device.config
         symbols = device.drive.symbols
         centers_nm = device.sensor_centers * M_TO_NM
@@ -294,12 +325,15 @@ class StreamRun:
             self.occupation[s] += hist
         self.position = end
         self.cpu_seconds += time.process_time() - cpu
-        self.wall_seconds += time.perf_counter() - started
 
-    def state_dict(self) -> dict[str, np.ndarray]:
-        """The stream's state as NumPy arrays (the simulation's under ``sim_``)."""
-        state = nest("sim_", self.sim.state_dict())
-        state.update(
+    def extra_state(self) -> dict[str, np.ndarray]:
+        """What the stream keeps beside its simulation, as NumPy arrays.
+
+        Its generator, the inputs held, the features, occupation and sensor sums so far, the
+        CPU time and its operations' summaries (``operations_json``: the process that scores
+        the stream holds its state, not its simulation).
+        """
+        return dict(
             rng=json_array(self.rng.bit_generator.state),
             position=np.array(self.position),
             features=self.features.copy(),
@@ -309,13 +343,11 @@ class StreamRun:
             map_extent=np.array(self.extent, float),
             steps=np.array(self.sim.step),
             cpu_seconds=np.array(self.cpu_seconds),
-            wall_seconds=np.array(self.wall_seconds),
+            operations_json=json_array(self.sim.operation_summaries()),
         )
-        return state
 
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        """Continue from a state saved by :meth:`state_dict` (same device and spec)."""
-        self.sim.load_state_dict(unnest("sim_", state))
+    def load_extra_state(self, state: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`extra_state` saved (same device and spec)."""
         self.rng.bit_generator.state = from_json_array(state["rng"])
         self.position = int(state["position"])
         self.features = np.array(state["features"], float)
@@ -323,7 +355,6 @@ class StreamRun:
         self.sums = np.array(state["sums"], float)
         self.counts = np.array(state["counts"], float)
         self.cpu_seconds = float(state["cpu_seconds"])
-        self.wall_seconds = float(state["wall_seconds"])
 
     def result(self) -> StreamResult:
         """What the stream produced (its inputs held so far)."""
@@ -345,5 +376,6 @@ def stream_result(bits: np.ndarray, state: dict[str, np.ndarray]) -> StreamResul
         sensor_means=np.asarray(state["sums"], float) / np.maximum(counts, 1)[:, None],
         steps=int(state["steps"]),
         cpu_seconds=float(state["cpu_seconds"]),
-        wall_seconds=float(state["wall_seconds"]),
+        wall_seconds=float(state["wall_time"]),
+        operations=from_json_array(state["operations_json"]) or None,
     )

@@ -1,6 +1,6 @@
 """Figures of the reservoir.
 
-Occupation map per input, accuracies, accuracy against a swept parameter (matplotlib, Agg backend).
+Occupation map per input and accuracies (matplotlib, Agg backend).
 """
 
 from __future__ import annotations
@@ -165,54 +165,6 @@ def plot_accuracies(summary: dict, path: Path) -> Path:
     ax2.set_title(
         f"fading memory, {recall[str(delays[0])]['n_test']} test inputs "
         "(bars and band: 68 % intervals)",
-        fontsize=8,
-    )
-    fig.tight_layout()
-    fig.savefig(path)
-    return path
-
-
-def _replica_std(values) -> float:
-    """The replicas' standard deviation (0 for a single replica)."""
-    return float(np.std(values, ddof=1)) if len(values) > 1 else 0.0
-
-
-def plot_sweep(sweep: dict, path: Path) -> Path:
-    """XOR and mean Boolean accuracy against the swept parameter (mean ± std of replicas)."""
-    fig = Figure(figsize=(5, 3.5), dpi=110)
-    ax = fig.add_subplot()
-    v = [r["value"] for r in sweep["rows"]]
-    ax.errorbar(
-        v,
-        [r["xor_mean"] for r in sweep["rows"]],
-        yerr=[r["xor_std"] for r in sweep["rows"]],
-        marker="o",
-        capsize=3,
-        label="XOR",
-    )
-    ax.errorbar(
-        v,
-        [r["mean_accuracy_mean"] for r in sweep["rows"]],
-        yerr=[_replica_std(r["mean_accuracy"]) for r in sweep["rows"]],
-        fmt="s--",
-        capsize=3,
-        label="mean of the 16 functions",
-    )
-    ax.axhline(0.5, color="k", lw=0.6, ls=":", label="XOR's chance level")
-    units = {
-        "hold_time": "hold time (s)",
-        "temperature": "temperature (K)",
-        "n_skyrmions": "number of skyrmions",
-        "current_density": "current density (A/m²)",
-        "pinning_depth_kT": "depth of the pinning wells (k_BT)",
-    }
-    ax.set_xlabel(units.get(sweep["parameter"], sweep["parameter"]))
-    ax.set_ylabel("test accuracy")
-    if sweep["parameter"] in ("hold_time", "current_density"):
-        ax.set_xscale("log")
-    ax.legend(fontsize=7)
-    ax.set_title(
-        f"{sweep['replicas']} replicas of {sweep['n_inputs']} inputs (bars: replicas' std)",
         fontsize=8,
     )
     fig.tight_layout()

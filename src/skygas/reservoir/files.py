@@ -1,23 +1,21 @@
 """``skygas reservoir`` as a job of the run driver (:mod:`skygas.runs.run_driver`).
 
-:func:`run_reservoir` runs the study of a configuration and, with ``sweep=True``, its accuracy
-sweep, and writes into ``out_dir``:
+:func:`run_reservoir` runs the study of a configuration and writes into ``out_dir``:
 
 - ``summary.json``: the study's summary (:func:`~skygas.reservoir.study.study_summary`: every
   score and parameter, the seed and the version);
 - ``occupation.png`` and ``accuracy.png``: where the skyrmion is while each input is held, and
-  the accuracies;
-- with ``sweep``: ``sweep.json`` (:func:`~skygas.reservoir.study.sweep_record`) and
-  ``sweep.png``;
-- ``report.md``: the numbers as a Markdown report (:mod:`skygas.reservoir.report`).
+  the accuracies (the command adds ``report.html``, :mod:`skygas.outputs.report`).
 
-The work is the held inputs of the study's streams, then those of every sweep point's streams
+Accuracy against a parameter is a ``skygas sweep`` of
+``device = "reservoir"``.
+
+The work is the held inputs of the study's streams
 (:func:`~skygas.reservoir.streams.stream_specs`), counted in µs of simulated time. A stream is
 held a few inputs at a time (about :data:`PIECE_STEPS` engine steps), up to ``study.workers``
-streams at once in parallel processes (:class:`~skygas.reservoir.streams.StreamPool`); a piece
-of the job ends whenever one of them is done, and a sweep point is scored as soon as all its
-streams are. The checkpoint holds the state of every stream after its last finished part and
-the finished sweep points, so a run interrupted and resumed gives the numbers of a run left
+streams at once on Dask workers (:class:`~skygas.reservoir.streams.StreamPool`); a piece
+of the job ends whenever one of them is done. The checkpoint holds the state of every stream
+after its last finished part, so a run interrupted and resumed gives the numbers of a run left
 alone (only the measured times differ): a stream's numbers do not depend on where it is cut,
 nor on which process holds which part. See :func:`skygas.runs.run_driver.drive` for
 checkpoints, interruption, resume and the folders it refuses.
@@ -27,7 +25,6 @@ from __future__ import annotations
 
 import json
 import time
-from concurrent.futures import FIRST_COMPLETED, Future, wait
 from pathlib import Path
 from typing import Any
 
@@ -36,21 +33,11 @@ import numpy as np
 from skygas.core.state_keys import nest, unnest
 from skygas.reservoir.config import ReservoirConfig
 from skygas.reservoir.device import StreamSpec, stream_result
-from skygas.reservoir.report import markdown_report
 from skygas.reservoir.streams import StreamPool, device_for, stream_specs
-from skygas.reservoir.study import (
-    score_streams,
-    study_summary,
-    sweep_configs,
-    sweep_point,
-    sweep_record,
-)
+from skygas.reservoir.study import score_streams, study_summary
 from skygas.runs.run_driver import (
     drive,
-    from_json_array,
-    json_array,
     run_record,
-    write_atomic,
     write_figure,
     write_json,
 )
@@ -62,10 +49,10 @@ PIECE_STEPS = 3_000_000
 
 
 class ReservoirJob:
-    """A reservoir study (and its sweep) as a job of the run driver.
+    """A reservoir study as a job of the run driver.
 
-    Work is counted in µs of simulated time (see the module docstring). Every configuration,
-    the sweep's points included, is validated and its device built before any run.
+    Work is counted in µs of simulated time (see the module docstring). The configuration is
+    validated and its device built before any run.
     ``piece_steps`` sets the size of a piece (engine steps times skyrmions per stream); it
     changes no number. ``sim`` is a simulation of the device (never run), for the sanity checks
     before the run (:mod:`skygas.runs.sanity`: the temperature, a constant force per step). The
@@ -75,11 +62,12 @@ class ReservoirJob:
     ----------
     config
         The validated configuration.
-    sweep
-        Also run ``config.sweep`` (its points after the study).
     piece_steps
         Engine steps (times skyrmions) of one stream in one piece (default
         :data:`PIECE_STEPS`).
+    scheduler
+        A running Dask scheduler's address, whose workers hold the streams (default: a local
+        cluster, :class:`~skygas.reservoir.streams.StreamPool`).
     """
 
     work_unit = "µs"
@@ -87,17 +75,17 @@ class ReservoirJob:
         SUMMARY,
         "occupation.png",
         "accuracy.png",
-        "sweep.json",
-        "sweep.png",
-        "report.md",
     )
 
     def __init__(
-        self, config: ReservoirConfig, *, sweep: bool = False, piece_steps: int | None = None
+        self,
+        config: ReservoirConfig,
+        *,
+        piece_steps: int | None = None,
+        scheduler: str | None = None,
     ):
         self.config = config
-        self.sweep = sweep
-        inputs = _held_inputs(config, sweep)
+        inputs = _held_inputs(config)
         _check_estimate(config, inputs, config.time_step, announce=False)  # before any numerics
         self.device = device_for(config)  # validates everything before any run
         _check_estimate(config, inputs, self.device.time_step)
@@ -106,32 +94,20 @@ class ReservoirJob:
         self.specs: list[StreamSpec] = [*boolean, *temporal]
         self.n_boolean = len(boolean)
         self.n_study = len(self.specs)
-        time_steps = [self.device.time_step] * self.n_study
-        #: the sweep's points: (value, replica, configuration, indices of its streams)
-        self.points: list[tuple[float, int, ReservoirConfig, list[int]]] = []
-        if sweep:
-            for value, replica, cfg in sweep_configs(config):
-                device = device_for(cfg)
-                specs, _ = stream_specs(cfg, n_inputs=config.sweep.n_inputs, n_temporal=0)
-                first = len(self.specs)
-                self.points.append((value, replica, cfg, list(range(first, first + len(specs)))))
-                self.specs += specs
-                time_steps += [device.time_step] * len(specs)
         piece_steps = PIECE_STEPS if piece_steps is None else piece_steps
+        dt = self.device.time_step
         self.piece_inputs = [
             max(1, piece_steps // max(1, round(s.hold / dt) * s.config.n_skyrmions))
-            for s, dt in zip(self.specs, time_steps, strict=True)
+            for s in self.specs
         ]
         self._hold_us = [s.hold * 1e6 for s in self.specs]
         self.work_total = self._work([s.n_total for s in self.specs])
-        self.pool = StreamPool(config.study.workers)
-        #: inputs held per stream; the state of each stream started and not yet scored
+        self.pool = StreamPool(config.study.workers, scheduler)
+        #: inputs held per stream; the state of each stream started
         self.done = [0] * len(self.specs)
         self.states: dict[int, dict[str, np.ndarray]] = {}
         #: the pieces under way in the worker processes, by stream
-        self.running: dict[int, Future] = {}
-        #: the finished sweep points' records, by index into :attr:`points`
-        self.point_records: dict[int, dict] = {}
+        self.running: dict[int, Any] = {}
         self.study_wall_seconds = 0.0
 
     def __enter__(self) -> ReservoirJob:
@@ -140,10 +116,10 @@ class ReservoirJob:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    def close(self, wait: bool = True) -> None:
+    def close(self) -> None:
         """Stop the worker processes (see :meth:`StreamPool.close`)."""
         self.running = {}
-        self.pool.close(wait)
+        self.pool.close()
 
     # -- the run driver's protocol -------------------------------------------------------------
     def _work(self, inputs: list[int]) -> float:
@@ -157,44 +133,33 @@ class ReservoirJob:
         """Hold inputs until one stream's part is done; keep its state.
 
         The next inputs of the first unfinished streams are started until ``study.workers``
-        run, then the first of them to be done is kept, and the sweep point it finishes, if
-        any, is scored. The others carry on into the next piece (their work is lost if the run
-        stops here: the state holds finished parts only).
+        run, then the first of them to be done is kept. The others carry on into the next
+        piece (their work is lost if the run stops here: the state holds finished parts only).
         """
         started = time.perf_counter()
-        study = any(self.done[i] < self.specs[i].n_total for i in range(self.n_study))
         for i, spec in enumerate(self.specs):
             if len(self.running) >= self.pool.workers:
                 break
             if self.done[i] < spec.n_total and i not in self.running:
                 n = min(self.piece_inputs[i], spec.n_total - self.done[i])
                 self.running[i] = self.pool.submit(spec, self.states.get(i), n)
-        finished, _ = wait(list(self.running.values()), return_when=FIRST_COMPLETED)
+        finished = self.pool.first_done(self.running.values())
         for i, future in list(self.running.items()):
             if future in finished:
                 del self.running[i]
-                self.states[i] = future.result()
+                self.states[i] = self.pool.result(future)
                 self.done[i] = int(self.states[i]["position"])
-        if study:
-            self.study_wall_seconds += time.perf_counter() - started
-        for k, (value, replica, cfg, streams) in enumerate(self.points):
-            if k in self.point_records or any(
-                self.done[i] < self.specs[i].n_total for i in streams
-            ):
-                continue
-            results = [stream_result(self.specs[i].bits, self.states.pop(i)) for i in streams]
-            self.point_records[k] = sweep_point(value, replica, cfg, results)
+        self.study_wall_seconds += time.perf_counter() - started
 
     def state_dict(self) -> dict[str, np.ndarray]:
         """The job's state as NumPy arrays.
 
-        Inputs held per stream, the streams' states (``stream<i>_``), the finished sweep
-        points and the study's wall time so far.
+        Inputs held per stream, the streams' states (``stream<i>_``) and the study's wall time
+        so far.
         """
         state = {
             "done": np.array(self.done, dtype=np.int64),
             "study_wall_seconds": np.array(self.study_wall_seconds),
-            "sweep_points_json": json_array(sorted(self.point_records.items())),
         }
         for i, stream in self.states.items():
             state.update(nest(f"stream{i}_", stream))
@@ -205,7 +170,6 @@ class ReservoirJob:
         self.done = [int(n) for n in state["done"]]
         assert len(self.done) == len(self.specs), "a checkpoint of another plan of streams"
         self.study_wall_seconds = float(state["study_wall_seconds"])
-        self.point_records = {int(k): p for k, p in from_json_array(state["sweep_points_json"])}
         self.states = {}
         for i in range(len(self.specs)):
             stream = unnest(f"stream{i}_", state)
@@ -213,8 +177,8 @@ class ReservoirJob:
                 self.states[i] = stream
 
     def config_json(self) -> str:
-        """The configuration and whether the sweep runs (a checkpoint resumes only the same)."""
-        return json.dumps({"reservoir": self.config.model_dump(mode="json"), "sweep": self.sweep})
+        """The configuration (a checkpoint resumes only the same)."""
+        return json.dumps({"reservoir": self.config.model_dump(mode="json")})
 
     def seed(self) -> int:
         """The configuration's seed."""
@@ -223,11 +187,11 @@ class ReservoirJob:
     def finish(self, out: Path) -> dict:
         """Score the study and write the results, each file atomically.
 
-        Returns the study's summary, with the sweep's record under ``"sweep"`` when one ran.
+        Returns the study's summary.
         """
-        from skygas.reservoir.figures import plot_accuracies, plot_occupation, plot_sweep
+        from skygas.reservoir.figures import plot_accuracies, plot_occupation
 
-        self.close(wait=False)  # the workers end while the results are written
+        self.close()
         started = time.perf_counter()
         results = [stream_result(self.specs[i].bits, self.states[i]) for i in range(self.n_study)]
         streams, temporal = results[: self.n_boolean], results[self.n_boolean :]
@@ -242,28 +206,16 @@ class ReservoirJob:
             record,
         )
         write_figure(out / "accuracy.png", lambda tmp: plot_accuracies(summary, tmp), record)
-        sweep = None
-        if self.sweep:
-            points = {(p[0], p[1]): self.point_records[k] for k, p in enumerate(self.points)}
-            sweep = sweep_record(self.config, points)
-            write_json(out / "sweep.json", sweep, indent=1)
-            write_figure(out / "sweep.png", lambda tmp: plot_sweep(sweep, tmp), record)
-        text = markdown_report(summary, sweep)
-        write_atomic(out / "report.md", lambda tmp: tmp.write_text(text))
-        return summary if sweep is None else {**summary, "sweep": sweep}
+        return summary
 
 
-def _held_inputs(config: ReservoirConfig, sweep: bool) -> tuple[int, float]:
-    """Inputs held in all (study, warm-ups, sweep) and their total hold time [s]."""
+def _held_inputs(config: ReservoirConfig) -> tuple[int, float]:
+    """Inputs held in all (study and warm-ups) and their total hold time [s]."""
     st = config.study
     warm = st.warmup_inputs * max(1, st.workers)
     n = st.n_inputs + warm
     held = n * config.hold_time + (st.temporal_inputs + warm) * st.temporal_hold_time
     n += st.temporal_inputs + warm
-    if sweep:
-        points = len(config.sweep.values) * config.sweep.replicas
-        n += points * (config.sweep.n_inputs + warm)
-        held += points * (config.sweep.n_inputs + warm) * config.hold_time
     return n, held
 
 
@@ -309,10 +261,10 @@ def run_reservoir(
     config: ReservoirConfig,
     out_dir: str | Path,
     *,
-    sweep: bool = False,
+    scheduler: str | None = None,
     **drive_options: Any,
 ) -> dict:
-    """Run the study of ``config`` (and its sweep) and write its files into ``out_dir``.
+    """Run the study of ``config`` and write its files into ``out_dir``.
 
     Parameters
     ----------
@@ -320,8 +272,10 @@ def run_reservoir(
         The validated configuration.
     out_dir
         The output folder (see the module docstring for its files).
-    sweep
-        Also run the accuracy sweep ``config.sweep``.
+    scheduler
+        The address of a running Dask scheduler whose workers hold the streams (default: a
+        local cluster of ``study.workers`` processes; one: this process). The numbers do not
+        depend on it.
     **drive_options
         Those of :func:`~skygas.runs.run_driver.drive` (``progress``, ``resume``,
         ``checkpoint_seconds``, ``overwrite``, ``strict``, ``then``): a finished folder is
@@ -332,8 +286,7 @@ def run_reservoir(
     Returns
     -------
     dict
-        The study's summary (what ``summary.json`` holds), with the sweep's record under
-        ``"sweep"`` when it ran.
+        The study's summary (what ``summary.json`` holds).
     """
-    with ReservoirJob(config, sweep=sweep) as job:
+    with ReservoirJob(config, scheduler=scheduler) as job:
         return drive(job, out_dir, **drive_options)

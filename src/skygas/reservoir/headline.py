@@ -1,20 +1,19 @@
 """What a reservoir study's report states first: the accuracies, the energy, the tables.
 
 The reservoir's part of the report (:mod:`skygas.outputs.report`, through the device registry
-:mod:`skygas.devices.registry`); the tables are those of ``report.md``
-(:mod:`skygas.reservoir.report`).
+:mod:`skygas.devices.registry`); the tables are in :mod:`skygas.reservoir.report`.
 """
 
 from __future__ import annotations
 
-from skygas.core.headline import Results, Table, none
-from skygas.core.quantities import format_value, label
+from skygas.core.headline import Results, none
+from skygas.core.quantities import format_value
 
 
 def reservoir(s: dict) -> Results:
     """XOR, the mean of the 16 functions, the temporal tasks (68 % intervals), the energy.
 
-    With the tables of ``report.md`` (:mod:`skygas.reservoir.report`).
+    With the tables of :mod:`skygas.reservoir.report`.
     """
     from skygas.reservoir.report import accuracy_text, boolean_table, describe, temporal_table
 
@@ -50,14 +49,3 @@ def reservoir(s: dict) -> Results:
         if temporal:
             r.tables.append(("Temporal tasks", temporal_table(s)))
     return r
-
-
-def reservoir_sweep(sweep: dict) -> tuple[str, Table]:
-    """The sweep's table (``sweep.json``), titled."""
-    from skygas.reservoir.report import sweep_table
-
-    return (
-        f"Accuracy against {label(sweep['parameter'])} ({sweep['replicas']} replicas of "
-        f"{sweep['n_inputs']} inputs)",
-        sweep_table(sweep),
-    )

@@ -1,14 +1,13 @@
-"""The reservoir study's tables, and its Markdown report (``report.md``).
+"""The reservoir study's tables in its report (``report.html``, :mod:`skygas.outputs.report`).
 
-The parameters, the test accuracy of the 16 Boolean functions and of the temporal tasks, and
-the sweep's table when there is one. The tables (:func:`boolean_table`, :func:`temporal_table`,
-:func:`sweep_table`) are rows of text cells, shared by ``report.md`` and ``report.html``
-(:mod:`skygas.outputs.report`).
+The parameters (:func:`describe`), the test accuracy of the 16 Boolean functions
+(:func:`boolean_table`) and of the temporal tasks (:func:`temporal_table`), as rows of text
+cells.
 """
 
 from __future__ import annotations
 
-from skygas.core.quantities import format_value, quantity
+from skygas.core.quantities import format_value
 
 Table = tuple[list[str], list[list[str]]]
 
@@ -102,92 +101,3 @@ def temporal_table(summary: dict) -> Table:
             for name, r in tasks
         ]
     return header, rows
-
-
-def sweep_table(sweep: dict) -> Table:
-    """Accuracy against the swept parameter: XOR (mean and spread of the replicas), mean of 16."""
-    swept = quantity(sweep["parameter"])
-    header = [
-        swept.label,
-        "XOR accuracy (mean)",
-        "XOR spread (std of replicas)",
-        "mean of the 16 functions",
-    ]
-    rows = [
-        [
-            format_value(r["value"], unit=swept.unit, kind=swept.kind) or "n/a",
-            _percent(r["xor_mean"]),
-            _percent(r["xor_std"]),
-            _percent(r["mean_accuracy_mean"]),
-        ]
-        for r in sweep["rows"]
-    ]
-    return header, rows
-
-
-def _markdown(table: Table) -> list[str]:
-    header, rows = table
-    return [
-        "| " + " | ".join(header) + " |",
-        "|" + "---|" * len(header),
-        *("| " + " | ".join(row) + " |" for row in rows),
-    ]
-
-
-def markdown_report(summary: dict, sweep: dict | None = None) -> str:
-    """The study as a Markdown report (``report.md``).
-
-    Parameters
-    ----------
-    summary
-        The study's summary (:func:`~skygas.reservoir.study.study_summary`).
-    sweep
-        The sweep's record (:func:`~skygas.reservoir.study.sweep_record`), if one was run.
-
-    Returns
-    -------
-    str
-        The report's text: parameters, the 16 functions, the temporal tasks, the sweep.
-    """
-    s = summary
-    first, second = describe(s)
-    lines = [
-        "# Brownian reservoir",
-        "",
-        first,
-        "",
-        second,
-        "",
-        "## Boolean functions (test accuracy)",
-        "",
-        *_markdown(boolean_table(s)),
-        "",
-        "## Temporal tasks",
-        "",
-    ]
-    if s["temporal"]:
-        lines += [
-            f"Inputs held {s['temporal_hold_time_s'] * 1e9:.3g} ns; the state at step n is read "
-            "out.",
-            "",
-            *_markdown(temporal_table(s)),
-        ]
-    else:
-        lines.append("No temporal stream (study.temporal_inputs = 0).")
-    lines += [
-        "",
-        "Figures: `occupation.png` (where the skyrmion is while each input is "
-        "held), `accuracy.png` (the 16 functions and the temporal tasks).",
-    ]
-    if sweep:
-        lines += [
-            "",
-            f"## Accuracy against {sweep['parameter']}",
-            "",
-            f"{sweep['replicas']} replicas of {sweep['n_inputs']} inputs.",
-            "",
-            *_markdown(sweep_table(sweep)),
-            "",
-            "Figure: `sweep.png`.",
-        ]
-    return "\n".join(lines) + "\n"

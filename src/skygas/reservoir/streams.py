@@ -6,18 +6,18 @@ k with its own input symbols (drawn from (seed, k)), its own seed (1000·seed + 
 ``study.warmup_inputs`` warm-up inputs, then as many temporal streams (seed 1000·seed + k + 500,
 their inputs held ``study.temporal_hold_time``).
 
-:class:`StreamPool` advances streams by some inputs each, in parallel worker processes (with
-one worker: in this process). A stream travels as its state
+:class:`StreamPool` advances streams by some inputs each, as tasks of Dask workers (a local
+cluster, or a running one given by its scheduler's address; with one worker: in this process).
+A stream travels as its state
 (:meth:`~skygas.reservoir.device.StreamRun.state_dict`): the worker builds the run again from
 its spec (each process keeps the devices of the last few configurations), loads the state,
 holds the next inputs and returns the new state. Any process can so continue any stream, and
 the numbers do not depend on where a stream is cut.
 
-Signals: the workers ignore SIGINT and SIGTERM. A Ctrl-C at the terminal goes to the whole
-process group; it stops only the parent, whose run driver (:mod:`skygas.runs.run_driver`) lets
-the piece end, saves a checkpoint and stops. The workers start with both signals blocked (they
-inherit the mask), so that none arrives before they ignore it, and each exits by itself once
-its parent is gone (a ``kill -9``).
+Signals (:mod:`skygas.runs.cluster`): the local workers ignore SIGINT. A Ctrl-C at the terminal
+goes to the whole process group; it stops only the parent, whose run driver
+(:mod:`skygas.runs.run_driver`) lets the piece end, saves a checkpoint and stops the workers.
+They exit by themselves once the parent is gone (a ``kill -9``).
 
 :func:`run_streams` runs a study's streams to their end in memory (``skygas reservoir`` runs
 them piece by piece through the run driver, :mod:`skygas.reservoir.files`).
@@ -25,12 +25,10 @@ them piece by piece through the run driver, :mod:`skygas.reservoir.files`).
 
 from __future__ import annotations
 
-import os
-import signal
-import threading
-import time
 from collections import OrderedDict
-from concurrent.futures import Future, ProcessPoolExecutor
+from collections.abc import Iterable
+from concurrent.futures import Future
+from typing import Any
 
 import numpy as np
 
@@ -42,13 +40,12 @@ from skygas.reservoir.device import (
     StreamSpec,
     stream_result,
 )
+from skygas.runs.cluster import PoolWords, TaskPool
 
 #: Landscape kinds drawn at random from the run's seed (see :func:`stream_specs`).
 RANDOM_LANDSCAPES = ("random_pinning", "disorder")
 #: Devices kept built per process (one per configuration: a sweep has one per point).
 CACHED_DEVICES = 4
-#: The signals the workers leave to their parent.
-_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 _devices: OrderedDict[str, ReservoirDevice] = OrderedDict()
 
@@ -150,37 +147,35 @@ def advance_stream(
     run = StreamRun(device_for(spec.config), spec)
     if state is not None:
         run.load_state_dict(state)
-    run.advance(n_inputs)
+    run.hold_inputs(n_inputs)
     return run.state_dict()
 
 
-def _start_worker(parent: int) -> None:
-    """A worker's initializer: leave SIGINT and SIGTERM to the parent, and exit once it is gone."""
-    for s in _SIGNALS:
-        signal.signal(s, signal.SIG_IGN)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, _SIGNALS)  # a pending one is dropped
-    threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
-
-
-def _watch_parent(parent: int) -> None:
-    while os.getppid() == parent:
-        time.sleep(1.0)
-    os._exit(1)  # the parent died without closing the pool: nobody wants the result
+#: How the reservoir's one-line errors name its tasks and what to do about a lost worker.
+WORDS = PoolWords(
+    job="the reservoir study",
+    task="stream's inputs",
+    holders="reservoir streams",
+    local_advice="use fewer --workers (study.workers); --resume continues from the last checkpoint",
+    remote_advice="give the cluster's workers more memory; --resume continues from the last "
+    "checkpoint",
+)
 
 
 class StreamPool:
-    """Worker processes that advance streams (:func:`advance_stream`) in parallel.
+    """Where streams are advanced (:func:`advance_stream`): Dask workers, or this process.
 
-    ``workers`` processes (1: everything runs in this process, at :meth:`submit`), started on
-    first use with the ``spawn`` method and kept until :meth:`close` (or the end of a ``with``
-    block). See the module docstring for signals.
+    ``workers`` streams at once on a local Dask cluster of as many single-threaded processes
+    (:class:`~skygas.runs.cluster.TaskPool`, started on the first :meth:`submit`), or on the
+    running cluster of ``scheduler`` (an address); with one worker and no scheduler, in this
+    process at :meth:`submit`. Kept until :meth:`close` (or the end of a ``with`` block). See
+    the module docstring for signals.
     """
 
-    def __init__(self, workers: int):
+    def __init__(self, workers: int, scheduler: str | None = None):
         self.workers = max(1, int(workers))
-        self._executor: ProcessPoolExecutor | None = None
-        self._submitted: list[Future] = []
+        self.scheduler = scheduler
+        self._pool: TaskPool | None = None
 
     def __enter__(self) -> StreamPool:
         return self
@@ -188,9 +183,21 @@ class StreamPool:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    def submit(
-        self, spec: StreamSpec, state: dict[str, np.ndarray] | None, n_inputs: int
-    ) -> Future:
+    @property
+    def inline(self) -> bool:
+        """Whether streams run in this process (one worker, no scheduler)."""
+        return self.workers == 1 and self.scheduler is None
+
+    def _tasks(self) -> TaskPool:
+        if self._pool is None:
+            self._pool = (
+                TaskPool.remote(self.scheduler, WORDS)
+                if self.scheduler is not None
+                else TaskPool.local(self.workers, WORDS)
+            )
+        return self._pool
+
+    def submit(self, spec: StreamSpec, state: dict[str, np.ndarray] | None, n_inputs: int):
         """Start holding the next inputs of a stream (see :func:`advance_stream`).
 
         Parameters
@@ -200,51 +207,34 @@ class StreamPool:
 
         Returns
         -------
-        concurrent.futures.Future
-            Its result is the stream's new state (already there with one worker).
+        concurrent.futures.Future or distributed.Future
+            Its result (:meth:`result`) is the stream's new state (already there in this
+            process).
         """
-        if self.workers == 1:
+        if self.inline:
             done: Future = Future()
             done.set_result(advance_stream(spec, state, n_inputs))
             return done
-        if self._executor is None:
-            import multiprocessing
+        return self._tasks().submit(
+            advance_stream, spec, state, n_inputs, name=f"reservoir-stream-{spec.seed}"
+        )
 
-            self._executor = ProcessPoolExecutor(
-                self.workers,
-                mp_context=multiprocessing.get_context("spawn"),
-                initializer=_start_worker,
-                initargs=(os.getpid(),),
-            )
-        # a worker starts on submit: with the signals blocked, it inherits the mask (a signal
-        # that arrives meanwhile reaches this process once they are unblocked again)
-        block = hasattr(signal, "pthread_sigmask")
-        if block:
-            mask = signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS)
-        try:
-            future = self._executor.submit(advance_stream, spec, state, n_inputs)
-        finally:
-            if block:
-                signal.pthread_sigmask(signal.SIG_SETMASK, mask)
-        self._submitted = [f for f in self._submitted if not f.done()] + [future]
-        return future
+    def first_done(self, futures: Iterable[Any]) -> set[Any]:
+        """Wait until one of ``futures`` is done; those done."""
+        futures = list(futures)
+        if self.inline:
+            return {f for f in futures if f.done()}
+        return self._tasks().first_done(futures)
 
-    def close(self, wait: bool = True) -> None:
-        """Stop the workers.
+    def result(self, future: Any) -> dict[str, np.ndarray]:
+        """A stream's new state; one line if its worker died or the scheduler went away."""
+        return future.result() if self.inline else self._tasks().result(future)
 
-        ``wait=False`` returns before they have exited (a worker takes a moment to end, which
-        this process can spend on other work). Streams still running (after an interruption,
-        a second Ctrl-C, an error in another stream) are abandoned: their workers are killed.
-        """
-        executor, self._executor = self._executor, None
-        if executor is None:
-            return
-        if any(not f.done() for f in self._submitted):
-            # the executor has no public way to stop a running call
-            for process in list((getattr(executor, "_processes", None) or {}).values()):
-                process.kill()
-        self._submitted = []
-        executor.shutdown(wait=wait, cancel_futures=True)
+    def close(self) -> None:
+        """Stop the workers of a local cluster (streams still running are abandoned)."""
+        pool, self._pool = self._pool, None
+        if pool is not None:
+            pool.close()
 
 
 def run_streams(
@@ -255,7 +245,8 @@ def run_streams(
 ) -> tuple[list[StreamResult], list[StreamResult]]:
     """The Boolean and temporal streams of :func:`stream_specs`, run to their end.
 
-    They run in parallel processes, one per Boolean stream (one stream: in this process).
+    They run on a local Dask cluster, one worker per Boolean stream (one stream: in this
+    process).
 
     Parameters
     ----------
@@ -273,6 +264,6 @@ def run_streams(
     specs = [*boolean, *temporal]
     with StreamPool(len(boolean)) as pool:
         futures = [pool.submit(spec, None, spec.n_total) for spec in specs]
-        states = [f.result() for f in futures]
+        states = [pool.result(f) for f in futures]
     results = [stream_result(spec.bits, state) for spec, state in zip(specs, states, strict=True)]
     return results[: len(boolean)], results[len(boolean) :]

@@ -300,8 +300,8 @@ class OperationsField(StrictModel):
     """The ``[[operations]]`` tables of a run (:mod:`skygas.runs.operations`).
 
     Sensors and the user's own operations, attached to the run's simulation by
-    :meth:`~skygas.runs.device_run.DeviceRun.attach_operations`. Every device whose run is one
-    simulation takes them (``simulate``, ``reshuffle``, ``neuron``).
+    :meth:`~skygas.runs.device_run.DeviceRun.attach_operations`. Every device takes them
+    (``simulate``, ``reshuffle``, ``neuron``; the reservoir in each stream of its study).
     """
 
     operations: list[OperationSpec] = []

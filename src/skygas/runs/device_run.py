@@ -1,6 +1,7 @@
 """The one skeleton of a device run: a :class:`~skygas.engine.Simulation` driven piece by piece.
 
-Every device run (``simulate``'s, the reshuffler's, the neuron's) is a :class:`DeviceRun`.
+Every device run (``simulate``'s, the reshuffler's, the neuron's, each stream of a reservoir
+study) is a :class:`DeviceRun`.
 A device declares three things and inherits the rest:
 
 - how it builds its :class:`~skygas.engine.Simulation` (its outline, fields, landscape and

@@ -1,10 +1,11 @@
 """Operations added to a run from its configuration: ``[[operations]]`` tables.
 
-Every run configuration (``simulate``, ``reshuffle``, ``neuron``) takes a list of operations,
-each a TOML table with a ``kind`` and a ``name`` (letters, digits, ``-``, ``_``; unique in the
-run). Each is a *named* operation (:class:`~skygas.engine.scheduler.NamedOperation`): its state
-is checkpointed and resumed bit-identically, its ``summary()`` appears in the run's
-``summary.json`` under ``"operations"`` and its ``data()`` in the run's netCDF file as variables
+Every run configuration (``simulate``, ``reshuffle``, ``neuron``, ``reservoir``) takes a list of
+operations, each a TOML table with a ``kind`` and a ``name`` (letters, digits, ``-``, ``_``;
+unique in the run). Each is a *named* operation
+(:class:`~skygas.engine.scheduler.NamedOperation`): its state is checkpointed and resumed
+bit-identically, its ``summary()`` appears in the run's ``summary.json`` under
+``"operations"`` and its ``data()`` in the run's netCDF file as variables
 ``<name>_<variable>``. No device knows about them.
 
 Two kinds:
