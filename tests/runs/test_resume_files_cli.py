@@ -7,35 +7,52 @@ module of their own they can run on the other test worker meanwhile.
 from __future__ import annotations
 
 import json
+import multiprocessing
+import os
 import signal
-import subprocess
-import sys
+
+from skygas.cli import main
 
 from .test_resume_cli import (
     SIMULATE_TOML,
     _argv,
     _cli,
-    _env,
-    _resume,
     _Started,
     assert_same_results,
 )
 
-#: Kills its own process (SIGKILL: no chance to clean up) just before the ``nth`` rename of a
-#: finished temporary file into place, wherever it comes: the manifest, a checkpoint, a result
-#: file, the report.
-KILL_AT_RENAME = """
-import os, signal, sys
-nth, calls, original = int(sys.argv[1]), [0], os.replace
-def replace(*args, **kwargs):
-    calls[0] += 1
-    if calls[0] == nth:
-        os.kill(os.getpid(), signal.SIGKILL)
-    return original(*args, **kwargs)
-os.replace = replace
-from skygas.cli import main
-sys.exit(main(sys.argv[2:]))
-"""
+
+def _forked(argv: list[str], kill_at_rename: int = 0) -> int:
+    """``skygas argv`` in a child forked from this process (the package and the engine's
+    kernels already loaded: a fraction of a second, where a new interpreter takes seconds);
+    its exit status, negative for the signal that ended it.
+
+    With ``kill_at_rename = n``, the child kills itself (SIGKILL: no chance to clean up) just
+    before the n-th rename of a finished temporary file into place, wherever it comes: the
+    manifest, a checkpoint, a result file, the report.
+    """
+    child = multiprocessing.get_context("fork").Process(
+        target=_run_and_exit, args=(argv, kill_at_rename)
+    )
+    child.start()
+    child.join(300)
+    assert child.exitcode is not None, "the child did not finish in 300 s"
+    return child.exitcode
+
+
+def _run_and_exit(argv: list[str], kill_at_rename: int) -> None:
+    if kill_at_rename:
+        calls, original = [0], os.replace
+
+        def replace(*args, **kwargs):
+            calls[0] += 1
+            if calls[0] == kill_at_rename:
+                os.kill(os.getpid(), signal.SIGKILL)
+            return original(*args, **kwargs)
+
+        os.replace = replace  # type: ignore[assignment]
+    os._exit(main(argv))  # no test-session clean-up in the child
+
 
 SHORT_TOML = SIMULATE_TOML.replace("duration = 30e-6", "duration = 2e-6")
 
@@ -48,26 +65,19 @@ def test_a_kill_at_any_file_of_the_final_write_is_completed_by_resume(tmp_path):
     config = tmp_path / "short.toml"
     config.write_text(SHORT_TOML)
     ref = tmp_path / "ref"
-    done = _cli(["simulate", str(config), "--out", str(ref), "--quiet"])
-    assert done.returncode == 0, done.stderr
+    # in this process: the children forked from it find the engine's kernels loaded
+    assert main(["simulate", str(config), "--out", str(ref), "--quiet"]) == 0
     files = ("trajectories.nc", "summary.json")
     killed = 0
     for nth in range(1, 30):
         out = tmp_path / f"out{nth}"
         argv = ["simulate", str(config), "--out", str(out), "--quiet"]
-        run = subprocess.run(
-            [sys.executable, "-c", KILL_AT_RENAME, str(nth), *argv],
-            capture_output=True,
-            text=True,
-            env=_env(),
-            timeout=300,
-        )
-        if run.returncode == 0:  # fewer renames than nth: every kill point has been tried
+        code = _forked(argv, kill_at_rename=nth)
+        if code == 0:  # fewer renames than nth: every kill point has been tried
             break
-        assert run.returncode == -signal.SIGKILL, run.stderr
+        assert code == -signal.SIGKILL, (nth, code)
         killed += 1
-        again = _resume(argv)
-        assert again.returncode == 0, (nth, again.stderr)
+        assert _forked([*argv, "--resume"]) == 0, nth
         assert_same_results(ref, out, files)
         assert (out / "report.html").is_file()
         assert json.loads((out / "manifest.json").read_text())["finished_at"] is not None
