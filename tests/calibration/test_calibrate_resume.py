@@ -161,6 +161,7 @@ def test_a_study_of_two_films_on_a_running_cluster_gives_the_local_bits(
     provenance = json.loads((out / "point-0" / "summary.json").read_text())["provenance"]
     assert provenance["scheduler"] == dask_cluster.address and provenance["workers"] == 2
     record = json.loads((out / "study.json").read_text())
+    assert f"{record['points'][1]['radius_m'] * 1e9:.2f}" in (out / "report.html").read_text()
     first, second = record["points"]
     assert first["computed_now"] and second["computed_now"]
     # a stiffer film (larger K) holds a smaller skyrmion

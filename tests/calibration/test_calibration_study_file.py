@@ -52,3 +52,64 @@ def test_a_bad_point_is_one_line_naming_it_before_any_work(tmp_path, capsys):
     error = capsys.readouterr().err.strip()
     assert len(error.splitlines()) == 1 and "anisotropy" in error
     assert not (out / "point-0").exists()
+
+
+def _point(k: int, field: float, radius: float) -> dict:
+    return {
+        "values": {"applied_field": field},
+        "folder": f"point-{k}",
+        "computed_now": True,
+        "radius_m": radius,
+        "wall_width_m": 4.1e-9 + 1e-10 * k,
+        "dissipation": 2.5 + 0.25 * k,
+        "gyrocoupling_kg_per_s": 2.07e-13,
+        "pair_measured_range_d_sk": [1.0, 4.5],
+        "wall_measured_range_d_sk": [0.6, 3.0],
+        "rms_error_max_d_sk": None if k else 0.0873,
+    }
+
+
+def test_the_study_report_shows_every_point_s_numbers_as_study_json_holds_them(tmp_path):
+    """report.html of a study: one row per point whose cells are study.json's numbers (read
+    back from the page and compared), a figure for a numeric swept field, and none for
+    films named by file."""
+    import html
+    import re
+
+    from skygas.calibration.study_report import write_study_report
+
+    radii = [11.6e-9, 10.9e-9, 10.31e-9]
+    record = {
+        "fields": ["applied_field"],
+        "points": [
+            _point(k, f, r) for k, (f, r) in enumerate(zip([0.0, 0.01, 0.02], radii, strict=True))
+        ],
+        "study_file": "[study]\nmaterial = 'S6'\n",
+        "skygas_version": "test",
+    }
+    page = write_study_report(record, tmp_path).read_text()
+    rows = re.findall(r"<tr>(.*?)</tr>", page)
+    header = [html.unescape(h) for h in re.findall(r"<th>(.*?)</th>", rows[0])]
+    cells = [[html.unescape(c) for c in re.findall(r"<td class=n>(.*?)</td>", r)] for r in rows[1:]]
+    assert header[:3] == ["point", "applied_field", "radius R (nm)"]
+    assert [c[0] for c in cells] == ["point-0", "point-1", "point-2"]
+    for row, point in zip(cells, record["points"], strict=True):
+        values = dict(zip(header, row, strict=True))
+        assert float(values["applied_field"]) == point["values"]["applied_field"]
+        assert abs(float(values["radius R (nm)"]) - point["radius_m"] * 1e9) <= 0.005
+        assert abs(float(values["𝒟"]) - point["dissipation"]) <= 0.0005
+        lo, hi = (float(v) for v in values["pair law measured to (d_sk)"].split("–"))
+        assert [lo, hi] == point["pair_measured_range_d_sk"]
+    rms = [
+        dict(zip(header, r, strict=True))["validation: largest RMS centre error (d_sk)"]
+        for r in cells
+    ]
+    assert rms == ["0.087", "–", "–"]  # a point without a validation says so
+    assert page.count("<img") == 1 and "against applied_field" in page
+
+    films = {**record, "fields": ["material"]}
+    films["points"] = [
+        {**p, "values": {"material": name}}
+        for p, name in zip(record["points"], ["S6", "a.toml", "b.toml"], strict=True)
+    ]
+    assert "<img" not in write_study_report(films, tmp_path).read_text()

@@ -107,12 +107,15 @@ def test_a_bad_operation_target_is_one_line_before_any_work(tmp_path, capsys):
     assert not out.exists()
 
 
-def test_the_reservoir_refuses_operations_in_one_line(tmp_path, capsys):
+def test_a_reservoir_operation_with_a_device_s_name_is_refused_in_one_line(tmp_path, capsys):
+    """The reservoir takes [[operations]] (tests/reservoir/test_operations.py), under the same
+    rules: a name the devices' own operations use is one line before any work."""
     config = tmp_path / "res.toml"
-    config.write_text('[[operations]]\nkind = "census"\nname = "a"\ninterval = 1e-9\n')
+    config.write_text('[[operations]]\nkind = "census"\nname = "injector"\ninterval = 1e-9\n')
     assert main(["reservoir", str(config), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "operations" in err[0]
+    assert len(err) == 1 and "operations" in err[0] and "injector" in err[0]
+    assert not (tmp_path / "out").exists()
 
 
 def _reshuffler_job():

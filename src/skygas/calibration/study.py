@@ -24,7 +24,8 @@ then solve every point's relaxations. A point whose folder holds a finished cali
 computed again; one that was interrupted resumes from its checkpoint; so running the study again
 after a kill only computes what is missing, to the same bits. ``OUT/study.json`` gathers each
 point's values and its isolated skyrmion (radius, wall width, 𝒟, G), its laws' ranges and its
-validation, with the file's text and the package version.
+validation, with the file's text and the package version; ``OUT/report.html`` shows them
+(:mod:`skygas.calibration.study_report`).
 """
 
 from __future__ import annotations
@@ -195,6 +196,8 @@ def run_study(
 ) -> dict[str, Any]:
     """Calibrate every point of ``study`` not yet done into ``out/point-K``; write study.json.
 
+    And the study's report.html (:func:`~skygas.calibration.study_report.write_study_report`).
+
     ``settings`` (the command line's) apply where the file's ``[settings]`` give none.
 
     Returns
@@ -205,6 +208,7 @@ def run_study(
     """
     from skygas._version import __version__
     from skygas.calibration import calibrate
+    from skygas.calibration.study_report import write_study_report
     from skygas.runs.run_driver import CHECKPOINT, write_json
 
     out = Path(out)
@@ -243,6 +247,7 @@ def run_study(
         "skygas_version": __version__,
     }
     write_json(out / "study.json", record)
+    write_study_report(record, out)
     return record
 
 

@@ -164,7 +164,7 @@ def _calibrate_study(args: argparse.Namespace) -> int:
             f"{row['folder']} ({values}): R = {row['radius_m'] * 1e9:.2f} nm, 𝒟 = "
             f"{row['dissipation']:.3f}" + ("" if row["computed_now"] else " (already done)")
         )
-    print(f"results in {Path(args.out).resolve()}: study.json, point-*/")
+    print(f"results in {Path(args.out).resolve()}: study.json, report.html, point-*/")
     return 0
 
 
