@@ -2,12 +2,16 @@
 bits as a run left alone on its local cluster.
 
 Apart from test_calibrate_cli.py (the module of the shared calibration): these tests make their
-own calibrations (the run left alone, :func:`straight`, made once for the module), and in a
-module of their own they can run on the other test worker meanwhile.
+own calibrations, and in a module of their own they can run on the other test worker meanwhile.
+The reference, made once for the module (:func:`two_films`), is a study of two films on a
+running cluster (a ``dask scheduler`` and two ``dask worker`` processes); its first point is the
+S6 calibration that a calibration interrupted and resumed on the local cluster must equal, bit
+for bit: so a local run, an interrupted one and one on a running cluster all give the same bits.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -31,14 +35,6 @@ pytestmark = pytest.mark.slow
 # a tenth of the wall time less), and bits are bits
 ARGS = ["S6", "--no-validate", "--no-mesh-check", "--quiet", "--checkpoint-seconds", "0"]
 ARGS += ["--cell-size", "2.4e-9", "--pair-distances", "5"]
-
-
-@pytest.fixture(scope="module")
-def straight(tmp_path_factory):
-    """The folder of the calibration left alone, on a local cluster of two workers."""
-    out = tmp_path_factory.mktemp("straight") / "cal"
-    assert cli.main(["calibrate", *ARGS, "--workers", "2", "--out", str(out)]) == 0
-    return out
 
 
 def assert_same_bits(a, b) -> None:
@@ -69,7 +65,7 @@ def _calibrate(out, *extra):
     )
 
 
-def test_interrupted_and_resumed_gives_the_same_bits(straight, tmp_path):
+def test_interrupted_and_resumed_gives_the_same_bits(two_films, tmp_path):
     broken = tmp_path / "broken"
     process = _calibrate(broken)
     checkpoint = broken / "checkpoint.npz"
@@ -88,16 +84,17 @@ def test_interrupted_and_resumed_gives_the_same_bits(straight, tmp_path):
     assert line.startswith("skygas: interrupted by SIGINT: state saved"), line
     assert checkpoint.exists() and not (broken / "model.toml").exists()
     assert cli.main(["calibrate", *ARGS, "--out", str(broken), "--resume"]) == 0
-    assert_same_bits(straight, broken)
+    # on the local cluster, stopped and resumed: the bits of the running cluster's run
+    assert_same_bits(two_films.out / "point-0", broken)
 
 
-@pytest.fixture
-def dask_cluster(tmp_path):
+@contextlib.contextmanager
+def _running_cluster(folder):
     """A Dask scheduler and two workers of one thread, each a process of its own started by
     Dask's command line, as on a cluster: its ``address`` and its ``scheduler`` process."""
     from dask.distributed import Client
 
-    file = tmp_path / "scheduler.json"
+    file = folder / "scheduler.json"
     dask = [sys.executable, "-m", "dask"]
     quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
     processes = [
@@ -136,38 +133,53 @@ def dask_cluster(tmp_path):
                 process.wait()
 
 
-def test_a_study_of_two_films_on_a_running_cluster_gives_the_local_bits(
-    straight, dask_cluster, tmp_path
-):
-    """A study file of two films (a preset, and a user's film in a TOML file): each point is a
-    calibration whose solves are tasks of the running cluster, the preset's the same bits as
-    on the local cluster; run again, nothing is redone."""
+@pytest.fixture
+def dask_cluster(tmp_path):
+    """A running cluster of the test's own (:func:`_running_cluster`)."""
+    with _running_cluster(tmp_path) as cluster:
+        yield cluster
+
+
+@pytest.fixture(scope="module")
+def two_films(tmp_path_factory):
+    """A study file of two films (the S6 preset, and a user's stiffer film in a TOML file) run
+    on a running cluster, twice: its ``out`` folder, the two runs' records (``first``,
+    ``again``) and the cluster's ``address``."""
     from skygas.calibration.material import load_micromagnetic_material
 
+    folder = tmp_path_factory.mktemp("two-films")
     film = load_micromagnetic_material("S6").model_dump(exclude_none=True)
     film.update(name="stiffer", anisotropy=1.05 * film["anisotropy"])
     lines = [f"{k} = {json.dumps(v)}" for k, v in film.items() if not isinstance(v, dict)]
-    (tmp_path / "stiffer.toml").write_text("\n".join(lines) + "\n")
-    study = tmp_path / "films.toml"
+    (folder / "stiffer.toml").write_text("\n".join(lines) + "\n")
+    study = folder / "films.toml"
     study.write_text(
         "[study]\n[settings]\ncell_size = 2.4e-9\npair_distances = 5\n"
         "validate_dynamics = false\nmesh_check = false\n"
         '[[points]]\nmaterial = "S6"\n[[points]]\nmaterial = "stiffer.toml"\n'
     )
-    out = tmp_path / "study"
-    command = ["calibrate", str(study), "--scheduler", dask_cluster.address, "--out", str(out)]
-    assert cli.main([*command, "--quiet", "--json"]) == 0
-    assert_same_bits(straight, out / "point-0")  # the preset's point is the plain calibration
+    out = folder / "study"
+    with _running_cluster(folder) as cluster:
+        command = ["calibrate", str(study), "--scheduler", cluster.address, "--out", str(out)]
+        assert cli.main([*command, "--quiet", "--json"]) == 0
+        first = json.loads((out / "study.json").read_text())
+        assert cli.main([*command, "--quiet", "--json"]) == 0
+        again = json.loads((out / "study.json").read_text())
+        return SimpleNamespace(out=out, first=first, again=again, address=cluster.address)
+
+
+def test_a_study_of_two_films_runs_on_a_running_cluster(two_films):
+    """Each point of the study is a calibration whose solves are tasks of the running cluster
+    (its bits are those of the local cluster: the test above); run again, nothing is redone."""
+    out = two_films.out
     provenance = json.loads((out / "point-0" / "summary.json").read_text())["provenance"]
-    assert provenance["scheduler"] == dask_cluster.address and provenance["workers"] == 2
-    record = json.loads((out / "study.json").read_text())
-    assert f"{record['points'][1]['radius_m'] * 1e9:.2f}" in (out / "report.html").read_text()
-    first, second = record["points"]
+    assert provenance["scheduler"] == two_films.address and provenance["workers"] == 2
+    first, second = two_films.first["points"]
     assert first["computed_now"] and second["computed_now"]
     # a stiffer film (larger K) holds a smaller skyrmion
     assert second["radius_m"] < first["radius_m"]
-    assert cli.main([*command, "--quiet", "--json"]) == 0
-    again = json.loads((out / "study.json").read_text())["points"]
+    assert f"{second['radius_m'] * 1e9:.2f}" in (out / "report.html").read_text()
+    again = two_films.again["points"]
     assert not any(p["computed_now"] for p in again)
     assert [p["radius_m"] for p in again] == [first["radius_m"], second["radius_m"]]
 
