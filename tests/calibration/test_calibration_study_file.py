@@ -113,3 +113,26 @@ def test_the_study_report_shows_every_point_s_numbers_as_study_json_holds_them(t
         for p, name in zip(record["points"], ["S6", "a.toml", "b.toml"], strict=True)
     ]
     assert "<img" not in write_study_report(films, tmp_path).read_text()
+
+
+def test_a_point_folder_of_another_film_is_refused_not_reused(tmp_path):
+    """A study folder whose point holds a finished calibration of another film (the study
+    file was edited, or --out holds another study) is refused in one line before any solve,
+    instead of reporting that calibration as the point's."""
+    from skygas.calibration.study import run_study
+
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY.replace("FIRST", "7.5e5"))
+    study = load_study(path)
+    folder = tmp_path / "out" / "point-0"
+    folder.mkdir(parents=True)
+    (folder / "summary.json").write_text('{"isolated": {}}')
+    (folder / "manifest.json").write_text(
+        '{"command": "calibrate", "config_hash": "0123456789abcdef", '
+        '"finished_at": "2026-01-01T00:00:00Z"}'
+    )
+    with pytest.raises(InputError) as err:
+        run_study(study, tmp_path / "out", progress=False)
+    line = str(err.value)
+    assert "point-0" in line and "another film" in line and "\n" not in line
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["point-0"]  # nothing written

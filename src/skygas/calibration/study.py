@@ -177,11 +177,33 @@ def load_study(path: str | Path, cell_size: float | None = None) -> CalibrationS
     return parse_study(data, path.read_text(), path.parent)
 
 
-def _finished(folder: Path) -> dict | None:
+def _finished(folder: Path, point: CalibrationPoint, settings: dict[str, Any]) -> dict | None:
+    """The summary of the point's finished calibration in ``folder``; None if there is none.
+
+    A folder whose calibration is of another film or other settings (the study file was
+    changed, or ``--out`` holds another study) is refused in one line: its results are not
+    the point's, and replacing them is the user's choice.
+    """
+    from skygas.calibration.plan import CalibrationConfig
+    from skygas.runs import manifest
+    from skygas.runs.run_driver import fingerprint
+
     try:
-        return json.loads((folder / "summary.json").read_text())
+        data = json.loads((folder / "summary.json").read_text())
     except (OSError, ValueError):
         return None
+    config = CalibrationConfig(material=point.material, **settings)
+    found = (manifest.read(folder) or {}).get("config_hash")
+    if found is not None and found != fingerprint(config.model_dump_json()):
+        values = ", ".join(f"{k} = {v!r}" for k, v in point.values.items())
+        raise InputError(
+            "--out",
+            str(folder.parent),
+            f"a study folder whose {point.folder} is this study's point {point.index} "
+            f"({values}); it holds the calibration of another film or other settings",
+            "choose another --out (or remove that point's folder to calibrate it again)",
+        )
+    return data
 
 
 def run_study(
@@ -219,7 +241,8 @@ def run_study(
     rows = []
     for point in study.points:
         folder = out / point.folder
-        data = _finished(folder)
+        merged = {**(settings or {}), **point.settings}
+        data = _finished(folder, point, merged)
         computed = data is None
         if data is None:
             resume = (folder / CHECKPOINT).exists()
@@ -230,7 +253,7 @@ def run_study(
                 scheduler=scheduler,
                 resume=resume,
                 **options,
-                **{**(settings or {}), **point.settings},
+                **merged,
             )
         rows.append(
             {
