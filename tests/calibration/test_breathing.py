@@ -3,7 +3,8 @@
 The field scan's plan, 𝒟_RR of the 360° wall ansatz (its textures at two radii, differenced
 on a mesh, against a quadrature of ∂_R θ written here, and its thin-wall limit 4πR/Δ), the
 Lagrange-multiplier integral of E_self on a self-energy known in closed form, the shift fit on an
-exponential law shifted by a known amount, and the model's choice. The measurement on a real
+exponential law shifted by a known amount, the shifts from squeezed radii in balance, and the
+model's choice. The measurement on a real
 calibration is tested in test_calibrate_cli.py (the module of the shared calibration).
 """
 
@@ -103,6 +104,40 @@ def test_the_shift_fit_recovers_a_known_shift_of_an_exponential_law():
     # unshifted, every ln E is off by s·|2ΔR|/λ
     assert fit["rms_log_residual_unshifted"] == pytest.approx(shift * 3e-9 / decay, rel=1e-3)
     assert fit["shift_per_point"] == pytest.approx([shift] * 3, abs=1e-3)
+
+
+def _skyrmion(x: float, radius: float) -> dict:
+    return {"x": x, "y": 50e-9, "radius": radius, "charge": -1.0}
+
+
+def test_the_squeeze_fit_recovers_known_shifts_from_the_balance_of_the_radius():
+    """Pairs and edge singles whose radii are those where the breathing model's radius is in
+    balance, −E_self'(R) = s·F, for a harmonic E_self and exponential laws: the fit gives
+    back s_p and s_w (the film's centre single 0.2 nm off the table's R₀, as a finite film
+    leaves it, is taken as its R₀)."""
+    from types import SimpleNamespace
+
+    r0, k, s_p, s_w, film_offset = 11.6e-9, 6e-4, 1.25, 0.9, 0.2e-9
+    radius = np.linspace(0.7 * r0, 1.3 * r0, 25)
+    energy = 0.5 * k * (radius - r0) ** 2
+    pair = lambda d: 3e-12 * np.exp(-np.asarray(d) / 8e-9)  # noqa: E731 - force laws [N]
+    wall = lambda x: 2e-12 * np.exp(-np.asarray(x) / 5e-9)  # noqa: E731
+    results = {"laws/single/9": {"skyrmions": [_skyrmion(300e-9, r0 + film_offset)]}}
+    for i, x in enumerate([20e-9, 25e-9, 30e-9]):  # edge singles, squeezed by the edge
+        squeezed = r0 - s_w * float(wall(x)) / k
+        results[f"laws/single/{i}"] = {"skyrmions": [_skyrmion(x, squeezed + film_offset)]}
+    for i, d in enumerate([26e-9, 30e-9, 36e-9, 45e-9]):  # pairs, squeezed by each other
+        squeezed = r0 - s_p * float(pair(d)) / k + film_offset
+        results[f"laws/pair/{i}"] = {
+            "skyrmions": [_skyrmion(150e-9, squeezed), _skyrmion(150e-9 + d, squeezed)]
+        }
+    job = SimpleNamespace(results=results)
+    cal = SimpleNamespace(pair=pair, wall=wall, isolated=SimpleNamespace(radius=r0))
+    fit = breathing.squeeze_shifts(job, cal, radius, energy)
+    assert fit["pair"]["shift"] == pytest.approx(s_p, rel=1e-6)
+    assert fit["wall"]["shift"] == pytest.approx(s_w, rel=1e-6)
+    assert fit["pair"]["shift_per_point"] == pytest.approx([s_p] * 4, rel=1e-6)
+    assert fit["pair"]["distance_m"] == pytest.approx([26e-9, 30e-9, 36e-9, 45e-9])
 
 
 def test_the_choice_follows_the_sensitivity_against_the_threshold():

@@ -365,8 +365,9 @@ def test_radius_dissipation_against_the_ansatz_and_the_thin_wall(calibrated):
     assert measured == pytest.approx(4 * math.pi * r / width, rel=0.25)
 
 
-def test_the_laws_move_with_the_radius_as_the_shifts_say(calibrated):
-    """At a radius ΔR smaller: E_pair(d) = U_pair(d − 2 s_p ΔR), E_wall(x) = U_wall(x − s_w ΔR).
+def test_the_laws_move_with_the_radius_as_the_field_shifts_say(calibrated):
+    """At a radius ΔR smaller by a field: E_pair(d) = U_pair(d − 2 s_p ΔR), E_wall(x) =
+    U_wall(x − s_w ΔR), with the shifts fitted to them.
 
     U: ln E of the laws at R₀ (summary.json's energies), interpolated here (PCHIP).
     """
@@ -374,7 +375,6 @@ def test_the_laws_move_with_the_radius_as_the_shifts_say(calibrated):
     shifts = data["breathing"]["shifts"]
     delta = shifts["radius_change_m"]
     assert -0.2 < shifts["relative_radius_change"] < -0.1  # aimed at −15 %
-    table = model["material"]["breathing"]
     for law, key, per_unit in (("pair", "pair", 2 * delta), ("wall", "wall_short_range", delta)):
         ref = data[key]
         d, e = np.array(ref["energy_distance_m"]), np.array(ref["energy_J"])
@@ -382,10 +382,31 @@ def test_the_laws_move_with_the_radius_as_the_shifts_say(calibrated):
         u = interpolate.PchipInterpolator(d[positive], np.log(e[positive]))
         x = np.array(shifts[law]["distance_m"])
         measured = np.log(shifts[law]["energy_J"])
-        s = table[f"{law}_shift"]
+        s = shifts[law]["shift"]
         assert len(x) == 3 and 0.5 < s < 3
         assert np.abs(measured - u(x - s * per_unit)).max() < 0.15
         assert np.abs(measured - u(x)).min() > 0.25  # unshifted, the laws miss them
+
+
+def test_the_model_s_shifts_balance_the_squeezed_radii(calibrated):
+    """The model's s_p and s_w, recomputed from the squeezed solves' radii and distances in
+    summary.json with model.toml's own tables: the push on the radius −E_self'(R) (the
+    E_self(R) table, a cubic spline) against the law's force at the held distance (the force
+    table, PCHIP, as the engine reads it), a least-squares slope through the origin."""
+    data, model, *_ = _breathing(calibrated)
+    squeezed = data["breathing"]["shifts_squeezed"]
+    table = model["material"]["breathing"]
+    e_self = interpolate.CubicSpline(table["radius"], table["energy"])
+    for law, key in (("pair", "pair_table"), ("wall", "wall_table")):
+        fit = squeezed[law]
+        laws = model["material"][key]
+        at = np.clip(fit["distance_m"], laws["distance"][0], laws["distance"][-1])
+        force = interpolate.PchipInterpolator(laws["distance"], laws["force"])(at)
+        push = -e_self(fit["radius_m"], 1)
+        assert len(push) >= 3 and np.all(push > 0)  # squeezed: smaller than R₀
+        shift = float(np.sum(push * force) / np.sum(force * force))
+        assert table[f"{law}_shift"] == pytest.approx(shift, rel=1e-6), law
+        assert data["breathing"]["shift_measure"][law] == "squeezed"
 
 
 def test_the_model_file_carries_breathing_and_the_choice_is_stated(calibrated):
@@ -399,7 +420,7 @@ def test_the_model_file_carries_breathing_and_the_choice_is_stated(calibrated):
     spec = material.breathing
     assert spec is not None and spec.radius == tuple(radius)
     assert spec.radius[0] < material.skyrmion_radius < spec.radius[-1]
-    assert spec.pair_shift == b["shifts"]["pair"]["shift"]
+    assert spec.pair_shift == b["shifts_squeezed"]["pair"]["shift"]
     # the same table makes a valid breathing model
     from skygas.physics.materials import material_from_mapping
 

@@ -339,6 +339,76 @@ def shift_fits(job, cal) -> dict[str, Any]:
     return out
 
 
+def _least_squares_shift(push: np.ndarray, force: np.ndarray) -> float | None:
+    """The shift minimising Σ(push − s·F)²: the slope through the origin of push against F."""
+    denominator = float(np.sum(force * force))
+    return float(np.sum(push * force) / denominator) if denominator > 0 else None
+
+
+def squeeze_shifts(job, cal, radius: np.ndarray, energy: np.ndarray) -> dict[str, Any]:
+    """s_p and s_w from how far neighbours and edges squeeze the skyrmions of the laws' solves.
+
+    No extra field: the pairs and edge singles of the calibration film, relaxed with their
+    centres held, take the radii at which, by the breathing model, the self-energy's slope
+    balances the law's push on the radius. With E = Σ E_self(Rᵢ) + U(g), g = d − s(Rᵢ + Rⱼ − 2R₀)
+    for a pair (x − s(R − R₀) at an edge), ∂E/∂Rᵢ = 0 gives −E_self'(Rᵢ) = s·F, F = −U' the
+    law's force at the held distance. Each solve gives the push −E_self'(R̄) (R̄ its skyrmions'
+    mean radius, E_self the scan's table) and F; s is their least-squares slope through the
+    origin, with each solve's own push/F. The radii are measured from the film's own isolated
+    (centre) single, which the table's R₀ stands for. Solves whose radius lies outside the
+    table, or whose force is below 1 % of the largest, are left out.
+    """
+    table = interpolate.CubicSpline(radius, energy)
+    r = job.results
+    singles = {int(k.rsplit("/", 1)[1]): v for k, v in r.items() if k.startswith("laws/single/")}
+    if not singles:
+        return {"why": "the laws' singles were not solved"}
+    centre = _one_skyrmion(singles[max(singles)])
+    if centre is None:
+        return {"why": "the calibration film's centre single is not one skyrmion"}
+    offset = float(cal.isolated.radius) - centre["radius"]  # film's R₀ → the table's
+
+    def fit(rows: list[tuple[float, float, float]]) -> dict[str, Any]:
+        rows = [row for row in rows if radius[0] <= row[1] <= radius[-1]]
+        if rows:
+            largest = max(f for _, _, f in rows)
+            rows = [row for row in rows if row[2] > 0.01 * largest]
+        if not rows:
+            return {"why": "no solve squeezed within the radius table"}
+        x, rbar, force = (np.array(c, float) for c in zip(*rows, strict=True))
+        push = -table(rbar, 1)
+        shift = _least_squares_shift(push, force)
+        return {
+            "distance_m": x.tolist(),
+            "radius_m": rbar.tolist(),
+            "force_N": force.tolist(),
+            "push_N": push.tolist(),
+            "shift": shift,
+            "shift_per_point": (push / force).tolist(),
+        }
+
+    pairs = []
+    for key, pair in r.items():
+        if not key.startswith("laws/pair/") or len(pair["skyrmions"]) != 2:
+            continue
+        a, b = pair["skyrmions"]
+        if min(abs(a["charge"]), abs(b["charge"])) < MIN_CHARGE:
+            continue
+        d = math.hypot(a["x"] - b["x"], a["y"] - b["y"])
+        pairs.append((d, 0.5 * (a["radius"] + b["radius"]) + offset, float(cal.pair(d))))
+    edges = []
+    for i, single in singles.items():
+        sk = _one_skyrmion(single)
+        if i == max(singles) or sk is None:
+            continue
+        edges.append((sk["x"], sk["radius"] + offset, float(cal.wall(sk["x"]))))
+    return {
+        "what": "the radii that neighbours and edges give the laws' solves, no extra field",
+        "pair": fit(sorted(pairs)),
+        "wall": fit(sorted(edges)),
+    }
+
+
 def choose(sensitivity: dict[str, Any]) -> tuple[str, str]:
     """(particle model, why) from the sensitivity check's |d ln R/dB|."""
     if not sensitivity:
@@ -414,15 +484,23 @@ def measure(job, cal) -> dict[str, Any]:
     out["field_range_T"] = [float(field.min()), float(field.max())]
     out["radius_dissipation"] = radius_dissipation(job, iso)
     out["shifts"] = shift_fits(job, cal)
+    out["shifts_squeezed"] = squeeze_shifts(job, cal, radius, energy)
     spec: dict[str, Any] = {
         "radius": radius.tolist(),
         "energy": energy.tolist(),
         "radius_dissipation": out["radius_dissipation"]["value"],
     }
+    # the model's shifts: the squeezed ones, measured as the model uses them (neighbours and
+    # edges pressing on the radius); the field's where those could not be measured
+    out["shift_measure"] = {}
     for key, law in (("pair_shift", "pair"), ("wall_shift", "wall")):
-        shift = out["shifts"].get(law, {}).get("shift")
-        if shift is not None:
-            spec[key] = shift
+        measures = (("squeezed", out["shifts_squeezed"]), ("field", out["shifts"]))
+        for measure_name, record in measures:
+            shift = record.get(law, {}).get("shift")
+            if shift is not None:
+                spec[key] = float(np.clip(shift, 0.0, MAX_SHIFT))
+                out["shift_measure"][law] = measure_name
+                break
     out["spec"] = spec
     return out
 
@@ -435,4 +513,5 @@ __all__ = [
     "fit_shift",
     "integrated_energies",
     "measure",
+    "squeeze_shifts",
 ]

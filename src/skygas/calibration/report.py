@@ -195,25 +195,41 @@ def breathing_sentence(cal: Calibration) -> str:
         f"𝒟_RR = {d['value']:.3f} (the rigidly shifted profile {d['shifted_profile']:.3f}, the "
         f"360° wall ansatz {d['ansatz']:.3f}, the thin-wall 4πR/Δ {d['thin_wall']:.3f})."
     )
-    shifts = b.get("shifts", {})
+    spec, measure = b["spec"], b.get("shift_measure", {})
+    squeezed, shifts = b.get("shifts_squeezed", {}), b.get("shifts", {})
     words = []
+    for law, name in (("pair", "s_p"), ("wall", "s_w")):
+        value = spec.get(f"{law}_shift")
+        if value is None:
+            fit = shifts.get(law, {})
+            words.append(f"{name} not measured ({fit.get('why', shifts.get('why', 'no data'))})")
+        elif measure.get(law) == "squeezed":
+            n = len(squeezed[law]["distance_m"])
+            words.append(f"{name} = {value:.2f} (from {n} solves squeezed by {_SQUEEZER[law]})")
+        else:
+            words.append(f"{name} = {value:.2f} (by the field: the squeezed solves gave none)")
+    text += " The model's shifts: " + "; ".join(words) + "."
+    field = []
     for law, name in (("pair", "s_p"), ("wall", "s_w")):
         fit = shifts.get(law, {})
         if fit.get("shift") is not None:
-            words.append(
-                f"{name} = {fit['shift']:.2f} (rms ln-residual {fit['rms_log_residual']:.3f}; "
-                f"{fit['rms_log_residual_unshifted']:.3f} unshifted)"
+            field.append(
+                f"{name} would be {fit['shift']:.2f} (rms ln-residual "
+                f"{fit['rms_log_residual']:.3f}; {fit['rms_log_residual_unshifted']:.3f} "
+                "unshifted)"
             )
-        else:
-            words.append(f"{name} not measured ({fit.get('why', shifts.get('why', 'no data'))})")
-    if "radius_change_m" in shifts:
+    if field and "radius_change_m" in shifts:
         text += (
-            f" With the radius {_percent(shifts['relative_radius_change'])} at "
-            f"{shifts['field_T'] * 1e3:+.1f} mT, the laws move with it: " + "; ".join(words) + "."
+            f" Measured by a field instead (the radius {_percent(shifts['relative_radius_change'])}"
+            f" at {shifts['field_T'] * 1e3:+.1f} mT, which also steepens the tails), "
+            + " and ".join(field)
+            + "."
         )
-    else:
-        text += " " + "; ".join(words) + "."
     return text
+
+
+#: What squeezes the skyrmions of the solves each shift is measured from.
+_SQUEEZER = {"pair": "a neighbour", "wall": "the edge"}
 
 
 def models_sentence(cal: Calibration) -> str:
