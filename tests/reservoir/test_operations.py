@@ -52,3 +52,26 @@ def test_an_operation_with_a_device_s_own_name_is_refused_in_one_line():
     bad = {**CONFIG, "operations": [{"kind": "census", "name": "injector", "interval": 1e-8}]}
     with pytest.raises(InputError, match="operations"):
         reservoir_config(bad)
+
+
+def test_a_stream_run_by_the_device_run_skeleton_equals_one_held_in_one_go():
+    """A stream is a DeviceRun whose pieces are whole inputs: advanced piece by piece through
+    the skeleton (DeviceRun.advance), it holds the same inputs to the same state as
+    hold_inputs in one call, its operations included."""
+    import numpy as np
+
+    from skygas.reservoir.device import StreamRun
+    from skygas.reservoir.streams import device_for, stream_specs
+
+    config = reservoir_config(CONFIG)
+    device = device_for(config)
+    (spec,), _ = stream_specs(config, n_temporal=0)
+    whole, pieces = StreamRun(device, spec), StreamRun(device, spec)
+    whole.hold_inputs(spec.n_total)
+    pieces.advance(pieces=3)  # 10 inputs in pieces of 4, 4 and 2
+    assert pieces.sim.step == pieces.total_steps == whole.sim.step
+    assert pieces.position == whole.position == spec.n_total
+    a, b = whole.state_dict(), pieces.state_dict()
+    for key in a:
+        if key not in ("wall_time", "cpu_seconds"):
+            assert np.array_equal(a[key], b[key]), key

@@ -21,12 +21,6 @@ from skygas.commands.run_options import (
     run_options,
 )
 
-#: Where the reservoir's sweep of earlier versions went.
-SWEEP_MOVED = (
-    "no longer an option: sweep the reservoir with `skygas sweep FILE.toml` and [sweep] device = "
-    '"reservoir" (docs/sweeps.md; examples/reservoir/sweep-*.toml)'
-)
-
 #: command-line option -> the configuration's field it overrides (a dotted key)
 OVERRIDES = {
     "seed": "seed",
@@ -67,11 +61,13 @@ def _format(s: dict, out: Path) -> str:
 def _reservoir(args) -> int:
     # imported here: building the command line (every skygas call) imports no numerics
     from skygas.core.errors import InputError
-    from skygas.reservoir.config import load_reservoir_config
+    from skygas.reservoir.config import SWEEP_INSTEAD, load_reservoir_config
     from skygas.reservoir.files import run_reservoir
 
     if args.sweep:  # the option of earlier versions: say where it went
-        raise InputError("--sweep", True, SWEEP_MOVED)
+        raise InputError(
+            "--sweep", True, "no --sweep (the reservoir's own sweep is gone)", SWEEP_INSTEAD
+        )
     overrides = {field: getattr(args, option) for option, field in OVERRIDES.items()}
     # a bad value names the option that set it
     with named_by_flags(args, OVERRIDES), limits_from_flags(args, announce=not args.json):

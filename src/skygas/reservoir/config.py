@@ -105,6 +105,13 @@ class ReservoirConfig(MaterialFields, OperationsField):
     study: StudySpec = StudySpec()
 
 
+#: Where the reservoir's own sweep of earlier versions (``[sweep]``, ``--sweep``) went.
+SWEEP_INSTEAD = (
+    'sweep the reservoir with `skygas sweep FILE.toml` and [sweep] device = "reservoir" '
+    "(docs/sweeps.md; examples/reservoir/sweep-*.toml)"
+)
+
+
 def _check_counts(data: dict) -> None:
     """Counts with their own clear message (before pydantic's generic one).
 
@@ -115,8 +122,8 @@ def _check_counts(data: dict) -> None:
         raise InputError(
             "sweep",
             data["sweep"],
-            "no [sweep] in a reservoir configuration: sweep it with `skygas sweep FILE.toml` "
-            'and [sweep] device = "reservoir" (docs/sweeps.md, examples/reservoir/sweep-*.toml)',
+            "no [sweep] table in a reservoir configuration (the reservoir's own sweep is gone)",
+            SWEEP_INSTEAD,
         )
     n = data.get("n_skyrmions", 1)
     if not isinstance(n, int) or isinstance(n, bool) or n < 1:
