@@ -62,6 +62,17 @@ CASES = {
         "--skyrmions = 7",
         "fewer skyrmions",
     ),
+    "more skyrmions than the validation rectangle holds": (
+        ["--validation-shape", "rectangle", "--skyrmions", "6"],
+        "--skyrmions = 6",
+        "rectangle of 4 × 3 diameters",
+        "fewer skyrmions",
+    ),
+    "a validation that stops before the skyrmions move": (
+        ["--validation-travel", "0"],
+        "--validation-travel = 0.0",
+        "> 0",
+    ),
     "fewer pair distances than the pair law needs": (
         ["--pair-distances", "3"],
         "--pair-distances = 3",

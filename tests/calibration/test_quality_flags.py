@@ -67,7 +67,11 @@ def calibration(validation_error=0.124, ratios=(1.69, 1.40), mesh=0.029, radius=
     )
     return SimpleNamespace(
         diameter=d,
-        config=SimpleNamespace(material=SimpleNamespace(cell_size=2e-9), validate_dynamics=True),
+        config=SimpleNamespace(
+            material=SimpleNamespace(cell_size=2e-9),
+            validate_dynamics=True,
+            validation=SimpleNamespace(min_travel=0.5),
+        ),
         checks={
             "mesh": {
                 "coarse": {"distance_m": 1.5 * d},

@@ -372,8 +372,15 @@ def analyse(job) -> Calibration:
         def run_compare(settle: float = 0.0):
             return compare(particle, *arguments, settle=settle)
 
-        # both particle models against the same micromagnetic run, where both exist
+        # both particle models against the same micromagnetic run, where both exist; the
+        # better one is the model's
+        from skygas.calibration.breathing import choose_by_validation
+
         calibration.validation_models = compare_models(particle, *arguments)
+        if choose_by_validation(calibration.breathing, calibration.validation_models) != (
+            particle.particle_model
+        ):
+            particle = calibration.particle_material(stray_field=False)
         result = calibration.validation_models[particle.particle_model]
         calibration.validation = result
         if result is not None and len(result.times) > 8:

@@ -36,9 +36,10 @@ takes the centre single's and subtracts the edge energy of its two singles from 
 (their singles sit ≥ 3.4 d_sk from the edges, where it is below half a percent of the pair
 energy; the largest share is reported).
 
-**The choice.** ``particle_model = "breathing"`` when |d ln R/dB| exceeds
-:data:`BREATHING_SENSITIVITY`, else ``"rigid"``; the ``[material.breathing]`` table is written
-whenever it was measured.
+**The choice.** Where the validation ran both models against the same micromagnetic run, the
+one with the smaller RMS centre error (:func:`choose_by_validation`); without a validation,
+``particle_model = "breathing"`` when |d ln R/dB| exceeds :data:`BREATHING_SENSITIVITY`, else
+``"rigid"``. The ``[material.breathing]`` table is written whenever it was measured.
 """
 
 from __future__ import annotations
@@ -426,6 +427,34 @@ def choose(sensitivity: dict[str, Any]) -> tuple[str, str]:
     )
 
 
+def choose_by_validation(breathing: dict[str, Any], models: dict[str, Any]) -> str:
+    """The particle model whose validation error is the smaller, written into ``breathing``.
+
+    ``models``: the validation's :class:`~skygas.calibration.validation.Comparison` of each
+    model (None where the micromagnetic run lost a skyrmion). Where both ran, the model with
+    the smaller maximum RMS centre error is chosen, and ``breathing`` records it
+    (``particle_model``, ``why``) beside the sensitivity's own choice
+    (``by_sensitivity``); otherwise the sensitivity's choice stands. Returns the model.
+    """
+    rigid, soft = models.get("rigid"), models.get("breathing")
+    if rigid is None or soft is None:
+        return breathing["particle_model"]
+    errors = {"rigid": float(rigid.error.max()), "breathing": float(soft.error.max())}
+    best = min(errors, key=errors.__getitem__)
+    other = "rigid" if best == "breathing" else "breathing"
+    by_sensitivity = breathing["particle_model"]
+    breathing["by_sensitivity"] = {"particle_model": by_sensitivity, "why": breathing["why"]}
+    breathing["particle_model"] = best
+    why = (
+        f"the validation's RMS centre error is at most {errors[best]:.3f} d_sk with {best} "
+        f"skyrmions, {errors[other]:.3f} d_sk with {other} ones"
+    )
+    if best != by_sensitivity:
+        why += f" (by the field sensitivity alone it would be {by_sensitivity}: {breathing['why']})"
+    breathing["why"] = why
+    return best
+
+
 def measure(job, cal) -> dict[str, Any]:
     """Everything breathing: the scan, E_self(R), 𝒟_RR, the shifts, the choice.
 
@@ -507,6 +536,7 @@ def measure(job, cal) -> dict[str, Any]:
 
 __all__ = [
     "BREATHING_SENSITIVITY",
+    "choose_by_validation",
     "ansatz_radius_dissipation",
     "choose",
     "difference_dissipation",

@@ -9,7 +9,7 @@ not a forecast. It is checked by :func:`skygas.core.estimates.check`, as every d
 is: memory above what a job may use is refused (always), a wall time above 24 hours unless
 forced (``--force``), and a long one is announced in one line.
 
-Before the cost, the geometry is checked against itself: the validation disk must hold its
+Before the cost, the geometry is checked against itself: the validation film must hold its
 skyrmions at their starting distances (a count that it cannot hold would otherwise be refused
 only once the isolated skyrmion is known).
 """
@@ -152,8 +152,8 @@ def calibration_cost(
     return CalibrationCost(estimate, largest, relax_seconds, llg_seconds)
 
 
-def check_validation_disk(config: CalibrationConfig) -> None:
-    """Refuse a validation disk that cannot hold its skyrmions at their starting distances.
+def check_validation_film(config: CalibrationConfig) -> None:
+    """Refuse a validation film that cannot hold its skyrmions at their starting distances.
 
     The check is in skyrmion diameters, so the guessed radius decides nothing but the rounding.
     """
@@ -164,12 +164,19 @@ def check_validation_disk(config: CalibrationConfig) -> None:
     try:
         plan.validation_positions(plan.validation_film(config, diameter), diameter, v.skyrmions)
     except InputError:
+        if v.shape == "rectangle":
+            what = (
+                f"as many skyrmions as the validation rectangle of {v.width:g} × {v.height:g} "
+                f"diameters holds, 1.3–1.8 diameters apart and {plan.RECTANGLE_MARGIN:g} from "
+                "its edges"
+            )
+        else:
+            what = (
+                f"as many skyrmions as the validation disk of radius {v.disk_radius:g} "
+                "diameters holds, 1.3–1.8 diameters apart and 0.9 from its rim"
+            )
         raise InputError(
-            "validation.skyrmions",
-            v.skyrmions,
-            f"as many skyrmions as the validation disk of radius {v.disk_radius:g} diameters "
-            "holds, 1.3–1.8 diameters apart and 0.9 from its rim",
-            "use fewer skyrmions (3 by default)",
+            "validation.skyrmions", v.skyrmions, what, "use fewer skyrmions (3 by default)"
         ) from None
 
 
@@ -208,7 +215,7 @@ def check_calibration(config: CalibrationConfig, workers: int, remote: bool = Fa
         processes than the memory holds, or ``cell_size`` for a calibration too large or too
         long.
     """
-    check_validation_disk(config)
+    check_validation_film(config)
     solves = planned_solves(config)
     cost = calibration_cost(config, workers, solves)
     processes = max(1, workers)

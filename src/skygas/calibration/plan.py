@@ -54,9 +54,9 @@ whose compensation spares that edge's stray field (a real straight edge in an ot
 infinite film), and its uniform state: their energy against the model's, short-range law plus
 first-order stray-field energy.
 
-**Validation** (needs d_sk): a compensated disk (with H_ref) of ``disk_radius`` d_sk with
-``skyrmions`` skyrmions at fixed, asymmetric positions, relaxed with their guiding centres
-held, then released: LLG at T = 0.
+**Validation** (needs d_sk): a compensated disk (with H_ref) of ``disk_radius`` d_sk, or a
+rectangle, with ``skyrmions`` skyrmions at fixed, asymmetric positions, relaxed with their
+guiding centres held, then released: LLG at T = 0.
 
 Every relaxation after stage 1 starts from the isolated skyrmion's own relaxed profile (its
 helicity and m_z(r)).
@@ -66,6 +66,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import Literal
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -122,15 +123,27 @@ FILM_HEIGHT = 3.5
 class ValidationSpec(StrictModel):
     """The micromagnetic many-skyrmion run the model is checked against (T = 0, no current).
 
-    ``skyrmions`` in a disk of ``disk_radius`` skyrmion diameters; snapshots every
+    ``skyrmions`` in a rectangle of ``width`` × ``height`` diameters (``shape`` =
+    ``"rectangle"``, the default), where the default three start near each other and each near
+    an edge, or in a disk of ``disk_radius`` diameters; snapshots every
     ``snapshot_interval`` [s]; the run stops once every skyrmion has travelled ``min_travel``
-    diameters along its path, or at ``max_duration`` [s].
+    diameters along its path, or at ``max_duration`` [s]. Half a diameter by default: long
+    enough for the pair and edge laws to move every skyrmion by a distance that the RMS goal
+    (0.1 d_sk) resolves five times over, and the LLG's time (the calibration's longest chain)
+    is about 2.7 times shorter than for one diameter, since the skyrmions slow down as they
+    part (S6: 0.45 ns against 1.2 ns).
     """
 
     skyrmions: int = Field(3, ge=1, le=7)
+    #: the rectangle by default: its skyrmions feel the edges as well as each other, and its
+    #: film has half the disk's cells (4 × 3 against 5 × 5 d_sk), so the LLG, the
+    #: calibration's longest chain, takes half the time
+    shape: Literal["disk", "rectangle"] = "rectangle"
     disk_radius: float = Field(2.5, ge=1.0, le=10.0)
+    width: float = Field(4.0, ge=2.0, le=20.0)
+    height: float = Field(3.0, ge=2.0, le=20.0)
     snapshot_interval: PositiveFloat = 50e-12
-    min_travel: float = Field(1.0, gt=0)
+    min_travel: float = Field(0.5, gt=0, le=5.0)
     max_duration: PositiveFloat = 10e-9
     llg_tolerance: float = Field(1e-5, gt=0, lt=1e-2)
 
@@ -589,20 +602,76 @@ def enlarged_stage(config: CalibrationConfig, radius: float, template: Template)
 
 
 def validation_film(config: CalibrationConfig, diameter: float) -> Film:
-    """The validation disk: ``disk_radius`` diameters, in a square mesh of odd side.
+    """The validation's film, in the reference environment.
 
-    In the reference environment.
+    A disk of ``disk_radius`` diameters in a square mesh of odd side, or a rectangle of
+    ``width`` × ``height`` diameters (odd numbers of cells).
     """
-    n = odd(2 * config.validation.disk_radius * diameter / config.material.cell_size)
+    v, cell = config.validation, config.material.cell_size
+    if v.shape == "rectangle":
+        nx, ny = odd(v.width * diameter / cell), odd(v.height * diameter / cell)
+        return reference_film(config, nx, ny)
+    n = odd(2 * v.disk_radius * diameter / cell)
     return reference_film(config, n, n, disk=True)
+
+
+#: The rectangle's default three skyrmions [diameters from its lower-left corner; the third's y
+#: from its top edge]: 1.3–1.4 apart, each 0.8–0.95 from one edge (two by the bottom edge, one
+#: by the top) and at least 1.3 from any other, so that each slides along its edge. Not in a
+#: corner: there the two edges and the neighbours balance, and an S2 skyrmion 0.8 from two
+#: edges moved 0.03 d_sk in 1.25 ns of LLG while the others moved 0.15–0.21.
+RECTANGLE_TRIANGLE = ((1.3, 0.8), (2.6, 0.9), (1.9, -0.95))
+#: Closest start to a rectangle's edges [diameters]: near enough that the edge law acts.
+RECTANGLE_MARGIN = 0.8
+
+
+def _rectangle_positions(film: Film, diameter: float, count: int) -> list[tuple[float, float]]:
+    """:func:`validation_positions` in a rectangle."""
+    width, height = film.size
+    if count == 3:
+        points = [
+            (u * diameter, (v if v > 0 else height / diameter + v) * diameter)
+            for u, v in RECTANGLE_TRIANGLE
+        ]
+        margin = RECTANGLE_MARGIN * diameter - 1e-12
+        inside = all(
+            margin <= x <= width - margin and margin <= y <= height - margin for x, y in points
+        )
+        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
+        if inside and min(gaps) >= 1.29 * diameter:
+            return points
+    margin = RECTANGLE_MARGIN * diameter
+    rng = np.random.default_rng(54321 + count)
+    for _ in range(20_000):
+        xs = margin + (width - 2 * margin) * rng.random(count)
+        ys = margin + (height - 2 * margin) * rng.random(count)
+        points = list(zip(xs, ys, strict=True))
+        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
+        if (
+            width > 2 * margin
+            and height > 2 * margin
+            and (not gaps or 1.3 * diameter <= min(gaps) <= 1.8 * diameter)
+        ):
+            return [(float(x), float(y)) for x, y in points]
+    from skygas.core.errors import InputError
+
+    raise InputError(
+        "validation.width",
+        width / diameter,
+        f"a rectangle large enough for {count} skyrmions 1.3 diameters apart and "
+        f"{RECTANGLE_MARGIN:g} from its edges",
+    )
 
 
 def validation_positions(film: Film, diameter: float, count: int) -> list[tuple[float, float]]:
     """Fixed, asymmetric starting positions [m] of the validation's skyrmions.
 
-    Skyrmions 1.3–1.8 diameters apart and at least 0.9 diameters from the rim, drawn once from a
-    fixed seed (the same for every run of the same size).
+    Skyrmions 1.3–1.8 diameters apart and at least 0.9 diameters from a disk's rim (0.8 from a
+    rectangle's edges), drawn once from a fixed seed (the same for every run of the same size);
+    three of them have fixed places (:data:`RECTANGLE_TRIANGLE` in a rectangle).
     """
+    if not film.disk:
+        return _rectangle_positions(film, diameter, count)
     cx, cy = 0.5 * film.size[0], 0.5 * film.size[1]
     reach = film.radius - 0.9 * diameter
     if count == 3:  # the default: an irregular triangle, off the disk's centre

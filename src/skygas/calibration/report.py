@@ -253,6 +253,13 @@ def models_sentence(cal: Calibration) -> str:
     return " Both particle models against the same run: " + "; ".join(parts) + "."
 
 
+def outline_phrase(v) -> str:
+    """'a disk of radius 199.00 nm' or 'a rectangle of 318.00 nm × 238.00 nm' (the film)."""
+    if v.size is None:
+        return f"a disk of radius {_nm(v.disk_radius)}"
+    return f"a rectangle of {_nm(v.size[0])} × {_nm(v.size[1])}"
+
+
 def validation_sentence(cal: Calibration) -> str:
     """The report's sentences on the validation: what ran, how close the model came, and why."""
     if not cal.config.validate_dynamics:
@@ -262,8 +269,8 @@ def validation_sentence(cal: Calibration) -> str:
         return f"Validation: {cal.validation_note}."
     s = v.summary()
     text = (
-        f"Validation: {s['skyrmions']} skyrmions released in a disk of radius "
-        f"{_nm(v.disk_radius)} (micromagnetic LLG at T = 0 for {v.times[-1] * 1e9:.2f} ns; "
+        f"Validation: {s['skyrmions']} skyrmions released in {outline_phrase(v)} "
+        f"(micromagnetic LLG at T = 0 for {v.times[-1] * 1e9:.2f} ns; "
         f"each moved {min(s['path_length_d_sk']):.2f}–{max(s['path_length_d_sk']):.2f} d_sk "
         f"along its path). The particle model's RMS centre error is at most "
         f"{s['rms_error_max_d_sk']:.3f} d_sk (final {s['rms_error_final_d_sk']:.3f}, mean "
@@ -278,15 +285,17 @@ def validation_sentence(cal: Calibration) -> str:
             f"release (once the released skyrmions have taken up the shape of moving "
             f"ones), the model's error is at most {r.error.max():.3f} d_sk."
         )
-    if min(s["path_length_d_sk"]) < 1.0:
+    travel = cal.config.validation.min_travel
+    if min(s["path_length_d_sk"]) < travel:
         text += (
-            " The run stopped before every skyrmion had travelled one diameter "
+            f" The run stopped before every skyrmion had travelled {travel:g} diameters "
             f"(its time limit, {cal.config.validation.max_duration * 1e9:g} ns)."
         )
     if s["rms_error_max_d_sk"] > VALIDATION_GOAL and v.particle_model == "rigid":
         lo, hi = s["radius_range_m"]
         text += (
-            f" Why: in the disk the micromagnetic skyrmions have radii of {_nm(lo)}–"
+            f" Why: in the {'disk' if v.size is None else 'rectangle'} the micromagnetic "
+            f"skyrmions have radii of {_nm(lo)}–"
             f"{_nm(hi)}, {lo / cal.isolated.radius * 100:.0f}–"
             f"{hi / cal.isolated.radius * 100:.0f} % of the isolated one whose laws the "
             "model uses: their neighbours and the disk's edge compress them, and the "
@@ -395,8 +404,8 @@ def figure_caption(name: str, cal: Calibration) -> str:
             else "within the goal"
         )
         return (
-            f"Left: the {v.micromagnetic.shape[1]} skyrmions' paths in the validation disk "
-            f"(grey circle, radius {_nm(v.disk_radius)}): micromagnetic LLG (solid) and the "
+            f"Left: the {v.micromagnetic.shape[1]} skyrmions' paths in the validation film "
+            f"(grey, {outline_phrase(v)}): micromagnetic LLG (solid) and the "
             "particle model (dashed, the same colour), dots at the start. Right: the particle "
             "model's RMS centre error [d_sk] against the time from the release (black)"
             f"{restarted}, with the goal {VALIDATION_GOAL:g} d_sk (red dashed). Its maximum, "

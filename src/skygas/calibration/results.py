@@ -227,9 +227,11 @@ def quality_checks(cal: Calibration) -> list[dict[str, Any]]:
                 f"most {worst_error:.3f} d_sk over {v.times[-1] * 1e9:.2f} ns (at most "
                 f"{VALIDATION_GOAL:g} d_sk)"
             )
-            if float(np.min(v.path_length)) < 1.0:
+            travel = cal.config.validation.min_travel
+            if float(np.min(v.path_length)) < travel:
                 what += (
-                    "; the run stopped before every skyrmion had travelled one diameter, so "
+                    f"; the run stopped before every skyrmion had travelled {travel:g} "
+                    "diameters, so "
                     "the comparison is short"
                 )
             out.append(_check("validation", worst_error, VALIDATION_GOAL, "d_sk", what))
@@ -586,7 +588,20 @@ def plot_validation(cal: Calibration, path: Path) -> Path:
     def draw(tmp):
         fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.8))
         cx, cy = v.centre
-        ax.add_patch(plt.Circle((cx * 1e9, cy * 1e9), v.disk_radius * 1e9, fill=False, color="0.5"))
+        if v.size is None:
+            half_w = half_h = v.disk_radius
+            ax.add_patch(plt.Circle((cx * 1e9, cy * 1e9), half_w * 1e9, fill=False, color="0.5"))
+        else:
+            half_w, half_h = 0.5 * v.size[0], 0.5 * v.size[1]
+            ax.add_patch(
+                plt.Rectangle(
+                    ((cx - half_w) * 1e9, (cy - half_h) * 1e9),
+                    v.size[0] * 1e9,
+                    v.size[1] * 1e9,
+                    fill=False,
+                    color="0.5",
+                )
+            )
         for k in range(v.micromagnetic.shape[1]):
             mm, pm = v.micromagnetic[:, k] * 1e9, v.particle[:, k] * 1e9
             (line,) = ax.plot(
@@ -602,10 +617,10 @@ def plot_validation(cal: Calibration, path: Path) -> Path:
             )
             ax.plot(*mm[0], "o", color=line.get_color(), ms=4)
         ax.set_aspect("equal")
-        pad = 0.05 * v.disk_radius * 1e9
+        pad = 0.05 * max(half_w, half_h) * 1e9
         ax.set(
-            xlim=((cx - v.disk_radius) * 1e9 - pad, (cx + v.disk_radius) * 1e9 + pad),
-            ylim=((cy - v.disk_radius) * 1e9 - pad, (cy + v.disk_radius) * 1e9 + pad),
+            xlim=((cx - half_w) * 1e9 - pad, (cx + half_w) * 1e9 + pad),
+            ylim=((cy - half_h) * 1e9 - pad, (cy + half_h) * 1e9 + pad),
             xlabel="x [nm]",
             ylabel="y [nm]",
             title="trajectories (dots: start)",

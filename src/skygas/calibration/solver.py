@@ -5,8 +5,9 @@ This is the only module that imports torch and magnum.np. It offers, for one fil
 
 - :meth:`FilmSolver.energy`: the micromagnetic energy of a texture, term by term;
 - :meth:`FilmSolver.relax`: the nearest energy minimum (the Barzilai–Borwein minimiser of
-  magnum.np's ``MinimizerBB``, Exl et al., J. Appl. Phys. 115, 17D118 (2014)), optionally with
-  the skyrmions' guiding centres held at given points (Lagrange multipliers);
+  magnum.np's ``MinimizerBB``, Exl et al., J. Appl. Phys. 115, 17D118 (2014), preconditioned
+  against the exchange field's short waves), optionally with the skyrmions' guiding centres
+  held at given points (Lagrange multipliers);
 - :meth:`FilmSolver.evolve`: Landau–Lifshitz–Gilbert dynamics at T = 0 (magnum.np's adaptive
   Runge–Kutta–Fehlberg 4(5)), with the material's own γ and α.
 
@@ -96,6 +97,37 @@ def cpu_workers() -> int:
     return max(1, min(2, os.cpu_count() or 1))
 
 
+#: glibc's mallopt parameters (malloc.h)
+_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
+
+
+def keep_freed_memory() -> None:
+    """Let this process's malloc reuse freed memory instead of handing it back to the system.
+
+    Dask starts its worker processes with ``MALLOC_TRIM_THRESHOLD_=65536`` (so that their memory
+    shrinks when work ends), and glibc then serves every allocation above 128 kB by a fresh
+    mmap, page faults and all. A solver allocates field-sized temporaries (0.5–4 MB) at every
+    evaluation: in a Dask worker S2's validation LLG took 0.43 s per step against 0.17 s in a
+    plain process, a relaxation 52 s against 19 s. The heap's limits are set back here, for
+    whatever process solves (a local worker, a running cluster's, or this one): allocations
+    below 32 MB from the heap, and freed memory kept up to 256 MB. Linux with glibc only;
+    elsewhere nothing changes.
+    """
+    import ctypes
+    import ctypes.util
+
+    name = ctypes.util.find_library("c")
+    if name is None:
+        return
+    try:
+        libc = ctypes.CDLL(name)
+        mallopt = libc.mallopt
+    except (OSError, AttributeError):
+        return
+    mallopt(_M_MMAP_THRESHOLD, 32 * 2**20)
+    mallopt(_M_TRIM_THRESHOLD, 256 * 2**20)
+
+
 def backend():
     """magnum.np, imported on first use with its logging silenced.
 
@@ -134,6 +166,7 @@ def backend():
             # every torch call then passes through (a third of a relaxation's time on a
             # CPU); on a CPU the default is that device anyway
             torch.set_default_device(None)
+        keep_freed_memory()
         _settings["configured"] = True
     import magnumnp
 
@@ -229,6 +262,56 @@ class Film:
             min(max(int(round(x / self.cell_size - 0.5)), 0), self.nx - 1),
             min(max(int(round(y / self.cell_size - 0.5)), 0), self.ny - 1),
         )
+
+
+#: The minimiser's smoothing length ℓ in exchange lengths √(2A/(μ₀M_s²)): S2's isolated
+#: skyrmion (2 nm cells, 30 A/m) took 354, 297 and 315 iterations at 1, 2 and 4 of them.
+SMOOTHING_LENGTHS = 2.0
+
+
+class _Smoother:
+    """P = (1 − ℓ²∇²)⁻¹ and P⁻¹ on a film's vector fields, the relaxation's preconditioner.
+
+    ∇² is the five-point Laplacian of the film's cells, applied by FFT on a mesh zero-padded to
+    a size with small prime factors; any symmetric positive operator is a valid
+    preconditioner, and the padding changes only how much this one helps, not the minimum.
+    Fields have magnum.np's shape (nx, ny, 1, 3) and are zero outside the magnetic cells.
+    """
+
+    def __init__(self, film: Film, length: float, magnetic):
+        import scipy.fft
+        import torch
+
+        self.nx, self.ny = film.nx, film.ny
+        self.shape = (
+            scipy.fft.next_fast_len(film.nx, real=True),
+            scipy.fft.next_fast_len(film.ny, real=True),
+        )
+        options = {"device": magnetic.device, "dtype": torch.float64}
+        kx = 2 * math.pi * torch.fft.fftfreq(self.shape[0], **options)
+        ky = 2 * math.pi * torch.fft.rfftfreq(self.shape[1], **options)
+        k2 = ((2 - 2 * torch.cos(kx))[:, None] + (2 - 2 * torch.cos(ky))[None, :]) / (
+            film.cell_size**2
+        )
+        self._sharpen = 1.0 + length**2 * k2
+        self._smooth = 1.0 / self._sharpen
+        self.magnetic = magnetic
+
+    def _apply(self, v, factor):
+        import torch
+
+        planes = v[:, :, 0, :].permute(2, 0, 1)
+        spectrum = torch.fft.rfft2(planes, s=self.shape) * factor
+        out = torch.fft.irfft2(spectrum, s=self.shape)[:, : self.nx, : self.ny]
+        return out.permute(1, 2, 0)[:, :, None, :] * self.magnetic
+
+    def smooth(self, v):
+        """P v."""
+        return self._apply(v, self._smooth)
+
+    def sharpen(self, v):
+        """P⁻¹ v (of the padded mesh: the metric of the step sizes)."""
+        return self._apply(v, self._sharpen)
 
 
 @dataclass(frozen=True)
@@ -366,9 +449,21 @@ class FilmSolver:
         force on skyrmion a that the Thiele equation balances. Holding a core cell instead
         lets the skyrmion slide away from it and distorts it around that cell.
 
-        **The minimiser.** Barzilai–Borwein steps of the semi-implicit midpoint rule
-        m ← [(4 − τ²|m × H'|²) m − 4τ m × (m × H')]/(4 + τ²|m × H'|²) (Exl et al.,
-        J. Appl. Phys. 115, 17D118 (2014); magnum.np's ``MinimizerBB``), which keeps |m| = 1.
+        **The minimiser.** Preconditioned Barzilai–Borwein steps (Molina & Raydan, Numer.
+        Algorithms 13, 45 (1996)) of the semi-implicit midpoint rule of Exl et al. (J. Appl.
+        Phys. 115, 17D118 (2014); magnum.np's ``MinimizerBB``), which keeps |m| = 1:
+
+            m ← [(4 − τ²|d|²) m + 4τ d]/(4 + τ²|d|²),   d = T P T H',
+
+        T the projection on the plane normal to m and P = (1 − ℓ²∇²)⁻¹ (:class:`_Smoother`,
+        ℓ = :data:`SMOOTHING_LENGTHS` exchange lengths). Without P (d = T H') this is
+        ``MinimizerBB``'s step. The exchange field's short waves make the energy surface
+        stiff, 2A/(μ₀M_s)·8/Δx² ≈ 6·10⁷ A/m for S2 on 2 nm cells against ≈ 10⁵ A/m for the
+        skyrmion's breathing, and a gradient method's iterations grow with that ratio. P
+        divides the short waves by ℓ²k² and leaves the long ones: S2's isolated skyrmion took
+        297 iterations instead of 2596, the same energy to 7 digits. The step sizes are
+        τ = ⟨s, P⁻¹s⟩/⟨s, y⟩ and ⟨s, y⟩/⟨y, Py⟩ in turn (s the change of m, y that of
+        m × (m × H')); the iteration stops on the torque of H' itself, not of P H'.
         """
         backend()
         import torch
@@ -421,53 +516,63 @@ class FilmSolver:
             return centres_now.detach(), torch.stack(grads)
 
         magnetic = self._magnetic.to(state.device)
+        smoother = _Smoother(self.film, SMOOTHING_LENGTHS * self.material.exchange_length, magnetic)
 
-        def field(m, tau):
-            """H' (see the docstring) and the constraint violation [m]."""
+        def tangent(m, v):
+            return v - m * (m * v).sum(-1, keepdim=True)
+
+        def direction(m, v):
+            """T P T v: the preconditioned field, in the plane normal to m."""
+            return tangent(m, smoother.smooth(tangent(m, v)))
+
+        def step(m, tau):
+            """The field H' at m, the step's direction d = T P T H', and the drift [m]."""
             state.m = m
             h = self._field() * magnetic
             if not len(targets):
-                return h, 0.0
+                return h, direction(m, h), 0.0
             now, grads = constraint_gradients(m)
-            tangent = lambda v: v - m * (m * v).sum(-1, keepdim=True)  # noqa: E731
-            projected = torch.stack([tangent(g) for g in grads])
-            a_matrix = torch.einsum("aijkl,bijkl->ab", grads, projected)
+            # the step m ← m + τ d moves X by τ ⟨∂X, d⟩, and d is linear in the multipliers
+            # (T P T is symmetric): choose them to make that −½ the drift
+            smoothed = torch.stack([direction(m, g) for g in grads])
+            a_matrix = torch.einsum("aijkl,bijkl->ab", grads, smoothed)
+            d_field = direction(m, h)
             drift = (now - goal).reshape(-1)
-            # the step m ← m + τ P(H') moves X by τ ⟨∂X, P(H')⟩: make that −½ the drift
-            rhs = -torch.einsum("aijkl,ijkl->a", grads, tangent(h)) - 0.5 * drift / tau
+            rhs = -torch.einsum("aijkl,ijkl->a", grads, d_field) - 0.5 * drift / tau
             scale = torch.sqrt(torch.diagonal(a_matrix)).clamp(min=1e-300)
             lam = (
                 torch.linalg.solve(a_matrix / scale[:, None] / scale[None, :], rhs / scale) / scale
             )
-            return h + torch.einsum("a,aijkl->ijkl", lam, grads), float(drift.abs().max())
-
-        def midpoint(m, h, tau):
-            mxh = torch.linalg.cross(m, h)
-            n2 = (mxh * mxh).sum(-1, keepdim=True)
-            return ((4 - tau * tau * n2) * m - 4 * tau * torch.linalg.cross(m, mxh)) / (
-                4 + tau * tau * n2
+            return (
+                h + torch.einsum("a,aijkl->ijkl", lam, grads),
+                d_field + torch.einsum("a,aijkl->ijkl", lam, smoothed),
+                float(drift.abs().max()),
             )
+
+        def midpoint(m, d, tau):
+            n2 = (d * d).sum(-1, keepdim=True)
+            return ((4 - tau * tau * n2) * m + 4 * tau * d) / (4 + tau * tau * n2)
 
         started = time.perf_counter()
         tau_min, tau_max = 1e-13, 1e-5
         tau = tau_min
         m = state.m.detach().clone()
-        h, drift = field(m, tau)
-        dm = torch.linalg.cross(m, torch.linalg.cross(m, h))
+        h, d, drift = step(m, tau)
+        dm = -tangent(m, h)
         converged, iterations = False, 0
         for iterations in range(1, max_iterations + 1):
-            m_new = midpoint(m, h, tau)
-            h_new, drift = field(m_new, tau)
-            dm_new = torch.linalg.cross(m_new, torch.linalg.cross(m_new, h_new))
+            m_new = midpoint(m, d, tau)
+            h_new, d_new, drift = step(m_new, tau)
+            dm_new = -tangent(m_new, h_new)  # m × (m × H')
             torque = float(dm_new.abs().max())
             s_vec, y_vec = m_new - m, dm_new - dm
-            # Barzilai–Borwein step sizes, alternating (as magnum.np's MinimizerBB)
+            # Barzilai–Borwein step sizes in P's metric, alternating
             if iterations % 2:
-                tau = float((s_vec * s_vec).sum() / (s_vec * y_vec).sum())
+                tau = float((s_vec * smoother.sharpen(s_vec)).sum() / (s_vec * y_vec).sum())
             else:
-                tau = float((s_vec * y_vec).sum() / (y_vec * y_vec).sum())
+                tau = float((s_vec * y_vec).sum() / (y_vec * smoother.smooth(y_vec)).sum())
             tau = min(max(abs(tau), tau_min), tau_max)
-            m, h, dm = m_new, h_new, dm_new
+            m, h, d, dm = m_new, h_new, d_new, dm_new
             if torque < torque_tolerance and drift < 1e-3 * cell:
                 converged = True
                 break

@@ -1,6 +1,7 @@
 """Validation: the calibrated particle model against micromagnetic many-skyrmion dynamics.
 
-The micromagnetic run (:mod:`skygas.calibration.pipeline`): ``n`` skyrmions in a disk,
+The micromagnetic run (:mod:`skygas.calibration.pipeline`): ``n`` skyrmions in a disk or a
+rectangle,
 relaxed with their guiding centres held, released at t = 0 and integrated with LLG at T = 0,
 without current, with the material's α, in the same environment as the laws (compensated
 film with the reference field, so the disk's edge acts at short range). Each snapshot is read by the
@@ -8,8 +9,9 @@ project's own detector (:func:`skygas.micromag.detect_skyrmions`, guiding centre
 skyrmions are followed from frame to frame by minimum total displacement.
 
 The particle run: the same number of skyrmions at the tracked positions of the first frame, in
-a disk of the micromagnetic disk's equal-area radius, T = 0, the calibrated model (its tables,
-without the edge stray field, which the compensated disk does not have), recorded at the same
+a disk of the micromagnetic disk's equal-area radius (or the film's own rectangle), T = 0, the
+calibrated model (its tables, without the edge stray field, which the compensated film does not
+have), recorded at the same
 times. The error is the RMS over skyrmions of the distance between the two runs' positions, in
 skyrmion diameters, at every snapshot; and each skyrmion's final displacement is compared in
 length (the ratio particle/micromagnetic) and direction (the angle between them).
@@ -65,7 +67,9 @@ class Comparison:
     ``times`` [s], ``micromagnetic`` and ``particle`` positions (frames, skyrmions, 2) [m],
     ``error`` RMS centre error per frame [d_sk], ``path_length`` per skyrmion in the micromagnetic
     run [d_sk], ``radius`` the mean micromagnetic radius per frame [m], ``particle_radius`` the
-    breathing model's (None for rigid skyrmions), ``particle_model`` which model ran.
+    breathing model's (None for rigid skyrmions), ``particle_model`` which model ran;
+    ``disk_radius`` [m] of a disk, or ``size`` (width, height) [m] of a rectangle (the other
+    None), whose centre is ``centre``.
     """
 
     times: np.ndarray
@@ -75,10 +79,11 @@ class Comparison:
     path_length: np.ndarray
     radius: np.ndarray
     diameter: float
-    disk_radius: float
+    disk_radius: float | None
     centre: tuple[float, float]
     particle_radius: np.ndarray | None = None
     particle_model: str = "rigid"
+    size: tuple[float, float] | None = None
 
     def displacements(self) -> tuple[np.ndarray, np.ndarray]:
         """Each skyrmion's final displacement: length ratio particle/micromagnetic, angle [°].
@@ -121,25 +126,43 @@ class Comparison:
             "duration_s": float(self.times[-1]),
             "path_length_d_sk": [float(x) for x in self.path_length],
             "radius_range_m": [float(self.radius.min()), float(self.radius.max())],
-            "disk_radius_m": self.disk_radius,
+            **(
+                {"disk_radius_m": self.disk_radius}
+                if self.size is None
+                else {"rectangle_m": [float(x) for x in self.size]}
+            ),
             "skyrmions": int(self.micromagnetic.shape[1]),
         }
+
+
+def outline(film):
+    """The particle model's outline of a validation film, and the disk's radius [m] or None.
+
+    A disk film: the disk of its magnetic cells' equal-area radius; a rectangular film: the
+    rectangle of its cells.
+    """
+    from skygas.physics import geometry
+
+    centre = (0.5 * film.size[0], 0.5 * film.size[1])
+    if not film.disk:
+        return geometry.rectangle(*film.size, center=centre), None
+    radius = math.sqrt(film.magnetic().sum() / math.pi) * film.cell_size
+    return geometry.disk(diameter=2 * radius, center=centre), radius
 
 
 def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness: float):
     """Positions (frames, n, 2) [m] of the particle model from ``start`` (n, 2) [m].
 
-    At ``times`` [s] (the first is 0), in a disk of the film's equal-area radius. Also the mean
-    radius [m] at each time of a breathing model (None for rigid skyrmions), the disk's radius
-    and centre.
+    At ``times`` [s] (the first is 0), in the film's :func:`outline`. Also the mean radius [m]
+    at each time of a breathing model (None for rigid skyrmions), the disk's radius (None for a
+    rectangle) and the film's centre.
     """
     from skygas.engine import Simulation
-    from skygas.physics import geometry
 
     centre = (0.5 * film.size[0], 0.5 * film.size[1])
-    radius = math.sqrt(film.magnetic().sum() / math.pi) * film.cell_size
+    shape, radius = outline(film)
     sim = Simulation(
-        geometry.disk(diameter=2 * radius, center=centre),
+        shape,
         material,
         temperature=0.0,
         film_thickness=thickness,
@@ -148,7 +171,7 @@ def particle_run(material, film, start: np.ndarray, times: np.ndarray, thickness
     interval = float(times[1] - times[0])
     steps = max(1, round(interval / sim.suggested_time_step()))
     sim = Simulation(
-        geometry.disk(diameter=2 * radius, center=centre),
+        shape,
         material,
         temperature=0.0,
         film_thickness=thickness,
@@ -212,6 +235,7 @@ def compare(
         centre,
         None if particle_radius is None else particle_radius[:n],
         material.particle_model,
+        None if film.disk else film.size,
     )
 
 

@@ -33,6 +33,8 @@ _FLAGS = {
     "pair_distances": "pair_distances",
     "skyrmions": "validation.skyrmions",
     "validation_duration": "validation.max_duration",
+    "validation_travel": "validation.min_travel",
+    "validation_shape": "validation.shape",
 }
 
 
@@ -93,6 +95,21 @@ def register(subparsers) -> None:
         help="longest validation run [s] (default 10e-9)",
     )
     p.add_argument(
+        "--validation-shape",
+        choices=("disk", "rectangle"),
+        default=None,
+        help="the validation's film: a rectangle of 4 × 3 diameters whose skyrmions start "
+        "near each other and each near an edge (default), or a disk of radius 2.5 diameters",
+    )
+    p.add_argument(
+        "--validation-travel",
+        type=float,
+        default=None,
+        metavar="D",
+        help="the validation run stops once every skyrmion has travelled D diameters along "
+        "its path (default 0.5)",
+    )
+    p.add_argument(
         "--workers",
         type=int,
         default=None,
@@ -134,6 +151,10 @@ def _settings(args) -> dict:
         validation["skyrmions"] = args.skyrmions
     if args.validation_duration is not None:
         validation["max_duration"] = args.validation_duration
+    if args.validation_shape is not None:
+        validation["shape"] = args.validation_shape
+    if args.validation_travel is not None:
+        validation["min_travel"] = args.validation_travel
     if validation:
         settings["validation"] = validation
     return settings
