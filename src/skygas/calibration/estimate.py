@@ -175,9 +175,10 @@ def check_validation_film(config: CalibrationConfig) -> None:
                 f"as many skyrmions as the validation disk of radius {v.disk_radius:g} "
                 "diameters holds, 1.3–1.8 diameters apart and 0.9 from its rim"
             )
-        raise InputError(
-            "validation.skyrmions", v.skyrmions, what, "use fewer skyrmions (3 by default)"
-        ) from None
+        fix = "use fewer skyrmions (3 by default)"
+        if v.shape == "rectangle":
+            fix += ", or --validation-shape disk (a disk of radius 2.5 diameters holds up to 5)"
+        raise InputError("validation.skyrmions", v.skyrmions, what, fix) from None
 
 
 def _duration_decides(config: CalibrationConfig, cost: CalibrationCost) -> bool:
