@@ -625,6 +625,17 @@ RECTANGLE_TRIANGLE = ((1.3, 0.8), (2.6, 0.9), (1.9, -0.95))
 RECTANGLE_MARGIN = 0.8
 
 
+def _gaps(points) -> list[float]:
+    """The distances between every two of ``points`` [m]."""
+    return [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
+
+
+def _spaced(points, diameter: float) -> bool:
+    """Whether the closest two of ``points`` are 1.3–1.8 diameters apart (or there is one)."""
+    gaps = _gaps(points)
+    return not gaps or 1.3 * diameter <= min(gaps) <= 1.8 * diameter
+
+
 def _rectangle_positions(film: Film, diameter: float, count: int) -> list[tuple[float, float]]:
     """:func:`validation_positions` in a rectangle."""
     width, height = film.size
@@ -637,21 +648,15 @@ def _rectangle_positions(film: Film, diameter: float, count: int) -> list[tuple[
         inside = all(
             margin <= x <= width - margin and margin <= y <= height - margin for x, y in points
         )
-        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
-        if inside and min(gaps) >= 1.29 * diameter:
+        if inside and min(_gaps(points)) >= 1.29 * diameter:
             return points
     margin = RECTANGLE_MARGIN * diameter
     rng = np.random.default_rng(54321 + count)
-    for _ in range(20_000):
+    for _ in range(20_000 if width > 2 * margin and height > 2 * margin else 0):
         xs = margin + (width - 2 * margin) * rng.random(count)
         ys = margin + (height - 2 * margin) * rng.random(count)
         points = list(zip(xs, ys, strict=True))
-        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
-        if (
-            width > 2 * margin
-            and height > 2 * margin
-            and (not gaps or 1.3 * diameter <= min(gaps) <= 1.8 * diameter)
-        ):
+        if _spaced(points, diameter):
             return [(float(x), float(y)) for x, y in points]
     from skygas.core.errors import InputError
 
@@ -685,8 +690,7 @@ def validation_positions(film: Film, diameter: float, count: int) -> list[tuple[
         r = reach * np.sqrt(rng.random(count))
         phi = 2 * math.pi * rng.random(count)
         points = list(zip(cx + r * np.cos(phi), cy + r * np.sin(phi), strict=True))
-        gaps = [math.dist(a, b) for k, a in enumerate(points) for b in points[k + 1 :]]
-        if reach > 0 and (not gaps or 1.3 * diameter <= min(gaps) <= 1.8 * diameter):
+        if reach > 0 and _spaced(points, diameter):
             return [(float(x), float(y)) for x, y in points]
     from skygas.core.errors import InputError
 
