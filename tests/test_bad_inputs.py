@@ -57,6 +57,7 @@ FILES = {
     "tiny-length.toml": _replace_line(CHAMBER, "chamber_diameter", "chamber_diameter = 1e-15"),
     "rate.toml": _replace_line(NEURON, "rate", "rate = 1e20"),
     "reshuffler.toml": RESHUFFLER_TOML,
+    "walls.toml": CHAMBER + '\n[forces]\nwall_geometry = "everywhere"\n',
     "quick.toml": (EXAMPLES / "sweeps" / "quick-current.toml").read_text(),
     "x.creating/zarr.json": "{}",
     # a finished reshuffler run
@@ -72,6 +73,10 @@ CASES = {
     # tracebacks before
     "duration inf flag": (["reshuffle", "--duration", "inf", "--out", "OUT"], "--duration = inf"),
     "duration 1e300 toml": (["simulate", "big.toml", "--out", "OUT"], "duration = 1e+300"),
+    "wall geometry toml": (
+        ["simulate", "walls.toml", "--out", "OUT"],
+        "forces.wall_geometry = 'everywhere'",
+    ),
     "check-timestep inf": (["check-timestep", "big.toml", "--duration", "inf"], "duration = inf"),
     "out under /proc": (
         ["reshuffle", "--out", "/proc/skygas-test/x"],

@@ -259,3 +259,54 @@ def test_rigid_materials_refuse_the_breathing_model_by_name():
 
     with pytest.raises(InputError, match="particle_model.*no \\[breathing\\] table"):
         Simulation(disk(diameter=0.5e-6), S2, particle_model="breathing")
+
+
+def test_a_radius_shrinks_in_the_edges_stray_field_as_the_zeeman_energy_says():
+    """E = E_self(R) + a(R) U_s(r), a = (R/R₀)² without a measured A_m(R): at T = 0 by a
+    straight edge, with the laws blind to the radius (s_p = s_w = 0) and a harmonic E_self of
+    stiffness k, the radius settles where k(R − R₀) = −2R U_s/R₀², U_s the stray-field energy
+    the landscape holds at the skyrmion's final position. Within 1 % of R₀ − R."""
+    from tests.engine.calibrated_model import calibrated_material
+
+    from skygas.physics.geometry import rectangle
+
+    stiffness = 2e-3  # J/m²: the radius relaxes in ~0.1 ns, far faster than the centre moves
+    material = breathing(
+        material=calibrated_material(),
+        energy=lambda u: 0.5 * stiffness * u**2,
+        pair_shift=0.0,
+        wall_shift=0.0,
+    )
+    side = 2e-6
+    sim = Simulation(
+        rectangle(side, side, center=(side / 2, side / 2)),
+        material,
+        temperature=0.0,
+        seed=0,
+        wall_law="table",
+        film_thickness=2e-9,
+    )
+    assert sim.edge_stray_field is not None
+    sim.add_skyrmions([[1.2 * 2 * R0, side / 2]])
+    sim.run(2e-9)
+    _, xy = sim.positions()
+    u_s = _stray_energy(sim, xy[0])
+    assert u_s > 0
+    expected = R0 / (1.0 + 2.0 * u_s / (stiffness * R0**2))
+    radius = sim.radii()[1][0]
+    assert R0 - radius == pytest.approx(R0 - expected, rel=0.01)
+
+
+def _stray_energy(sim, point) -> float:
+    """U_s [J] of the edge stray-field term alone at ``point`` [m]."""
+    from skygas.fields.landscape import LandscapeField
+
+    alone = LandscapeField(
+        [sim.edge_stray_field],
+        sim.wall_field.grid,
+        sim.temperature,
+        sim.seed,
+        inside=np.clip(0.5 + sim.wall_field.wall_distance / sim.wall_field.grid.spacing, 0, 1),
+    )
+    energy, _ = alone.energy_and_force([point])
+    return float(energy[0])

@@ -95,6 +95,8 @@ class Calibration:
             },
             "particle_model": self.breathing.get("particle_model", "rigid"),
             "breathing": self.breathing.get("spec"),
+            # the wall law was measured one straight edge at a time: every edge in reach acts
+            "wall_geometry": "film",
         }
 
     def particle_material(self, stray_field: bool = True):

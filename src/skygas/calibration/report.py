@@ -136,23 +136,32 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
         out.append(breathing)
     stray = checks.get("stray_field", {}).get("points")
     if stray:
+        from skygas.calibration.results import edge_model
+
+        key, whose = edge_model(cal, stray)
         worst = max(
             stray,
-            key=lambda p: (
-                abs(p["model_J"] / p["micromagnetic_J"] - 1) if p["micromagnetic_J"] else 0
-            ),
+            key=lambda p: abs(p[key] / p["micromagnetic_J"] - 1) if p["micromagnetic_J"] else 0,
+        )
+        radius = (
+            f"; there the skyrmion's radius is {_nm(worst['radius_m'])}, the breathing "
+            f"model's {_nm(worst['breathing_radius_m'])} (the isolated one "
+            f"{_nm(iso.radius)})"
+            if whose == "breathing"
+            else f"; there the skyrmions' radius is {_nm(worst['radius_m'])} "
+            f"({worst['radius_m'] / iso.radius * 100:.0f} % of the model's)"
         )
         out.append(
-            "In a real film (no compensation) the model's edge energy, short-range law plus "
-            "first-order stray-field energy, is "
+            f"In a real film (no compensation) the {whose} model's edge energy, short-range "
+            "law plus first-order stray-field energy, is "
             + ", ".join(
-                f"{p['model_J'] / p['micromagnetic_J']:.2f}× the micromagnetic one at "
+                f"{p[key] / p['micromagnetic_J']:.2f}× the micromagnetic one at "
                 f"{p['x_d_sk']:.2f} d_sk"
                 for p in stray
                 if p["micromagnetic_J"] > 0
             )
-            + f"; there the skyrmions' radius is {_nm(worst['radius_m'])} "
-            f"({worst['radius_m'] / iso.radius * 100:.0f} % of the model's)."
+            + radius
+            + "."
         )
     out.append(validation_sentence(cal))
     prov = data["provenance"]

@@ -133,6 +133,20 @@ def mesh_distance_words(mesh: dict[str, Any], diameter: float) -> str:
     )
 
 
+def edge_model(cal: Calibration, points: list[dict[str, Any]]) -> tuple[str, str]:
+    """(key of the points' model energy, the model's name) for the written particle model.
+
+    A breathing model is judged with its radius free at the edge (``breathing_model_J``,
+    :func:`skygas.calibration.breathing.edge_check`), a rigid one with the isolated radius.
+    """
+    breathing = getattr(cal, "breathing", None) or {}
+    if breathing.get("particle_model") == "breathing" and all(
+        "breathing_model_J" in p for p in points
+    ):
+        return "breathing_model_J", "breathing"
+    return "model_J", "rigid"
+
+
 def quality_checks(cal: Calibration) -> list[dict[str, Any]]:
     """The calibration's checks against their stated tolerances, each passed or failed.
 
@@ -190,7 +204,8 @@ def quality_checks(cal: Calibration) -> list[dict[str, Any]]:
         )
     points = [p for p in checks.get("stray_field", {}).get("points", []) if p["micromagnetic_J"]]
     if points:
-        ratios = [p["model_J"] / p["micromagnetic_J"] for p in points]
+        key, whose = edge_model(cal, points)
+        ratios = [p[key] / p["micromagnetic_J"] for p in points]
         worst = max(range(len(points)), key=lambda k: abs(ratios[k] - 1))
         out.append(
             _check(
@@ -198,8 +213,8 @@ def quality_checks(cal: Calibration) -> list[dict[str, Any]]:
                 ratios[worst] - 1,
                 STRAY_TOLERANCE,
                 "relative deviation",
-                "the model's edge energy (short-range law plus first-order stray-field energy) "
-                "at a straight edge of a real film is "
+                f"the {whose} model's edge energy (short-range law plus first-order "
+                "stray-field energy) at a straight edge of a real film is "
                 + ", ".join(
                     f"{r:.2f}× the micromagnetic one at {p['x_d_sk']:.2f} d_sk"
                     for r, p in zip(ratios, points, strict=True)

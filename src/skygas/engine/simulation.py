@@ -12,6 +12,7 @@ It owns the parts that each do one job and wires them together:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 import warnings
@@ -94,6 +95,11 @@ NEIGHBOR_MARGIN_STEPS = 8.0
 NEIGHBOR_MARGIN_MAX = 1.25
 
 INTEGRATORS = {"heun": 0, "euler-maruyama": 1}
+#: The layers of a breathing model's wall film (``wall_geometry = "film"``) are this many
+#: isolated radii apart in the erosion δ: the Catmull–Rom rule between them errs by far less
+#: than the law's own accuracy for laws that decay over ≥ 0.35 R₀ (a calibrated film's
+#: shortest, at its closest measured distance).
+WALL_FILM_LAYER_STEP = 0.05
 #: Free slots beyond the last occupied one that a kernel call with planned insertions sees.
 PLAN_SLOTS = 4
 #: Index of each kernel counter in the counters read as plain integers.
@@ -185,6 +191,10 @@ class Simulation:
         ``"rigid"`` or ``"breathing"`` (each skyrmion's radius a degree of freedom, for a
         material with a ``breathing`` table: :class:`~skygas.physics.materials.BreathingSpec`);
         ``None``: the material's own ``particle_model``.
+    wall_geometry : str, optional
+        ``"nearest"`` (the wall law along the nearest wall's normal) or ``"film"`` (the law as
+        the missing film's field, every edge within reach:
+        :mod:`skygas.fields.landscape.wall_film`); ``None``: the material's own.
     """
 
     def __init__(
@@ -210,6 +220,7 @@ class Simulation:
         step_interval: float | None = None,
         external_force=(0.0, 0.0),
         particle_model: str | None = None,
+        wall_geometry: str | None = None,
     ):
         require(isinstance(outline, Outline), "geometry", outline, "a skygas Outline")
         require(
@@ -264,7 +275,19 @@ class Simulation:
         self._breathing_rules = self._build_breathing(particle_model)
         band = self.forces.wall.cutoff + self._breathing_rules.wall_reach + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
+        self.wall_film = self._build_wall_film(wall_geometry)
         self.landscape = self._build_landscape(parse_potentials(landscape))
+        if self._breathing_rules.active and self.edge_stray_field is not None:
+            # the radius feels the edges' stray field: U_s alone, scaled by a(R) in the kernel
+            grid_ = self.wall_field.grid
+            stray = T.LandscapeTerm(
+                self.landscape.term_coefficients(len(self.landscape.terms) - 1),
+                grid_.x0,
+                grid_.y0,
+                grid_.spacing,
+                True,
+            )
+            self._breathing_rules = dataclasses.replace(self._breathing_rules, stray=stray)
         # each force term's rules (:mod:`skygas.engine.term_rules`); the drift's are replaced
         # whenever the drift changes (set_uniform_drift, set_drift_field)
         closest = MIN_PLACEMENT_SEPARATION * d_sk
@@ -347,7 +370,11 @@ class Simulation:
             T.field_grid(fields, grid),
             self._constant_rules.record(),
             self._breathing_rules.record(),
+            T.NO_WALL_FILM if self.wall_film is None else T.wall_film_term(self.wall_film, grid),
         )
+        if self.wall_film is not None:  # the film's field replaces the nearest wall's law
+            wall = self._terms.wall
+            self._terms = self._terms._replace(wall=wall._replace(table=np.zeros_like(wall.table)))
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
         self._counters = np.zeros(1, T.COUNTERS)
@@ -403,6 +430,51 @@ class Simulation:
             0.5 * closest,  # the tables hold from a quarter diameter
             law_stiffness(self.forces.pair, self.forces.pair_law, closest),
             law_stiffness(self.forces.wall, self.forces.wall_law, closest),
+        )
+
+    def _build_wall_film(self, wall_geometry: str | None):
+        """The wall law as the missing film's field (``"film"``), or ``None`` (``"nearest"``).
+
+        Rigid skyrmions get one layer (δ = 0); breathing ones layers of erosion δ spanning
+        s_w times their radius table's range, :data:`WALL_FILM_LAYER_STEP` radii apart.
+        """
+        geometry = self.material.wall_geometry if wall_geometry is None else wall_geometry
+        require(
+            geometry in ("nearest", "film"),
+            "wall_geometry",
+            wall_geometry,
+            "'nearest' or 'film' (or leave it out for the material's own)",
+        )
+        if geometry == "nearest":
+            return None
+        from skygas.fields.landscape.wall_film import WallFilm, layer_deltas
+
+        rules = self._breathing_rules
+        deltas = np.zeros(1)
+        if rules.active:
+            r0 = self.material.skyrmion_radius * units.M_TO_NM
+            shrink = r0 - rules.spec.radius[0] * units.M_TO_NM
+            deltas = layer_deltas(
+                float(rules.spec.wall_shift), rules.growth, shrink, WALL_FILM_LAYER_STEP * r0
+            )
+            if len(deltas) < 4:  # a wall blind to the radius (s_w = 0): four equal layers
+                deltas = np.arange(-1.0, 3.0)
+        grid = self.wall_field.grid
+        require_memory(
+            "wall_geometry",
+            "film",
+            len(deltas) * grid.nx * grid.ny * 64.0,
+            f"{len(deltas)} layers of the wall law's film field on {grid.nx} x {grid.ny} cells",
+            "use wall_geometry = 'nearest', or a coarser grid_spacing",
+        )
+        table = self.forces.wall
+        return WallFilm(
+            self.wall_field.wall_distance,
+            grid.spacing,
+            table.values,
+            table.spacing,
+            table.cutoff,
+            deltas,
         )
 
     def _build_landscape(self, terms: list) -> LandscapeField:
@@ -1206,6 +1278,7 @@ class Simulation:
             "material": self.material.model_dump(mode="json"),
             "thiele": self.thiele.as_record(),
             "edge_stray_field": self.edge_stray_field is not None,
+            "wall_geometry": "nearest" if self.wall_film is None else "film",
             "grid_spacing_m": self.wall_field.grid.spacing / units.M_TO_NM,
             "geometry": self.outline.describe(),
             **{k: v for term in self.term_rules for k, v in term.parameters().items()},

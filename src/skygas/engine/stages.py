@@ -28,7 +28,7 @@ from skygas.engine.terms import (
     CH_WALL_DIST,
 )
 from skygas.fields._field_lookup import field_at
-from skygas.fields.landscape.hermite import hermite_gradient
+from skygas.fields.landscape.hermite import hermite_gradient, hermite_value
 
 # Neighbour lists longer than this are run through without a branch on the cutoff: every
 # entry gets the full force arithmetic, with the force set to zero beyond the cutoff. About a
@@ -503,6 +503,97 @@ def add_radius_velocities(r, alive, breathing, vr):
             vr[i] = (vr[i] + _lerp(breathing.self_force, coordinate)) * breathing.inv_friction
 
 
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
+def add_wall_film_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor, stiffen):
+    """The wall law as the missing film's field: −∇U on the centres, −s_w ∂U/∂δ on the radii.
+
+    Rigid skyrmions read the one layer (δ = 0). A breathing skyrmion's film is eroded by
+    δ = s_w(R − R₀), interpolated between four layers by the Catmull–Rom rule
+    (:func:`skygas.fields.landscape.wall_film.catmull_rom`, the same weights), which also
+    gives the radius's force and, if ``stiffen``, its stiffness s_w² ∂²U/∂δ² (≥ 0) in ``kr``.
+    Skyrmions with ``floor[i] > 0`` are beyond the walls' reach at any radius.
+    """
+    film = terms.wall_film
+    breathing = terms.breathing
+    inv_h = 1.0 / film.spacing
+    shift = breathing.wall_shift
+    last = film.layers - 3
+    for i in range(x.shape[0]):
+        if not alive[i] or floor[i] > 0.0:
+            continue
+        fx = (x[i] - film.x0) * inv_h
+        fy = (y[i] - film.y0) * inv_h
+        if not breathing.active:
+            gx, gy = hermite_gradient(film.coefficients[0], fx, fy, inv_h)
+            vx[i] -= gx
+            vy[i] -= gy
+            continue
+        s = (shift * (r[i] - breathing.r0) - film.delta0) / film.delta_step
+        k = min(max(int(math.floor(s)), 1), last)
+        t = min(max(s - k, 0.0), 1.0)
+        t2 = t * t
+        t3 = t2 * t
+        value = (
+            0.5 * (-t3 + 2 * t2 - t),
+            0.5 * (3 * t3 - 5 * t2 + 2),
+            0.5 * (-3 * t3 + 4 * t2 + t),
+            0.5 * (t3 - t2),
+        )
+        slope = (
+            0.5 * (-3 * t2 + 4 * t - 1),
+            0.5 * (9 * t2 - 10 * t),
+            0.5 * (-9 * t2 + 8 * t + 1),
+            0.5 * (3 * t2 - 2 * t),
+        )
+        curve = (-3 * t + 2, 9 * t - 5, -9 * t + 4, 3 * t - 1)
+        sx = 0.0
+        sy = 0.0
+        du = 0.0
+        d2u = 0.0
+        for m in range(4):
+            cells = film.coefficients[k - 1 + m]
+            u = hermite_value(cells, fx, fy)
+            gx, gy = hermite_gradient(cells, fx, fy, inv_h)
+            sx += value[m] * gx
+            sy += value[m] * gy
+            du += slope[m] * u
+            d2u += curve[m] * u
+        vx[i] -= sx
+        vy[i] -= sy
+        inv_d = 1.0 / film.delta_step
+        vr[i] -= shift * du * inv_d
+        if stiffen:
+            kr[i] += shift * shift * max(d2u, 0.0) * inv_d * inv_d
+
+
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
+def add_stray_radius_forces(x, y, r, alive, breathing, vx, vy, vr, kr, stiffen):
+    """A breathing skyrmion in the edges' stray field: a(R) U_s on its centre and radius.
+
+    The landscape already applied −∇U_s (a = 1); here the centre gets −(a(R) − 1)∇U_s, the
+    radius −a'(R) U_s and, if ``stiffen``, the stiffness max(a''(R) U_s, 0) in ``kr``
+    (:class:`skygas.physics.materials.BreathingSpec`, ``moment_deficit``).
+    """
+    stray = breathing.stray
+    inv_h = 1.0 / stray.spacing
+    inv_g = 1.0 / breathing.spacing
+    last = breathing.area_excess.shape[0] - 1
+    for i in range(x.shape[0]):
+        if not alive[i]:
+            continue
+        fx = (x[i] - stray.x0) * inv_h
+        fy = (y[i] - stray.y0) * inv_h
+        u = hermite_value(stray.coefficients, fx, fy)
+        gx, gy = hermite_gradient(stray.coefficients, fx, fy, inv_h)
+        coordinate = min(max((r[i] - breathing.r_min) * inv_g, 0.0), last - 1e-9)
+        excess = _lerp(breathing.area_excess, coordinate)
+        vx[i] -= excess * gx
+        vy[i] -= excess * gy
+        vr[i] -= _lerp(breathing.area_slope, coordinate) * u
+        if stiffen:
+            kr[i] += max(_lerp(breathing.area_curvature, coordinate) * u, 0.0)
+
+
 @numba.njit(inline="always")
 def force_pass(
     x,
@@ -539,8 +630,12 @@ def force_pass(
         pair_forces(x, y, terms.pair, owner, start, pair_j, n_owners, vx, vy, counters)
     if terms.landscape.active:
         add_landscape_forces(x, y, alive, terms.landscape, vx, vy)
-    if breathing.active:
+    if terms.wall_film.active:
+        add_wall_film_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor, stiffen)
+    elif breathing.active:
         add_breathing_wall_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor)
+    if breathing.stray.active:
+        add_stray_radius_forces(x, y, r, alive, breathing, vx, vy, vr, kr, stiffen)
     add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor)
     if breathing.active:
         add_radius_velocities(r, alive, breathing, vr)

@@ -363,6 +363,8 @@ class Breathing(_MovesNoFreeSkyrmion):
     closest: float = 0.0
     pair_stiffness: float = 0.0
     wall_stiffness: float = 0.0
+    #: the edge stray field U_s alone, which the radius feels through a(R) (None: no stray field)
+    stray: Any = None
 
     name: ClassVar[str] = "breathing"
     config_field: ClassVar[str | None] = None
@@ -406,11 +408,32 @@ class Breathing(_MovesNoFreeSkyrmion):
         curvature = spline.derivative(2)(grid)
         return force, curvature, float(grid[1] - grid[0]), float(radius[0]), float(radius[-1])
 
+    def area_scale(self, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """a(R) = A_m(R)/A_m(R₀) at the radii ``grid`` [nm], and a', a'' [1/nm, 1/nm²].
+
+        From the spec's ``moment_deficit`` (a not-a-knot cubic spline), or the thin wall's
+        (R/R₀)² without it.
+        """
+        from scipy.interpolate import CubicSpline
+
+        r0 = self.radius0 * units.M_TO_NM
+        if self.spec.moment_deficit is None:
+            return (grid / r0) ** 2, 2.0 * grid / r0**2, np.full_like(grid, 2.0 / r0**2)
+        radius = np.asarray(self.spec.radius, float) * units.M_TO_NM
+        spline = CubicSpline(radius, np.asarray(self.spec.moment_deficit, float))
+        at_r0 = float(spline(r0))
+        return (
+            spline(grid) / at_r0,
+            spline.derivative()(grid) / at_r0,
+            spline.derivative(2)(grid) / at_r0,
+        )
+
     def record(self) -> T.BreathingTerm:
         """The kernel's :class:`~skygas.engine.terms.BreathingTerm`."""
         if not self.active:
             return T.RIGID
         force, curvature, spacing, r_min, r_max = self._self_force()
+        scale, slope, bend = self.area_scale(r_min + spacing * np.arange(len(force)))
         r0 = self.radius0 * units.M_TO_NM
         spec = self.spec
         z = np.linspace(0.0, PHI_Z_MAX, PHI_Z_NODES)
@@ -431,6 +454,10 @@ class Breathing(_MovesNoFreeSkyrmion):
             2.0 * float(spec.pair_shift) * self.growth,
             self.wall_reach,
             self.closest,
+            scale - 1.0,
+            slope,
+            bend,
+            T.RIGID.stray if self.stray is None else self.stray,
         )
 
     def setting(self) -> str:

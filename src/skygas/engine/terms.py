@@ -16,7 +16,12 @@ velocity by the mobility (:class:`Mobility`):
 - :class:`WallTerm`: the skyrmion–wall law along the inward wall normal of the field grid;
 - :class:`DriftTerm`: the current's drive μ(G ε + η𝒟k I)·v_s, v_s uniform or from the grid;
 - :class:`LandscapeTerm`: an external potential's force −∇U (gates, pinning, disorder;
-  :mod:`skygas.fields.landscape`), the exact gradient of its bicubic Hermite interpolant.
+  :mod:`skygas.fields.landscape`), the exact gradient of its bicubic Hermite interpolant;
+- :class:`WallFilmTerm`: the wall law as the missing film's field (``wall_geometry =
+  "film"``, :mod:`skygas.fields.landscape.wall_film`), in place of :class:`WallTerm`'s
+  nearest-wall force;
+- :class:`BreathingTerm`: a breathing model's radii, their self force, and their share of
+  the laws and of the edges' stray field.
 
 The per-node fields (wall distance and normal, boundary distance, drift) share one packed grid,
 :class:`FieldGrid`, read with one bilinear lookup (:mod:`skygas.fields._field_lookup`).
@@ -166,6 +171,48 @@ class BreathingTerm(NamedTuple):
     pair_reach: float  # how much farther [nm] a pair interacts than at R₀: 2 s_p (r_max − R₀)
     wall_reach: float  # the same for the walls: s_w (r_max − R₀)
     closest: float  # smallest gap [nm] the pair law is read at (its table's valid range)
+    # the edge stray field's scale a(R) = A_m(R)/A_m(R₀) on the self force's grid, less 1 (the
+    # landscape holds a = 1), and its first and second derivatives [1/nm, 1/nm²]
+    area_excess: np.ndarray
+    area_slope: np.ndarray
+    area_curvature: np.ndarray
+    stray: LandscapeTerm  # the edge stray field U_s alone (inactive: no stray field)
+
+
+class WallFilmTerm(NamedTuple):
+    """The wall law as the missing film's field, in layers of erosion δ, or none.
+
+    ``coefficients[k]`` are the Hermite cells of U_δ at δ_k = ``delta0`` + k·``delta_step``
+    [nm] (:mod:`skygas.fields.landscape.wall_film`), on a grid of origin (x0, y0) and
+    ``spacing`` [nm]; one layer (δ = 0) for rigid skyrmions, ≥ 4 for breathing ones.
+    """
+
+    active: bool  # False: the wall law acts from the nearest wall (WallTerm)
+    coefficients: np.ndarray  # (layers, ny − 1, nx − 1, 16) float32
+    x0: float
+    y0: float
+    spacing: float
+    delta0: float
+    delta_step: float
+    layers: int
+
+
+#: No wall film: the wall law acts from the nearest wall only.
+NO_WALL_FILM = WallFilmTerm(False, np.zeros((1, 1, 1, 16), np.float32), 0.0, 0.0, 1.0, 0.0, 1.0, 1)
+
+
+def wall_film_term(film, grid) -> WallFilmTerm:
+    """:class:`WallFilmTerm` of a :class:`~skygas.fields.landscape.wall_film.WallFilm`."""
+    return WallFilmTerm(
+        True,
+        film.coefficients,
+        grid.x0,
+        grid.y0,
+        grid.spacing,
+        film.delta0,
+        film.delta_step,
+        len(film.deltas),
+    )
 
 
 class ForceTerms(NamedTuple):
@@ -178,6 +225,11 @@ class ForceTerms(NamedTuple):
     grid: FieldGrid
     constant: ConstantForceTerm
     breathing: BreathingTerm
+    wall_film: WallFilmTerm = NO_WALL_FILM
+
+
+def _no_landscape() -> LandscapeTerm:
+    return LandscapeTerm(np.zeros((1, 1, 16), dtype=np.float32), 0.0, 0.0, 1.0, False)
 
 
 #: The breathing term of rigid skyrmions.
@@ -198,6 +250,10 @@ RIGID = BreathingTerm(
     0.0,
     0.0,
     0.0,
+    np.zeros(2),
+    np.zeros(2),
+    np.zeros(2),
+    _no_landscape(),
 )
 
 
@@ -292,7 +348,7 @@ def drift_term(thiele, velocity=(0.0, 0.0), from_grid: bool = False) -> DriftTer
 def landscape_term(field=None) -> LandscapeTerm:
     """:class:`LandscapeTerm` of a :class:`~skygas.fields.landscape.LandscapeField` (or none)."""
     if field is None or not field.terms:
-        return LandscapeTerm(np.zeros((1, 1, 16), dtype=np.float32), 0.0, 0.0, 1.0, False)
+        return _no_landscape()
     return LandscapeTerm(field.coefficients, field.grid.x0, field.grid.y0, field.grid.spacing, True)
 
 

@@ -189,6 +189,13 @@ class BreathingSpec(StrictModel):
         4πR₀/Δ.
     pair_shift, wall_shift : float
         s_p and s_w above (dimensionless, ≥ 0; 0 makes the laws blind to the radius).
+    moment_deficit : tuple of float or None
+        The reversed area A_m(R) = ∫(1 − m_z) dA [m²] at each radius (a calibration's scan
+        measures it); ``None`` takes the thin wall's A_m ∝ R². The energy in the edges' stray
+        field, U_s(r) at R₀ (:class:`StrayFieldSpec`), scales with it: a skyrmion of radius R
+        has a(R) U_s(r), a(R) = A_m(R)/A_m(R₀), exact for a field that varies slowly across
+        the skyrmion. So the radius feels the local stray field, −a'(R) U_s, and shrinks where
+        it is strong (near edges, in narrow conduits).
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
@@ -198,6 +205,7 @@ class BreathingSpec(StrictModel):
     radius_dissipation: FinitePositive | None = None
     pair_shift: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
     wall_shift: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
+    moment_deficit: tuple[FinitePositive, ...] | None = None
 
     @field_validator("radius")
     @classmethod
@@ -215,6 +223,15 @@ class BreathingSpec(StrictModel):
             raise ValueError(
                 f"energy needs one value per radius ({len(self.radius)}), not {len(self.energy)}"
             )
+        area = self.moment_deficit
+        if area is not None:
+            if len(area) != len(self.radius):
+                raise ValueError(
+                    f"moment_deficit needs one value per radius ({len(self.radius)}), "
+                    f"not {len(area)}"
+                )
+            if any(b <= a for a, b in zip(area, area[1:], strict=False)):
+                raise ValueError("moment_deficit (m²) must grow with the radius")
         return self
 
 
@@ -268,6 +285,12 @@ class Material(StrictModel):
         (:class:`BreathingSpec`, which ``breathing`` must then give).
     breathing : BreathingSpec or None
         The radius's energy, friction and coupling to the laws (a calibrated soft film).
+    wall_geometry : {"nearest", "film"}
+        How the wall law meets the outline. ``"nearest"``: along the normal of the nearest
+        wall only (the paper's way). ``"film"``: as the field of the missing film, every edge
+        within reach (both sides of a corner, both walls of a conduit;
+        :mod:`skygas.fields.landscape.wall_film`), which a calibration writes: it is how the
+        law was measured, one straight edge at a time.
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=True)
@@ -293,6 +316,7 @@ class Material(StrictModel):
     stray_field: StrayFieldSpec | None = None
     particle_model: Literal["rigid", "breathing"] = "rigid"
     breathing: BreathingSpec | None = None
+    wall_geometry: Literal["nearest", "film"] = "nearest"
 
     @field_validator("wall_law")
     @classmethod

@@ -154,6 +154,9 @@ class ForcesSpec(StrictModel):
     #: ``"rigid"`` or ``"breathing"`` (each skyrmion's radius its own degree of freedom, for a
     #: material with a ``[material.breathing]`` table); left out: the material's own
     particle_model: Literal["rigid", "breathing"] | None = None
+    #: ``"nearest"`` (the wall law along the nearest wall's normal) or ``"film"`` (every edge
+    #: within reach, :mod:`skygas.fields.landscape.wall_film`); left out: the material's own
+    wall_geometry: Literal["nearest", "film"] | None = None
 
     def simulation_arguments(self) -> dict:
         """The keyword arguments of :class:`~skygas.engine.Simulation` these choices give."""
@@ -164,6 +167,7 @@ class ForcesSpec(StrictModel):
             "cutoff_fraction": self.cutoff_fraction,
             "external_force": self.external_force,
             "particle_model": self.particle_model,
+            "wall_geometry": self.wall_geometry,
         }
 
 

@@ -126,6 +126,15 @@ class LandscapeField:
                 self.nodes[..., 3] += h * h * s.uxy
         cell_coefficients(self.nodes, out=self.coefficients)
 
+    def term_coefficients(self, index: int) -> np.ndarray:
+        """The interpolant's cells (as :attr:`coefficients`) of term ``index`` alone."""
+        h = self.grid.spacing
+        sample = self._samples[index]
+        nodes = np.stack([sample.u, h * sample.ux, h * sample.uy, h * h * sample.uxy], axis=-1)
+        out = _aligned_cells(max(self.grid.ny - 1, 1), max(self.grid.nx - 1, 1))
+        cell_coefficients(nodes, out=out)
+        return out
+
     def index(self, name_or_index) -> int:
         """The index of a term given by index or by its ``name`` (bands have one)."""
         if isinstance(name_or_index, (int, np.integer)):

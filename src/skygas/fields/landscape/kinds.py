@@ -575,9 +575,9 @@ class MeasuredMap(_Kind):
             outside = Disorder(rms_kT=self.rms_kT, correlation_length=self.correlation_length)
             noise = outside.sample(SampleContext(gx, gy, ctx.kt, ctx.seed)).u
             u = u + (1.0 - weight.reshape(gx.shape)) * noise
-        ux = _fourth_order_derivative(u, h, 1)
-        uy = _fourth_order_derivative(u, h, 0)
-        uxy = _fourth_order_derivative(ux, h, 0)
+        ux = fourth_order_derivative(u, h, 1)
+        uy = fourth_order_derivative(u, h, 0)
+        uxy = fourth_order_derivative(ux, h, 0)
         inner = (slice(pad, -pad), slice(pad, -pad))
         return Samples(u[inner].copy(), ux[pad:-pad, :].copy(), uy[:, pad:-pad].copy(), uxy.copy())
 
@@ -596,7 +596,7 @@ def _map_values(path: str) -> np.ndarray:
     return values
 
 
-def _fourth_order_derivative(f: np.ndarray, spacing: float, axis: int) -> np.ndarray:
+def fourth_order_derivative(f: np.ndarray, spacing: float, axis: int) -> np.ndarray:
     """∂f along ``axis`` by the fourth-order central difference.
 
     (f(−2) − 8f(−1) + 8f(1) − f(2))/(12 h), on the nodes at least two from the ends (the result
@@ -670,9 +670,9 @@ class EdgeStrayField(_Kind):
             self.model_dump_json(),
         )
         u = _STRAY_ENERGY.get(key, lambda: self._energy(film, spacing))
-        ux = _fourth_order_derivative(u, spacing, 1)
-        uy = _fourth_order_derivative(u, spacing, 0)
-        uxy = _fourth_order_derivative(ux, spacing, 0)
+        ux = fourth_order_derivative(u, spacing, 1)
+        uy = fourth_order_derivative(u, spacing, 0)
+        uxy = fourth_order_derivative(ux, spacing, 0)
         inner = (slice(2, -2), slice(2, -2))
         return Samples(u[inner].copy(), ux[2:-2, :].copy(), uy[:, 2:-2].copy(), uxy.copy())
 
