@@ -227,13 +227,19 @@ def test_radii_that_do_not_touch_the_laws_leave_the_centres_as_rigid_ones():
     assert np.allclose(runs[0], runs[1], rtol=0, atol=1e-6 * 2 * R0)
 
 
-def test_a_breathing_run_resumed_from_a_checkpoint_is_bit_identical():
+@pytest.mark.parametrize("calibrated", [False, True])
+def test_a_breathing_run_resumed_from_a_checkpoint_is_bit_identical(calibrated):
+    """Also with a calibrated model's wall law from every edge and its edge stray field."""
+    from tests.engine.calibrated_model import calibrated_material
+
     stiffness = 2e-4
-    material = breathing(energy=lambda u: 0.5 * stiffness * u**2, span=0.9)
+    base = calibrated_material() if calibrated else S2
+    material = breathing(base, energy=lambda u: 0.5 * stiffness * u**2, span=0.9)
+    options = {"wall_geometry": "film", "film_thickness": 2e-9} if calibrated else {}
     outline = disk(diameter=0.5e-6)
 
     def fresh():
-        sim = Simulation(outline, material, temperature=300.0, seed=7)
+        sim = Simulation(outline, material, temperature=300.0, seed=7, **options)
         sim.add_random(10, seed=4)
         return sim
 

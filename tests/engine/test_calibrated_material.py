@@ -203,3 +203,34 @@ def test_sweeps_and_devices_can_choose_the_wall_law(model_file):
         except ValidationError as e:
             raise to_input_error(e) from None
     assert err.value.field == "forces.wall_law"
+
+
+@pytest.mark.parametrize(
+    ("update", "expected"),
+    [
+        ({"wall_geometry": "all"}, "wall_geometry = 'all': expected one of 'nearest' or 'film'"),
+        ({"moment_deficit": [1e-15, 2e-15]}, "moment_deficit needs one value per radius (3)"),
+        ({"moment_deficit": [3e-15, 2e-15, 1e-15]}, "moment_deficit (m²) must grow"),
+    ],
+)
+def test_a_bad_wall_geometry_or_reversed_area_is_one_line_before_any_run(
+    tmp_path, capsys, update, expected
+):
+    """A model.toml whose wall geometry or A_m(R) table is wrong: one line, exit 2, no folder."""
+    data = calibrated_data()
+    r0 = data["skyrmion_radius"]
+    breathing = {"radius": [0.8 * r0, r0, 1.2 * r0], "energy": [1e-20, 0.0, 1e-20]}
+    if "wall_geometry" in update:
+        data.update(update)
+    else:
+        breathing.update(update)
+    data["breathing"] = breathing
+    (tmp_path / "model.toml").write_text(model_toml(data))
+    (tmp_path / "run.toml").write_text(
+        CHAMBER_TOML.replace("model.toml", str(tmp_path / "model.toml"))
+    )
+    out = tmp_path / "out"
+    assert main(["simulate", str(tmp_path / "run.toml"), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("skygas: error:") and expected in err[0]
+    assert not out.exists()
