@@ -510,3 +510,16 @@ def test_the_breathing_radius_at_a_real_edge_is_the_micromagnetic_one(calibrated
     spec = load_material(calibrated / "model.toml").breathing
     points = data["breathing"]["points"]
     assert spec is not None and spec.moment_deficit == tuple(p["moment_deficit_m2"] for p in points)
+    # the report's sentence: the written model's edge energies, and the radii at its worst
+    if data["breathing"]["particle_model"] == "breathing":
+        _, notes = headline(calibrated / "report.html")
+        text = _note(notes, "In a real film (no compensation) the breathing model's")
+        ratios = [p["breathing_model_J"] / p["micromagnetic_J"] for p in check["points"]]
+        stated = _numbers(_after(text, "energy, is "))
+        for k, (r, p) in enumerate(zip(ratios, check["points"], strict=True)):
+            agrees(stated[2 * k].text, r)
+            agrees(stated[2 * k + 1].text, p["x_d_sk"])
+        worst = check["points"][int(np.argmax([abs(r - 1) for r in ratios]))]
+        agrees(_after(text, "the skyrmion's radius is "), worst["radius_m"], unit="m")
+        agrees(_after(text, "nm, the breathing model's "), worst["breathing_radius_m"], unit="m")
+        agrees(_after(text, "(the isolated one "), r0, unit="m")
