@@ -18,7 +18,7 @@ from skygas.engine import Simulation
 from skygas.engine import terms as T
 from skygas.physics.forces import paper_wall_force
 from skygas.physics.geometry import rectangle
-from skygas.physics.materials import BreathingSpec, preset
+from skygas.physics.materials import BreathingSpec, derive_thiele, preset
 
 S2 = preset("S2")
 SIDE = 3e-6
@@ -49,14 +49,14 @@ def _sim(geometry: str, material=S2) -> Simulation:
 
 def _law(w: float) -> float:
     """The paper's wall force [N] at distance w [m] from one straight wall."""
-    thiele = _sim("nearest").thiele
+    thiele = derive_thiele(S2)
     d_sk = thiele.skyrmion_diameter
     return float(thiele.force_scale * paper_wall_force(w / d_sk, S2.wall_law))
 
 
 @pytest.fixture(scope="module")
 def d_sk() -> float:
-    return _sim("nearest").thiele.skyrmion_diameter
+    return derive_thiele(S2).skyrmion_diameter
 
 
 @pytest.mark.parametrize("distance", [0.7, 1.0, 1.4])

@@ -308,7 +308,7 @@ def _check_stray(job, wall_energy: laws.EnergyCurve, profile, diameter: float) -
                 "radius_m": s["radius"],
             }
         )
-    return {"points": rows, "centre_radius_m": c["radius"]}
+    return {"points": rows, "centre_radius_m": c["radius"], "centre_x_m": c["x"]}
 
 
 def analyse(job) -> Calibration:

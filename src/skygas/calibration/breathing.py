@@ -455,43 +455,29 @@ def choose_by_validation(breathing: dict[str, Any], models: dict[str, Any]) -> s
     return best
 
 
-def area_scale(spec: dict[str, Any], reference_radius: float):
-    """a(R) = A_m(R)/A_m(R₀) of a ``[material.breathing]`` table, as the engine takes it.
-
-    Without its ``moment_deficit``, the thin wall's (R/R₀)².
-    """
-    area = spec.get("moment_deficit")
-    if area is None:
-        return lambda r: (np.asarray(r, float) / reference_radius) ** 2
-    spline = interpolate.CubicSpline(spec["radius"], area)
-    at_r0 = float(spline(reference_radius))
-    return lambda r: spline(r) / at_r0
-
-
-def edge_check(job, cal, spec: dict[str, Any]) -> None:
+def edge_check(cal, spec: dict[str, Any]) -> None:
     """The breathing model at the real straight edge, beside the rigid one.
 
-    For each single of the stray-field check (and its film's centre single) the model's radius
-    minimises E_self(R) + a(R) U_s(x) + U_wall(x − s_w(R − R₀)), U_s the first-order stray-field
-    energy of the half-plane and U_wall the short-range law's energy (as the rigid model's,
-    :func:`skygas.calibration.analysis._check_stray`); its energy there, relative to the
-    centre single's, is written into the check's points as ``breathing_model_J`` with the
-    radius ``breathing_radius_m`` (and the centre's as ``breathing_centre_radius_m``): what the
-    micromagnetic singles' energies and radii test.
+    For each single of the stray-field check (and its film's centre single, at the check's
+    ``centre_x_m``) the model's radius minimises E_self(R) + a(R) U_s(x) + U_wall(x − s_w(R −
+    R₀)), U_s the first-order stray-field energy of the half-plane and U_wall the short-range
+    law's energy (as the rigid model's, :func:`skygas.calibration.analysis._check_stray`), a(R)
+    the engine's (:meth:`~skygas.physics.materials.BreathingSpec.area_ratio`); its energy
+    there, relative to the centre single's, is written into the check's points as
+    ``breathing_model_J`` with the radius ``breathing_radius_m`` (and the centre's as
+    ``breathing_centre_radius_m``): what the micromagnetic singles' energies and radii test.
     """
     from skygas.calibration import laws
+    from skygas.physics.materials import BreathingSpec
 
     check = cal.checks.get("stray_field", {})
-    singles = {
-        int(k.rsplit("/", 1)[1]): v for k, v in job.results.items() if k.startswith("stray/single/")
-    }
-    if not check.get("points") or not singles:
+    if not check.get("points"):
         return
-    m = job.config.material
+    m = cal.config.material
     r0 = float(cal.isolated.radius)
     radius = np.linspace(spec["radius"][0], spec["radius"][-1], 2001)
     self_energy = interpolate.CubicSpline(spec["radius"], spec["energy"])(radius)
-    scale = area_scale(spec, r0)(radius)
+    scale = BreathingSpec(**spec).area_ratio(r0)[0](radius)
     shift = float(spec.get("wall_shift", 1.0))
     wall = cal.wall_energy
 
@@ -504,7 +490,7 @@ def edge_check(job, cal, spec: dict[str, Any]) -> None:
         k = int(np.argmin(total))
         return float(total[k]), float(radius[k])
 
-    centre_energy, centre_radius = model(singles[max(singles)]["skyrmions"][0]["x"])
+    centre_energy, centre_radius = model(check["centre_x_m"])
     check["breathing_centre_radius_m"] = centre_radius
     for point in check["points"]:
         energy, at = model(point["x_m"])
@@ -590,7 +576,7 @@ def measure(job, cal) -> dict[str, Any]:
                 out["shift_measure"][law] = measure_name
                 break
     out["spec"] = spec
-    edge_check(job, cal, spec)
+    edge_check(cal, spec)
     return out
 
 

@@ -295,7 +295,9 @@ class Simulation:
         self._pair_rules = PairLaw(
             f.pair_law, f.pair, f.pair_law_params, f.cutoff_fraction, closest
         )
-        self._wall_rules = WallLaw(f.wall_law, f.wall, closest)
+        self._wall_rules = WallLaw(
+            f.wall_law, f.wall, closest, "nearest" if self.wall_film is None else "film"
+        )
         self._drift_rules = CurrentDrift(T.drift_term(self.thiele))
         # the landscape's curvature counts in the suggested step when the material's stray
         # field is in it; runs without it keep the step they always had
@@ -372,9 +374,6 @@ class Simulation:
             self._breathing_rules.record(),
             T.NO_WALL_FILM if self.wall_film is None else T.wall_film_term(self.wall_film, grid),
         )
-        if self.wall_film is not None:  # the film's field replaces the nearest wall's law
-            wall = self._terms.wall
-            self._terms = self._terms._replace(wall=wall._replace(table=np.zeros_like(wall.table)))
         ports = list(outline.ports.values())
         self._ports = np.array([[*p.coords[0], *p.coords[-1]] for p in ports]).reshape(-1, 4)
         self._counters = np.zeros(1, T.COUNTERS)
@@ -1278,7 +1277,6 @@ class Simulation:
             "material": self.material.model_dump(mode="json"),
             "thiele": self.thiele.as_record(),
             "edge_stray_field": self.edge_stray_field is not None,
-            "wall_geometry": "nearest" if self.wall_film is None else "film",
             "grid_spacing_m": self.wall_field.grid.spacing / units.M_TO_NM,
             "geometry": self.outline.describe(),
             **{k: v for term in self.term_rules for k, v in term.parameters().items()},

@@ -29,6 +29,7 @@ from skygas.engine.terms import (
 )
 from skygas.fields._field_lookup import field_at
 from skygas.fields.landscape.hermite import hermite_gradient, hermite_value
+from skygas.fields.landscape.wall_film import catmull_rom
 
 # Neighbour lists longer than this are run through without a branch on the cutoff: every
 # entry gets the full force arithmetic, with the force set to zero beyond the cutoff. About a
@@ -509,7 +510,7 @@ def add_wall_film_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor, stiffen):
 
     Rigid skyrmions read the one layer (δ = 0). A breathing skyrmion's film is eroded by
     δ = s_w(R − R₀), interpolated between four layers by the Catmull–Rom rule
-    (:func:`skygas.fields.landscape.wall_film.catmull_rom`, the same weights), which also
+    (:func:`skygas.fields.landscape.wall_film.catmull_rom`), which also
     gives the radius's force and, if ``stiffen``, its stiffness s_w² ∂²U/∂δ² (≥ 0) in ``kr``.
     Skyrmions with ``floor[i] > 0`` are beyond the walls' reach at any radius.
     """
@@ -530,22 +531,7 @@ def add_wall_film_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor, stiffen):
             continue
         s = (shift * (r[i] - breathing.r0) - film.delta0) / film.delta_step
         k = min(max(int(math.floor(s)), 1), last)
-        t = min(max(s - k, 0.0), 1.0)
-        t2 = t * t
-        t3 = t2 * t
-        value = (
-            0.5 * (-t3 + 2 * t2 - t),
-            0.5 * (3 * t3 - 5 * t2 + 2),
-            0.5 * (-3 * t3 + 4 * t2 + t),
-            0.5 * (t3 - t2),
-        )
-        slope = (
-            0.5 * (-3 * t2 + 4 * t - 1),
-            0.5 * (9 * t2 - 10 * t),
-            0.5 * (-9 * t2 + 8 * t + 1),
-            0.5 * (3 * t2 - 2 * t),
-        )
-        curve = (-3 * t + 2, 9 * t - 5, -9 * t + 4, 3 * t - 1)
+        value, slope, curve = catmull_rom(min(max(s - k, 0.0), 1.0))
         sx = 0.0
         sy = 0.0
         du = 0.0

@@ -147,26 +147,39 @@ class WallLaw(_MovesNoFreeSkyrmion):
         Its table in internal units, cut off at ``table.cutoff`` [nm].
     closest
         Distance [nm] below which the law is not valid and its slope does not count.
+    geometry
+        ``"nearest"``: the law acts along the nearest wall's normal (this term's record);
+        ``"film"``: it acts as the missing film's field (:class:`~skygas.engine.terms.
+        WallFilmTerm`), and this term's record carries a zero table (its cutoff still bounds
+        the walls' reach, and its slopes the step).
     """
 
     law: str
     table: ForceTable
     closest: float = 0.0
+    geometry: str = "nearest"
 
     name: ClassVar[str] = "wall_law"
     config_field: ClassVar[str | None] = None
 
     def record(self) -> T.WallTerm:
         """The kernel's :class:`~skygas.engine.terms.WallTerm`."""
-        return T.wall_term(self.table)
+        term = T.wall_term(self.table)
+        if self.geometry == "film":
+            return term._replace(table=np.zeros_like(term.table))
+        return term
 
     def setting(self) -> str:
         """The law's name."""
         return self.law
 
     def parameters(self) -> dict[str, Any]:
-        """The law and its cutoff distance [m]."""
-        return {"wall_law": self.law, "wall_cutoff_m": self.table.cutoff / units.M_TO_NM}
+        """The law, its cutoff distance [m] and how it meets the outline."""
+        return {
+            "wall_law": self.law,
+            "wall_cutoff_m": self.table.cutoff / units.M_TO_NM,
+            "wall_geometry": self.geometry,
+        }
 
     def stiffness(self) -> float:
         """The largest |dF/dr| [pN/nm] beyond :attr:`closest`."""
@@ -408,32 +421,15 @@ class Breathing(_MovesNoFreeSkyrmion):
         curvature = spline.derivative(2)(grid)
         return force, curvature, float(grid[1] - grid[0]), float(radius[0]), float(radius[-1])
 
-    def area_scale(self, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """a(R) = A_m(R)/A_m(R₀) at the radii ``grid`` [nm], and a', a'' [1/nm, 1/nm²].
-
-        From the spec's ``moment_deficit`` (a not-a-knot cubic spline), or the thin wall's
-        (R/R₀)² without it.
-        """
-        from scipy.interpolate import CubicSpline
-
-        r0 = self.radius0 * units.M_TO_NM
-        if self.spec.moment_deficit is None:
-            return (grid / r0) ** 2, 2.0 * grid / r0**2, np.full_like(grid, 2.0 / r0**2)
-        radius = np.asarray(self.spec.radius, float) * units.M_TO_NM
-        spline = CubicSpline(radius, np.asarray(self.spec.moment_deficit, float))
-        at_r0 = float(spline(r0))
-        return (
-            spline(grid) / at_r0,
-            spline.derivative()(grid) / at_r0,
-            spline.derivative(2)(grid) / at_r0,
-        )
-
     def record(self) -> T.BreathingTerm:
         """The kernel's :class:`~skygas.engine.terms.BreathingTerm`."""
         if not self.active:
             return T.RIGID
         force, curvature, spacing, r_min, r_max = self._self_force()
-        scale, slope, bend = self.area_scale(r_min + spacing * np.arange(len(force)))
+        # the edge stray field's scale a(R) and its derivatives on the self force's grid
+        grid = r_min + spacing * np.arange(len(force))
+        area = self.spec.area_ratio(self.radius0 * units.M_TO_NM, units.M_TO_NM)
+        scale, slope, bend = (f(grid) for f in area)
         r0 = self.radius0 * units.M_TO_NM
         spec = self.spec
         z = np.linspace(0.0, PHI_Z_MAX, PHI_Z_NODES)

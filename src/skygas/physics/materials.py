@@ -234,6 +234,35 @@ class BreathingSpec(StrictModel):
                 raise ValueError("moment_deficit (m²) must grow with the radius")
         return self
 
+    def area_ratio(self, reference_radius: float, unit: float = 1.0):
+        """(a, a', a''): a(R) = A_m(R)/A_m(R₀) and its first two derivatives, as functions.
+
+        The radii are the table's [m] times ``unit`` (``reference_radius`` R₀ in the same
+        units): the not-a-knot cubic spline of ``moment_deficit``, or without it the thin
+        wall's (R/R₀)². The one definition of the stray field's scale on a breathing radius,
+        for the engine and the calibration's edge check alike.
+        """
+        import numpy as np
+
+        r0 = reference_radius
+        if self.moment_deficit is None:
+            return (
+                lambda r: (np.asarray(r, float) / r0) ** 2,
+                lambda r: 2.0 * np.asarray(r, float) / r0**2,
+                lambda r: np.full_like(np.asarray(r, float), 2.0 / r0**2),
+            )
+        from scipy.interpolate import CubicSpline
+
+        radius = np.asarray(self.radius, float) * unit
+        spline = CubicSpline(radius, np.asarray(self.moment_deficit, float))
+        at_r0 = float(spline(r0))
+        first, second = spline.derivative(), spline.derivative(2)
+        return (
+            lambda r: spline(r) / at_r0,
+            lambda r: first(r) / at_r0,
+            lambda r: second(r) / at_r0,
+        )
+
 
 class Material(StrictModel):
     """A magnetic film and its fitted particle-model laws (SI units).

@@ -88,7 +88,7 @@ def test_catmull_rom_weights_reproduce_quadratics():
     q = np.polynomial.Polynomial([0.3, -1.2, 0.7])
     nodes = q(np.arange(-1.0, 3.0))
     for t in (0.0, 0.3, 0.77):
-        value, slope, curve = wf.catmull_rom(t)
+        value, slope, curve = (np.array(w) for w in wf.catmull_rom(t))
         assert value @ nodes == pytest.approx(q(t), abs=1e-12)
         assert slope @ nodes == pytest.approx(q.deriv()(t), abs=1e-12)
         assert curve @ nodes == pytest.approx(q.deriv(2)(t), abs=1e-12)

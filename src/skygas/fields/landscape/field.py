@@ -115,24 +115,23 @@ class LandscapeField:
         if size * (len(self._kept) + 1) <= KEPT_SETS_BYTES:
             self._kept[key] = (self.nodes.copy(), self.coefficients.copy())
 
-    def _fill(self) -> None:
+    def _term_nodes(self, index: int) -> np.ndarray:
+        """Term ``index``'s nodes (ny, nx, 4): U, h ∂U/∂x, h ∂U/∂y, h² ∂²U/∂x∂y."""
         h = self.grid.spacing
+        s = self._samples[index]
+        return np.stack([s.u, h * s.ux, h * s.uy, h * h * s.uxy], axis=-1)
+
+    def _fill(self) -> None:
         self.nodes[...] = 0.0
-        for on, s in zip(self.enabled, self._samples, strict=True):
+        for k, on in enumerate(self.enabled):
             if on:
-                self.nodes[..., 0] += s.u
-                self.nodes[..., 1] += h * s.ux
-                self.nodes[..., 2] += h * s.uy
-                self.nodes[..., 3] += h * h * s.uxy
+                self.nodes += self._term_nodes(k)
         cell_coefficients(self.nodes, out=self.coefficients)
 
     def term_coefficients(self, index: int) -> np.ndarray:
         """The interpolant's cells (as :attr:`coefficients`) of term ``index`` alone."""
-        h = self.grid.spacing
-        sample = self._samples[index]
-        nodes = np.stack([sample.u, h * sample.ux, h * sample.uy, h * h * sample.uxy], axis=-1)
         out = _aligned_cells(max(self.grid.ny - 1, 1), max(self.grid.nx - 1, 1))
-        cell_coefficients(nodes, out=out)
+        cell_coefficients(self._term_nodes(index), out=out)
         return out
 
     def index(self, name_or_index) -> int:

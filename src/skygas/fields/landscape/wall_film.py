@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from scipy import signal
 
@@ -144,15 +145,27 @@ def layer_deltas(wall_shift: float, growth: float, shrink: float, step: float) -
     return lo + spacing * np.arange(-1, n + 2)
 
 
-def catmull_rom(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Weights of the four layers k−1…k+2 at fraction t ∈ [0, 1) past k: value, ∂/∂t, ∂²/∂t²."""
+@numba.njit(inline="always")
+def catmull_rom(t):
+    """Weights of the four layers k−1…k+2 at fraction t ∈ [0, 1) past k: value, ∂/∂t, ∂²/∂t².
+
+    Three 4-tuples; compiled, so that the engine's kernel and the tests use the same weights.
+    """
     t2 = t * t
     t3 = t2 * t
-    value = 0.5 * np.array([-t3 + 2 * t2 - t, 3 * t3 - 5 * t2 + 2, -3 * t3 + 4 * t2 + t, t3 - t2])
-    slope = 0.5 * np.array(
-        [-3 * t2 + 4 * t - 1, 9 * t2 - 10 * t, -9 * t2 + 8 * t + 1, 3 * t2 - 2 * t]
+    value = (
+        0.5 * (-t3 + 2 * t2 - t),
+        0.5 * (3 * t3 - 5 * t2 + 2),
+        0.5 * (-3 * t3 + 4 * t2 + t),
+        0.5 * (t3 - t2),
     )
-    curve = 0.5 * np.array([-6 * t + 4, 18 * t - 10, -18 * t + 8, 6 * t - 2])
+    slope = (
+        0.5 * (-3 * t2 + 4 * t - 1),
+        0.5 * (9 * t2 - 10 * t),
+        0.5 * (-9 * t2 + 8 * t + 1),
+        0.5 * (3 * t2 - 2 * t),
+    )
+    curve = (-3 * t + 2, 9 * t - 5, -9 * t + 4, 3 * t - 1)
     return value, slope, curve
 
 
