@@ -6,7 +6,8 @@ what S2's field sensitivity gives, and s_p = s_w = 1), at one common time step s
 per step compares like with like. Rigid and breathing alternate, repeat after repeat (this
 machine's clock drifts within a session), and the script prints the median time per step of
 each, their ratio (the goal: at most 1.5), and the ratio of the suggested time steps (how many
-more steps a breathing run of the same duration takes).
+more steps a breathing run of the same duration takes). A third gas adds the centre's 𝒟(R)
+(a thin wall's) to the breathing one: what a calibrated model's mobility at each radius costs.
 
 Run: ``.venv/bin/python benchmarks/bench_breathing.py [--n 400] [--repeats 7]``.
 """
@@ -28,12 +29,21 @@ HALF_FULL_DENSITY = 45 / (np.pi * 512.0**2)  # skyrmions per nm²
 CURVATURE = 6e-4
 
 
-def soft_s2():
-    """S2 with a harmonic E_self(R) over R₀(1 ± 0.4) and s_p = s_w = 1."""
+def soft_s2(centre_dissipation: bool = False):
+    """S2 with a harmonic E_self(R) over R₀(1 ± 0.4) and s_p = s_w = 1.
+
+    With ``centre_dissipation``, also the centre's 𝒟(R) of a thin wall, 2π(R/Δ + Δ/R).
+    """
     s2 = preset("S2")
     r0 = s2.skyrmion_radius
     radius = np.linspace(0.6 * r0, 1.4 * r0, 41)
-    spec = BreathingSpec(radius=tuple(radius), energy=tuple(0.5 * CURVATURE * (radius - r0) ** 2))
+    extra = {}
+    if centre_dissipation:
+        width = np.sqrt(s2.exchange_stiffness / s2.anisotropy)
+        extra["dissipation"] = tuple(2 * np.pi * (radius / width + width / radius))
+    spec = BreathingSpec(
+        radius=tuple(radius), energy=tuple(0.5 * CURVATURE * (radius - r0) ** 2), **extra
+    )
     return s2.model_copy(
         update={"particle_model": "breathing", "breathing": spec, "name": "S2-soft"}
     )
@@ -72,6 +82,8 @@ def main() -> None:
     sims = {
         "rigid": make_sim(rigid_material, args.n, common),
         "breathing": make_sim(soft, args.n, common),
+        # the centre's mobility at each radius: one more pass over the skyrmions per stage
+        "+ 𝒟(R)": make_sim(soft_s2(centre_dissipation=True), args.n, common),
     }
     times: dict[str, list[float]] = {name: [] for name in sims}
     for _ in range(args.repeats):
@@ -87,6 +99,10 @@ def main() -> None:
     print(
         "  cost per step, breathing/rigid: "
         f"{median['breathing'] / median['rigid']:.2f} (goal ≤ 1.5)"
+    )
+    print(
+        "  the centre's 𝒟(R) on top, (breathing + 𝒟(R))/breathing: "
+        f"{median['+ 𝒟(R)'] / median['breathing']:.2f}"
     )
     print(
         f"  suggested steps: rigid {dt_rigid:.3g} s, breathing {dt_soft:.3g} s "

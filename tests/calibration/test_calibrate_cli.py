@@ -371,6 +371,63 @@ def test_radius_dissipation_against_the_ansatz_and_the_thin_wall(calibrated):
     assert measured == pytest.approx(4 * math.pi * r / width, rel=0.25)
 
 
+def test_the_centres_dissipation_follows_the_radius_as_the_360_degree_wall_says(calibrated):
+    """𝒟(R) of the scan's textures, as model.toml writes it: measured at every scan point,
+    growing with R, and its ratio to 𝒟(R₀) within 8 % of the 360° wall ansatz's
+    π∫(θ'² + sin²θ/r²) r dr at the isolated Δ (computed here by quadrature), whose wall keeps
+    its width; the measured 𝒟 changes less, as the wall of a squeezed skyrmion widens."""
+    data = json.loads((calibrated / "summary.json").read_text())
+    spec = load_material(calibrated / "model.toml").breathing
+    points = data["breathing"]["points"]
+    assert spec is not None and spec.dissipation == tuple(p["dissipation"] for p in points)
+    radius = np.array([p["radius_m"] for p in points])
+    measured = np.array(spec.dissipation)
+    assert np.all(np.diff(measured) > 0)
+    r0, width = data["isolated"]["radius"], data["isolated"]["wall_width"]
+
+    def ansatz(r):  # θ = 2 atan[sinh(R/Δ)/sinh(ρ/Δ)]
+        s = math.sinh(r / width)
+
+        def theta(rho):
+            return 2 * math.atan2(s, math.sinh(rho / width))
+
+        def integrand(rho):
+            sh, ch = math.sinh(rho / width), math.cosh(rho / width)
+            slope = -2 * s * ch / (width * (sh * sh + s * s))
+            return (slope**2 + math.sin(theta(rho)) ** 2 / max(rho, 1e-30) ** 2) * rho
+
+        return math.pi * integrate.quad(integrand, 0, r + 40 * width, points=[r], limit=200)[0]
+
+    expected = np.array([ansatz(r) for r in radius]) / ansatz(r0)
+    ratio = measured / measured[radius == r0][0]
+    assert radius[0] < 0.75 * r0  # the scan reaches squeezed skyrmions
+    assert np.allclose(ratio, expected, rtol=0.08)
+
+
+def test_the_laws_radii_are_the_squeezed_solves_radii(calibrated):
+    """model.toml's pair_radius and wall_radius, at the tables' distances, pass through the
+    radii of the squeezed pairs and edge singles (summary.json) within 0.2 % of R₀, and the
+    breathing model reads each law at the gap d − 2s_p(R(d) − R₀) (x − s_w(R(x) − R₀))."""
+    data = json.loads((calibrated / "summary.json").read_text())
+    material = load_material(calibrated / "model.toml")
+    spec = material.breathing
+    assert spec is not None and spec.pair_radius is not None and spec.wall_radius is not None
+    r0 = material.skyrmion_radius
+    squeezed = data["breathing"]["shifts_squeezed"]
+    laws = material.breathing_laws()
+    for name, radii, factor in (
+        ("pair", spec.pair_radius, 2 * spec.pair_shift),
+        ("wall", spec.wall_radius, spec.wall_shift),
+    ):
+        table = getattr(material, f"{name}_table")
+        rows = squeezed[name]
+        at = np.interp(rows["distance_m"], table.distance, radii)
+        assert np.allclose(at, rows["radius_m"], rtol=0, atol=2e-3 * r0), name
+        gap = np.asarray(table.distance) - factor * (np.asarray(radii) - r0)
+        assert np.array_equal(getattr(laws, f"{name}_table").distance, tuple(gap))
+        assert getattr(laws, f"{name}_table").force == table.force
+
+
 def test_the_laws_move_with_the_radius_as_the_field_shifts_say(calibrated):
     """At a radius ΔR smaller by a field: E_pair(d) = U_pair(d − 2 s_p ΔR), E_wall(x) =
     U_wall(x − s_w ΔR), with the shifts fitted to them.
@@ -458,6 +515,17 @@ def test_the_model_file_carries_breathing_and_the_choice_is_stated(calibrated):
     agrees(_after(text, "presses on the radius like "), neighbour * 1e3, unit="mT")
     agrees(_after(text, "which changes it by "), -per_mt * neighbour * 1e3)
     agrees(_after(text, "𝒟_RR = "), spec.radius_dissipation)
+    # the centre's 𝒟 at the table's ends over its value at R₀, and the thin wall's
+    assert spec.dissipation is not None
+    at_r0 = spec.dissipation[spec.radius.index(r0)]
+    width = data["isolated"]["wall_width"]
+    stated = _numbers(_after(text, "The centre's 𝒟 is "))
+    for k, end in enumerate((0, -1)):
+        r = spec.radius[end]
+        agrees(stated[2 * k].text, spec.dissipation[end] / at_r0)
+        agrees(stated[2 * k + 1].text, r, unit="m")
+        thin = (r / width + width / r) / (r0 / width + width / r0)
+        agrees(_numbers(_after(text, "isolated Δ: "))[k].text, thin)
     agrees(_after(text, "s_p = "), spec.pair_shift)
     agrees(_after(text, "s_w = "), spec.wall_shift)
 

@@ -213,6 +213,106 @@ def test_the_default_step_converges_like_a_four_times_shorter_one():
     assert np.max(np.abs(r1 - r4)) < 1e-3 * 2 * R0
 
 
+def _held_at(fraction: float, slope: float, stiffness: float, **spec) -> object:
+    """S2 whose radius is held at ``fraction`` R₀ by a stiff E_self, 𝒟(R) ∝ 1 + ``slope``(R/R₀ − 1).
+
+    The 𝒟 table is linear in R, which PCHIP reproduces exactly: c(R*) = 1 + slope(R*/R₀ − 1).
+    """
+    held = (fraction - 1.0) * R0
+    radius = np.linspace(0.6 * R0, 1.4 * R0, 81)
+    return breathing(
+        energy=lambda u: 0.5 * stiffness * (u - held) ** 2,
+        pair_shift=0.0,
+        wall_shift=0.0,
+        dissipation=tuple(25.0 * (1.0 + slope * (radius / R0 - 1.0))),
+        **spec,
+    )
+
+
+def _thiele_velocity(thiele, dissipation: float, force, drift) -> np.ndarray:
+    """ẋ [m/s] solving (Gε + α𝒟k)ẋ = F + μ(Gε + η𝒟k)v_s at ``dissipation`` 𝒟 (εx̂ = −ŷ)."""
+    eps = np.array([[0.0, 1.0], [-1.0, 0.0]])
+    g, k = thiele.gyrocoupling, thiele.k
+    lhs = g * eps + thiele.damping * dissipation * k * np.eye(2)
+    drive = thiele.mu * (g * eps + thiele.eta * dissipation * k * np.eye(2))
+    return np.linalg.solve(lhs, np.asarray(force) + drive @ np.asarray(drift))
+
+
+def test_a_squeezed_skyrmion_moves_with_the_dissipation_at_its_radius():
+    """𝒟(R) from the table: at T = 0, with the radius held at 0.7 R₀ (c = 0.55), a skyrmion
+    under a uniform force and a drive with η = α/2 moves at the velocity that solves Thiele's
+    equation at 𝒟(0.7 R₀), solved here by NumPy; within 10⁻⁶ of its speed. At the material's
+    𝒟 it would be 6 % of its speed away (S2's α𝒟k is a quarter of G)."""
+    stiffness = KT / (0.005 * R0) ** 2
+    material = _held_at(0.7, 1.5, stiffness)
+    base = derive_thiele(material)
+    thiele = derive_thiele(material, eta=0.5 * material.damping)
+    force, drift = (3e-13, -1e-13), (4.0, 2.0)
+    sim = Simulation(
+        disk(diameter=3e-6),
+        material,
+        temperature=0.0,
+        thiele=thiele,
+        external_force=force,
+        drift_velocity=drift,
+    )
+    sim.add_skyrmions([[-0.6e-6, 0.0]])
+    sim.run(20 * sim.time_step)  # the radius settles at once (its stiffness is exact)
+    assert sim.radii()[1][0] == pytest.approx(0.7 * R0, rel=1e-6)
+    t0, p0 = sim.time, sim.positions()[1][0]
+    sim.run(4e-9)
+    velocity = (sim.positions()[1][0] - p0) / (sim.time - t0)
+    expected = _thiele_velocity(thiele, 0.55 * base.dissipation, force, drift)
+    assert np.allclose(velocity, expected, rtol=0, atol=1e-6 * np.linalg.norm(expected))
+    other = _thiele_velocity(thiele, base.dissipation, force, drift)
+    assert np.linalg.norm(other - expected) > 0.05 * np.linalg.norm(expected)
+
+
+def test_a_squeezed_skyrmion_diffuses_with_the_dissipation_at_its_radius():
+    """Free diffusion at 300 K with the radius held at 0.7 R₀ (c = 0.55): ⟨|Δx|²⟩ = 4D*t with
+    D* = k_BT α𝒟*k/((α𝒟*k)² + G²), 𝒟* = 0.55 𝒟; 16 skyrmions × 150 intervals, within 4
+    standard errors (|Δx|² of a 2D Gaussian: relative spread 1). D* is 0.57 of the
+    material's D, far outside the band."""
+    stiffness = KT / (0.005 * R0) ** 2
+    material = _held_at(0.7, 1.5, stiffness)
+    thiele = derive_thiele(material)
+    time_step = 2e-11
+    sim = Simulation(disk(diameter=3e-6), material, temperature=300.0, seed=5, time_step=time_step)
+    grid = np.array([[x, y] for x in (-0.9, -0.3, 0.3, 0.9) for y in (-0.9, -0.3, 0.3, 0.9)])
+    sim.add_skyrmions(0.8e-6 * grid)
+    sim.run(20 * time_step)
+    interval = 10 * time_step
+    squares = []
+    for _ in range(150):
+        before = sim.positions()[1]
+        sim.run(interval)
+        squares.append(np.sum((sim.positions()[1] - before) ** 2, axis=1))
+    assert sim.wall_escapes == 0
+    dissipation = 0.55 * thiele.dissipation
+    expected = 4 * (
+        derive_thiele(material, dissipation=dissipation).diffusion_constant(300.0) * interval
+    )
+    squares = np.ravel(squares)
+    assert abs(squares.mean() - expected) < 4 * expected / math.sqrt(squares.size)
+    assert abs(4 * thiele.diffusion_constant(300.0) * interval - expected) > 0.3 * expected
+
+
+def test_a_dissipation_table_without_change_leaves_every_bit():
+    """𝒟(R) the same at every radius: the same bits as without a table (P = 1, Q = 0)."""
+    stiffness = KT / (0.04 * R0) ** 2
+    radius = np.linspace(0.6 * R0, 1.4 * R0, 81)
+    runs = []
+    for extra in ({}, {"dissipation": tuple(np.full(radius.size, 25.0))}):
+        material = breathing(energy=lambda u: 0.5 * stiffness * u**2, **extra)
+        sim = Simulation(
+            disk(diameter=0.4e-6), material, temperature=300.0, seed=11, drift_velocity=(5.0, 1.0)
+        )
+        sim.add_random(12, seed=2)
+        sim.run(100 * sim.time_step)
+        runs.append((sim.positions()[1], sim.radii()[1]))
+    assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
+
+
 def test_radii_that_do_not_touch_the_laws_leave_the_centres_as_rigid_ones():
     """s_p = s_w = 0: the centres follow the rigid model's trajectories (rounding only)."""
     stiffness = KT / (0.04 * R0) ** 2
@@ -229,12 +329,14 @@ def test_radii_that_do_not_touch_the_laws_leave_the_centres_as_rigid_ones():
 
 @pytest.mark.parametrize("calibrated", [False, True])
 def test_a_breathing_run_resumed_from_a_checkpoint_is_bit_identical(calibrated):
-    """Also with a calibrated model's wall law from every edge and its edge stray field."""
+    """Also with a calibrated model's wall law from every edge, its edge stray field and 𝒟(R)."""
     from tests.engine.calibrated_model import calibrated_material
 
     stiffness = 2e-4
     base = calibrated_material() if calibrated else S2
-    material = breathing(base, energy=lambda u: 0.5 * stiffness * u**2, span=0.9)
+    # the calibrated case also has the centre's 𝒟(R)
+    extra = {"dissipation": tuple(np.linspace(15.0, 35.0, 81))} if calibrated else {}
+    material = breathing(base, energy=lambda u: 0.5 * stiffness * u**2, span=0.9, **extra)
     options = {"wall_geometry": "film", "film_thickness": 2e-9} if calibrated else {}
     outline = disk(diameter=0.5e-6)
 

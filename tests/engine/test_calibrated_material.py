@@ -211,12 +211,14 @@ def test_sweeps_and_devices_can_choose_the_wall_law(model_file):
         ({"wall_geometry": "all"}, "wall_geometry = 'all': expected one of 'nearest' or 'film'"),
         ({"moment_deficit": [1e-15, 2e-15]}, "moment_deficit needs one value per radius (3)"),
         ({"moment_deficit": [3e-15, 2e-15, 1e-15]}, "moment_deficit (m²) must grow"),
+        ({"dissipation": [20.0, 21.0]}, "dissipation needs one value per radius (3)"),
+        ({"dissipation": [20.0, -1.0, 22.0]}, "breathing.dissipation.1"),
     ],
 )
 def test_a_bad_wall_geometry_or_reversed_area_is_one_line_before_any_run(
     tmp_path, capsys, update, expected
 ):
-    """A model.toml whose wall geometry or A_m(R) table is wrong: one line, exit 2, no folder."""
+    """A model.toml whose wall geometry, A_m(R) or 𝒟(R) table is wrong: one line, exit 2."""
     data = calibrated_data()
     r0 = data["skyrmion_radius"]
     breathing = {"radius": [0.8 * r0, r0, 1.2 * r0], "energy": [1e-20, 0.0, 1e-20]}

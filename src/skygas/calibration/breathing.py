@@ -133,6 +133,7 @@ def scan_points(job, iso) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
                 "energy_at_field_J": at_field,
                 "moment_deficit_m2": deficit,
                 "circularity": sk.get("circularity", math.nan),
+                "dissipation": sk.get("dissipation", math.nan),
             }
         )
     points.sort(key=lambda p: p["radius_m"])
@@ -229,6 +230,27 @@ def radius_dissipation(job, iso) -> dict[str, Any]:
         else "the isolated profile shifted rigidly (∂_R m = −∂_r m)"
     )
     return out
+
+
+def centre_dissipation(points: list[dict[str, Any]], iso) -> dict[str, Any]:
+    """𝒟(R) of the centre along the scan beside the thin wall's 2π(R/Δ + Δ/R) at each radius.
+
+    Each scan point's 𝒟 is its relaxed texture's ½∫(∂ₓm·∂ₓm + ∂ᵧm·∂ᵧm) dA over the skyrmion's
+    neighbourhood (the skyrmion detection's), the same measure at every radius; the model
+    uses the ratio to the isolated skyrmion's. The thin wall's estimate takes the isolated
+    skyrmion's Δ at every radius (its wall keeps its width as the radius changes).
+    """
+    radius = np.array([p["radius_m"] for p in points])
+    measured = np.array([p["dissipation"] for p in points])
+    k0 = int(np.argmin(np.abs([p["field_T"] for p in points])))
+    width = iso.wall_width
+    thin = 2 * math.pi * (radius / width + width / radius)
+    return {
+        "radius_m": radius.tolist(),
+        "measured": measured.tolist(),
+        "ratio": (measured / measured[k0]).tolist(),
+        "thin_wall_ratio": (thin / thin[k0]).tolist(),
+    }
 
 
 def _log_spline(curve):
@@ -410,6 +432,36 @@ def squeeze_shifts(job, cal, radius: np.ndarray, energy: np.ndarray) -> dict[str
     }
 
 
+def law_radii(squeezed: dict[str, Any], cal, radius0: float) -> dict[str, Any]:
+    """The radius of the laws' skyrmions at each distance of the pair and wall tables.
+
+    From the squeezed solves (:func:`squeeze_shifts`: each pair's mean radius, each edge
+    single's, measured from the film's own centre single): PCHIP in the distance between them;
+    below the first, its radius; beyond the last, R₀ + ΔR_last·F(d)/F(d_last), the linear
+    response of a radius to the law's push −s F. Each table's entry ``radius_m`` is absent,
+    with ``why``, when fewer than two solves were squeezed within the radius table.
+    :meth:`skygas.physics.materials.Material.breathing_laws` reads the laws at the gaps these
+    radii give.
+    """
+    out: dict[str, Any] = {}
+    for law, table in (("pair", cal.pair), ("wall", cal.wall)):
+        rows = squeezed.get(law, {})
+        measured = np.asarray(rows.get("distance_m", []), float)
+        if len(measured) < 2:
+            out[law] = {"why": rows.get("why", "fewer than two squeezed solves")}
+            continue
+        change = np.asarray(rows["radius_m"], float) - radius0
+        distance = np.asarray(table.distance, float)
+        inside = interpolate.PchipInterpolator(measured, change)(
+            np.clip(distance, measured[0], measured[-1])
+        )
+        last = float(table(measured[-1]))
+        tail = change[-1] * np.asarray(table(distance)) / last if last > 0 else 0.0 * distance
+        delta = np.where(distance > measured[-1], tail, inside)
+        out[law] = {"radius_m": (radius0 + delta).tolist()}
+    return out
+
+
 def choose(sensitivity: dict[str, Any]) -> tuple[str, str]:
     """(particle model, why) from the sensitivity check's |d ln R/dB|."""
     if not sensitivity:
@@ -468,7 +520,7 @@ def edge_check(cal, spec: dict[str, Any]) -> None:
     ``breathing_centre_radius_m``): what the micromagnetic singles' energies and radii test.
     """
     from skygas.calibration import laws
-    from skygas.physics.materials import BreathingSpec
+    from skygas.physics.materials import BreathingSpec, law_gap
 
     check = cal.checks.get("stray_field", {})
     if not check.get("points"):
@@ -479,13 +531,18 @@ def edge_check(cal, spec: dict[str, Any]) -> None:
     self_energy = interpolate.CubicSpline(spec["radius"], spec["energy"])(radius)
     scale = BreathingSpec(**spec).area_ratio(r0)[0](radius)
     shift = float(spec.get("wall_shift", 1.0))
-    wall = cal.wall_energy
+    wall_at, wall_energy = cal.wall_energy.distance, cal.wall_energy.energy
+    if spec.get("wall_radius") is not None:  # the law at the gap: its force integrated
+        wall_at = law_gap("wall", cal.wall.distance, spec["wall_radius"], r0, shift)
+        force = np.asarray(cal.wall.force)
+        steps = 0.5 * (force[1:] + force[:-1]) * np.diff(wall_at)
+        wall_energy = np.append(np.cumsum(steps[::-1])[::-1], 0.0)
 
     def model(x: float) -> tuple[float, float]:
         stray = laws.halfplane_stray_energy(
             x, m.saturation_magnetization, m.film_thickness, cal.profile_radius, cal.profile_deficit
         )[0]
-        short = np.interp(x - shift * (radius - r0), wall.distance, wall.energy, right=0.0)
+        short = np.interp(x - shift * (radius - r0), wall_at, wall_energy, right=0.0)
         total = self_energy + scale * stray + short
         k = int(np.argmin(total))
         return float(total[k]), float(radius[k])
@@ -564,6 +621,10 @@ def measure(job, cal) -> dict[str, Any]:
     }
     if np.all(np.diff(area) > 0):  # the stray field's scale a(R) = A_m(R)/A_m(R₀)
         spec["moment_deficit"] = area.tolist()
+    centre = np.array([p["dissipation"] for p in points], float)
+    if np.all(np.isfinite(centre) & (centre > 0)):  # the centre's 𝒟(R)
+        spec["dissipation"] = centre.tolist()
+        out["centre_dissipation"] = centre_dissipation(points, iso)
     # the model's shifts: the squeezed ones, measured as the model uses them (neighbours and
     # edges pressing on the radius); the field's where those could not be measured
     out["shift_measure"] = {}
@@ -575,6 +636,20 @@ def measure(job, cal) -> dict[str, Any]:
                 spec[key] = float(np.clip(shift, 0.0, MAX_SHIFT))
                 out["shift_measure"][law] = measure_name
                 break
+    # the laws were measured between squeezed skyrmions: the model reads them at the gap
+    from skygas.physics.materials import law_gap
+
+    out["law_radii"] = law_radii(out["shifts_squeezed"], cal, iso.radius)
+    for law in ("pair", "wall"):
+        radii = out["law_radii"][law].get("radius_m")
+        if radii is None:
+            continue
+        shift = spec.get(f"{law}_shift", 1.0)
+        gap = law_gap(law, getattr(cal, law).distance, radii, iso.radius, shift)
+        if np.all(np.diff(gap) > 0):
+            spec[f"{law}_radius"] = radii
+        else:
+            out["law_radii"][law]["why"] = "its gaps do not grow with the distance: not written"
     out["spec"] = spec
     edge_check(cal, spec)
     return out
@@ -584,10 +659,12 @@ __all__ = [
     "BREATHING_SENSITIVITY",
     "choose_by_validation",
     "ansatz_radius_dissipation",
+    "centre_dissipation",
     "choose",
     "difference_dissipation",
     "fit_shift",
     "integrated_energies",
+    "law_radii",
     "measure",
     "squeeze_shifts",
 ]

@@ -204,6 +204,15 @@ def breathing_sentence(cal: Calibration) -> str:
         f"𝒟_RR = {d['value']:.3f} (the rigidly shifted profile {d['shifted_profile']:.3f}, the "
         f"360° wall ansatz {d['ansatz']:.3f}, the thin-wall 4πR/Δ {d['thin_wall']:.3f})."
     )
+    centre = b.get("centre_dissipation")
+    if centre:
+        text += (
+            f" The centre's 𝒟 is {centre['ratio'][0]:.3f} of the isolated skyrmion's at "
+            f"{_nm(centre['radius_m'][0])} and {centre['ratio'][-1]:.3f} at "
+            f"{_nm(centre['radius_m'][-1])} (thin wall with the isolated Δ: "
+            f"{centre['thin_wall_ratio'][0]:.3f} and {centre['thin_wall_ratio'][-1]:.3f}); a "
+            "squeezed skyrmion moves with its own."
+        )
     spec, measure = b["spec"], b.get("shift_measure", {})
     squeezed, shifts = b.get("shifts_squeezed", {}), b.get("shifts", {})
     words = []

@@ -37,6 +37,7 @@ from skygas.engine.stages import (
     record_frame,
     record_radii,
     reflect_radius,
+    scale_radius_noise,
 )
 from skygas.fields._field_lookup import prefetch_at
 from skygas.fields.landscape.hermite import prefetch_cell
@@ -186,6 +187,8 @@ def advance(
             draw_noise(noise, ids, alive, step, cand, nx_, ny_)
             if breathing.active:
                 draw_radius_normals(noise, ids, alive, step, cand, zr_, spare)
+                if breathing.mobility_varies:
+                    scale_radius_noise(r, alive, breathing, nx_, ny_)
         if heun:
             # Heun's predictor will land near x + v dt + ξ (v: the last corrector velocity),
             # often on grid rows not read for a while: start loading them now, so that the

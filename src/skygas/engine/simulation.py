@@ -256,8 +256,10 @@ class Simulation:
         self.seed = int(seed)
         self.integrator = integrator
         self.brownian_substeps = int(brownian_substeps)
+        model = self._particle_model(particle_model)
         self.forces = ForceModel.build(
-            self.material,
+            # a breathing model reads its laws at the gap between domain walls
+            self.material.breathing_laws() if model == "breathing" else self.material,
             self.thiele,
             pair_law,
             pair_law_params,
@@ -272,7 +274,7 @@ class Simulation:
             grid_spacing,
             f"a spacing in (0, {d_sk * 1e-9:.3g}] m (at most one skyrmion diameter)",
         )
-        self._breathing_rules = self._build_breathing(particle_model)
+        self._breathing_rules = self._build_breathing(model)
         band = self.forces.wall.cutoff + self._breathing_rules.wall_reach + 2 * spacing
         self.wall_field = WallField.build(outline, spacing, band)
         self.wall_film = self._build_wall_film(wall_geometry)
@@ -314,7 +316,7 @@ class Simulation:
                 step_interval,
                 "an interval > 0 in seconds",
             )
-            stiffness = max(
+            stiffness = self._breathing_rules.mobility_gain * max(
                 t.stiffness()
                 for t in self.term_rules
                 if not (isinstance(t, Landscape) and not t.time_step_counts)
@@ -384,8 +386,8 @@ class Simulation:
         self._neighbor_cells: T.NeighborCells | None = None  # set by set_uniform_drift
         self.set_uniform_drift(drift_velocity)
 
-    def _build_breathing(self, particle_model: str | None) -> Breathing:
-        """The radius's rules: a breathing model's, or rigid skyrmions' (``Breathing()``)."""
+    def _particle_model(self, particle_model: str | None) -> str:
+        """``"rigid"`` or ``"breathing"``: the one asked for, or the material's own."""
         material = self.material
         model = material.particle_model if particle_model is None else particle_model
         require(
@@ -394,15 +396,20 @@ class Simulation:
             particle_model,
             "'rigid' or 'breathing' (or leave it out for the material's own)",
         )
-        if model == "rigid":
-            return Breathing()
-        spec = material.breathing
         require(
-            spec is not None,
+            model == "rigid" or material.breathing is not None,
             "particle_model",
             model,
             f"'rigid': the material '{material.name}' has no [breathing] table (radius, energy)",
         )
+        return model
+
+    def _build_breathing(self, model: str) -> Breathing:
+        """The radius's rules: a breathing model's, or rigid skyrmions' (``Breathing()``)."""
+        material = self.material
+        if model == "rigid":
+            return Breathing()
+        spec = material.breathing
         assert spec is not None
         r0 = material.skyrmion_radius
         require(
@@ -429,6 +436,8 @@ class Simulation:
             0.5 * closest,  # the tables hold from a quarter diameter
             law_stiffness(self.forces.pair, self.forces.pair_law, closest),
             law_stiffness(self.forces.wall, self.forces.wall_law, closest),
+            dissipation=thiele.dissipation,
+            gyrocoupling=thiele.gyrocoupling,
         )
 
     def _build_wall_film(self, wall_geometry: str | None):
@@ -601,9 +610,15 @@ class Simulation:
         """τ_min [s] of this simulation (see :func:`relaxation_time`).
 
         The largest stiffness of its force terms (:attr:`term_rules`), the laws' slopes and
-        the landscape's curvature among them.
+        the landscape's curvature among them; times a breathing model's
+        :attr:`~skygas.engine.term_rules.Breathing.mobility_gain` where the centre's 𝒟
+        follows its radius.
         """
-        return relaxation_time(self.thiele, max(t.stiffness() for t in self.term_rules))
+        return relaxation_time(self.thiele, self._stiffness())
+
+    def _stiffness(self) -> float:
+        """The largest stiffness of the force terms [pN/nm], times the mobility's gain."""
+        return self._breathing_rules.mobility_gain * max(t.stiffness() for t in self.term_rules)
 
     def max_time_step(self) -> float:
         """Largest accepted time step [s]: MAX_STEP_FRACTION · τ_min."""
@@ -616,9 +631,7 @@ class Simulation:
         tenth of its diameter (:func:`~skygas.engine.force_model.free_time_step`). Check it
         with :func:`skygas.runs.timestep.check_time_step`.
         """
-        return suggested_time_step(
-            self.thiele, max(t.stiffness() for t in self.term_rules), self.temperature
-        )
+        return suggested_time_step(self.thiele, self._stiffness(), self.temperature)
 
     # -- landscape -----------------------------------------------------------------------------
     def set_landscape_enabled(self, term, on: bool) -> None:

@@ -150,6 +150,24 @@ def draw_radius_normals(noise, ids, alive, step, cand, z_, spare):
             z_[i] = 0.0
 
 
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
+def scale_radius_noise(r, alive, breathing, nx_, ny_):
+    """Scale each centre's noise to its radius's diffusion: ξ·√(D(Rₙ)/D₀).
+
+    The amplitude is taken at the step's start (Itô). The centre's noise depends on the radius
+    only, and the radius's noise on nothing, so no spurious drift arises: the Itô and
+    Stratonovich readings agree, and the radii and centres still sample exp(−E/k_BT).
+    """
+    table = breathing.mobility[5]
+    inv_h = 1.0 / breathing.spacing
+    last = table.shape[0] - 1
+    for i in range(r.shape[0]):
+        if alive[i]:
+            scale = _lerp(table, min(max((r[i] - breathing.r_min) * inv_h, 0.0), last - 1e-9))
+            nx_[i] *= scale
+            ny_[i] *= scale
+
+
 @numba.njit(inline="always")
 def _step_weights(breathing, z):
     """φ₁, φ₂ and √φ_σ at z ≥ 0: from their table, or past it their forms without e^{−z}."""
@@ -505,6 +523,49 @@ def add_radius_velocities(r, alive, breathing, vr):
 
 
 @numba.njit(**JIT)  # not inlined: compiled once, not at every call site
+def apply_radius_mobility(x, y, r, alive, terms, vx, vy):
+    """Each breathing skyrmion's velocity at its own 𝒟(R): M₀F in ``vx, vy`` becomes M(R)F'.
+
+    :func:`add_one_body_forces` turned the forces into velocities with the material's 𝒟 (its
+    loop stays the one rigid runs compile, bit for bit); here v' = P v − Q εv re-weights them
+    with the mobility at the radius, and the dissipative drive's change, (c − 1) μb v_s with
+    c = 𝒟(R)/𝒟(R₀), is added through M(R) (:class:`~skygas.engine.terms.BreathingTerm`).
+    """
+    breathing = terms.breathing
+    table = breathing.mobility
+    drift = terms.drift
+    grid = terms.grid
+    inv_gh = 1.0 / grid.spacing
+    inv_h = 1.0 / breathing.spacing
+    last = table.shape[1] - 1
+    vsx = drift.vs_x
+    vsy = drift.vs_y
+    driven = drift.drive_b != 0.0 and (drift.from_grid or vsx != 0.0 or vsy != 0.0)
+    for i in range(x.shape[0]):
+        if not alive[i]:
+            continue
+        coordinate = min(max((r[i] - breathing.r_min) * inv_h, 0.0), last - 1e-9)
+        p = _lerp(table[0], coordinate)
+        q = _lerp(table[1], coordinate)
+        wx = vx[i]
+        wy = vy[i]
+        vx[i] = p * wx - q * wy
+        vy[i] = p * wy + q * wx
+        if driven:
+            if drift.from_grid:
+                field = field_at(grid.fields, (x[i] - grid.x0) * inv_gh, (y[i] - grid.y0) * inv_gh)
+                vsx = field[CH_DRIFT_X]
+                vsy = field[CH_DRIFT_Y]
+            extra = _lerp(table[4], coordinate) * drift.drive_b
+            fx = extra * vsx
+            fy = extra * vsy
+            a = _lerp(table[2], coordinate)
+            g = _lerp(table[3], coordinate)
+            vx[i] += a * fx - g * fy
+            vy[i] += a * fy + g * fx
+
+
+@numba.njit(**JIT)  # not inlined: compiled once, not at every call site
 def add_wall_film_forces(x, y, r, alive, terms, vx, vy, vr, kr, floor, stiffen):
     """The wall law as the missing film's field: −∇U on the centres, −s_w ∂U/∂δ on the radii.
 
@@ -624,6 +685,8 @@ def force_pass(
         add_stray_radius_forces(x, y, r, alive, breathing, vx, vy, vr, kr, stiffen)
     add_one_body_forces(x, y, alive, terms, mobility, vx, vy, domain, floor)
     if breathing.active:
+        if breathing.mobility_varies:
+            apply_radius_mobility(x, y, r, alive, terms, vx, vy)
         add_radius_velocities(r, alive, breathing, vr)
 
 

@@ -378,6 +378,10 @@ class Breathing(_MovesNoFreeSkyrmion):
     wall_stiffness: float = 0.0
     #: the edge stray field U_s alone, which the radius feels through a(R) (None: no stray field)
     stray: Any = None
+    #: the centre's 𝒟 at R₀ (the material's) and G [kg/s]: with the spec's 𝒟(R) table, the
+    #: centre's mobility at each radius
+    dissipation: float = 0.0
+    gyrocoupling: float = 0.0
 
     name: ClassVar[str] = "breathing"
     config_field: ClassVar[str | None] = None
@@ -403,6 +407,52 @@ class Breathing(_MovesNoFreeSkyrmion):
     def wall_reach(self) -> float:
         """How much farther [nm] the wall law reaches a skyrmion than at R₀: s_w times growth."""
         return float(self.spec.wall_shift) * self.growth if self.active else 0.0
+
+    @property
+    def mobility_varies(self) -> bool:
+        """True when the centre's 𝒟 follows the radius (the spec's ``dissipation`` table)."""
+        return self.active and self.spec.dissipation is not None
+
+    def _centre_mobility(self, grid: np.ndarray) -> np.ndarray:
+        """The kernel's mobility rows (:class:`~skygas.engine.terms.BreathingTerm`) at ``grid``.
+
+        ``grid``: radii [nm].
+
+        With a = α𝒟k and g = G (internal units), M(R) = (a(R) I − g ε)/(a(R)² + g²), the
+        inverse of (g ε + a(R) I), in the kernel's components A = a/(a² + g²),
+        G = g/(a² + g²), a(R) = c(R) a₀. A velocity v = M₀F becomes
+        M(R)M₀⁻¹v = P v − Q εv with P = (A_R A₀ + G_R G₀)/(A₀² + G₀²) and
+        Q = (G_R A₀ − A_R G₀)/(A₀² + G₀²), since M₀⁻¹ = a₀ I + g ε.
+        """
+        if not self.mobility_varies:
+            return T.RIGID.mobility
+        c = self.spec.dissipation_ratio(self.radius0 * units.M_TO_NM, units.M_TO_NM)(grid)
+        a0 = self.damping * self.dissipation * self.k * units.KG_PER_S_TO_INTERNAL
+        g = self.gyrocoupling * units.KG_PER_S_TO_INTERNAL
+        a = c * a0
+        big_a0, big_g0 = a0 / (a0 * a0 + g * g), g / (a0 * a0 + g * g)
+        big_a, big_g = a / (a * a + g * g), g / (a * a + g * g)
+        norm = big_a0 * big_a0 + big_g0 * big_g0
+        p = (big_a * big_a0 + big_g * big_g0) / norm
+        q = (big_g * big_a0 - big_a * big_g0) / norm
+        # D ∝ a/(a² + g²) = A
+        return np.array([p, q, big_a, big_g, c - 1.0, np.sqrt(big_a / big_a0)])
+
+    @property
+    def mobility_gain(self) -> float:
+        """Max over the table of |M(R)|/|M(R₀)| = √(a₀² + g²)/√(a(R)² + g²) (1 without 𝒟(R)).
+
+        The centres' fastest relaxation speeds up by it where 𝒟(R) is smallest; the time step
+        counts it (:meth:`skygas.engine.Simulation.relaxation_time`).
+        """
+        if not self.mobility_varies:
+            return 1.0
+        radius = np.asarray(self.spec.radius, float) * units.M_TO_NM
+        grid = np.linspace(radius[0], radius[-1], RADIUS_TABLE_NODES)
+        c = self.spec.dissipation_ratio(self.radius0 * units.M_TO_NM, units.M_TO_NM)(grid)
+        a0 = self.damping * self.dissipation * self.k
+        g = self.gyrocoupling
+        return float(max(1.0, np.max(math.hypot(a0, g) / np.hypot(c * a0, g))))
 
     def _self_force(self) -> tuple[np.ndarray, np.ndarray, float, float, float]:
         """−dE_self/dR [pN] and E_self'' [pN/nm] on a uniform grid; its spacing, r_min, r_max [nm].
@@ -454,6 +504,8 @@ class Breathing(_MovesNoFreeSkyrmion):
             slope,
             bend,
             T.RIGID.stray if self.stray is None else self.stray,
+            self.mobility_varies,
+            self._centre_mobility(grid),
         )
 
     def setting(self) -> str:
@@ -464,7 +516,7 @@ class Breathing(_MovesNoFreeSkyrmion):
         """The model, and for a breathing one Γ_R [kg/s], 𝒟_RR, s_p, s_w, the radius range [m]."""
         if not self.active:
             return {}
-        return {
+        out: dict[str, Any] = {
             "particle_model": "breathing",
             "radius_friction_kg_per_s": self.friction,
             "radius_dissipation": self.radius_dissipation,
@@ -472,6 +524,12 @@ class Breathing(_MovesNoFreeSkyrmion):
             "wall_shift": float(self.spec.wall_shift),
             "radius_range_m": [float(self.spec.radius[0]), float(self.spec.radius[-1])],
         }
+        if self.mobility_varies:  # the centre's 𝒟 follows the radius
+            out["centre_dissipation_range"] = [
+                float(min(self.spec.dissipation)),
+                float(max(self.spec.dissipation)),
+            ]
+        return out
 
     def stiffness(self) -> float:
         """2 max(s_p κ_pair, s_w κ_wall) [pN/nm]: the laws through the radii, for the step.

@@ -177,6 +177,13 @@ class BreathingTerm(NamedTuple):
     area_slope: np.ndarray
     area_curvature: np.ndarray
     stray: LandscapeTerm  # the edge stray field U_s alone (inactive: no stray field)
+    # the centre's mobility at the radius (𝒟(R), BreathingSpec.dissipation), on the self
+    # force's grid; False: 𝒟 is the same at every radius, and the table is a placeholder
+    mobility_varies: bool
+    # rows: P, Q, which turn the velocity M₀F of the material's 𝒟 into M(R)F (v' = P v − Q εv);
+    # A_R, G_R, the mobility M(R) [nm/(pN·ns)]; c − 1, c = 𝒟(R)/𝒟(R₀) (the dissipative
+    # drive's change); √(D(R)/D₀), the scale of the centre's noise
+    mobility: np.ndarray
 
 
 class WallFilmTerm(NamedTuple):
@@ -254,6 +261,8 @@ RIGID = BreathingTerm(
     np.zeros(2),
     np.zeros(2),
     _no_landscape(),
+    False,
+    np.zeros((6, 2)),
 )
 
 

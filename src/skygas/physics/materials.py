@@ -28,7 +28,7 @@ from dataclasses import asdict, dataclass
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import (
     ConfigDict,
@@ -196,6 +196,24 @@ class BreathingSpec(StrictModel):
         has a(R) U_s(r), a(R) = A_m(R)/A_m(R₀), exact for a field that varies slowly across
         the skyrmion. So the radius feels the local stray field, −a'(R) U_s, and shrinks where
         it is strong (near edges, in narrow conduits).
+    dissipation : tuple of float or None
+        The centre's 𝒟(R) = ½∫(∂ₓm·∂ₓm + ∂ᵧm·∂ᵧm) dA (dimensionless) at each radius (a
+        calibration measures it on the scan's textures); ``None`` keeps 𝒟 at every radius.
+        The table sets the ratio c(R) = 𝒟(R)/𝒟(R₀) only; the material's ``dissipation``
+        stays 𝒟 at R₀. A skyrmion of radius R moves with the friction α𝒟(R)k, is driven with
+        η𝒟(R)k, and diffuses with D(R) = k_BT α𝒟(R)k/((α𝒟(R)k)² + G²): a squeezed skyrmion,
+        whose wall is shorter, moves faster and at another Hall angle.
+    pair_radius, wall_radius : tuple of float or None
+        The radius [m] of the skyrmions the laws were measured with, at each distance of the
+        material's ``pair_table`` (``wall_table``): a calibration relaxes its pairs and edge
+        singles, and neighbours and edges squeeze them. The measured law is then the force
+        along that family of relaxed skyrmions; at their radii ∂E/∂R = 0, so (the envelope
+        theorem) it equals the force of U at the gap g(d) = d − 2 s_p (R(d) − R₀)
+        (x − s_w (R(x) − R₀) for an edge). With them the breathing model's U is the table
+        read at the gap (:meth:`Material.breathing_laws`); without them the table is taken
+        as U itself, a law measured with the radii held at R₀. Reading a law of squeezed
+        skyrmions as U places it too far out and weakens it: the model's skyrmions are
+        squeezed too little and pushed too weakly.
     """
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
@@ -206,6 +224,9 @@ class BreathingSpec(StrictModel):
     pair_shift: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
     wall_shift: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
     moment_deficit: tuple[FinitePositive, ...] | None = None
+    dissipation: tuple[FinitePositive, ...] | None = None
+    pair_radius: tuple[FinitePositive, ...] | None = None
+    wall_radius: tuple[FinitePositive, ...] | None = None
 
     @field_validator("radius")
     @classmethod
@@ -232,7 +253,29 @@ class BreathingSpec(StrictModel):
                 )
             if any(b <= a for a, b in zip(area, area[1:], strict=False)):
                 raise ValueError("moment_deficit (m²) must grow with the radius")
+        if self.dissipation is not None and len(self.dissipation) != len(self.radius):
+            raise ValueError(
+                f"dissipation needs one value per radius ({len(self.radius)}), "
+                f"not {len(self.dissipation)}"
+            )
         return self
+
+    def dissipation_ratio(self, reference_radius: float, unit: float = 1.0):
+        """c(R) = 𝒟(R)/𝒟(R₀) as a function (radii as in :meth:`area_ratio`), or ``None``.
+
+        ``None`` without a ``dissipation`` table (𝒟 is the same at every radius). The table
+        is interpolated with PCHIP: it keeps 𝒟 positive and does not overshoot between
+        radii.
+        """
+        if self.dissipation is None:
+            return None
+        import numpy as np
+        from scipy.interpolate import PchipInterpolator
+
+        radius = np.asarray(self.radius, float) * unit
+        table = PchipInterpolator(radius, np.asarray(self.dissipation, float))
+        at_r0 = float(table(reference_radius))
+        return lambda r: table(r) / at_r0
 
     def area_ratio(self, reference_radius: float, unit: float = 1.0):
         """(a, a', a''): a(R) = A_m(R)/A_m(R₀) and its first two derivatives, as functions.
@@ -262,6 +305,18 @@ class BreathingSpec(StrictModel):
             lambda r: first(r) / at_r0,
             lambda r: second(r) / at_r0,
         )
+
+
+def law_gap(law: str, distance, radius, reference_radius: float, shift: float):
+    """The gap [m] at which a breathing model reads a law measured at ``distance`` [m].
+
+    ``radius`` [m]: the measured skyrmions' radius at each distance; ``law``: ``"pair"``
+    (g = d − 2s(R − R₀), both skyrmions squeezed) or ``"wall"`` (g = x − s(R − R₀)).
+    """
+    import numpy as np
+
+    factor = 2.0 * shift if law == "pair" else shift
+    return np.asarray(distance, float) - factor * (np.asarray(radius, float) - reference_radius)
 
 
 class Material(StrictModel):
@@ -373,6 +428,63 @@ class Material(StrictModel):
                     f"(it runs from {spec.radius[0]:g} to {spec.radius[-1]:g} m)"
                 )
         return self
+
+    @model_validator(mode="after")
+    def _law_radii_fit_the_tables(self):
+        spec = self.breathing
+        if spec is None:
+            return self
+        for name, radii, table in (
+            ("pair", spec.pair_radius, self.pair_table),
+            ("wall", spec.wall_radius, self.wall_table),
+        ):
+            if radii is None:
+                continue
+            if table is None:
+                raise ValueError(f"breathing.{name}_radius needs the material's {name}_table")
+            if len(radii) != len(table.distance):
+                raise ValueError(
+                    f"breathing.{name}_radius needs one radius per {name}_table distance "
+                    f"({len(table.distance)}), not {len(radii)}"
+                )
+        gaps = self._law_gaps()
+        for name, gap in gaps.items():
+            if any(b <= a for a, b in zip(gap, gap[1:], strict=False)):
+                raise ValueError(
+                    f"breathing.{name}_radius makes the gaps of the {name} law decrease: "
+                    "the radii may not grow faster than the distance over 2·shift"
+                )
+        return self
+
+    def _law_gaps(self) -> dict[str, tuple[float, ...]]:
+        """The gap [m] at each distance of the pair and wall tables that have law radii."""
+        spec = self.breathing
+        out: dict[str, tuple[float, ...]] = {}
+        if spec is None:
+            return out
+        for name, radii, table, shift in (
+            ("pair", spec.pair_radius, self.pair_table, spec.pair_shift),
+            ("wall", spec.wall_radius, self.wall_table, spec.wall_shift),
+        ):
+            if radii is not None and table is not None:
+                gap = law_gap(name, table.distance, radii, self.skyrmion_radius, shift)
+                out[name] = tuple(float(g) for g in gap)
+        return out
+
+    def breathing_laws(self) -> Material:
+        """The material whose pair and wall tables are the breathing model's U, at the gap.
+
+        The tables with law radii (:class:`BreathingSpec` ``pair_radius``, ``wall_radius``)
+        are moved to their gaps, the force at each unchanged; the material itself without.
+        """
+        gaps = self._law_gaps()
+        if not gaps:
+            return self
+        update: dict[str, Any] = {}
+        for name, gap in gaps.items():
+            table = getattr(self, f"{name}_table")
+            update[f"{name}_table"] = table.model_copy(update={"distance": gap})
+        return self.model_copy(update=update)
 
     @property
     def is_breathing(self) -> bool:
