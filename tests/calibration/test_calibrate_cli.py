@@ -426,6 +426,14 @@ def test_the_laws_radii_are_the_squeezed_solves_radii(calibrated):
         gap = np.asarray(table.distance) - factor * (np.asarray(radii) - r0)
         assert np.array_equal(getattr(laws, f"{name}_table").distance, tuple(gap))
         assert getattr(laws, f"{name}_table").force == table.force
+    # the report's sentence: the closest pair, its radii and its gap, from model.toml
+    _, notes = headline(calibrated / "report.html")
+    text = _note(notes, "Particle model:")
+    d_sk = 2 * r0
+    d0, r = material.pair_table.distance[0], spec.pair_radius[0]
+    agrees(_after(text, "the closest pair, "), d0 / d_sk)
+    agrees(_after(text, "d_sk apart with radii of "), r, unit="m")
+    agrees(_after(text, "nm, acts at "), (d0 - 2 * spec.pair_shift * (r - r0)) / d_sk)
 
 
 def test_the_laws_move_with_the_radius_as_the_field_shifts_say(calibrated):

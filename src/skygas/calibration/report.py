@@ -227,6 +227,16 @@ def breathing_sentence(cal: Calibration) -> str:
         else:
             words.append(f"{name} = {value:.2f} (by the field: the squeezed solves gave none)")
     text += " The model's shifts: " + "; ".join(words) + "."
+    if spec.get("pair_radius") is not None:
+        from skygas.physics.materials import law_gap
+
+        d0, r = float(cal.pair.distance[0]), float(spec["pair_radius"][0])
+        gap = float(law_gap("pair", [d0], [r], cal.isolated.radius, spec["pair_shift"])[0])
+        text += (
+            " The laws were measured between squeezed skyrmions and the model reads them at "
+            f"the gap: the closest pair, {d0 / cal.diameter:.2f} d_sk apart with radii of "
+            f"{_nm(r)}, acts at {gap / cal.diameter:.2f} d_sk."
+        )
     field = []
     for law, name in (("pair", "s_p"), ("wall", "s_w")):
         fit = shifts.get(law, {})
