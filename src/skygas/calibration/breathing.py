@@ -36,6 +36,16 @@ takes the centre single's and subtracts the edge energy of its two singles from 
 (their singles sit ≥ 3.4 d_sk from the edges, where it is below half a percent of the pair
 energy; the largest share is reported).
 
+**The laws at the gap.** The laws' pairs and edge singles are relaxed with their centres held,
+and squeezed: each law is the force along its family of relaxed skyrmions. The radius R(d) of
+each (the squeezed fit's rows, :func:`law_radii`) is written per table distance
+(``pair_radius``, ``wall_radius``), and the model reads the law at the gap
+d − 2s_p(R(d) − R₀): there ∂E/∂R = 0, so the measured force is the model's (the envelope
+theorem, :meth:`skygas.physics.materials.Material.breathing_laws`).
+
+**𝒟(R) of the centre**: each scan texture's 𝒟, as the skyrmion detection measures it
+(:func:`centre_dissipation`), written as ``dissipation`` per table radius.
+
 **The choice.** Where the validation ran both models against the same micromagnetic run, the
 one with the smaller RMS centre error (:func:`choose_by_validation`); without a validation,
 ``particle_model = "breathing"`` when |d ln R/dB| exceeds :data:`BREATHING_SENSITIVITY`, else

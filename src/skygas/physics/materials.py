@@ -165,8 +165,9 @@ class BreathingSpec(StrictModel):
               + Σᵢ U_wall(wᵢ − s_w (Rᵢ − R₀))
 
     with R₀ the material's ``skyrmion_radius`` (the isolated skyrmion's), U_pair and U_wall the
-    material's pair and wall laws measured between skyrmions of radius R₀ (their forces are the
-    tabulated or paper laws), dᵢⱼ the centre distance and wᵢ the distance to the nearest wall.
+    material's pair and wall laws (their forces are the tabulated or paper laws; with
+    ``pair_radius`` and ``wall_radius``, the tables read at the gap of the radii they were
+    measured with), dᵢⱼ the centre distance and wᵢ the distance to the nearest wall.
     A larger skyrmion meets its neighbours and the walls earlier: the laws act on the gap
     between domain walls, not between centres, which s = 1 states exactly. The radius relaxes
     with its own friction Γ_R = α 𝒟_RR k (k = M_s t_F/γ, as for the centre's α𝒟k):
