@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
@@ -413,10 +414,15 @@ class Breathing(_MovesNoFreeSkyrmion):
         """True when the centre's 𝒟 follows the radius (the spec's ``dissipation`` table)."""
         return self.active and self.spec.dissipation is not None
 
-    def _centre_mobility(self, grid: np.ndarray) -> np.ndarray:
-        """The kernel's mobility rows (:class:`~skygas.engine.terms.BreathingTerm`) at ``grid``.
+    @cached_property
+    def _centre_scale(self) -> np.ndarray:
+        """c(R) = 𝒟(R)/𝒟(R₀) at the radii of the kernel's tables (the self force's grid)."""
+        _, _, spacing, r_min, _ = self._self_force()
+        grid = r_min + spacing * np.arange(RADIUS_TABLE_NODES)
+        return self.spec.dissipation_ratio(self.radius0 * units.M_TO_NM, units.M_TO_NM)(grid)
 
-        ``grid``: radii [nm].
+    def _centre_mobility(self) -> np.ndarray:
+        """The kernel's mobility rows (:class:`~skygas.engine.terms.BreathingTerm`).
 
         With a = α𝒟k and g = G (internal units), M(R) = (a(R) I − g ε)/(a(R)² + g²), the
         inverse of (g ε + a(R) I), in the kernel's components A = a/(a² + g²),
@@ -426,7 +432,7 @@ class Breathing(_MovesNoFreeSkyrmion):
         """
         if not self.mobility_varies:
             return T.RIGID.mobility
-        c = self.spec.dissipation_ratio(self.radius0 * units.M_TO_NM, units.M_TO_NM)(grid)
+        c = self._centre_scale
         a0 = self.damping * self.dissipation * self.k * units.KG_PER_S_TO_INTERNAL
         g = self.gyrocoupling * units.KG_PER_S_TO_INTERNAL
         a = c * a0
@@ -447,12 +453,9 @@ class Breathing(_MovesNoFreeSkyrmion):
         """
         if not self.mobility_varies:
             return 1.0
-        radius = np.asarray(self.spec.radius, float) * units.M_TO_NM
-        grid = np.linspace(radius[0], radius[-1], RADIUS_TABLE_NODES)
-        c = self.spec.dissipation_ratio(self.radius0 * units.M_TO_NM, units.M_TO_NM)(grid)
         a0 = self.damping * self.dissipation * self.k
         g = self.gyrocoupling
-        return float(max(1.0, np.max(math.hypot(a0, g) / np.hypot(c * a0, g))))
+        return float(max(1.0, np.max(math.hypot(a0, g) / np.hypot(self._centre_scale * a0, g))))
 
     def _self_force(self) -> tuple[np.ndarray, np.ndarray, float, float, float]:
         """−dE_self/dR [pN] and E_self'' [pN/nm] on a uniform grid; its spacing, r_min, r_max [nm].
@@ -505,7 +508,7 @@ class Breathing(_MovesNoFreeSkyrmion):
             bend,
             T.RIGID.stray if self.stray is None else self.stray,
             self.mobility_varies,
-            self._centre_mobility(grid),
+            self._centre_mobility(),
         )
 
     def setting(self) -> str:
