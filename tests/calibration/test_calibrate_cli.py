@@ -254,6 +254,8 @@ def test_the_summary_sentences_are_recomputed_from_the_model_and_material(calibr
         lo, hi = (x / d_sk for x in data[key]["measured_range_m"])
         agrees(_after(text, "measured from "), lo)
         agrees(_after(text, f"{lo:.2f} to "), hi)
+        if name == "wall_table":  # continued along its tangent below the measured range
+            agrees(_after(text, "tangent down to "), table[name]["distance"][0] / d_sk)
         for x in distances:
             if lo <= x <= hi:
                 stated = re.search(rf"([\d.]+ [fpn]?N) at {x:g} d_sk", text)
@@ -599,3 +601,18 @@ def test_the_breathing_radius_at_a_real_edge_is_the_micromagnetic_one(calibrated
         agrees(_after(text, "the skyrmion's radius is "), worst["radius_m"], unit="m")
         agrees(_after(text, "nm, the breathing model's "), worst["breathing_radius_m"], unit="m")
         agrees(_after(text, "(the isolated one "), r0, unit="m")
+
+
+def test_the_terminal_states_where_the_wall_table_goes_on_along_its_tangent(calibrated):
+    """The summary line of the edge law: the measured range and, below it, the tangent's end
+    (half the first measured distance), recomputed from summary.json's table."""
+    from skygas.commands.calibrate import lines
+
+    data = json.loads((calibrated / "summary.json").read_text())
+    wall = data["wall_short_range"]
+    lo, hi = wall["measured_range_d_sk"]
+    first = wall["table_distance_m"][0] / data["isolated"]["diameter"]
+    assert first == pytest.approx(0.5 * lo)
+    assert f"edge law (short range): measured from {lo:.2f} to {hi:.2f} d_sk (tabulated from " + (
+        f"{first:.2f}, along its tangent)"
+    ) in lines(data)

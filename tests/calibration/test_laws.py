@@ -29,6 +29,26 @@ def test_force_of_an_exponential_energy_and_its_continuation():
     assert law(law.distance[-1] * 1.01) == 0.0
 
 
+def test_the_wall_law_goes_on_along_its_tangent_below_its_first_point():
+    """E = E₀ e^{−d/λ}: below d₀ the continued table is F(d₀)(1 + (d₀ − d)/λ), the tangent,
+    down to d₀/2; above d₀ it is the table without continuation, and no node is steeper
+    than the measured law at d₀ (the engine's step follows the steepest slope)."""
+    lam, e0, f0 = 7e-9, 3e-19, 1e-12
+    d = np.linspace(20e-9, 80e-9, 11)
+    energy = laws.curve(list(zip(d, e0 * np.exp(-d / lam), strict=True)))
+    held, continued = laws.force_law(energy, f0), laws.force_law(energy, f0, continued=True)
+    assert continued.distance[0] == pytest.approx(laws.WALL_CONTINUATION * d[0])
+    assert continued.measured == held.measured
+    below = np.linspace(continued.distance[0], d[0], 7)
+    tangent = e0 / lam * np.exp(-d[0] / lam) * (1 + (d[0] - below) / lam)
+    assert continued(below) == pytest.approx(tangent, rel=1e-3)
+    assert held(below) == pytest.approx(np.full(7, held.force[0]))  # held, without it
+    above = np.linspace(d[0], d[-1], 40)
+    assert continued(above) == pytest.approx(held(above), rel=1e-12)
+    slopes = np.abs(np.diff(continued.force) / np.diff(continued.distance))
+    assert slopes.max() <= e0 / lam**2 * np.exp(-d[0] / lam) * 1.001
+
+
 def test_energies_that_fall_into_rounding_are_cut():
     d = np.linspace(1e-8, 6e-8, 8)
     e = np.exp(-d / 5e-9)
@@ -93,3 +113,41 @@ def test_model_file_round_trips_and_refuses_an_invalid_material(tmp_path):
         "a": 1.5,
         "b": [2.0],
     }
+
+
+def _single(x, charge=-0.999, radius=11e-9, held=None):
+    held = x if held is None else held
+    return {
+        "centres": [[held, 60e-9]],
+        "skyrmions": [{"x": x, "y": 60e-9, "radius": radius, "charge": charge}],
+        "energy": 1e-19 * math.exp(-held / 7e-9),
+    }
+
+
+def test_the_edge_law_drops_singles_that_left_where_they_were_held():
+    """A single that left through the edge is dropped with its reason, whatever the detector
+    then finds: no skyrmion, a fraction of one, or charge spread over the film without a
+    contour far from where it was held (what S2's single held 0.6 d_sk from the edge left)."""
+    from skygas.calibration.analysis import energy_curves
+
+    results = {
+        "laws/uniform": {"energy": 0.0, "centres": [], "skyrmions": []},
+        "laws/single/60": _single(121e-9),  # the film's centre
+        "laws/single/10": _single(21e-9),
+        "laws/single/12": _single(25e-9),
+        "laws/single/14": _single(29e-9),
+        "laws/single/16": _single(33e-9),
+        "laws/single/4": _single(121.4e-9, charge=-0.99, radius=math.nan, held=9e-9),
+        "laws/single/5": _single(12e-9, charge=-0.4),
+        "laws/single/6": {"centres": [[13e-9, 60e-9]], "skyrmions": [], "energy": 0.0},
+        "laws/single/7": _single(30e-9, held=15e-9),  # a whole skyrmion, but not held there
+        "laws/pair/16": {
+            "centres": [[33e-9, 60e-9], [209e-9, 60e-9]],
+            "skyrmions": [_single(x)["skyrmions"][0] for x in (33e-9, 209e-9)],
+            "energy": 1e-20,
+        },
+    }
+    _, wall = energy_curves(results)
+    assert wall.distance == pytest.approx([21e-9, 25e-9, 29e-9, 33e-9, 121e-9])
+    assert [d for d, _ in wall.dropped] == pytest.approx([9e-9, 12e-9, 13e-9, 15e-9])
+    assert {why for _, why in wall.dropped} == {"the skyrmion left through the edge"}

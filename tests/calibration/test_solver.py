@@ -51,6 +51,27 @@ def test_a_skyrmion_is_held_off_centre_where_the_edges_push_it():
     assert held.energy > free.energy
 
 
+def test_a_skyrmion_held_by_an_edge_is_read_where_it_is_held():
+    """The calibration's detector reads the centre the relaxation holds, the edge's tilted band
+    included: held 0.7 d_sk from an edge, the skyrmion is read there with all its charge. Left
+    out, the band takes a fifth of the charge with it and the centre moves away from the edge,
+    the coordinate a law and a track would then disagree on."""
+    from skygas.calibration.profile import as_field
+    from skygas.micromag.detection import detect_skyrmions
+
+    fs = solver.FilmSolver(MATERIAL, FILM)
+    target = (0.7 * 23.2e-9, _centre()[1])
+    m0 = solver.skyrmion_texture(FILM, [target], 9e-9, 3e-9)
+    held = fs.relax(m0, [target], reach=30e-9, torque_tolerance=10.0)
+    assert held.converged
+    (s,) = detect(held.m, FILM, MATERIAL.film_thickness)
+    assert (s.x, s.y) == pytest.approx(target, abs=0.05 * FILM.cell_size)
+    assert abs(s.charge) == pytest.approx(1.0, abs=0.02)
+    (without,) = detect_skyrmions(as_field(held.m, FILM, MATERIAL.film_thickness)).skyrmions
+    assert abs(without.charge) < 0.9
+    assert without.x - target[0] > 0.5 * FILM.cell_size
+
+
 def test_solves_are_pure_functions_of_their_inputs():
     fs = solver.FilmSolver(MATERIAL, FILM)
     m0 = solver.skyrmion_texture(FILM, [_centre()], 11e-9, 3e-9)
@@ -112,3 +133,27 @@ def test_the_preconditioned_minimiser_finds_magnumnps_minimum_in_fewer_iteration
         solver.SMOOTHING_LENGTHS = plain
     assert unpreconditioned.energy == pytest.approx(energy, rel=1e-6)
     assert ours.iterations < unpreconditioned.iterations
+
+
+def test_llg_bits_do_not_depend_on_the_thread_count():
+    """A local calibration gives its LLG pieces every core once the relaxations are done
+    (``CalibrationJob._threads_for``); a resumed run repeats its pieces to the bit only because
+    the thread count leaves LLG's bits alone. A film of 26 000 cells, above torch's grain for
+    splitting an operation between threads."""
+    import torch
+
+    film = solver.Film(161, 161, 2e-9, compensated=True)
+    fs = solver.FilmSolver(MATERIAL, film)
+    centre = (0.5 * film.size[0], 0.5 * film.size[1])
+    m0 = solver.skyrmion_texture(film, [(centre[0] - 8e-9, centre[1])], 11e-9, 3e-9)
+    before = torch.get_num_threads()
+    try:
+        solver.use_threads(1)
+        one = fs.evolve(m0, 0.0, 5e-12, first_step=1e-14)
+        solver.use_threads(2)
+        assert torch.get_num_threads() == 2
+        two = fs.evolve(m0, 0.0, 5e-12, first_step=1e-14)
+    finally:
+        torch.set_num_threads(before)
+    assert one.steps == two.steps > 5
+    assert np.array_equal(one.m, two.m) and one.next_step == two.next_step

@@ -385,7 +385,7 @@ class CalibrationJob:
             # the order of _ready() is the order Dask starts them in, should they queue
             priority = len(ready) - rank
             self._in_flight[key] = pool.submit_solve(
-                key, kind, args, self.threads, self.config.compile, priority
+                key, kind, args, self._threads_for(kind, len(ready)), self.config.compile, priority
             )
             self._last_key = key
         deadline = time.perf_counter() + 1.0  # return within a second: Ctrl-C is honoured
@@ -396,6 +396,19 @@ class CalibrationJob:
                     self._record(key, pool.result(self._in_flight.pop(key)))
                 return
             time.sleep(0.02)
+
+    def _threads_for(self, kind: str, ready: int) -> int:
+        """Torch threads of a solve about to start.
+
+        ``threads``, except for an LLG piece that a local cluster runs alone (nothing else
+        ready or in flight): the LLG chain is the calibration's longest and runs one piece at
+        a time, so once the relaxations are done it takes every worker's threads, up to the
+        machine's cores. A relaxation planned while it runs shares the cores for one piece.
+        A running cluster's workers keep ``threads``: their cores are not this machine's.
+        """
+        if kind != "evolve" or self.scheduler is not None or ready > 1 or self._in_flight:
+            return self.threads
+        return max(self.threads, min(self.workers * self.threads, os.cpu_count() or 1))
 
     def connect(self) -> SolverPool:
         """The Dask client of the solves: the scheduler's (``scheduler``), or a local cluster's.

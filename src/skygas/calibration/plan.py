@@ -105,8 +105,12 @@ SHIFTED_PAIR_GRID = (1.2, 1.45, 1.75)
 #: Distances from the left edge [d_sk] of the singles measured at the second radius.
 SHIFTED_EDGE_GRID = (1.0, 1.2, 1.4)
 
-#: Distances from the left edge [d_sk] of the singles that sample the edge law.
-EDGE_GRID = (0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5, 1.75, 2.0, 2.5)
+#: Distances from the left edge [d_sk] of the singles that sample the edge law. Down to 0.6: a
+#: skyrmion squeezed by its neighbours comes to 0.63–0.69 d_sk of an edge in the validation
+#: rectangles, and below its first point the law only goes on along its tangent
+#: (:data:`skygas.calibration.laws.WALL_CONTINUATION`). A single that leaves through the edge
+#: while it relaxes is dropped (and reported): S6's at 0.56 d_sk, S2's at 0.59 and 0.64.
+EDGE_GRID = (0.6, 0.65, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5, 1.75, 2.0, 2.5)
 #: Side [radii] of the isolated skyrmion's film once its radius is known; a film is large
 #: enough while it is at least ISOLATED_MIN_SIDE radii (the margin keeps a radius measured in
 #: the larger film from asking for yet another one).

@@ -95,8 +95,9 @@ def summary_sentences(cal: Calibration, data: dict[str, Any]) -> list[str]:
     )
     wlo, whi = (x / d for x in cal.wall.measured)
     out.append(
-        f"Edge repulsion at short range, measured from {wlo:.2f} to {whi:.2f} d_sk (closer, the "
-        "skyrmion leaves through the edge): "
+        f"Edge repulsion at short range, measured from {wlo:.2f} to {whi:.2f} d_sk (a single "
+        "held closer leaves through the edge; the table goes on along the law's tangent down to "
+        f"{cal.wall.distance[0] / d:.2f} d_sk, where neighbours may push a skyrmion): "
         + ", ".join(
             f"{_pn(float(cal.wall(x * d)))} at {x:g} d_sk"
             for x in (1.0, 1.5, 2.0)

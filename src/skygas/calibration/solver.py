@@ -54,6 +54,23 @@ def configure(threads: int = 1, compile: bool = True) -> None:
     _settings.update(threads=int(threads), compile=bool(compile))
 
 
+def use_threads(threads: int) -> None:
+    """Give this process's next solves ``threads`` torch threads (intra-op), once torch is set up.
+
+    A calibration's local workers are single-threaded while relaxations share the cores; when the
+    validation's LLG is all that is left it takes the idle cores too (S2: 43 against 64 ms per
+    step on 2 cores). LLG's bits do not depend on the count (``tests/calibration/test_solver.py``),
+    so a resumed run repeats its pieces exactly whichever count they get.
+    """
+    if not _settings["configured"]:  # torch is set up with them on the first solve
+        _settings["threads"] = int(threads)
+        return
+    import torch
+
+    if torch.get_num_threads() != int(threads):
+        torch.set_num_threads(int(threads))
+
+
 def require_installed() -> None:
     """Refuse, with one line, to start a calibration without torch and magnum.np.
 

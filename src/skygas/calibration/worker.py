@@ -155,7 +155,8 @@ def evolve(
 def solve(kind: str, threads: int, compile: bool, *args: Any) -> dict[str, Any]:
     """Run the solve ``kind`` (``"relax"`` or ``"evolve"``) on ``args``, as a Dask task.
 
-    ``threads`` torch threads and ``compile`` (torch.compile of the field terms) are set first.
+    ``threads`` torch threads (for this solve: :func:`~skygas.calibration.solver.use_threads`)
+    and ``compile`` (torch.compile of the field terms) are set first.
     Each task carries them, rather than a Dask worker plugin that sets them once per worker:
     they are the calibration's own choice, so they travel with its tasks to whatever workers
     run them (a shared cluster's too, without a plugin installed on every worker), and setting
@@ -164,6 +165,7 @@ def solve(kind: str, threads: int, compile: bool, *args: Any) -> dict[str, Any]:
     decides them for that process).
     """
     solver.configure(threads=threads, compile=compile)
+    solver.use_threads(threads)
     if kind == "relax":
         return relax(*args)
     if kind == "evolve":

@@ -269,7 +269,11 @@ def lines(data: dict) -> list[str]:
     ]
     for key, name in (("pair", "pair law"), ("wall_short_range", "edge law (short range)")):
         lo, hi = data[key]["measured_range_d_sk"]
-        out.append(f"{name}: tabulated from {lo:.2f} to {hi:.2f} d_sk")
+        line = f"{name}: measured from {lo:.2f} to {hi:.2f} d_sk"
+        table = data[key].get("table_distance_m")
+        if table and table[0] / iso["diameter"] < lo - 1e-9:
+            line += f" (tabulated from {table[0] / iso['diameter']:.2f}, along its tangent)"
+        out.append(line)
     v = data.get("validation")
     if v and "rms_error_max_d_sk" in v:
         out.append(
