@@ -27,6 +27,27 @@ def test_inspect_json(tmp_path, two_skyrmions, profile, capsys):
     assert "Q = -1.0000" in capsys.readouterr().out
 
 
+def test_inspect_keeps_the_edge_band_when_asked(tmp_path, capsys):
+    """A skyrmion (R = 10 nm, Δ = 3 nm) 18 nm from a straight edge tilted by 0.6 rad: left out,
+    the band takes a sixth of its charge and pushes its centre 2 nm away from the edge; kept,
+    the centre is the true one within 0.05 nm in x and |Q| = 1 (``--edge-band keep``, the
+    coordinate of `skygas calibrate`)."""
+    field = synthetic.skyrmion_field((130, 130), 1e-9, [(18e-9, 65.3e-9)], 10e-9, 3e-9)
+    path = write_ovf(tmp_path / "edge.ovf", synthetic.edge_tilt(field, 0.6, 3e-9), fmt="bin8")
+    found = {}
+    for band in ("exclude", "keep"):
+        assert main(["micromag", "inspect", str(path), "--json", "--edge-band", band]) == 0
+        report = json.loads(capsys.readouterr().out)
+        assert report["options"]["edge_band"] is (band == "exclude")
+        (found[band],) = report["skyrmions"]
+    assert found["keep"]["x_m"] == pytest.approx(18e-9, abs=0.05e-9)
+    assert abs(found["keep"]["charge"]) == pytest.approx(1.0, abs=2e-3)
+    assert found["exclude"]["x_m"] - 18e-9 > 1.5e-9 and abs(found["exclude"]["charge"]) < 0.9
+    with pytest.raises(SystemExit) as stop:
+        main(["micromag", "inspect", str(path), "--edge-band", "both"])
+    assert stop.value.code == 2 and "--edge-band" in capsys.readouterr().err
+
+
 def test_inspect_bad_file_is_a_clear_error(tmp_path, capsys):
     path = tmp_path / "bad.ovf"
     path.write_text("# not an OVF file\n")
@@ -88,6 +109,10 @@ def test_fit_from_ovf_snapshots(tmp_path, capsys):
     assert fitted.skyrmion_radius == pytest.approx(radius, rel=0.01)
     record = json.loads((out / "summary.json").read_text())
     assert record["thiele"]["measured_charge"] == pytest.approx(-1.0, abs=1e-3)
+    assert record["parameters"]["edge_band"] == "exclude"  # the detector's default, recorded
+    kept = tmp_path / "fit-kept"
+    assert main(["micromag", "fit", str(snaps), "--out", str(kept), "--edge-band", "keep"]) == 0
+    assert json.loads((kept / "summary.json").read_text())["parameters"]["edge_band"] == "keep"
     assert record["skygas_version"]
     assert (out / "fit.png").exists() and (out / "forces.csv").exists()
     from PIL import Image

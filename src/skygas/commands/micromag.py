@@ -33,6 +33,7 @@ def register(subparsers) -> None:
     inspect.add_argument(
         "--threshold", type=float, default=0.0, help="a core is where s·m_z < THRESHOLD (default 0)"
     )
+    _add_edge_band_option(inspect)
     inspect.set_defaults(func=_inspect)
 
     fit = commands.add_parser(
@@ -98,6 +99,7 @@ def register(subparsers) -> None:
         "outside their range, instead of writing the tracks, the forces and the "
         "tabulated law without material.toml",
     )
+    _add_edge_band_option(fit)
     fit.add_argument("--no-report", action="store_true", help="do not write OUT/report.html")
     add_json_option(fit, "the fits (what summary.json holds)")
     fit.set_defaults(func=_fit)
@@ -123,12 +125,25 @@ def _samples(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_edge_band_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--edge-band",
+        choices=["exclude", "keep"],
+        default="exclude",
+        help="the film edge's tilted band: left out of every skyrmion (default: a curved rim's "
+        "own charge stays out) or kept (each centre is then the guiding centre of all the charge "
+        "near its skyrmion, the coordinate `skygas calibrate` holds and reads its runs in)",
+    )
+
+
 def _inspect(args: argparse.Namespace) -> int:
     from skygas.micromag.detection import inspect_field
     from skygas.micromag.ovf import load_field
 
     report = inspect_field(
-        load_field(args.file, cell_size=args.cell_size), threshold=args.threshold
+        load_field(args.file, cell_size=args.cell_size),
+        threshold=args.threshold,
+        edge_band=args.edge_band == "exclude",
     )
     if args.json:
         print_json(report)
@@ -165,6 +180,7 @@ def _fit(args: argparse.Namespace) -> int:
         wall_degree=args.wall_degree,
         table_bins=args.table_bins,
         strict=args.strict,
+        edge_band=args.edge_band == "exclude",
     )
     if not args.no_report:  # beside the results, whatever is printed
         from pathlib import Path

@@ -466,6 +466,7 @@ def fit_snapshots(
     interval: float | None = None,
     max_step: float | None = None,
     threshold: float = 0.0,
+    edge_band: bool = True,
     **fit_options,
 ) -> FitResult:
     """Read OVF snapshots, detect and track skyrmions, fit the laws, and write to ``out_dir``.
@@ -474,7 +475,9 @@ def fit_snapshots(
     Times come from each file's "Total simulation time" unless ``interval`` [s] is given.
     ``max_step`` [m] gates the tracking (default: one measured skyrmion radius). For a wall
     fit the boundary is the disk of the first snapshot's magnetic cells unless
-    ``boundary`` is given. Other options go to :func:`fit_trajectories`.
+    ``boundary`` is given. ``threshold`` and ``edge_band`` go to
+    :func:`~skygas.micromag.detection.detect_skyrmions`; other options to
+    :func:`fit_trajectories`.
     """
     if interval is not None and not interval > 0:
         raise InputError("interval", interval, "a snapshot interval > 0 in seconds")
@@ -484,7 +487,7 @@ def fit_snapshots(
     for path in paths:
         field_ = read_ovf(path)
         first = field_ if first is None else first
-        snaps.append(detect_skyrmions(field_, threshold=threshold))
+        snaps.append(detect_skyrmions(field_, threshold=threshold, edge_band=edge_band))
     if interval is not None:
         times = [i * interval for i in range(len(snaps))]
     else:
@@ -518,6 +521,7 @@ def fit_snapshots(
         interval_s=interval,
         max_step_m=step,
         threshold=threshold,
+        edge_band="exclude" if edge_band else "keep",
         n_trajectories=len(trajectories),
     )
     if out_dir is not None:
