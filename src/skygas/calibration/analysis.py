@@ -113,7 +113,7 @@ class Calibration:
         return material_from_mapping(table, field="calibrated material")
 
 
-def _valid(result: dict, count: int) -> bool:
+def valid_solve(result: dict, count: int) -> bool:
     """Whether a relaxation kept its ``count`` skyrmions, each whole and where it was held.
 
     Whole: |Q| ≥ :data:`MIN_CHARGE` and a m_z = 0 contour. Where held: within half its radius
@@ -152,7 +152,7 @@ def energy_curves(results: dict[str, dict], prefix: str = "laws"):
     }
     uniform = results[f"{prefix}/uniform"]["energy"]
     centre = singles[max(singles)]
-    if not _valid(centre, 1):
+    if not valid_solve(centre, 1):
         raise InputError(
             "material",
             "the calibration film",
@@ -160,16 +160,16 @@ def energy_curves(results: dict[str, dict], prefix: str = "laws"):
         )
     wall_points, dropped = [], []
     for _, single in sorted(singles.items()):
-        if _valid(single, 1):
+        if valid_solve(single, 1):
             wall_points.append((single["skyrmions"][0]["x"], single["energy"] - centre["energy"]))
         else:
             dropped.append((single["centres"][0][0], "the skyrmion left through the edge"))
     pair_points, pair_dropped = [], []
     for i, pair in sorted(pairs.items()):
         nominal = math.dist(pair["centres"][0], pair["centres"][1])
-        if not _valid(pair, 2):
+        if not valid_solve(pair, 2):
             pair_dropped.append((nominal, "the two skyrmions did not stay two"))
-        elif i not in singles or not _valid(singles[i], 1):
+        elif i not in singles or not valid_solve(singles[i], 1):
             pair_dropped.append((nominal, "its reference single is not a skyrmion"))
         else:
             pair_points.append(
@@ -208,7 +208,7 @@ def _isolated(job) -> tuple[IsolatedSkyrmion, Any]:
 
 def _check_enlarged(job, iso: IsolatedSkyrmion) -> dict:
     r = job.results
-    if "enlarged/single" not in r or not _valid(r["enlarged/single"], 1):
+    if "enlarged/single" not in r or not valid_solve(r["enlarged/single"], 1):
         return {}
     radius = r["enlarged/single"]["skyrmions"][0]["radius"]
     energy = r["enlarged/single"]["energy"] - r["enlarged/uniform"]["energy"]
@@ -226,7 +226,7 @@ def _check_enlarged(job, iso: IsolatedSkyrmion) -> dict:
 
 def _check_sensitivity(job, iso: IsolatedSkyrmion) -> dict:
     r = job.results
-    if not all(k in r and _valid(r[k], 1) for k in ("sensitivity/plus", "sensitivity/minus")):
+    if not all(k in r and valid_solve(r[k], 1) for k in ("sensitivity/plus", "sensitivity/minus")):
         return {}
     plus = r["sensitivity/plus"]["skyrmions"][0]["radius"]
     minus = r["sensitivity/minus"]["skyrmions"][0]["radius"]
@@ -245,7 +245,9 @@ def _check_mesh(job, pair: laws.ForceLaw, pair_energy: laws.EnergyCurve, diamete
     out: dict[str, Any] = {}
     for label in ("coarse", "fine"):
         keys = [f"mesh/{label}/{k}" for k in ("uniform", "single", "pair")]
-        if not all(k in r for k in keys) or not (_valid(r[keys[1]], 1) and _valid(r[keys[2]], 2)):
+        if not all(k in r for k in keys) or not (
+            valid_solve(r[keys[1]], 1) and valid_solve(r[keys[2]], 2)
+        ):
             return {}
         out[label] = {
             "distance_m": _distance(r[keys[2]]),
@@ -297,7 +299,7 @@ def _check_stray(job, wall_energy: laws.EnergyCurve, profile, diameter: float) -
     """
     r = job.results
     singles = {int(k.rsplit("/", 1)[1]): v for k, v in r.items() if k.startswith("stray/single/")}
-    if not singles or not all(_valid(s, 1) for s in singles.values()):
+    if not singles or not all(valid_solve(s, 1) for s in singles.values()):
         return {}
     m = job.config.material
 

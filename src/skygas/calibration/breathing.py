@@ -60,6 +60,8 @@ from typing import Any
 import numpy as np
 from scipy import integrate, interpolate, optimize
 
+from skygas.calibration.analysis import valid_solve
+
 #: |d ln R/dB| [per mT] above which the calibrated model is a breathing one. A skyrmion's
 #: neighbours press on its radius as an extra field would: by the Lagrange relation
 #: −dE_self/dR = 4πR M_s t B, a neighbour's pair force F at 1.5 d_sk (s = 1) acts like
@@ -73,8 +75,6 @@ BREATHING_SENSITIVITY = 0.02
 #: A scan point is used only while its skyrmion stays round (shortest / longest contour ray):
 #: an elongating one is past the breathing mode's range (its elliptic instability).
 SCAN_MIN_CIRCULARITY = 0.85
-#: Skyrmions whose measured |Q| is below this are not (or no longer) skyrmions.
-MIN_CHARGE = 0.9
 #: The neighbour distance [d_sk] of ``neighbour_field_T`` (a dense packing).
 NEIGHBOUR_DISTANCE = 1.5
 #: Largest shift fitted: the laws are not expected to move by more than a few radius changes.
@@ -82,11 +82,10 @@ MAX_SHIFT = 4.0
 
 
 def _one_skyrmion(result: dict | None) -> dict | None:
-    """The result's one skyrmion (None unless it holds exactly one, of |Q| ≥ MIN_CHARGE)."""
-    if result is None or len(result["skyrmions"]) != 1:
+    """The result's one skyrmion, None unless it kept it (:func:`analysis.valid_solve`)."""
+    if result is None or not valid_solve(result, 1):
         return None
-    s = result["skyrmions"][0]
-    return s if abs(s["charge"]) >= MIN_CHARGE else None
+    return result["skyrmions"][0]
 
 
 def _field_of(job, name: str) -> float:
@@ -348,9 +347,7 @@ def shift_fits(job, cal) -> dict[str, Any]:
     # pairs: E = E_pair − 2(E_centre + U_wall(x_i)) + E_uniform, U_wall the law at R₀
     d, e, correction = [], [], []
     for i, pair in sorted(pairs.items()):
-        if len(pair["skyrmions"]) != 2 or any(
-            abs(s["charge"]) < MIN_CHARGE for s in pair["skyrmions"]
-        ):
+        if not valid_solve(pair, 2):
             continue
         a, b = pair["skyrmions"]
         x_i = (i + 0.5) * film.cell_size
@@ -422,11 +419,9 @@ def squeeze_shifts(job, cal, radius: np.ndarray, energy: np.ndarray) -> dict[str
 
     pairs = []
     for key, pair in r.items():
-        if not key.startswith("laws/pair/") or len(pair["skyrmions"]) != 2:
+        if not key.startswith("laws/pair/") or not valid_solve(pair, 2):
             continue
         a, b = pair["skyrmions"]
-        if min(abs(a["charge"]), abs(b["charge"])) < MIN_CHARGE:
-            continue
         d = math.hypot(a["x"] - b["x"], a["y"] - b["y"])
         pairs.append((d, 0.5 * (a["radius"] + b["radius"]) + offset, float(cal.pair(d))))
     edges = []

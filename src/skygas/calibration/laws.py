@@ -16,7 +16,7 @@ there, F(x) = F(x₀) + F'(x₀)(x − x₀), down to x₀/2 (:data:`WALL_CONTIN
 held nearer than x₀ leaves through the edge (S2 below 0.69 d_sk), but a skyrmion that its
 neighbours push comes nearer (S2 to 0.62 d_sk in the validation rectangle), and a wall held at
 F(x₀) there let the model's skyrmion run on into it (S2's rectangle: 0.30 d_sk of RMS error,
-0.17 with the tangent). The tangent keeps the law's steepest slope, which sets the engine's
+0.164 with the tangent). The tangent keeps the law's steepest slope, which sets the engine's
 time step, the measured one. The pair law stays held: closer than its first point a pair
 merges.
 
@@ -115,14 +115,12 @@ def force_law(energy: EnergyCurve, force_scale: float, continued: bool = False) 
         reach = decay * math.log(force[-1] / (TABLE_FLOOR * force_scale))
         tail = np.linspace(d[-1], d[-1] + reach, 24)[1:]
     far = force[-1] * np.exp(-(np.asarray(tail) - d[-1]) / decay)
-    near = np.empty(0)
+    near = near_force = np.empty(0)
     if continued:
         near = np.linspace(WALL_CONTINUATION * d[0], d[0], CONTINUATION_NODES + 1)[:-1]
         tangent = -spline(d[0], 2) * np.exp(spline(d[0])) + spline(d[0], 1) * force[0]
         # F = −(ln E)′ E and E′ = −F, so F′ = −(ln E)″ E + (ln E)′ F; a wall's F′ < 0
         near_force = force[0] + min(float(tangent), 0.0) * (near - d[0])
-    else:
-        near_force = np.empty(0)
     return ForceLaw(
         np.concatenate([near, nodes, tail]),
         np.concatenate([near_force, force, far]),

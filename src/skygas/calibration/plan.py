@@ -106,7 +106,7 @@ SHIFTED_PAIR_GRID = (1.2, 1.45, 1.75)
 SHIFTED_EDGE_GRID = (1.0, 1.2, 1.4)
 
 #: Distances from the left edge [d_sk] of the singles that sample the edge law. Down to 0.6: a
-#: skyrmion squeezed by its neighbours comes to 0.63–0.69 d_sk of an edge in the validation
+#: skyrmion squeezed by its neighbours comes to 0.62–0.72 d_sk of an edge in the validation
 #: rectangles, and below its first point the law only goes on along its tangent
 #: (:data:`skygas.calibration.laws.WALL_CONTINUATION`). A single that leaves through the edge
 #: while it relaxes is dropped (and reported): S6's at 0.56 d_sk, S2's at 0.59 and 0.64.

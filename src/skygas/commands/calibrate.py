@@ -271,8 +271,9 @@ def lines(data: dict) -> list[str]:
         lo, hi = data[key]["measured_range_d_sk"]
         line = f"{name}: measured from {lo:.2f} to {hi:.2f} d_sk"
         table = data[key].get("table_distance_m")
-        if table and table[0] / iso["diameter"] < lo - 1e-9:
-            line += f" (tabulated from {table[0] / iso['diameter']:.2f}, along its tangent)"
+        first = table[0] / iso["diameter"] if table else lo
+        if first < lo - 1e-9:
+            line += f" (tabulated from {first:.2f}, along its tangent)"
         out.append(line)
     v = data.get("validation")
     if v and "rms_error_max_d_sk" in v:
